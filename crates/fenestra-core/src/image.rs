@@ -1,0 +1,238 @@
+//! Linear RGB images with OpenEXR, Radiance HDR and PNG input, EXR output with metadata, and
+//! tone-mapped PNG output for looking. Files are written to a temporary name and renamed.
+
+use crate::Rgb;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+#[derive(Debug, thiserror::Error)]
+pub enum ImageError {
+    #[error("cannot read image {path}: {reason}")]
+    Read { path: PathBuf, reason: String },
+    #[error("cannot write image {path}: {reason}")]
+    Write { path: PathBuf, reason: String },
+    #[error("image {path}: unsupported extension (expected .exr, .hdr, .png or .jpg)")]
+    Extension { path: PathBuf },
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Image {
+    pub width: usize,
+    pub height: usize,
+    /// Row-major, top row first.
+    pub pixels: Vec<Rgb>,
+}
+
+impl Image {
+    pub fn new(width: usize, height: usize) -> Self {
+        Image { width, height, pixels: vec![Rgb::ZERO; width * height] }
+    }
+
+    pub fn get(&self, x: usize, y: usize) -> Rgb {
+        self.pixels[y * self.width + x]
+    }
+
+    pub fn set(&mut self, x: usize, y: usize, c: Rgb) {
+        self.pixels[y * self.width + x] = c;
+    }
+
+    /// Mean of all pixels (f64 accumulation).
+    pub fn mean(&self) -> Rgb {
+        let mut acc = [0.0f64; 3];
+        for p in &self.pixels {
+            acc[0] += p.r as f64;
+            acc[1] += p.g as f64;
+            acc[2] += p.b as f64;
+        }
+        let n = self.pixels.len().max(1) as f64;
+        Rgb::new((acc[0] / n) as f32, (acc[1] / n) as f32, (acc[2] / n) as f32)
+    }
+
+    /// Reads an image as linear RGB: OpenEXR and Radiance HDR as stored, PNG/JPEG decoded
+    /// from sRGB.
+    pub fn read(path: &Path) -> Result<Image, ImageError> {
+        let err = |reason: String| ImageError::Read { path: path.to_path_buf(), reason };
+        match extension(path).as_deref() {
+            Some("exr") => {
+                let img = exr::prelude::read_first_rgba_layer_from_file(
+                    path,
+                    |res, _| Image::new(res.width(), res.height()),
+                    |img: &mut Image, pos, (r, g, b, _a): (f32, f32, f32, f32)| {
+                        img.set(pos.x(), pos.y(), Rgb::new(r, g, b))
+                    },
+                )
+                .map_err(|e| err(e.to_string()))?;
+                Ok(img.layer_data.channel_data.pixels)
+            }
+            Some("hdr" | "png" | "jpg" | "jpeg") => {
+                let decoded = image::ImageReader::open(path)
+                    .map_err(|e| err(e.to_string()))?
+                    .with_guessed_format()
+                    .map_err(|e| err(e.to_string()))?
+                    .decode()
+                    .map_err(|e| err(e.to_string()))?;
+                let is_hdr = matches!(decoded, image::DynamicImage::ImageRgb32F(_) | image::DynamicImage::ImageRgba32F(_));
+                let rgb = decoded.to_rgb32f();
+                let (w, h) = rgb.dimensions();
+                let decode = |v: f32| if is_hdr { v } else { srgb_to_linear(v) };
+                let pixels = rgb.pixels().map(|p| Rgb::new(decode(p[0]), decode(p[1]), decode(p[2]))).collect();
+                Ok(Image { width: w as usize, height: h as usize, pixels })
+            }
+            _ => Err(ImageError::Extension { path: path.to_path_buf() }),
+        }
+    }
+
+    /// Writes linear 32-bit float OpenEXR with the given string attributes in its header.
+    pub fn write_exr(&self, path: &Path, metadata: &BTreeMap<String, String>) -> Result<(), ImageError> {
+        use exr::prelude::*;
+        let w = self.width;
+        let channels = SpecificChannels::rgb(|pos: exr::math::Vec2<usize>| {
+            let c = self.pixels[pos.y() * w + pos.x()];
+            (c.r, c.g, c.b)
+        });
+        let layer = Layer::new((self.width, self.height), LayerAttributes::named("rgb"), Encoding::FAST_LOSSLESS, channels);
+        let mut image = exr::image::Image::from_layer(layer);
+        for (k, v) in metadata {
+            let (Some(k), Some(v)) = (Text::new_or_none(latin1(k)), Text::new_or_none(latin1(v))) else { continue };
+            image.attributes.other.insert(k, AttributeValue::Text(v));
+        }
+        write_atomically(path, |tmp| image.write().to_file(tmp).map_err(|e| e.to_string()))
+    }
+
+    /// Writes an 8-bit sRGB PNG after scaling by 2^stops; `None` picks the exposure that
+    /// maps the log-average luminance to middle grey (Reinhard's key value 0.18).
+    pub fn write_png(&self, path: &Path, exposure_stops: Option<f32>) -> Result<(), ImageError> {
+        let scale = match exposure_stops {
+            Some(ev) => 2f32.powf(ev),
+            None => self.auto_exposure_scale(),
+        };
+        let mut bytes = Vec::with_capacity(self.pixels.len() * 3);
+        for p in &self.pixels {
+            for v in p.to_array() {
+                let v = if v.is_finite() { v * scale } else { 0.0 };
+                bytes.push((linear_to_srgb(v.clamp(0.0, 1.0)) * 255.0 + 0.5) as u8);
+            }
+        }
+        let buf = image::RgbImage::from_raw(self.width as u32, self.height as u32, bytes).ok_or_else(|| {
+            ImageError::Write { path: path.to_path_buf(), reason: "pixel buffer size mismatch".into() }
+        })?;
+        write_atomically(path, |tmp| buf.save_with_format(tmp, image::ImageFormat::Png).map_err(|e| e.to_string()))
+    }
+
+    fn auto_exposure_scale(&self) -> f32 {
+        let (mut sum, mut n) = (0.0f64, 0usize);
+        for p in &self.pixels {
+            let l = p.luminance();
+            if l.is_finite() && l > 0.0 {
+                sum += (l as f64 + 1e-6).ln();
+                n += 1;
+            }
+        }
+        if n == 0 {
+            return 1.0;
+        }
+        let log_avg = (sum / n as f64).exp() as f32;
+        0.18 / log_avg
+    }
+}
+
+/// String attributes from an OpenEXR file's header.
+pub fn read_exr_metadata(path: &Path) -> Result<BTreeMap<String, String>, ImageError> {
+    let meta = exr::meta::MetaData::read_from_file(path, false)
+        .map_err(|e| ImageError::Read { path: path.to_path_buf(), reason: e.to_string() })?;
+    let mut out = BTreeMap::new();
+    let shared = meta.headers.iter().flat_map(|h| h.shared_attributes.other.iter().chain(h.own_attributes.other.iter()));
+    for (k, v) in shared {
+        if let exr::meta::attribute::AttributeValue::Text(t) = v {
+            out.insert(k.to_string(), t.to_string());
+        }
+    }
+    Ok(out)
+}
+
+/// Runs `write` on a temporary file beside `path`, then renames it into place, so that an
+/// interrupted write never leaves a truncated file under the final name.
+pub fn write_atomically(
+    path: &Path,
+    write: impl FnOnce(&Path) -> Result<(), String>,
+) -> Result<(), ImageError> {
+    let err = |reason: String| ImageError::Write { path: path.to_path_buf(), reason };
+    let name = path.file_name().ok_or_else(|| err("not a file name".into()))?.to_string_lossy().into_owned();
+    let ext = extension(path).unwrap_or_default();
+    // Keep the real extension last: image writers pick the format from it.
+    let tmp = path.with_file_name(format!(".{name}.{}.tmp.{ext}", std::process::id()));
+    if let Err(e) = write(&tmp) {
+        let _ = std::fs::remove_file(&tmp);
+        return Err(err(e));
+    }
+    std::fs::rename(&tmp, path).map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        err(e.to_string())
+    })
+}
+
+fn extension(path: &Path) -> Option<String> {
+    path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase())
+}
+
+fn latin1(s: &str) -> String {
+    s.chars().map(|c| if (c as u32) < 256 { c } else { '?' }).collect()
+}
+
+pub fn srgb_to_linear(v: f32) -> f32 {
+    if v <= 0.04045 {
+        v / 12.92
+    } else {
+        ((v + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+pub fn linear_to_srgb(v: f32) -> f32 {
+    if v <= 0.003_130_8 {
+        12.92 * v
+    } else {
+        1.055 * v.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tmpdir() -> PathBuf {
+        let d = std::env::temp_dir().join(format!("fenestra-image-test-{}", std::process::id()));
+        std::fs::create_dir_all(&d).expect("temp dir");
+        d
+    }
+
+    #[test]
+    fn exr_round_trip_keeps_pixels_and_metadata() {
+        let mut img = Image::new(3, 2);
+        img.set(2, 1, Rgb::new(1.5, -0.25, 1e4));
+        img.set(0, 0, Rgb::new(0.1, 0.2, 0.3));
+        let path = tmpdir().join("rt.exr");
+        let meta = BTreeMap::from([("fenestra:spp".to_string(), "64".to_string())]);
+        img.write_exr(&path, &meta).expect("write");
+        assert_eq!(Image::read(&path).expect("read"), img);
+        assert_eq!(read_exr_metadata(&path).expect("meta").get("fenestra:spp").map(String::as_str), Some("64"));
+    }
+
+    #[test]
+    fn png_is_written_and_srgb_round_trips() {
+        let mut img = Image::new(2, 2);
+        img.set(1, 1, Rgb::splat(0.5));
+        let path = tmpdir().join("t.png");
+        img.write_png(&path, Some(0.0)).expect("png");
+        let back = Image::read(&path).expect("read png");
+        assert!((back.get(1, 1).r - 0.5).abs() < 0.01);
+        for v in [0.0, 0.002, 0.2, 0.9, 1.0] {
+            assert!((srgb_to_linear(linear_to_srgb(v)) - v).abs() < 1e-5);
+        }
+    }
+
+    #[test]
+    fn reading_a_missing_or_unknown_file_is_an_error() {
+        assert!(matches!(Image::read(Path::new("/nonexistent/x.exr")), Err(ImageError::Read { .. })));
+        assert!(matches!(Image::read(Path::new("x.tiff")), Err(ImageError::Extension { .. })));
+    }
+}

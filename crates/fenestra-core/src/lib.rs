@@ -1,0 +1,23 @@
+//! Core types of fenestra: colours, rays, frames, sampling warps, deterministic sample
+//! streams, MIS heuristics, running statistics, piecewise-constant distributions and images.
+
+pub mod distribution;
+pub mod frame;
+pub mod image;
+pub mod mis;
+pub mod ray;
+pub mod rgb;
+pub mod sampler;
+pub mod stats;
+pub mod warp;
+
+pub use frame::Frame;
+pub use glam::{Mat4, UVec2, Vec2, Vec3};
+pub use ray::Ray;
+pub use rgb::Rgb;
+pub use sampler::Sampler;
+
+pub const PI: f32 = std::f32::consts::PI;
+pub const INV_PI: f32 = std::f32::consts::FRAC_1_PI;
+pub const INV_2PI: f32 = 0.5 * std::f32::consts::FRAC_1_PI;
+pub const INV_4PI: f32 = 0.25 * std::f32::consts::FRAC_1_PI;

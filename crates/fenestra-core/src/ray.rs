@@ -1,0 +1,31 @@
+//! Rays and robust spawning of secondary rays off surfaces.
+
+use glam::Vec3;
+
+#[derive(Clone, Copy, Debug)]
+pub struct Ray {
+    pub o: Vec3,
+    /// Unit direction.
+    pub d: Vec3,
+}
+
+impl Ray {
+    pub fn new(o: Vec3, d: Vec3) -> Self {
+        Ray { o, d }
+    }
+    pub fn at(&self, t: f32) -> Vec3 {
+        self.o + self.d * t
+    }
+}
+
+/// Offsets `p` along the geometric normal `ng` to the side of `w`, by an amount that scales
+/// with the magnitude of the coordinates, so that a ray leaving the surface does not hit it
+/// again through floating-point error (a simpler form of pbrt's error bounds).
+pub fn offset_origin(p: Vec3, ng: Vec3, w: Vec3) -> Vec3 {
+    let eps = 1e-4 * (1.0 + p.abs().max_element());
+    if ng.dot(w) >= 0.0 {
+        p + ng * eps
+    } else {
+        p - ng * eps
+    }
+}

@@ -1,0 +1,139 @@
+//! Warps from the unit square to shapes and directions, with their densities.
+
+use crate::{INV_2PI, INV_4PI, INV_PI, PI};
+use glam::{Vec2, Vec3};
+
+/// Concentric (Shirley-Chiu) map of the square onto the unit disk.
+pub fn square_to_disk_concentric(u: Vec2) -> Vec2 {
+    let o = 2.0 * u - Vec2::ONE;
+    if o.x == 0.0 && o.y == 0.0 {
+        return Vec2::ZERO;
+    }
+    let (r, theta) = if o.x.abs() > o.y.abs() {
+        (o.x, 0.25 * PI * (o.y / o.x))
+    } else {
+        (o.y, 0.5 * PI - 0.25 * PI * (o.x / o.y))
+    };
+    r * Vec2::new(theta.cos(), theta.sin())
+}
+
+/// Cosine-weighted hemisphere around +z (Malley's method); density cos(theta)/pi.
+pub fn square_to_cosine_hemisphere(u: Vec2) -> Vec3 {
+    let d = square_to_disk_concentric(u);
+    let z = (1.0 - d.length_squared()).max(0.0).sqrt();
+    Vec3::new(d.x, d.y, z)
+}
+
+pub fn cosine_hemisphere_pdf(v: Vec3) -> f32 {
+    if v.z > 0.0 {
+        v.z * INV_PI
+    } else {
+        0.0
+    }
+}
+
+pub fn square_to_uniform_sphere(u: Vec2) -> Vec3 {
+    let z = 1.0 - 2.0 * u.x;
+    let r = (1.0 - z * z).max(0.0).sqrt();
+    let phi = 2.0 * PI * u.y;
+    Vec3::new(r * phi.cos(), r * phi.sin(), z)
+}
+
+pub const UNIFORM_SPHERE_PDF: f32 = INV_4PI;
+
+pub fn square_to_uniform_hemisphere(u: Vec2) -> Vec3 {
+    let z = u.x;
+    let r = (1.0 - z * z).max(0.0).sqrt();
+    let phi = 2.0 * PI * u.y;
+    Vec3::new(r * phi.cos(), r * phi.sin(), z)
+}
+
+pub const UNIFORM_HEMISPHERE_PDF: f32 = INV_2PI;
+
+/// Uniform directions in the cone of half-angle acos(cos_max) around +z.
+pub fn square_to_uniform_cone(u: Vec2, cos_max: f32) -> Vec3 {
+    let z = 1.0 - u.x * (1.0 - cos_max);
+    let r = (1.0 - z * z).max(0.0).sqrt();
+    let phi = 2.0 * PI * u.y;
+    Vec3::new(r * phi.cos(), r * phi.sin(), z)
+}
+
+pub fn uniform_cone_pdf(cos_max: f32) -> f32 {
+    1.0 / (2.0 * PI * (1.0 - cos_max))
+}
+
+/// Uniform barycentrics (b1, b2) on a triangle (Heitz 2019, area-preserving, low distortion).
+pub fn square_to_triangle(u: Vec2) -> Vec2 {
+    let (mut b0, mut b1);
+    if u.x < u.y {
+        b0 = u.x / 2.0;
+        b1 = u.y - b0;
+    } else {
+        b1 = u.y / 2.0;
+        b0 = u.x - b1;
+    }
+    // Guard against rounding pushing the point outside.
+    b0 = b0.clamp(0.0, 1.0);
+    b1 = b1.clamp(0.0, 1.0 - b0);
+    Vec2::new(b0, b1)
+}
+
+/// Converts an area density at a point `y` with normal `ny` seen from `x` into a solid-angle
+/// density at `x`: p_w = p_A * |x - y|^2 / |cos theta_y| (seed 000 ch. 4, p(Psi)). Returns 0
+/// where the conversion would divide by zero (grazing emitters).
+pub fn area_to_solid_angle(pdf_area: f32, dist_sq: f32, cos_y: f32) -> f32 {
+    let c = cos_y.abs();
+    if c <= 1e-7 {
+        0.0
+    } else {
+        pdf_area * dist_sq / c
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn warps_stay_on_their_domain() {
+        for i in 0..64 {
+            for j in 0..64 {
+                let u = Vec2::new((i as f32 + 0.5) / 64.0, (j as f32 + 0.5) / 64.0);
+                assert!(square_to_disk_concentric(u).length() <= 1.0 + 1e-6);
+                let h = square_to_cosine_hemisphere(u);
+                assert!((h.length() - 1.0).abs() < 1e-5 && h.z >= 0.0);
+                assert!((square_to_uniform_sphere(u).length() - 1.0).abs() < 1e-5);
+                let c = square_to_uniform_cone(u, 0.8);
+                assert!(c.z >= 0.8 - 1e-6);
+                let b = square_to_triangle(u);
+                assert!(b.x >= 0.0 && b.y >= 0.0 && b.x + b.y <= 1.0 + 1e-6);
+            }
+        }
+    }
+
+    #[test]
+    fn triangle_warp_is_uniform() {
+        // Equal-area split of the triangle into 4 sub-triangles by the edge midpoints: each
+        // should get a quarter of a stratified set of points.
+        let n = 256;
+        let mut counts = [0u32; 4];
+        for i in 0..n {
+            for j in 0..n {
+                let b = square_to_triangle(Vec2::new((i as f32 + 0.5) / n as f32, (j as f32 + 0.5) / n as f32));
+                let k = if b.x > 0.5 {
+                    0
+                } else if b.y > 0.5 {
+                    1
+                } else if b.x + b.y < 0.5 {
+                    2
+                } else {
+                    3
+                };
+                counts[k] += 1;
+            }
+        }
+        for c in counts {
+            assert!((c as f32 / (n * n) as f32 - 0.25).abs() < 0.01, "{counts:?}");
+        }
+    }
+}
