@@ -1,1 +1,20 @@
+//! Scene model of fenestra: geometry (triangle meshes, spheres, disks), materials and lights as
+//! data, the pinhole camera, ray queries behind one trait with two backends (Embree, obvhs),
+//! and the built-in experiment scenes.
 
+pub mod accel;
+pub mod builtin;
+pub mod camera;
+pub mod interaction;
+pub mod light;
+pub mod material;
+pub mod scene;
+pub mod shape;
+
+pub use accel::{Backend, Hit, RayQuery};
+pub use camera::Camera;
+pub use interaction::SurfaceInteraction;
+pub use light::{Emission, EnvironmentDesc, LightDesc};
+pub use material::Material;
+pub use scene::{RenderDefaults, Scene, SceneDesc, SceneError};
+pub use shape::{Shape, ShapeKind, TriangleMesh};

@@ -1,0 +1,78 @@
+//! Ray queries (closest hit, any hit) behind one trait, with two backends: Intel Embree 3
+//! (fast, default) and obvhs' compressed wide BVH (pure Rust, always compiled).
+
+#[cfg(feature = "embree")]
+mod embree;
+mod obvhs;
+
+use crate::shape::Shape;
+use fenestra_core::Ray;
+
+/// The closest surface along a ray.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hit {
+    pub t: f32,
+    /// Index of the shape in the scene.
+    pub shape: u32,
+    /// Primitive (triangle) index within the shape.
+    pub prim: u32,
+    /// Barycentrics of the triangle's 2nd and 3rd vertex (0 for analytic shapes).
+    pub u: f32,
+    pub v: f32,
+}
+
+pub trait RayQuery: Send + Sync {
+    /// Closest hit in (0, tmax).
+    fn intersect(&self, ray: &Ray, tmax: f32) -> Option<Hit>;
+    /// Whether anything lies in (0, tmax).
+    fn occluded(&self, ray: &Ray, tmax: f32) -> bool;
+}
+
+/// Which ray-query library to use.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Backend {
+    #[cfg(feature = "embree")]
+    Embree,
+    Obvhs,
+}
+
+impl Default for Backend {
+    fn default() -> Self {
+        #[cfg(feature = "embree")]
+        return Backend::Embree;
+        #[cfg(not(feature = "embree"))]
+        Backend::Obvhs
+    }
+}
+
+impl std::str::FromStr for Backend {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            #[cfg(feature = "embree")]
+            "embree" => Ok(Backend::Embree),
+            #[cfg(not(feature = "embree"))]
+            "embree" => Err("this build has no Embree support (built without the `embree` feature)".into()),
+            "obvhs" => Ok(Backend::Obvhs),
+            _ => Err(format!("unknown ray-query backend '{s}' (expected embree or obvhs)")),
+        }
+    }
+}
+
+impl Backend {
+    pub fn name(self) -> &'static str {
+        match self {
+            #[cfg(feature = "embree")]
+            Backend::Embree => "embree",
+            Backend::Obvhs => "obvhs",
+        }
+    }
+
+    pub fn build(self, shapes: &[Shape]) -> Result<Box<dyn RayQuery>, String> {
+        match self {
+            #[cfg(feature = "embree")]
+            Backend::Embree => Ok(Box::new(embree::EmbreeScene::new(shapes)?)),
+            Backend::Obvhs => Ok(Box::new(obvhs::ObvhsScene::new(shapes))),
+        }
+    }
+}

@@ -1,0 +1,86 @@
+//! The local geometry at a ray hit.
+
+use crate::shape::{Shape, ShapeKind};
+use crate::Hit;
+use fenestra_core::{Frame, Ray, Vec2, Vec3, INV_2PI, INV_PI};
+
+#[derive(Clone, Copy, Debug)]
+pub struct SurfaceInteraction {
+    pub p: Vec3,
+    /// Geometric normal; its side is the shape's "outside" (emitting side).
+    pub ng: Vec3,
+    /// Shading normal, in the same hemisphere as `ng`.
+    pub ns: Vec3,
+    /// Tangent along increasing u (for anisotropic materials).
+    pub dpdu: Vec3,
+    pub uv: Vec2,
+    pub shape: usize,
+    pub prim: usize,
+    pub t: f32,
+}
+
+impl SurfaceInteraction {
+    pub fn shading_frame(&self) -> Frame {
+        Frame::from_normal_tangent(self.ns, self.dpdu)
+    }
+
+    pub fn from_hit(shape: &Shape, ray: &Ray, hit: &Hit) -> Self {
+        let prim = hit.prim as usize;
+        let (p, mut ng, mut ns, dpdu, uv) = match &shape.kind {
+            ShapeKind::Mesh(m) => {
+                let [i0, i1, i2] = m.indices[prim].map(|i| i as usize);
+                let [p0, p1, p2] = [m.positions[i0], m.positions[i1], m.positions[i2]];
+                let (b1, b2) = (hit.u, hit.v);
+                let b0 = 1.0 - b1 - b2;
+                let p = p0 * b0 + p1 * b1 + p2 * b2;
+                let mut ng = (p1 - p0).cross(p2 - p0).normalize_or_zero();
+                let (uv, dpdu) = match &m.uvs {
+                    Some(uv) => {
+                        let [t0, t1, t2] = [uv[i0], uv[i1], uv[i2]];
+                        let (du1, du2, dv1, dv2) = (t1.x - t0.x, t2.x - t0.x, t1.y - t0.y, t2.y - t0.y);
+                        let det = du1 * dv2 - dv1 * du2;
+                        let dpdu = if det.abs() > 1e-12 { ((p1 - p0) * dv2 - (p2 - p0) * dv1) / det } else { p1 - p0 };
+                        (t0 * b0 + t1 * b1 + t2 * b2, dpdu)
+                    }
+                    None => (Vec2::new(b1, b2), p1 - p0),
+                };
+                let ns = match &m.normals {
+                    Some(n) => {
+                        let ns = (n[i0] * b0 + n[i1] * b1 + n[i2] * b2).normalize_or_zero();
+                        if ns == Vec3::ZERO {
+                            ng
+                        } else {
+                            // pbrt's convention: vertex normals say which side is outside.
+                            if ng.dot(ns) < 0.0 {
+                                ng = -ng;
+                            }
+                            ns
+                        }
+                    }
+                    None => ng,
+                };
+                (p, ng, ns, dpdu, uv)
+            }
+            ShapeKind::Sphere { center, radius } => {
+                let dir = (ray.at(hit.t) - *center).normalize();
+                let p = *center + dir * *radius;
+                let phi = dir.y.atan2(dir.x);
+                let uv = Vec2::new((phi * INV_2PI).rem_euclid(1.0), dir.z.clamp(-1.0, 1.0).acos() * INV_PI);
+                let dpdu = Vec3::new(-dir.y, dir.x, 0.0);
+                (p, dir, dir, dpdu, uv)
+            }
+            ShapeKind::Disk { center, normal, radius } => {
+                let p = ray.at(hit.t);
+                let f = Frame::from_normal(*normal);
+                let local = f.to_local(p - *center);
+                let uv = Vec2::new(local.x / radius * 0.5 + 0.5, local.y / radius * 0.5 + 0.5);
+                (p, *normal, *normal, f.s, uv)
+            }
+        };
+        if shape.flip_normals {
+            ng = -ng;
+            ns = -ns;
+        }
+        SurfaceInteraction { p, ng, ns, dpdu, uv, shape: hit.shape as usize, prim, t: hit.t }
+    }
+}

@@ -1,0 +1,186 @@
+//! A validated scene with its ray-query structure.
+
+use crate::accel::{Backend, Hit, RayQuery};
+use crate::camera::Camera;
+use crate::interaction::SurfaceInteraction;
+use crate::light::LightDesc;
+use crate::material::Material;
+use crate::shape::{Shape, ShapeKind};
+use fenestra_core::{Ray, Vec3};
+
+/// Render settings a scene proposes (a scene file's Film, Sampler and Integrator).
+#[derive(Clone, Debug)]
+pub struct RenderDefaults {
+    pub width: u32,
+    pub height: u32,
+    pub spp: u32,
+    /// Maximum path length in segments from the camera to the emitter (2 = direct light).
+    pub max_depth: u32,
+}
+
+impl Default for RenderDefaults {
+    fn default() -> Self {
+        RenderDefaults { width: 512, height: 512, spp: 64, max_depth: 8 }
+    }
+}
+
+/// Everything a scene is made of, before it is validated and gets its acceleration structure.
+#[derive(Clone, Debug)]
+pub struct SceneDesc {
+    pub name: String,
+    pub shapes: Vec<Shape>,
+    pub materials: Vec<Material>,
+    /// Lights that are not shapes (area emitters are shapes with an emission).
+    pub lights: Vec<LightDesc>,
+    pub camera: Camera,
+    pub defaults: RenderDefaults,
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum SceneError {
+    #[error("shape {shape}: material index {material} out of range ({count} materials)")]
+    MaterialIndex { shape: usize, material: usize, count: usize },
+    #[error("shape {shape}: triangle {triangle} uses vertex {vertex} but the mesh has {count} vertices")]
+    VertexIndex { shape: usize, triangle: usize, vertex: u32, count: usize },
+    #[error("shape {shape}: {what}")]
+    Geometry { shape: usize, what: String },
+    #[error("material {index}: {what}")]
+    Material { index: usize, what: String },
+    #[error("light {index}: {what}")]
+    Light { index: usize, what: String },
+    #[error("building the ray-query structure failed: {0}")]
+    Accel(String),
+}
+
+pub struct Scene {
+    pub name: String,
+    pub shapes: Vec<Shape>,
+    pub materials: Vec<Material>,
+    pub lights: Vec<LightDesc>,
+    pub camera: Camera,
+    pub defaults: RenderDefaults,
+    pub backend: Backend,
+    accel: Box<dyn RayQuery>,
+    bounds: (Vec3, Vec3),
+}
+
+impl Scene {
+    /// Validates `desc` and builds its ray-query structure with `backend`.
+    pub fn build(desc: SceneDesc, backend: Backend) -> Result<Scene, SceneError> {
+        validate(&desc)?;
+        let accel = backend.build(&desc.shapes).map_err(SceneError::Accel)?;
+        let mut lo = Vec3::splat(f32::INFINITY);
+        let mut hi = Vec3::splat(f32::NEG_INFINITY);
+        for s in &desc.shapes {
+            for p in 0..s.primitive_count() {
+                let (a, b) = s.primitive_bounds(p);
+                lo = lo.min(a);
+                hi = hi.max(b);
+            }
+        }
+        if lo.x > hi.x {
+            (lo, hi) = (Vec3::ZERO, Vec3::ZERO);
+        }
+        Ok(Scene {
+            name: desc.name,
+            shapes: desc.shapes,
+            materials: desc.materials,
+            lights: desc.lights,
+            camera: desc.camera,
+            defaults: desc.defaults,
+            backend,
+            accel,
+            bounds: (lo, hi),
+        })
+    }
+
+    pub fn intersect(&self, ray: &Ray, tmax: f32) -> Option<Hit> {
+        self.accel.intersect(ray, tmax)
+    }
+
+    pub fn occluded(&self, ray: &Ray, tmax: f32) -> bool {
+        self.accel.occluded(ray, tmax)
+    }
+
+    pub fn interaction(&self, ray: &Ray, hit: &Hit) -> SurfaceInteraction {
+        SurfaceInteraction::from_hit(&self.shapes[hit.shape as usize], ray, hit)
+    }
+
+    /// Axis-aligned bounds of all geometry.
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        self.bounds
+    }
+
+    /// A sphere enclosing all geometry (centre, radius), never of zero radius.
+    pub fn bounding_sphere(&self) -> (Vec3, f32) {
+        let (lo, hi) = self.bounds;
+        ((lo + hi) * 0.5, ((hi - lo).length() * 0.5).max(1e-3))
+    }
+
+    pub fn triangle_count(&self) -> usize {
+        self.shapes.iter().filter(|s| matches!(s.kind, ShapeKind::Mesh(_))).map(Shape::primitive_count).sum()
+    }
+}
+
+fn validate(desc: &SceneDesc) -> Result<(), SceneError> {
+    for (i, m) in desc.materials.iter().enumerate() {
+        if let Some(what) = m.validate() {
+            return Err(SceneError::Material { index: i, what });
+        }
+    }
+    for (i, s) in desc.shapes.iter().enumerate() {
+        if s.material >= desc.materials.len() {
+            return Err(SceneError::MaterialIndex { shape: i, material: s.material, count: desc.materials.len() });
+        }
+        let geo = |what: String| Err(SceneError::Geometry { shape: i, what });
+        match &s.kind {
+            ShapeKind::Mesh(m) => {
+                for (t, tri) in m.indices.iter().enumerate() {
+                    if let Some(&v) = tri.iter().find(|&&v| v as usize >= m.positions.len()) {
+                        return Err(SceneError::VertexIndex { shape: i, triangle: t, vertex: v, count: m.positions.len() });
+                    }
+                }
+                if m.positions.iter().any(|p| !p.is_finite()) {
+                    return geo("a vertex position is not finite".into());
+                }
+                if m.normals.as_ref().is_some_and(|n| n.len() != m.positions.len()) {
+                    return geo("normal count differs from vertex count".into());
+                }
+                if m.uvs.as_ref().is_some_and(|n| n.len() != m.positions.len()) {
+                    return geo("uv count differs from vertex count".into());
+                }
+            }
+            ShapeKind::Sphere { center, radius } => {
+                if !center.is_finite() || !(radius.is_finite() && *radius > 0.0) {
+                    return geo(format!("sphere centre {center} radius {radius} invalid"));
+                }
+            }
+            ShapeKind::Disk { center, normal, radius } => {
+                if !center.is_finite() || !(radius.is_finite() && *radius > 0.0) || (normal.length() - 1.0).abs() > 1e-3 {
+                    return geo(format!("disk centre {center} normal {normal} radius {radius} invalid"));
+                }
+            }
+        }
+        if let Some(e) = &s.emission {
+            if !e.radiance.is_finite() || e.radiance.max_component() < 0.0 {
+                return geo(format!("emitted radiance {:?} invalid", e.radiance));
+            }
+        }
+    }
+    for (i, l) in desc.lights.iter().enumerate() {
+        let bad = |what: &str| Err(SceneError::Light { index: i, what: what.into() });
+        match l {
+            LightDesc::Spot { direction, cone_angle, falloff_start, .. } => {
+                if direction.length() < 1e-6 {
+                    return bad("spot light direction is zero");
+                }
+                if !(*cone_angle > 0.0 && *cone_angle <= 180.0) || *falloff_start > *cone_angle {
+                    return bad("spot light cone angles must satisfy 0 <= falloff start <= cone angle <= 180");
+                }
+            }
+            LightDesc::Distant { direction, .. } if direction.length() < 1e-6 => return bad("distant light direction is zero"),
+            _ => {}
+        }
+    }
+    Ok(())
+}
