@@ -1,1 +1,48 @@
-fn main(){}
+//! The `fenestra` command line.
+
+mod progress;
+mod render;
+mod scene_arg;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(name = "fenestra", version, about = "Physically based Monte Carlo renderer: variance reduction through coherence")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Render a scene to linear EXR, with a tone-mapped PNG and a JSON sidecar beside it.
+    Render(render::RenderArgs),
+    /// List the built-in scenes and the integrators.
+    List,
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Render(args) => render::run(args),
+        Command::List => {
+            println!("built-in scenes (use as builtin:NAME):");
+            for (name, what) in fenestra_scene::builtin::SCENES {
+                println!("  {name:<14} {what}");
+            }
+            println!("integrators (--integrator NAME):");
+            for (name, what) in fenestra_render::integrator::INTEGRATORS {
+                println!("  {name:<14} {what}");
+            }
+            Ok(())
+        }
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}

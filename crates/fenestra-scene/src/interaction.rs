@@ -24,6 +24,13 @@ impl SurfaceInteraction {
         Frame::from_normal_tangent(self.ns, self.dpdu)
     }
 
+    /// The interaction at point `p` of primitive `prim` with barycentrics (b1, b2) (meshes),
+    /// as if a ray had hit it there: used by light sampling to see the same normals as rays.
+    pub fn on_surface(shape: &Shape, shape_index: usize, prim: usize, p: Vec3, b1: f32, b2: f32) -> Self {
+        let hit = Hit { t: 0.0, shape: shape_index as u32, prim: prim as u32, u: b1, v: b2 };
+        Self::from_hit(shape, &Ray::new(p, Vec3::Z), &hit)
+    }
+
     pub fn from_hit(shape: &Shape, ray: &Ray, hit: &Hit) -> Self {
         let prim = hit.prim as usize;
         let (p, mut ng, mut ns, dpdu, uv) = match &shape.kind {

@@ -1,0 +1,45 @@
+//! Rough conductor: GGX microfacets with complex Fresnel, visible-normal sampling.
+
+use super::microfacet::Ggx;
+use super::{fresnel, reflect, BsdfSample};
+use fenestra_core::{Rgb, Vec2, Vec3};
+
+#[derive(Clone, Debug)]
+pub struct RoughConductor {
+    eta: Rgb,
+    k: Rgb,
+    ggx: Ggx,
+}
+
+impl RoughConductor {
+    pub fn new(eta: Rgb, k: Rgb, ax: f32, ay: f32) -> Self {
+        RoughConductor { eta, k, ggx: Ggx::new(ax, ay) }
+    }
+
+    pub fn eval(&self, wo: Vec3, wi: Vec3) -> Rgb {
+        let h = (wo + wi).normalize_or_zero();
+        if h == Vec3::ZERO {
+            return Rgb::ZERO;
+        }
+        let f = fresnel::conductor(wo.dot(h), self.eta, self.k);
+        f * (self.ggx.d(h) * self.ggx.g(wo, wi) / (4.0 * wo.z * wi.z))
+    }
+
+    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        let h = (wo + wi).normalize_or_zero();
+        if h == Vec3::ZERO {
+            return 0.0;
+        }
+        self.ggx.pdf_visible(wo, h) / (4.0 * wo.dot(h).abs())
+    }
+
+    pub fn sample(&self, wo: Vec3, u: Vec2) -> Option<BsdfSample> {
+        let h = self.ggx.sample_visible(wo, u);
+        let wi = reflect(wo, h);
+        if wi.z <= 0.0 {
+            return None;
+        }
+        let pdf = self.pdf(wo, wi);
+        Some(BsdfSample { wi, weight: self.eval(wo, wi) * (wi.z / pdf), pdf, delta: false })
+    }
+}

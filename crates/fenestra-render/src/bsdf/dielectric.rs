@@ -1,0 +1,24 @@
+//! Smooth dielectric interface: Fresnel-weighted choice between mirror reflection and
+//! refraction, total internal reflection included (seed 000 §2.4).
+
+use super::{fresnel, reflect_z, BsdfSample};
+use fenestra_core::{Rgb, Vec3};
+
+#[derive(Clone, Debug)]
+pub struct SmoothDielectric {
+    /// Interior index over exterior index; the exterior is the +z side.
+    pub eta: f32,
+}
+
+impl SmoothDielectric {
+    pub fn sample(&self, wo: Vec3, uc: f32) -> Option<BsdfSample> {
+        let f = fresnel::dielectric(wo.z, self.eta);
+        if uc < f {
+            return Some(BsdfSample { wi: reflect_z(wo), weight: Rgb::ONE, pdf: f, delta: true });
+        }
+        let (wi, etap) = fresnel::refract(wo, Vec3::Z, self.eta)?;
+        // Radiance is compressed by eta^2 when it enters a denser medium (non-symmetric
+        // scattering for camera paths, Veach 1997 §5.2).
+        Some(BsdfSample { wi, weight: Rgb::splat(1.0 / (etap * etap)), pdf: 1.0 - f, delta: true })
+    }
+}

@@ -1,0 +1,163 @@
+//! Scattering functions in a local shading frame (normal along +z). Opaque materials are
+//! two-sided: they reflect on whichever side `wo` lies. `sample` returns the weight
+//! f * |cos| / pdf that a path's throughput is multiplied by.
+
+mod conductor;
+mod dielectric;
+mod diffuse;
+pub mod fresnel;
+pub mod microfacet;
+mod mirror;
+mod phong;
+mod rough_dielectric;
+mod ward;
+
+pub use conductor::RoughConductor;
+pub use dielectric::SmoothDielectric;
+pub use diffuse::Diffuse;
+pub use mirror::Mirror;
+pub use phong::Phong;
+pub use rough_dielectric::RoughDielectric;
+pub use ward::Ward;
+
+use fenestra_core::{Rgb, Vec2, Vec3};
+use fenestra_scene::Material;
+
+#[derive(Clone, Copy, Debug)]
+pub struct BsdfSample {
+    /// Sampled incident direction (local frame).
+    pub wi: Vec3,
+    /// f * |cos theta_i| / pdf.
+    pub weight: Rgb,
+    /// Solid-angle density; for delta lobes the discrete probability of the chosen lobe.
+    pub pdf: f32,
+    /// From a Dirac lobe (mirror, smooth glass): no MIS, no light sampling.
+    pub delta: bool,
+}
+
+#[derive(Clone, Debug)]
+pub enum Bsdf {
+    Diffuse(Diffuse),
+    Mirror(Mirror),
+    SmoothDielectric(SmoothDielectric),
+    Phong(Phong),
+    Ward(Ward),
+    RoughConductor(RoughConductor),
+    RoughDielectric(RoughDielectric),
+}
+
+/// Mirror image of `v` in the local z axis' plane (reflection about the normal).
+pub fn reflect_z(v: Vec3) -> Vec3 {
+    Vec3::new(-v.x, -v.y, v.z)
+}
+
+/// Reflection of `wo` about the unit vector `h`.
+pub fn reflect(wo: Vec3, h: Vec3) -> Vec3 {
+    2.0 * wo.dot(h) * h - wo
+}
+
+impl Bsdf {
+    pub fn from_material(m: &Material) -> Bsdf {
+        match *m {
+            Material::Diffuse { reflectance } => Bsdf::Diffuse(Diffuse { reflectance }),
+            Material::Mirror { reflectance } => Bsdf::Mirror(Mirror { reflectance }),
+            Material::Dielectric { eta } => Bsdf::SmoothDielectric(SmoothDielectric { eta }),
+            Material::Phong { diffuse, specular, exponent } => Bsdf::Phong(Phong::new(diffuse, specular, exponent)),
+            Material::Ward { diffuse, specular, alpha_x, alpha_y } => Bsdf::Ward(Ward::new(diffuse, specular, alpha_x, alpha_y)),
+            Material::RoughConductor { eta, k, alpha_x, alpha_y } => {
+                Bsdf::RoughConductor(RoughConductor::new(eta, k, alpha_x, alpha_y))
+            }
+            Material::RoughDielectric { eta, alpha } => Bsdf::RoughDielectric(RoughDielectric::new(eta, alpha)),
+        }
+    }
+
+    /// Whether every lobe is a Dirac delta (light sampling is pointless there).
+    pub fn is_delta(&self) -> bool {
+        matches!(self, Bsdf::Mirror(_) | Bsdf::SmoothDielectric(_))
+    }
+
+    /// Whether the material transmits (otherwise it is opaque and two-sided).
+    pub fn is_transmissive(&self) -> bool {
+        matches!(self, Bsdf::SmoothDielectric(_) | Bsdf::RoughDielectric(_))
+    }
+
+    /// BSDF value f(wo, wi) (without the cosine).
+    pub fn eval(&self, wo: Vec3, wi: Vec3) -> Rgb {
+        if let Bsdf::RoughDielectric(b) = self {
+            return b.eval(wo, wi);
+        }
+        let Some((wo, wi)) = opaque_side(wo, wi) else { return Rgb::ZERO };
+        match self {
+            Bsdf::Diffuse(b) => b.eval(wo, wi),
+            Bsdf::Phong(b) => b.eval(wo, wi),
+            Bsdf::Ward(b) => b.eval(wo, wi),
+            Bsdf::RoughConductor(b) => b.eval(wo, wi),
+            Bsdf::Mirror(_) | Bsdf::SmoothDielectric(_) | Bsdf::RoughDielectric(_) => Rgb::ZERO,
+        }
+    }
+
+    /// Solid-angle density of `sample` producing `wi`.
+    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        if let Bsdf::RoughDielectric(b) = self {
+            return b.pdf(wo, wi);
+        }
+        let Some((wo, wi)) = opaque_side(wo, wi) else { return 0.0 };
+        match self {
+            Bsdf::Diffuse(b) => b.pdf(wo, wi),
+            Bsdf::Phong(b) => b.pdf(wo, wi),
+            Bsdf::Ward(b) => b.pdf(wo, wi),
+            Bsdf::RoughConductor(b) => b.pdf(wo, wi),
+            Bsdf::Mirror(_) | Bsdf::SmoothDielectric(_) | Bsdf::RoughDielectric(_) => 0.0,
+        }
+    }
+
+    /// Samples an incident direction; `uc` picks a lobe, `u` places the direction.
+    pub fn sample(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<BsdfSample> {
+        if wo.z == 0.0 {
+            return None;
+        }
+        match self {
+            Bsdf::SmoothDielectric(b) => return b.sample(wo, uc),
+            Bsdf::RoughDielectric(b) => return b.sample(wo, uc, u),
+            _ => {}
+        }
+        let flip = wo.z < 0.0;
+        let wo = if flip { flip_z(wo) } else { wo };
+        let s = match self {
+            Bsdf::Diffuse(b) => b.sample(wo, u),
+            Bsdf::Mirror(b) => b.sample(wo),
+            Bsdf::Phong(b) => b.sample(wo, uc, u),
+            Bsdf::Ward(b) => b.sample(wo, uc, u),
+            Bsdf::RoughConductor(b) => b.sample(wo, u),
+            Bsdf::SmoothDielectric(_) | Bsdf::RoughDielectric(_) => None,
+        }?;
+        let ok = s.wi.z > 0.0 && s.pdf > 0.0 && s.weight.is_finite();
+        ok.then(|| BsdfSample { wi: if flip { flip_z(s.wi) } else { s.wi }, ..s })
+    }
+}
+
+fn flip_z(v: Vec3) -> Vec3 {
+    Vec3::new(v.x, v.y, -v.z)
+}
+
+/// For opaque two-sided materials: both directions moved to the upper hemisphere, or `None`
+/// when they lie on opposite sides (no transmission).
+fn opaque_side(wo: Vec3, wi: Vec3) -> Option<(Vec3, Vec3)> {
+    if wo.z * wi.z <= 0.0 {
+        None
+    } else if wo.z < 0.0 {
+        Some((flip_z(wo), flip_z(wi)))
+    } else {
+        Some((wo, wi))
+    }
+}
+
+/// Probability of choosing the specular lobe of a diffuse + specular mixture.
+fn specular_probability(diffuse: Rgb, specular: Rgb) -> f32 {
+    let (d, s) = (diffuse.average(), specular.average());
+    if d + s <= 0.0 {
+        0.0
+    } else {
+        s / (d + s)
+    }
+}

@@ -1,0 +1,80 @@
+//! The film: per-pixel f64 sums of samples and of their squares (box filter over the pixel),
+//! so that the image and the variance of each pixel's mean come out of one render.
+
+use fenestra_core::image::Image;
+use fenestra_core::Rgb;
+
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Pixel {
+    pub sum: [f64; 3],
+    pub sum_sq: [f64; 3],
+    pub count: u32,
+}
+
+impl Pixel {
+    pub fn add(&mut self, c: Rgb) {
+        for (i, v) in c.to_array().into_iter().enumerate() {
+            self.sum[i] += v as f64;
+            self.sum_sq[i] += v as f64 * v as f64;
+        }
+        self.count += 1;
+    }
+
+    pub fn mean(&self) -> [f64; 3] {
+        let n = self.count.max(1) as f64;
+        self.sum.map(|s| s / n)
+    }
+
+    /// Variance of the pixel mean (sample variance / n), per channel.
+    pub fn variance_of_mean(&self) -> [f64; 3] {
+        let n = self.count as f64;
+        if n < 2.0 {
+            return [0.0; 3];
+        }
+        let mut out = [0.0; 3];
+        for i in 0..3 {
+            let mean = self.sum[i] / n;
+            out[i] = ((self.sum_sq[i] / n - mean * mean) * n / (n - 1.0)).max(0.0) / n;
+        }
+        out
+    }
+}
+
+#[derive(Clone, Debug)]
+pub struct Film {
+    pub width: u32,
+    pub height: u32,
+    pub pixels: Vec<Pixel>,
+}
+
+impl Film {
+    pub fn new(width: u32, height: u32) -> Self {
+        Film { width, height, pixels: vec![Pixel::default(); width as usize * height as usize] }
+    }
+
+    fn to_image(&self, f: impl Fn(&Pixel) -> [f64; 3]) -> Image {
+        let mut img = Image::new(self.width as usize, self.height as usize);
+        for (dst, p) in img.pixels.iter_mut().zip(&self.pixels) {
+            let v = f(p);
+            *dst = Rgb::new(v[0] as f32, v[1] as f32, v[2] as f32);
+        }
+        img
+    }
+
+    /// The rendered image: each pixel's sample mean.
+    pub fn image(&self) -> Image {
+        self.to_image(Pixel::mean)
+    }
+
+    /// Per-pixel variance of the mean.
+    pub fn variance_image(&self) -> Image {
+        self.to_image(Pixel::variance_of_mean)
+    }
+
+    /// (smallest, largest) samples taken by any pixel.
+    pub fn sample_count_range(&self) -> (u32, u32) {
+        let min = self.pixels.iter().map(|p| p.count).min().unwrap_or(0);
+        let max = self.pixels.iter().map(|p| p.count).max().unwrap_or(0);
+        (min, max)
+    }
+}

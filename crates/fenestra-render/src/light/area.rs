@@ -1,0 +1,113 @@
+//! Diffuse area emitter on any shape: triangles picked by area, spheres by the cone they
+//! subtend, disks uniformly by area.
+
+use super::LightSample;
+use fenestra_core::distribution::Distribution1D;
+use fenestra_core::{warp, Frame, Rgb, Vec2, Vec3, PI};
+use fenestra_scene::light::Emission;
+use fenestra_scene::{Scene, ShapeKind, SurfaceInteraction};
+
+#[derive(Clone, Debug)]
+pub struct AreaLight {
+    shape: usize,
+    emission: Emission,
+    area: f32,
+    /// Triangle selection by area (meshes only).
+    triangles: Option<Distribution1D>,
+}
+
+impl AreaLight {
+    pub fn new(scene: &Scene, shape: usize, emission: Emission) -> Self {
+        let s = &scene.shapes[shape];
+        let triangles = match &s.kind {
+            ShapeKind::Mesh(m) => Some(Distribution1D::new(&(0..m.indices.len()).map(|i| m.triangle_area(i)).collect::<Vec<_>>())),
+            _ => None,
+        };
+        AreaLight { shape, emission, area: s.area(), triangles }
+    }
+
+    pub fn shape(&self) -> usize {
+        self.shape
+    }
+
+    /// Radiance leaving the emitter point `si` in direction `w`.
+    pub fn le(&self, si: &SurfaceInteraction, w: Vec3) -> Rgb {
+        if self.emission.two_sided || si.ng.dot(w) > 0.0 {
+            self.emission.radiance
+        } else {
+            Rgb::ZERO
+        }
+    }
+
+    pub fn power(&self) -> f32 {
+        let sides = if self.emission.two_sided { 2.0 } else { 1.0 };
+        PI * self.area * sides * self.emission.radiance.luminance()
+    }
+
+    /// Sphere seen from outside: (cos of the cone half-angle, distance to the centre).
+    fn sphere_cone(center: Vec3, radius: f32, p: Vec3) -> Option<f32> {
+        let d2 = (center - p).length_squared();
+        (d2 > radius * radius * 1.0001).then(|| (1.0 - radius * radius / d2).max(0.0).sqrt())
+    }
+
+    pub fn sample_li(&self, scene: &Scene, p: Vec3, u: Vec2) -> Option<LightSample> {
+        let shape = &scene.shapes[self.shape];
+        let (si, pdf) = match &shape.kind {
+            ShapeKind::Sphere { center, radius } if Self::sphere_cone(*center, *radius, p).is_some() => {
+                let cos_max = Self::sphere_cone(*center, *radius, p)?;
+                let axis = (*center - p).normalize();
+                let dir = Frame::from_normal(axis).to_world(warp::square_to_uniform_cone(u, cos_max));
+                // Closest point of the sphere along dir; grazing directions take the tangent point.
+                let dc = (*center - p).length();
+                let cos_t = dir.dot(axis);
+                let t = dc * cos_t - (radius * radius - dc * dc * (1.0 - cos_t * cos_t)).max(0.0).sqrt();
+                let si = SurfaceInteraction::on_surface(shape, self.shape, 0, p + dir * t, 0.0, 0.0);
+                (si, warp::uniform_cone_pdf(cos_max))
+            }
+            _ => {
+                let (prim, point, b) = self.sample_area(&shape.kind, u);
+                let si = SurfaceInteraction::on_surface(shape, self.shape, prim, point, b.x, b.y);
+                let d = si.p - p;
+                let pdf = warp::area_to_solid_angle(1.0 / self.area, d.length_squared(), si.ng.dot(d.normalize_or_zero()));
+                (si, pdf)
+            }
+        };
+        let d = si.p - p;
+        let dist = d.length();
+        if pdf <= 0.0 || dist == 0.0 {
+            return None;
+        }
+        let wi = d / dist;
+        let li = self.le(&si, -wi);
+        (!li.is_black()).then_some(LightSample { wi, li, pdf, point: Some(si.p), delta: false })
+    }
+
+    /// Uniform point on the shape by area: (primitive, point, barycentrics).
+    fn sample_area(&self, kind: &ShapeKind, u: Vec2) -> (usize, Vec3, Vec2) {
+        match kind {
+            ShapeKind::Mesh(m) => {
+                let dist = self.triangles.as_ref().unwrap_or_else(|| unreachable!("meshes have a triangle distribution"));
+                let (tri, _, ux) = dist.sample_discrete(u.x);
+                let b = warp::square_to_triangle(Vec2::new(ux, u.y));
+                let [p0, p1, p2] = m.triangle(tri);
+                (tri, p0 * (1.0 - b.x - b.y) + p1 * b.x + p2 * b.y, b)
+            }
+            ShapeKind::Sphere { center, radius } => (0, *center + warp::square_to_uniform_sphere(u) * *radius, Vec2::ZERO),
+            ShapeKind::Disk { center, normal, radius } => {
+                let d = warp::square_to_disk_concentric(u) * *radius;
+                (0, *center + Frame::from_normal(*normal).to_world(Vec3::new(d.x, d.y, 0.0)), Vec2::ZERO)
+            }
+        }
+    }
+
+    /// Solid-angle density at `p` of sampling the emitter point `si` (hit by a ray from `p`).
+    pub fn pdf_li(&self, scene: &Scene, p: Vec3, si: &SurfaceInteraction) -> f32 {
+        if let ShapeKind::Sphere { center, radius } = scene.shapes[self.shape].kind {
+            if let Some(cos_max) = Self::sphere_cone(center, radius, p) {
+                return warp::uniform_cone_pdf(cos_max);
+            }
+        }
+        let d = si.p - p;
+        warp::area_to_solid_angle(1.0 / self.area, d.length_squared(), si.ng.dot(d.normalize_or_zero()))
+    }
+}

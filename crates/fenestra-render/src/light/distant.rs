@@ -1,0 +1,27 @@
+//! Directional light (sun-like), at infinity.
+
+use super::LightSample;
+use fenestra_core::{Rgb, Vec3, PI};
+use fenestra_scene::Scene;
+
+#[derive(Clone, Debug)]
+pub struct DistantLight {
+    /// Direction light travels.
+    direction: Vec3,
+    irradiance: Rgb,
+}
+
+impl DistantLight {
+    pub fn new(direction: Vec3, irradiance: Rgb) -> Self {
+        DistantLight { direction: direction.normalize(), irradiance }
+    }
+
+    pub fn sample_li(&self) -> Option<LightSample> {
+        Some(LightSample { wi: -self.direction, li: self.irradiance, pdf: 1.0, point: None, delta: true })
+    }
+
+    pub fn power(&self, scene: &Scene) -> f32 {
+        let r = scene.bounding_sphere().1;
+        PI * r * r * self.irradiance.luminance()
+    }
+}

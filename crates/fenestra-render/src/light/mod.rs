@@ -1,0 +1,114 @@
+//! Samplable lights built from the scene's light descriptions and emissive shapes.
+
+mod area;
+mod distant;
+mod environment;
+mod point;
+pub mod sampler;
+mod spot;
+
+pub use area::AreaLight;
+pub use distant::DistantLight;
+pub use environment::Environment;
+pub use point::PointLight;
+pub use sampler::{LightSampler, PowerLightSampler, UniformLightSampler};
+pub use spot::SpotLight;
+
+use fenestra_core::{Rgb, Vec2, Vec3};
+use fenestra_scene::{LightDesc, Scene, SurfaceInteraction};
+
+/// Incident light sampled at a point.
+#[derive(Clone, Copy, Debug)]
+pub struct LightSample {
+    /// Unit direction from the shading point towards the light.
+    pub wi: Vec3,
+    /// Incident radiance (for delta lights, the irradiance-like quantity I/d^2 or E).
+    pub li: Rgb,
+    /// Solid-angle density (1 for delta lights).
+    pub pdf: f32,
+    /// Point on the light, or `None` at infinity.
+    pub point: Option<Vec3>,
+    /// Dirac light (point, spot, distant): cannot be hit by BSDF sampling, no MIS.
+    pub delta: bool,
+}
+
+#[derive(Clone, Debug)]
+pub enum Light {
+    Point(PointLight),
+    Spot(SpotLight),
+    Distant(DistantLight),
+    Area(AreaLight),
+    Environment(Environment),
+}
+
+impl Light {
+    pub fn sample_li(&self, scene: &Scene, p: Vec3, u: Vec2) -> Option<LightSample> {
+        match self {
+            Light::Point(l) => l.sample_li(p),
+            Light::Spot(l) => l.sample_li(p),
+            Light::Distant(l) => l.sample_li(),
+            Light::Area(l) => l.sample_li(scene, p, u),
+            Light::Environment(l) => l.sample_li(u),
+        }
+    }
+
+    /// Total emitted power (luminance of watts), for power-proportional light selection.
+    pub fn power(&self, scene: &Scene) -> f32 {
+        match self {
+            Light::Point(l) => l.power(),
+            Light::Spot(l) => l.power(),
+            Light::Distant(l) => l.power(scene),
+            Light::Area(l) => l.power(),
+            Light::Environment(l) => l.power(scene),
+        }
+    }
+}
+
+/// All lights of a scene, with the maps the integrators need.
+pub struct Lights {
+    pub lights: Vec<Light>,
+    /// For each shape, the index of its area light if it emits.
+    pub area_of_shape: Vec<Option<usize>>,
+    /// Indices of environment lights (seen by rays that escape).
+    pub environments: Vec<usize>,
+}
+
+impl Lights {
+    pub fn new(scene: &Scene) -> Self {
+        let mut lights = Vec::new();
+        let mut environments = Vec::new();
+        for desc in &scene.lights {
+            let light = match desc {
+                LightDesc::Point { position, intensity } => Light::Point(PointLight::new(*position, *intensity)),
+                LightDesc::Spot { position, direction, intensity, cone_angle, falloff_start } => {
+                    Light::Spot(SpotLight::new(*position, *direction, *intensity, *cone_angle, *falloff_start))
+                }
+                LightDesc::Distant { direction, irradiance } => Light::Distant(DistantLight::new(*direction, *irradiance)),
+                LightDesc::Environment(env) => {
+                    environments.push(lights.len());
+                    Light::Environment(Environment::new(env))
+                }
+            };
+            lights.push(light);
+        }
+        let area_of_shape = scene
+            .shapes
+            .iter()
+            .enumerate()
+            .map(|(i, s)| {
+                s.emission.filter(|e| !e.radiance.is_black()).map(|e| {
+                    lights.push(Light::Area(AreaLight::new(scene, i, e)));
+                    lights.len() - 1
+                })
+            })
+            .collect();
+        Lights { lights, area_of_shape, environments }
+    }
+
+    /// Radiance leaving an emitter hit at `si` towards `wo` (zero on its back side).
+    pub fn le(&self, si: &SurfaceInteraction, wo: Vec3) -> Option<(usize, Rgb)> {
+        let i = self.area_of_shape[si.shape]?;
+        let Light::Area(a) = &self.lights[i] else { return None };
+        Some((i, a.le(si, wo)))
+    }
+}

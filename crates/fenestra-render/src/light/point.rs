@@ -1,0 +1,30 @@
+//! Isotropic point light.
+
+use super::LightSample;
+use fenestra_core::{Rgb, Vec3, PI};
+
+#[derive(Clone, Debug)]
+pub struct PointLight {
+    position: Vec3,
+    intensity: Rgb,
+}
+
+impl PointLight {
+    pub fn new(position: Vec3, intensity: Rgb) -> Self {
+        PointLight { position, intensity }
+    }
+
+    pub fn sample_li(&self, p: Vec3) -> Option<LightSample> {
+        let d = self.position - p;
+        let d2 = d.length_squared();
+        if d2 == 0.0 {
+            return None;
+        }
+        let wi = d / d2.sqrt();
+        Some(LightSample { wi, li: self.intensity / d2, pdf: 1.0, point: Some(self.position), delta: true })
+    }
+
+    pub fn power(&self) -> f32 {
+        4.0 * PI * self.intensity.luminance()
+    }
+}

@@ -1,0 +1,53 @@
+//! Spot light with pbrt-v4's smoothstep falloff between two cone angles.
+
+use super::LightSample;
+use fenestra_core::{Rgb, Vec3, PI};
+
+#[derive(Clone, Debug)]
+pub struct SpotLight {
+    position: Vec3,
+    direction: Vec3,
+    intensity: Rgb,
+    cos_end: f32,
+    cos_start: f32,
+}
+
+fn smoothstep(a: f32, b: f32, x: f32) -> f32 {
+    if a == b {
+        return if x < a { 0.0 } else { 1.0 };
+    }
+    let t = ((x - a) / (b - a)).clamp(0.0, 1.0);
+    t * t * (3.0 - 2.0 * t)
+}
+
+impl SpotLight {
+    /// `cone_angle` is the total half-angle, `falloff_start` where the falloff begins (degrees).
+    pub fn new(position: Vec3, direction: Vec3, intensity: Rgb, cone_angle: f32, falloff_start: f32) -> Self {
+        SpotLight {
+            position,
+            direction: direction.normalize(),
+            intensity,
+            cos_end: cone_angle.to_radians().cos(),
+            cos_start: falloff_start.to_radians().cos(),
+        }
+    }
+
+    pub fn sample_li(&self, p: Vec3) -> Option<LightSample> {
+        let d = self.position - p;
+        let d2 = d.length_squared();
+        if d2 == 0.0 {
+            return None;
+        }
+        let wi = d / d2.sqrt();
+        let falloff = smoothstep(self.cos_end, self.cos_start, (-wi).dot(self.direction));
+        if falloff == 0.0 {
+            return None;
+        }
+        Some(LightSample { wi, li: self.intensity * (falloff / d2), pdf: 1.0, point: Some(self.position), delta: true })
+    }
+
+    pub fn power(&self) -> f32 {
+        // Full intensity inside the inner cone, smoothstep average (1/2) in the falloff ring.
+        self.intensity.luminance() * 2.0 * PI * ((1.0 - self.cos_start) + 0.5 * (self.cos_start - self.cos_end))
+    }
+}

@@ -1,0 +1,43 @@
+//! Writing a render: linear EXR with metadata, tone-mapped PNG beside it, JSON sidecar.
+
+use crate::film::Film;
+use crate::stats::RenderStats;
+use fenestra_core::image::{write_atomically, ImageError};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// The files a render produces for `exr_path`: (png, json).
+pub fn companion_paths(exr_path: &Path) -> (PathBuf, PathBuf) {
+    (exr_path.with_extension("png"), exr_path.with_extension("json"))
+}
+
+/// EXR header attributes from the render statistics.
+pub fn exr_metadata(stats: &RenderStats) -> BTreeMap<String, String> {
+    let mut m = BTreeMap::new();
+    let mut put = |k: &str, v: String| {
+        m.insert(format!("fenestra:{k}"), v);
+    };
+    put("scene", stats.scene.clone());
+    put("integrator", stats.integrator.clone());
+    put("spp", stats.spp.to_string());
+    put("seed", stats.seed.to_string());
+    put("max_depth", stats.max_depth.to_string());
+    put("render_time_s", format!("{:.6}", stats.time_s));
+    put("camera_rays", stats.rays.camera.to_string());
+    put("bounce_rays", stats.rays.bounce.to_string());
+    put("shadow_rays", stats.rays.shadow.to_string());
+    put("dropped_samples", stats.rays.dropped.to_string());
+    put("backend", stats.backend.clone());
+    put("version", env!("CARGO_PKG_VERSION").to_string());
+    m
+}
+
+/// Writes OUT.exr, OUT.png and OUT.json, each atomically.
+pub fn write_render(exr_path: &Path, film: &Film, stats: &RenderStats, exposure: Option<f32>) -> Result<(), ImageError> {
+    let image = film.image();
+    image.write_exr(exr_path, &exr_metadata(stats))?;
+    let (png, json) = companion_paths(exr_path);
+    image.write_png(&png, exposure)?;
+    let text = serde_json::to_string_pretty(stats).map_err(|e| ImageError::Write { path: json.clone(), reason: e.to_string() })?;
+    write_atomically(&json, |tmp| std::fs::write(tmp, text + "\n").map_err(|e| e.to_string()))
+}
