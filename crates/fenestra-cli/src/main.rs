@@ -1,6 +1,7 @@
 //! The `fenestra` command line.
 
 mod progress;
+mod raybench;
 mod render;
 mod scene_arg;
 
@@ -8,7 +9,11 @@ use clap::{Parser, Subcommand};
 use std::process::ExitCode;
 
 #[derive(Parser)]
-#[command(name = "fenestra", version, about = "Physically based Monte Carlo renderer: variance reduction through coherence")]
+#[command(
+    name = "fenestra",
+    version,
+    about = "Physically based Monte Carlo renderer: variance reduction through coherence"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -18,6 +23,8 @@ struct Cli {
 enum Command {
     /// Render a scene to linear EXR, with a tone-mapped PNG and a JSON sidecar beside it.
     Render(render::RenderArgs),
+    /// Measure closest-hit and shadow-ray throughput of the ray-query backends.
+    Raybench(raybench::RaybenchArgs),
     /// List the built-in scenes and the integrators.
     List,
 }
@@ -25,7 +32,12 @@ enum Command {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Render(args) => render::run(args),
+        Command::Render(args) => match render::run(args) {
+            // The conventional exit status after SIGINT, once the partial image is written.
+            Ok(true) => return ExitCode::from(130),
+            other => other.map(|_| ()),
+        },
+        Command::Raybench(args) => raybench::run(args),
         Command::List => {
             println!("built-in scenes (use as builtin:NAME):");
             for (name, what) in fenestra_scene::builtin::SCENES {

@@ -26,13 +26,17 @@ impl Progress for Bar {
             Some(t) => {
                 self.0.set_length(t);
                 self.0.set_style(
-                    ProgressStyle::with_template("{spinner} [{elapsed_precise}] {wide_bar} {percent}% ({eta} left)")
-                        .unwrap_or_else(|_| ProgressStyle::default_bar()),
+                    ProgressStyle::with_template(
+                        "{spinner} [{elapsed_precise}] {wide_bar} {percent}% ({eta} left)",
+                    )
+                    .unwrap_or_else(|_| ProgressStyle::default_bar()),
                 );
             }
             None => self.0.set_style(
-                ProgressStyle::with_template("{spinner} [{elapsed_precise}] {human_pos} samples ({per_sec})")
-                    .unwrap_or_else(|_| ProgressStyle::default_spinner()),
+                ProgressStyle::with_template(
+                    "{spinner} [{elapsed_precise}] {human_pos} samples ({per_sec})",
+                )
+                .unwrap_or_else(|_| ProgressStyle::default_spinner()),
             ),
         }
     }

@@ -28,7 +28,7 @@ pub struct RenderArgs {
     #[arg(long, conflicts_with = "time")]
     spp: Option<u32>,
     /// Render for this many seconds instead of a fixed sample count.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     time: Option<f64>,
     /// Maximum path length in segments from the camera to the emitter (2 = direct light only).
     #[arg(long)]
@@ -57,7 +57,7 @@ pub struct RenderArgs {
     #[arg(long)]
     bvh: Option<Backend>,
     /// PNG exposure in stops (default: automatic, log-average luminance to middle grey).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     exposure: Option<f32>,
     /// Output EXR; the PNG and JSON sidecar are written beside it.
     #[arg(short, long)]
@@ -71,20 +71,40 @@ pub struct RenderArgs {
 }
 
 fn parse_resolution(s: &str) -> Result<(u32, u32)> {
-    let bad = || anyhow::anyhow!("bad resolution '{s}': expected WxH with positive integers, e.g. 512x512");
+    let bad = || {
+        anyhow::anyhow!("bad resolution '{s}': expected WxH with positive integers, e.g. 512x512")
+    };
     let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
-    let (w, h): (u32, u32) = (w.trim().parse().map_err(|_| bad())?, h.trim().parse().map_err(|_| bad())?);
+    let (w, h): (u32, u32) = (
+        w.trim().parse().map_err(|_| bad())?,
+        h.trim().parse().map_err(|_| bad())?,
+    );
     if w == 0 || h == 0 || w > 65536 || h > 65536 {
         bail!(bad());
     }
     Ok((w, h))
 }
 
-pub fn run(args: RenderArgs) -> Result<()> {
+/// Renders; returns whether the render was interrupted (its partial result is written).
+pub fn run(args: RenderArgs) -> Result<bool> {
     // Check every argument before the (possibly long) scene build.
-    let resolution = args.resolution.as_deref().map(parse_resolution).transpose()?;
-    if args.output.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() != Some("exr") {
-        bail!("output {} must end in .exr (the PNG and JSON are written beside it)", args.output.display());
+    let resolution = args
+        .resolution
+        .as_deref()
+        .map(parse_resolution)
+        .transpose()?;
+    if args
+        .output
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+        .as_deref()
+        != Some("exr")
+    {
+        bail!(
+            "output {} must end in .exr (the PNG and JSON are written beside it)",
+            args.output.display()
+        );
     }
     if let Some(t) = args.time {
         if !(t.is_finite() && t > 0.0) {
@@ -106,15 +126,24 @@ pub fn run(args: RenderArgs) -> Result<()> {
     };
     let desc = scene_arg::load(&args.scene)?;
     let (width, height) = resolution.unwrap_or((desc.defaults.width, desc.defaults.height));
-    let options = IntegratorOptions { max_depth: args.max_depth.unwrap_or(desc.defaults.max_depth), mis, rr_depth: args.rr_depth };
+    let options = IntegratorOptions {
+        max_depth: args.max_depth.unwrap_or(desc.defaults.max_depth),
+        mis,
+        rr_depth: args.rr_depth,
+    };
     let integrator = integrator::by_name(&args.integrator, options).map_err(anyhow::Error::msg)?;
     let settings = RenderSettings {
-        spp: if args.time.is_some() { args.spp.unwrap_or(u32::MAX) } else { args.spp.unwrap_or(desc.defaults.spp) },
+        spp: if args.time.is_some() {
+            args.spp.unwrap_or(u32::MAX)
+        } else {
+            args.spp.unwrap_or(desc.defaults.spp)
+        },
         time_limit: args.time,
         seed: args.seed,
     };
     if let Some(dir) = args.output.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).with_context(|| format!("cannot create output folder {}", dir.display()))?;
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("cannot create output folder {}", dir.display()))?;
     }
 
     let mut pool = rayon::ThreadPoolBuilder::new();
@@ -141,7 +170,10 @@ pub fn run(args: RenderArgs) -> Result<()> {
         let render_scene = RenderScene::new(scene, args.light_selection);
         let mut film = Film::new(width, height);
         let bar = Bar::new(args.quiet || args.json);
-        let control = RenderControl { cancel: &cancel, progress: &bar };
+        let control = RenderControl {
+            cancel: &cancel,
+            progress: &bar,
+        };
         let stats = integrator.render(&render_scene, &mut film, &settings, &control);
         bar.finish();
         Ok((stats, film))
@@ -152,7 +184,12 @@ pub fn run(args: RenderArgs) -> Result<()> {
     } else {
         println!("{}", stats.summary());
         let (png, json) = output::companion_paths(&args.output);
-        println!("wrote {}, {}, {}", args.output.display(), png.display(), json.display());
+        println!(
+            "wrote {}, {}, {}",
+            args.output.display(),
+            png.display(),
+            json.display()
+        );
     }
-    Ok(())
+    Ok(stats.interrupted)
 }

@@ -11,7 +11,10 @@ pub fn load(arg: &str) -> Result<SceneDesc> {
     }
     let path = Path::new(arg);
     std::fs::metadata(path).with_context(|| format!("cannot open scene file {arg}"))?;
-    let names: Vec<String> = builtin::SCENES.iter().map(|s| format!("builtin:{}", s.0)).collect();
+    let names: Vec<String> = builtin::SCENES
+        .iter()
+        .map(|s| format!("builtin:{}", s.0))
+        .collect();
     bail!(
         "{arg}: this build does not read scene files yet (pbrt-v4, OBJ and PLY input is planned); \
          render a built-in scene instead: {}",

@@ -15,7 +15,10 @@ impl Distribution1D {
     /// `func` must be non-negative; an all-zero (or empty) function becomes uniform.
     pub fn new(func: &[f32]) -> Self {
         let n = func.len().max(1);
-        let mut f: Vec<f32> = func.iter().map(|v| if v.is_finite() { v.max(0.0) } else { 0.0 }).collect();
+        let mut f: Vec<f32> = func
+            .iter()
+            .map(|v| if v.is_finite() { v.max(0.0) } else { 0.0 })
+            .collect();
         if f.is_empty() {
             f.push(1.0);
         }
@@ -31,13 +34,21 @@ impl Distribution1D {
             for (i, c) in cdf.iter_mut().enumerate() {
                 *c = i as f32 / n as f32;
             }
-            return Distribution1D { func: f, cdf, integral: 1.0 };
+            return Distribution1D {
+                func: f,
+                cdf,
+                integral: 1.0,
+            };
         }
         for c in cdf.iter_mut() {
             *c /= integral;
         }
         cdf[n] = 1.0;
-        Distribution1D { func: f, cdf, integral }
+        Distribution1D {
+            func: f,
+            cdf,
+            integral,
+        }
     }
 
     pub fn len(&self) -> usize {
@@ -52,7 +63,9 @@ impl Distribution1D {
 
     /// Probability of bin `i` when sampling discretely.
     pub fn discrete_pmf(&self, i: usize) -> f32 {
-        self.func.get(i).map_or(0.0, |f| f / (self.integral * self.len() as f32))
+        self.func
+            .get(i)
+            .map_or(0.0, |f| f / (self.integral * self.len() as f32))
     }
 
     /// Picks a bin with probability proportional to its value; returns (bin, pmf, u remapped
@@ -60,7 +73,11 @@ impl Distribution1D {
     pub fn sample_discrete(&self, u: f32) -> (usize, f32, f32) {
         let i = self.find(u);
         let width = self.cdf[i + 1] - self.cdf[i];
-        let remapped = if width > 0.0 { ((u - self.cdf[i]) / width).clamp(0.0, 1.0 - f32::EPSILON) } else { 0.0 };
+        let remapped = if width > 0.0 {
+            ((u - self.cdf[i]) / width).clamp(0.0, 1.0 - f32::EPSILON)
+        } else {
+            0.0
+        };
         (i, self.discrete_pmf(i), remapped)
     }
 
@@ -79,7 +96,9 @@ impl Distribution1D {
     fn find(&self, u: f32) -> usize {
         // The first bin with cdf[i] <= u < cdf[i + 1]; such a bin has non-zero width.
         let u = u.clamp(0.0, 1.0 - f32::EPSILON);
-        self.cdf[1..].partition_point(|&c| c <= u).min(self.len() - 1)
+        self.cdf[1..]
+            .partition_point(|&c| c <= u)
+            .min(self.len() - 1)
     }
 }
 
@@ -93,10 +112,15 @@ pub struct Distribution2D {
 
 impl Distribution2D {
     pub fn new(func: &[f32], width: usize, height: usize) -> Self {
-        let conditional: Vec<Distribution1D> =
-            (0..height).map(|y| Distribution1D::new(&func[y * width..(y + 1) * width])).collect();
-        let marginal = Distribution1D::new(&conditional.iter().map(|c| c.integral()).collect::<Vec<_>>());
-        Distribution2D { conditional, marginal }
+        let conditional: Vec<Distribution1D> = (0..height)
+            .map(|y| Distribution1D::new(&func[y * width..(y + 1) * width]))
+            .collect();
+        let marginal =
+            Distribution1D::new(&conditional.iter().map(|c| c.integral()).collect::<Vec<_>>());
+        Distribution2D {
+            conditional,
+            marginal,
+        }
     }
 
     /// Returns (point in [0,1)^2 as (x, y), density).
@@ -134,7 +158,10 @@ mod tests {
         let f = [0.5, 2.0, 0.0, 7.0, 1.0];
         let d = Distribution1D::new(&f);
         let n = 10_000;
-        let integral: f32 = (0..n).map(|i| d.pdf_continuous((i as f32 + 0.5) / n as f32)).sum::<f32>() / n as f32;
+        let integral: f32 = (0..n)
+            .map(|i| d.pdf_continuous((i as f32 + 0.5) / n as f32))
+            .sum::<f32>()
+            / n as f32;
         assert!((integral - 1.0).abs() < 1e-4);
         for i in 0..100 {
             let (x, pdf, _) = d.sample_continuous(i as f32 / 100.0);

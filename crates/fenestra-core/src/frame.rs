@@ -30,7 +30,11 @@ impl Frame {
             return Frame::from_normal(n);
         }
         let s = s / len;
-        Frame { s, t: n.cross(s), n }
+        Frame {
+            s,
+            t: n.cross(s),
+            n,
+        }
     }
 
     pub fn to_local(&self, v: Vec3) -> Vec3 {
@@ -47,7 +51,12 @@ mod tests {
 
     #[test]
     fn frame_is_orthonormal_for_all_hemispheres() {
-        for n in [Vec3::Z, -Vec3::Z, Vec3::X, Vec3::new(0.3, -0.4, -0.866).normalize()] {
+        for n in [
+            Vec3::Z,
+            -Vec3::Z,
+            Vec3::X,
+            Vec3::new(0.3, -0.4, -0.866).normalize(),
+        ] {
             let f = Frame::from_normal(n);
             assert!((f.s.length() - 1.0).abs() < 1e-5);
             assert!((f.t.length() - 1.0).abs() < 1e-5);

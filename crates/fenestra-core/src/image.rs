@@ -25,7 +25,11 @@ pub struct Image {
 
 impl Image {
     pub fn new(width: usize, height: usize) -> Self {
-        Image { width, height, pixels: vec![Rgb::ZERO; width * height] }
+        Image {
+            width,
+            height,
+            pixels: vec![Rgb::ZERO; width * height],
+        }
     }
 
     pub fn get(&self, x: usize, y: usize) -> Rgb {
@@ -45,13 +49,20 @@ impl Image {
             acc[2] += p.b as f64;
         }
         let n = self.pixels.len().max(1) as f64;
-        Rgb::new((acc[0] / n) as f32, (acc[1] / n) as f32, (acc[2] / n) as f32)
+        Rgb::new(
+            (acc[0] / n) as f32,
+            (acc[1] / n) as f32,
+            (acc[2] / n) as f32,
+        )
     }
 
     /// Reads an image as linear RGB: OpenEXR and Radiance HDR as stored, PNG/JPEG decoded
     /// from sRGB.
     pub fn read(path: &Path) -> Result<Image, ImageError> {
-        let err = |reason: String| ImageError::Read { path: path.to_path_buf(), reason };
+        let err = |reason: String| ImageError::Read {
+            path: path.to_path_buf(),
+            reason,
+        };
         match extension(path).as_deref() {
             Some("exr") => {
                 let img = exr::prelude::read_first_rgba_layer_from_file(
@@ -71,32 +82,58 @@ impl Image {
                     .map_err(|e| err(e.to_string()))?
                     .decode()
                     .map_err(|e| err(e.to_string()))?;
-                let is_hdr = matches!(decoded, image::DynamicImage::ImageRgb32F(_) | image::DynamicImage::ImageRgba32F(_));
+                let is_hdr = matches!(
+                    decoded,
+                    image::DynamicImage::ImageRgb32F(_) | image::DynamicImage::ImageRgba32F(_)
+                );
                 let rgb = decoded.to_rgb32f();
                 let (w, h) = rgb.dimensions();
                 let decode = |v: f32| if is_hdr { v } else { srgb_to_linear(v) };
-                let pixels = rgb.pixels().map(|p| Rgb::new(decode(p[0]), decode(p[1]), decode(p[2]))).collect();
-                Ok(Image { width: w as usize, height: h as usize, pixels })
+                let pixels = rgb
+                    .pixels()
+                    .map(|p| Rgb::new(decode(p[0]), decode(p[1]), decode(p[2])))
+                    .collect();
+                Ok(Image {
+                    width: w as usize,
+                    height: h as usize,
+                    pixels,
+                })
             }
-            _ => Err(ImageError::Extension { path: path.to_path_buf() }),
+            _ => Err(ImageError::Extension {
+                path: path.to_path_buf(),
+            }),
         }
     }
 
     /// Writes linear 32-bit float OpenEXR with the given string attributes in its header.
-    pub fn write_exr(&self, path: &Path, metadata: &BTreeMap<String, String>) -> Result<(), ImageError> {
+    pub fn write_exr(
+        &self,
+        path: &Path,
+        metadata: &BTreeMap<String, String>,
+    ) -> Result<(), ImageError> {
         use exr::prelude::*;
         let w = self.width;
         let channels = SpecificChannels::rgb(|pos: exr::math::Vec2<usize>| {
             let c = self.pixels[pos.y() * w + pos.x()];
             (c.r, c.g, c.b)
         });
-        let layer = Layer::new((self.width, self.height), LayerAttributes::named("rgb"), Encoding::FAST_LOSSLESS, channels);
+        let layer = Layer::new(
+            (self.width, self.height),
+            LayerAttributes::named("rgb"),
+            Encoding::FAST_LOSSLESS,
+            channels,
+        );
         let mut image = exr::image::Image::from_layer(layer);
         for (k, v) in metadata {
-            let (Some(k), Some(v)) = (Text::new_or_none(latin1(k)), Text::new_or_none(latin1(v))) else { continue };
+            let (Some(k), Some(v)) = (Text::new_or_none(latin1(k)), Text::new_or_none(latin1(v)))
+            else {
+                continue;
+            };
             image.attributes.other.insert(k, AttributeValue::Text(v));
         }
-        write_atomically(path, |tmp| image.write().to_file(tmp).map_err(|e| e.to_string()))
+        write_atomically(path, |tmp| {
+            image.write().to_file(tmp).map_err(|e| e.to_string())
+        })
     }
 
     /// Writes an 8-bit sRGB PNG after scaling by 2^stops; `None` picks the exposure that
@@ -113,10 +150,15 @@ impl Image {
                 bytes.push((linear_to_srgb(v.clamp(0.0, 1.0)) * 255.0 + 0.5) as u8);
             }
         }
-        let buf = image::RgbImage::from_raw(self.width as u32, self.height as u32, bytes).ok_or_else(|| {
-            ImageError::Write { path: path.to_path_buf(), reason: "pixel buffer size mismatch".into() }
-        })?;
-        write_atomically(path, |tmp| buf.save_with_format(tmp, image::ImageFormat::Png).map_err(|e| e.to_string()))
+        let buf = image::RgbImage::from_raw(self.width as u32, self.height as u32, bytes)
+            .ok_or_else(|| ImageError::Write {
+                path: path.to_path_buf(),
+                reason: "pixel buffer size mismatch".into(),
+            })?;
+        write_atomically(path, |tmp| {
+            buf.save_with_format(tmp, image::ImageFormat::Png)
+                .map_err(|e| e.to_string())
+        })
     }
 
     fn auto_exposure_scale(&self) -> f32 {
@@ -138,10 +180,17 @@ impl Image {
 
 /// String attributes from an OpenEXR file's header.
 pub fn read_exr_metadata(path: &Path) -> Result<BTreeMap<String, String>, ImageError> {
-    let meta = exr::meta::MetaData::read_from_file(path, false)
-        .map_err(|e| ImageError::Read { path: path.to_path_buf(), reason: e.to_string() })?;
+    let meta = exr::meta::MetaData::read_from_file(path, false).map_err(|e| ImageError::Read {
+        path: path.to_path_buf(),
+        reason: e.to_string(),
+    })?;
     let mut out = BTreeMap::new();
-    let shared = meta.headers.iter().flat_map(|h| h.shared_attributes.other.iter().chain(h.own_attributes.other.iter()));
+    let shared = meta.headers.iter().flat_map(|h| {
+        h.shared_attributes
+            .other
+            .iter()
+            .chain(h.own_attributes.other.iter())
+    });
     for (k, v) in shared {
         if let exr::meta::attribute::AttributeValue::Text(t) = v {
             out.insert(k.to_string(), t.to_string());
@@ -156,8 +205,15 @@ pub fn write_atomically(
     path: &Path,
     write: impl FnOnce(&Path) -> Result<(), String>,
 ) -> Result<(), ImageError> {
-    let err = |reason: String| ImageError::Write { path: path.to_path_buf(), reason };
-    let name = path.file_name().ok_or_else(|| err("not a file name".into()))?.to_string_lossy().into_owned();
+    let err = |reason: String| ImageError::Write {
+        path: path.to_path_buf(),
+        reason,
+    };
+    let name = path
+        .file_name()
+        .ok_or_else(|| err("not a file name".into()))?
+        .to_string_lossy()
+        .into_owned();
     let ext = extension(path).unwrap_or_default();
     // Keep the real extension last: image writers pick the format from it.
     let tmp = path.with_file_name(format!(".{name}.{}.tmp.{ext}", std::process::id()));
@@ -172,11 +228,14 @@ pub fn write_atomically(
 }
 
 fn extension(path: &Path) -> Option<String> {
-    path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase())
+    path.extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase())
 }
 
 fn latin1(s: &str) -> String {
-    s.chars().map(|c| if (c as u32) < 256 { c } else { '?' }).collect()
+    s.chars()
+        .map(|c| if (c as u32) < 256 { c } else { '?' })
+        .collect()
 }
 
 pub fn srgb_to_linear(v: f32) -> f32 {
@@ -214,7 +273,13 @@ mod tests {
         let meta = BTreeMap::from([("fenestra:spp".to_string(), "64".to_string())]);
         img.write_exr(&path, &meta).expect("write");
         assert_eq!(Image::read(&path).expect("read"), img);
-        assert_eq!(read_exr_metadata(&path).expect("meta").get("fenestra:spp").map(String::as_str), Some("64"));
+        assert_eq!(
+            read_exr_metadata(&path)
+                .expect("meta")
+                .get("fenestra:spp")
+                .map(String::as_str),
+            Some("64")
+        );
     }
 
     #[test]
@@ -232,7 +297,13 @@ mod tests {
 
     #[test]
     fn reading_a_missing_or_unknown_file_is_an_error() {
-        assert!(matches!(Image::read(Path::new("/nonexistent/x.exr")), Err(ImageError::Read { .. })));
-        assert!(matches!(Image::read(Path::new("x.tiff")), Err(ImageError::Extension { .. })));
+        assert!(matches!(
+            Image::read(Path::new("/nonexistent/x.exr")),
+            Err(ImageError::Read { .. })
+        ));
+        assert!(matches!(
+            Image::read(Path::new("x.tiff")),
+            Err(ImageError::Extension { .. })
+        ));
     }
 }

@@ -40,7 +40,11 @@ mod tests {
 
     #[test]
     fn weights_sum_to_one() {
-        for h in [MisHeuristic::Balance, MisHeuristic::Power { beta: 2.0 }, MisHeuristic::Power { beta: 3.5 }] {
+        for h in [
+            MisHeuristic::Balance,
+            MisHeuristic::Power { beta: 2.0 },
+            MisHeuristic::Power { beta: 3.5 },
+        ] {
             for (a, b) in [(1.0, 3.0), (1e-30, 1e30), (5.0, 5.0), (1e20, 1e-20)] {
                 let s = h.weight(a, b) + h.weight(b, a);
                 assert!((s - 1.0).abs() < 1e-5, "{h:?} {a} {b}: {s}");

@@ -11,6 +11,9 @@ pub struct Sampler {
     pixel_seed: u32,
     index: u32,
     dim: u32,
+    /// The current 4D group's values (one `sample_4d` call fills all four).
+    group: [f32; 4],
+    group_index: u32,
 }
 
 /// A 32-bit integer hash (Wellons' lowbias32).
@@ -24,7 +27,12 @@ pub fn hash_u32(mut x: u32) -> u32 {
 }
 
 pub fn hash_combine(a: u32, b: u32) -> u32 {
-    hash_u32(a ^ hash_u32(b).wrapping_add(0x9e37_79b9).wrapping_add(a << 6).wrapping_add(a >> 2))
+    hash_u32(
+        a ^ hash_u32(b)
+            .wrapping_add(0x9e37_79b9)
+            .wrapping_add(a << 6)
+            .wrapping_add(a >> 2),
+    )
 }
 
 /// Number of samples one Sobol scramble covers; beyond it the stream is re-seeded.
@@ -35,15 +43,25 @@ impl Sampler {
     pub fn new(seed: u64, pixel: u64, index: u32) -> Self {
         let s = hash_combine(seed as u32, (seed >> 32) as u32);
         let p = hash_combine(pixel as u32, (pixel >> 32) as u32);
-        Sampler { pixel_seed: hash_combine(s, p), index, dim: 0 }
+        Sampler {
+            pixel_seed: hash_combine(s, p),
+            index,
+            dim: 0,
+            group: [0.0; 4],
+            group_index: u32::MAX,
+        }
     }
 
     pub fn next_1d(&mut self) -> f32 {
         let d = self.dim;
         self.dim += 1;
-        let block = self.index / SOBOL_LENGTH;
-        let seed = hash_combine(hash_combine(self.pixel_seed, d / 4), block);
-        sobol_burley::sample(self.index % SOBOL_LENGTH, d % 4, seed)
+        if d / 4 != self.group_index {
+            self.group_index = d / 4;
+            let block = self.index / SOBOL_LENGTH;
+            let seed = hash_combine(hash_combine(self.pixel_seed, d / 4), block);
+            self.group = sobol_burley::sample_4d(self.index % SOBOL_LENGTH, 0, seed);
+        }
+        self.group[(d % 4) as usize]
     }
 
     pub fn next_2d(&mut self) -> Vec2 {

@@ -119,7 +119,10 @@ mod tests {
         let mut counts = [0u32; 4];
         for i in 0..n {
             for j in 0..n {
-                let b = square_to_triangle(Vec2::new((i as f32 + 0.5) / n as f32, (j as f32 + 0.5) / n as f32));
+                let b = square_to_triangle(Vec2::new(
+                    (i as f32 + 0.5) / n as f32,
+                    (j as f32 + 0.5) / n as f32,
+                ));
                 let k = if b.x > 0.5 {
                     0
                 } else if b.y > 0.5 {
@@ -133,7 +136,10 @@ mod tests {
             }
         }
         for c in counts {
-            assert!((c as f32 / (n * n) as f32 - 0.25).abs() < 0.01, "{counts:?}");
+            assert!(
+                (c as f32 / (n * n) as f32 - 0.25).abs() < 0.01,
+                "{counts:?}"
+            );
         }
     }
 }

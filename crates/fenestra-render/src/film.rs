@@ -49,7 +49,11 @@ pub struct Film {
 
 impl Film {
     pub fn new(width: u32, height: u32) -> Self {
-        Film { width, height, pixels: vec![Pixel::default(); width as usize * height as usize] }
+        Film {
+            width,
+            height,
+            pixels: vec![Pixel::default(); width as usize * height as usize],
+        }
     }
 
     fn to_image(&self, f: impl Fn(&Pixel) -> [f64; 3]) -> Image {

@@ -14,8 +14,8 @@ pub use integrator::{Integrator, RenderControl, RenderSettings};
 pub use stats::RenderStats;
 
 use bsdf::Bsdf;
-use light::{LightSampler, Lights, PowerLightSampler, UniformLightSampler};
 use fenestra_scene::Scene;
+use light::{LightSampler, Lights, PowerLightSampler, UniformLightSampler};
 
 /// How lights are chosen for next-event estimation.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
@@ -30,7 +30,9 @@ impl std::str::FromStr for LightSelection {
         match s {
             "uniform" => Ok(LightSelection::Uniform),
             "power" => Ok(LightSelection::Power),
-            _ => Err(format!("unknown light selection '{s}' (expected uniform or power)")),
+            _ => Err(format!(
+                "unknown light selection '{s}' (expected uniform or power)"
+            )),
         }
     }
 }
@@ -51,6 +53,11 @@ impl RenderScene {
             LightSelection::Uniform => Box::new(UniformLightSampler::new(&lights)),
             LightSelection::Power => Box::new(PowerLightSampler::new(&scene, &lights)),
         };
-        RenderScene { scene, bsdfs, lights, light_sampler }
+        RenderScene {
+            scene,
+            bsdfs,
+            lights,
+            light_sampler,
+        }
     }
 }

@@ -8,7 +8,10 @@ use std::path::{Path, PathBuf};
 
 /// The files a render produces for `exr_path`: (png, json).
 pub fn companion_paths(exr_path: &Path) -> (PathBuf, PathBuf) {
-    (exr_path.with_extension("png"), exr_path.with_extension("json"))
+    (
+        exr_path.with_extension("png"),
+        exr_path.with_extension("json"),
+    )
 }
 
 /// EXR header attributes from the render statistics.
@@ -33,11 +36,21 @@ pub fn exr_metadata(stats: &RenderStats) -> BTreeMap<String, String> {
 }
 
 /// Writes OUT.exr, OUT.png and OUT.json, each atomically.
-pub fn write_render(exr_path: &Path, film: &Film, stats: &RenderStats, exposure: Option<f32>) -> Result<(), ImageError> {
+pub fn write_render(
+    exr_path: &Path,
+    film: &Film,
+    stats: &RenderStats,
+    exposure: Option<f32>,
+) -> Result<(), ImageError> {
     let image = film.image();
     image.write_exr(exr_path, &exr_metadata(stats))?;
     let (png, json) = companion_paths(exr_path);
     image.write_png(&png, exposure)?;
-    let text = serde_json::to_string_pretty(stats).map_err(|e| ImageError::Write { path: json.clone(), reason: e.to_string() })?;
-    write_atomically(&json, |tmp| std::fs::write(tmp, text + "\n").map_err(|e| e.to_string()))
+    let text = serde_json::to_string_pretty(stats).map_err(|e| ImageError::Write {
+        path: json.clone(),
+        reason: e.to_string(),
+    })?;
+    write_atomically(&json, |tmp| {
+        std::fs::write(tmp, text + "\n").map_err(|e| e.to_string())
+    })
 }

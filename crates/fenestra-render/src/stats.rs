@@ -56,7 +56,11 @@ pub struct RenderStats {
 impl RenderStats {
     /// The one-line summary the CLI prints.
     pub fn summary(&self) -> String {
-        let spp = if self.spp == self.spp_max { self.spp.to_string() } else { format!("{}-{}", self.spp, self.spp_max) };
+        let spp = if self.spp == self.spp_max {
+            self.spp.to_string()
+        } else {
+            format!("{}-{}", self.spp, self.spp_max)
+        };
         format!(
             "{} {} {}x{}: {:.2} s, {} spp, {:.2} Mrays/s ({} camera, {} bounce, {} shadow), {} samples dropped{}",
             self.scene,

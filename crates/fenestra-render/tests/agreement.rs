@@ -11,18 +11,36 @@ use fenestra_scene::builtin;
 const SIZE: u32 = 32;
 
 fn render(name: &str, mis: MisHeuristic, depth: u32, spp: u32) -> Film {
-    let options = IntegratorOptions { max_depth: depth, mis, rr_depth: 3 };
-    common::render(builtin::load("box-hole").expect("builtin"), name, options, SIZE, spp, 11).0
+    let options = IntegratorOptions {
+        max_depth: depth,
+        mis,
+        rr_depth: 3,
+    };
+    common::render(
+        builtin::load("box-hole").expect("builtin"),
+        name,
+        options,
+        SIZE,
+        spp,
+        11,
+    )
+    .0
 }
 
 /// z-scores of the differences of the image mean and of each 8x8 region's mean.
 fn z_scores(a: &Film, b: &Film) -> (f64, Vec<f64>) {
     let z = |(ma, sa): (f64, f64), (mb, sb): (f64, f64)| (ma - mb) / (sa * sa + sb * sb).sqrt();
-    let whole = z(common::region_mean(a, 0, SIZE, 0, SIZE), common::region_mean(b, 0, SIZE, 0, SIZE));
+    let whole = z(
+        common::region_mean(a, 0, SIZE, 0, SIZE),
+        common::region_mean(b, 0, SIZE, 0, SIZE),
+    );
     let mut regions = Vec::new();
     for by in (0..SIZE).step_by(8) {
         for bx in (0..SIZE).step_by(8) {
-            regions.push(z(common::region_mean(a, bx, bx + 8, by, by + 8), common::region_mean(b, bx, bx + 8, by, by + 8)));
+            regions.push(z(
+                common::region_mean(a, bx, bx + 8, by, by + 8),
+                common::region_mean(b, bx, bx + 8, by, by + 8),
+            ));
         }
     }
     (whole, regions)
@@ -30,12 +48,18 @@ fn z_scores(a: &Film, b: &Film) -> (f64, Vec<f64>) {
 
 fn assert_agree(label: &str, a: &Film, b: &Film) {
     let (whole, regions) = z_scores(a, b);
-    assert!(whole.abs() < 3.0, "{label}: image means differ by {whole:.2} standard errors");
+    assert!(
+        whole.abs() < 3.0,
+        "{label}: image means differ by {whole:.2} standard errors"
+    );
     // Each of the 16 regions within 3 standard errors; by chance about 0.04 of them exceed it,
     // so one exceedance is tolerated, none beyond 4.
     let beyond3 = regions.iter().filter(|z| z.abs() >= 3.0).count();
     let worst = regions.iter().fold(0.0f64, |m, z| m.max(z.abs()));
-    assert!(beyond3 <= 1 && worst < 4.0, "{label}: region z-scores {regions:.2?}");
+    assert!(
+        beyond3 <= 1 && worst < 4.0,
+        "{label}: region z-scores {regions:.2?}"
+    );
 }
 
 #[test]
@@ -45,9 +69,17 @@ fn hf_and_af_hf_agree_on_box_hole() {
         let hf = render("hf", power, depth, 2048);
         let balance = render("af_hf", MisHeuristic::Balance, depth, 256);
         let power2 = render("af_hf", power, depth, 256);
-        assert_agree(&format!("hf vs af_hf balance, depth {depth}"), &hf, &balance);
+        assert_agree(
+            &format!("hf vs af_hf balance, depth {depth}"),
+            &hf,
+            &balance,
+        );
         assert_agree(&format!("hf vs af_hf power, depth {depth}"), &hf, &power2);
-        assert_agree(&format!("balance vs power, depth {depth}"), &balance, &power2);
+        assert_agree(
+            &format!("balance vs power, depth {depth}"),
+            &balance,
+            &power2,
+        );
     }
 }
 
@@ -55,6 +87,9 @@ fn hf_and_af_hf_agree_on_box_hole() {
 fn the_agreement_test_detects_a_real_difference() {
     // Path length 4 carries more light than 2; the comparison must see that.
     let power = MisHeuristic::Power { beta: 2.0 };
-    let (whole, _) = z_scores(&render("af_hf", power, 2, 256), &render("af_hf", power, 4, 256));
+    let (whole, _) = z_scores(
+        &render("af_hf", power, 2, 256),
+        &render("af_hf", power, 4, 256),
+    );
     assert!(whole.abs() > 10.0, "z = {whole}");
 }

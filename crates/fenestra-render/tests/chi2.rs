@@ -8,7 +8,10 @@ use fenestra_core::{warp, Frame, Ray, Rgb, Vec2, Vec3, PI};
 use fenestra_render::bsdf::Bsdf;
 use fenestra_render::light::{Light, Lights};
 use fenestra_scene::light::Emission;
-use fenestra_scene::{Backend, Camera, EnvironmentDesc, LightDesc, Material, RenderDefaults, Scene, SceneDesc, Shape, ShapeKind, TriangleMesh};
+use fenestra_scene::{
+    Backend, Camera, EnvironmentDesc, LightDesc, Material, RenderDefaults, Scene, SceneDesc, Shape,
+    ShapeKind, TriangleMesh,
+};
 use statrs::distribution::{ChiSquared, ContinuousCDF};
 use std::sync::Arc;
 
@@ -63,18 +66,29 @@ fn expected(pdf: &dyn Fn(Vec3) -> f32) -> Vec<f64> {
 }
 
 /// Runs the test; `sample` returns a unit direction or None (a lost sample).
-fn chi2_test(name: &str, mut sample: impl FnMut(&mut Rng) -> Option<Vec3>, pdf: impl Fn(Vec3) -> f32) {
+fn chi2_test(
+    name: &str,
+    mut sample: impl FnMut(&mut Rng) -> Option<Vec3>,
+    pdf: impl Fn(Vec3) -> f32,
+) {
     let mut rng = Rng(0x5eed ^ name.len() as u64);
     let mut observed = vec![0.0f64; THETA_BINS * PHI_BINS];
     for _ in 0..SAMPLES {
         if let Some(w) = sample(&mut rng) {
-            assert!((w.length() - 1.0).abs() < 1e-3, "{name}: sampled direction {w} is not unit length");
+            assert!(
+                (w.length() - 1.0).abs() < 1e-3,
+                "{name}: sampled direction {w} is not unit length"
+            );
             observed[bin_of(w)] += 1.0;
         }
     }
     let exp = expected(&pdf);
     let total_exp: f64 = exp.iter().sum();
-    assert!(total_exp <= SAMPLES as f64 * 1.01, "{name}: pdf integrates to {} > 1", total_exp / SAMPLES as f64);
+    assert!(
+        total_exp <= SAMPLES as f64 * 1.01,
+        "{name}: pdf integrates to {} > 1",
+        total_exp / SAMPLES as f64
+    );
     // Pool bins with fewer than 5 expected samples (sorted by expectation) as Mitsuba does.
     let mut idx: Vec<usize> = (0..exp.len()).collect();
     idx.sort_by(|&a, &b| exp[a].total_cmp(&exp[b]));
@@ -84,7 +98,10 @@ fn chi2_test(name: &str, mut sample: impl FnMut(&mut Rng) -> Option<Vec3>, pdf: 
         // A sliver of a bin may hold density the midpoint rule misses; a real bug (samples
         // where the density is zero, e.g. below the horizon) puts far more there.
         if exp[i] == 0.0 && observed[i] > (SAMPLES as f64) * 1e-4 {
-            panic!("{name}: {} samples in bin {i} where pdf() is zero", observed[i]);
+            panic!(
+                "{name}: {} samples in bin {i} where pdf() is zero",
+                observed[i]
+            );
         }
         if exp[i] < 5.0 {
             pool_o += observed[i];
@@ -104,17 +121,32 @@ fn chi2_test(name: &str, mut sample: impl FnMut(&mut Rng) -> Option<Vec3>, pdf: 
         dof += 1;
     }
     if std::env::var("CHI2_DEBUG").is_ok() {
-        eprintln!("{name}: expected total {total_exp:.0}, observed {}", observed.iter().sum::<f64>());
+        eprintln!(
+            "{name}: expected total {total_exp:.0}, observed {}",
+            observed.iter().sum::<f64>()
+        );
         let mut worst: Vec<usize> = (0..exp.len()).collect();
-        worst.sort_by(|&a, &b| ((observed[b] - exp[b]).powi(2) / exp[b].max(1.0)).total_cmp(&((observed[a] - exp[a]).powi(2) / exp[a].max(1.0))));
+        worst.sort_by(|&a, &b| {
+            ((observed[b] - exp[b]).powi(2) / exp[b].max(1.0))
+                .total_cmp(&((observed[a] - exp[a]).powi(2) / exp[a].max(1.0)))
+        });
         for &i in worst.iter().take(8) {
-            eprintln!("  bin z{} phi{}: observed {} expected {:.1}", i / PHI_BINS, i % PHI_BINS, observed[i], exp[i]);
+            eprintln!(
+                "  bin z{} phi{}: observed {} expected {:.1}",
+                i / PHI_BINS,
+                i % PHI_BINS,
+                observed[i],
+                exp[i]
+            );
         }
     }
     let dof = (dof - 1).max(1) as f64;
     let p_value = 1.0 - ChiSquared::new(dof).expect("dof > 0").cdf(stat);
     let alpha = 1.0 - (1.0 - 0.01f64).powf(1.0 / TESTS);
-    assert!(p_value > alpha, "{name}: chi2 = {stat:.1} with {dof} dof, p = {p_value:.2e} < {alpha:.2e}");
+    assert!(
+        p_value > alpha,
+        "{name}: chi2 = {stat:.1} with {dof} dof, p = {p_value:.2e} < {alpha:.2e}"
+    );
 }
 
 fn incident_directions() -> Vec<Vec3> {
@@ -136,10 +168,21 @@ fn check_bsdf(name: &str, bsdf: &Bsdf, wo: Vec3) {
             let s = bsdf.sample(wo, uc, rng.next_2d())?;
             // The returned pdf and weight must agree with pdf() and eval().
             let pdf = bsdf.pdf(wo, s.wi);
-            assert!((s.pdf - pdf).abs() <= 1e-3 * pdf.max(1.0), "{label}: sample pdf {} vs pdf() {pdf}", s.pdf);
+            assert!(
+                (s.pdf - pdf).abs() <= 1e-3 * pdf.max(1.0),
+                "{label}: sample pdf {} vs pdf() {pdf}",
+                s.pdf
+            );
             let expect = bsdf.eval(wo, s.wi) * (s.wi.z.abs() / pdf);
-            let err = (s.weight - expect).max_component().abs().max((expect - s.weight).max_component().abs());
-            assert!(err <= 1e-3 * expect.max_component().max(1.0), "{label}: weight {:?} vs f cos/pdf {expect:?}", s.weight);
+            let err = (s.weight - expect)
+                .max_component()
+                .abs()
+                .max((expect - s.weight).max_component().abs());
+            assert!(
+                err <= 1e-3 * expect.max_component().max(1.0),
+                "{label}: weight {:?} vs f cos/pdf {expect:?}",
+                s.weight
+            );
             Some(s.wi)
         },
         |wi| bsdf.pdf(wo, wi),
@@ -149,11 +192,46 @@ fn check_bsdf(name: &str, bsdf: &Bsdf, wo: Vec3) {
 #[test]
 fn diffuse_phong_and_ward_match_their_pdfs() {
     let cases = [
-        ("diffuse", Material::Diffuse { reflectance: Rgb::splat(0.7) }),
-        ("phong n=10", Material::Phong { diffuse: Rgb::splat(0.3), specular: Rgb::splat(0.5), exponent: 10.0 }),
-        ("phong n=80", Material::Phong { diffuse: Rgb::ZERO, specular: Rgb::splat(0.9), exponent: 80.0 }),
-        ("ward 0.18/0.09", Material::Ward { diffuse: Rgb::splat(0.2), specular: Rgb::splat(0.6), alpha_x: 0.18, alpha_y: 0.09 }),
-        ("ward 0.4/0.4", Material::Ward { diffuse: Rgb::ZERO, specular: Rgb::splat(0.8), alpha_x: 0.4, alpha_y: 0.4 }),
+        (
+            "diffuse",
+            Material::Diffuse {
+                reflectance: Rgb::splat(0.7),
+            },
+        ),
+        (
+            "phong n=10",
+            Material::Phong {
+                diffuse: Rgb::splat(0.3),
+                specular: Rgb::splat(0.5),
+                exponent: 10.0,
+            },
+        ),
+        (
+            "phong n=80",
+            Material::Phong {
+                diffuse: Rgb::ZERO,
+                specular: Rgb::splat(0.9),
+                exponent: 80.0,
+            },
+        ),
+        (
+            "ward 0.18/0.09",
+            Material::Ward {
+                diffuse: Rgb::splat(0.2),
+                specular: Rgb::splat(0.6),
+                alpha_x: 0.18,
+                alpha_y: 0.09,
+            },
+        ),
+        (
+            "ward 0.4/0.4",
+            Material::Ward {
+                diffuse: Rgb::ZERO,
+                specular: Rgb::splat(0.8),
+                alpha_x: 0.4,
+                alpha_y: 0.4,
+            },
+        ),
     ];
     for (name, m) in &cases {
         let bsdf = Bsdf::from_material(m);
@@ -165,12 +243,29 @@ fn diffuse_phong_and_ward_match_their_pdfs() {
 
 #[test]
 fn ggx_conductor_and_dielectric_match_their_pdfs() {
-    let gold = |ax, ay| Material::RoughConductor { eta: Rgb::new(0.143, 0.374, 1.442), k: Rgb::new(3.983, 2.385, 1.603), alpha_x: ax, alpha_y: ay };
+    let gold = |ax, ay| Material::RoughConductor {
+        eta: Rgb::new(0.143, 0.374, 1.442),
+        k: Rgb::new(3.983, 2.385, 1.603),
+        alpha_x: ax,
+        alpha_y: ay,
+    };
     let cases = [
         ("conductor 0.2", gold(0.2, 0.2)),
         ("conductor 0.5/0.1", gold(0.5, 0.1)),
-        ("rough glass 0.3", Material::RoughDielectric { eta: 1.5, alpha: 0.3 }),
-        ("rough glass 0.1", Material::RoughDielectric { eta: 1.33, alpha: 0.1 }),
+        (
+            "rough glass 0.3",
+            Material::RoughDielectric {
+                eta: 1.5,
+                alpha: 0.3,
+            },
+        ),
+        (
+            "rough glass 0.1",
+            Material::RoughDielectric {
+                eta: 1.33,
+                alpha: 0.1,
+            },
+        ),
     ];
     for (name, m) in &cases {
         let bsdf = Bsdf::from_material(m);
@@ -179,7 +274,10 @@ fn ggx_conductor_and_dielectric_match_their_pdfs() {
         }
     }
     // Rough glass seen from inside, where total internal reflection happens.
-    let glass = Bsdf::from_material(&Material::RoughDielectric { eta: 1.5, alpha: 0.3 });
+    let glass = Bsdf::from_material(&Material::RoughDielectric {
+        eta: 1.5,
+        alpha: 0.3,
+    });
     for wo in incident_directions() {
         check_bsdf("rough glass inside", &glass, -wo);
     }
@@ -188,13 +286,18 @@ fn ggx_conductor_and_dielectric_match_their_pdfs() {
 #[test]
 fn smooth_dielectric_splits_by_fresnel() {
     let bsdf = Bsdf::from_material(&Material::Dielectric { eta: 1.5 });
-    for wo in incident_directions().into_iter().chain(incident_directions().into_iter().map(|w| -w)) {
+    for wo in incident_directions()
+        .into_iter()
+        .chain(incident_directions().into_iter().map(|w| -w))
+    {
         let f = fenestra_render::bsdf::fresnel::dielectric(wo.z, 1.5);
         let mut rng = Rng(7);
         let n = 100_000;
         let mut reflected = 0;
         for _ in 0..n {
-            let s = bsdf.sample(wo, rng.next(), rng.next_2d()).expect("a delta lobe always samples");
+            let s = bsdf
+                .sample(wo, rng.next(), rng.next_2d())
+                .expect("a delta lobe always samples");
             assert!(s.delta);
             if s.wi.z * wo.z > 0.0 {
                 reflected += 1;
@@ -210,7 +313,10 @@ fn smooth_dielectric_splits_by_fresnel() {
         }
         let frac = reflected as f32 / n as f32;
         // Binomial standard deviation at n = 1e5 is at most 0.0016.
-        assert!((frac - f).abs() < 0.008, "wo {wo}: reflected {frac}, Fresnel {f}");
+        assert!(
+            (frac - f).abs() < 0.008,
+            "wo {wo}: reflected {frac}, Fresnel {f}"
+        );
     }
     assert_eq!(bsdf.eval(Vec3::Z, Vec3::Z), Rgb::ZERO);
     assert_eq!(bsdf.pdf(Vec3::Z, -Vec3::Z), 0.0);
@@ -218,9 +324,16 @@ fn smooth_dielectric_splits_by_fresnel() {
 
 #[test]
 fn mirror_reflects_about_the_normal_on_both_sides() {
-    let bsdf = Bsdf::from_material(&Material::Mirror { reflectance: Rgb::new(0.9, 0.8, 0.7) });
-    for wo in incident_directions().into_iter().chain(incident_directions().into_iter().map(|w| -w)) {
-        let s = bsdf.sample(wo, 0.3, Vec2::new(0.2, 0.9)).expect("mirror samples");
+    let bsdf = Bsdf::from_material(&Material::Mirror {
+        reflectance: Rgb::new(0.9, 0.8, 0.7),
+    });
+    for wo in incident_directions()
+        .into_iter()
+        .chain(incident_directions().into_iter().map(|w| -w))
+    {
+        let s = bsdf
+            .sample(wo, 0.3, Vec2::new(0.2, 0.9))
+            .expect("mirror samples");
         assert!((s.wi - Vec3::new(-wo.x, -wo.y, wo.z)).length() < 1e-6 && s.delta);
         assert_eq!(s.weight, Rgb::new(0.9, 0.8, 0.7));
     }
@@ -228,7 +341,12 @@ fn mirror_reflects_about_the_normal_on_both_sides() {
 
 #[test]
 fn opaque_materials_are_two_sided_and_do_not_transmit() {
-    let bsdf = Bsdf::from_material(&Material::Ward { diffuse: Rgb::splat(0.3), specular: Rgb::splat(0.5), alpha_x: 0.2, alpha_y: 0.1 });
+    let bsdf = Bsdf::from_material(&Material::Ward {
+        diffuse: Rgb::splat(0.3),
+        specular: Rgb::splat(0.5),
+        alpha_x: 0.2,
+        alpha_y: 0.1,
+    });
     for wo in incident_directions() {
         check_bsdf("ward below", &bsdf, -wo);
         assert_eq!(bsdf.eval(wo, -wo), Rgb::ZERO);
@@ -239,8 +357,16 @@ fn opaque_materials_are_two_sided_and_do_not_transmit() {
 // ---- lights ----
 
 fn light_scene(shapes: Vec<Shape>, lights: Vec<LightDesc>) -> Scene {
-    let camera = Camera::look_at(Vec3::new(0.0, -3.0, 0.0), Vec3::ZERO, Vec3::Z, 40.0).expect("camera");
-    let desc = SceneDesc { name: "lights".into(), shapes, materials: vec![Material::diffuse(0.5)], lights, camera, defaults: RenderDefaults::default() };
+    let camera =
+        Camera::look_at(Vec3::new(0.0, -3.0, 0.0), Vec3::ZERO, Vec3::Z, 40.0).expect("camera");
+    let desc = SceneDesc {
+        name: "lights".into(),
+        shapes,
+        materials: vec![Material::diffuse(0.5)],
+        lights,
+        camera,
+        defaults: RenderDefaults::default(),
+    };
     Scene::build(desc, Backend::Obvhs).expect("scene")
 }
 
@@ -259,7 +385,11 @@ fn check_light(name: &str, scene: &Scene, p: Vec3) {
                 match scene.intersect(&ray, f32::INFINITY) {
                     Some(hit) => {
                         let si = scene.interaction(&ray, &hit);
-                        if a.le(&si, -wi).is_black() { 0.0 } else { a.pdf_li(scene, p, &si) }
+                        if a.le(&si, -wi).is_black() {
+                            0.0
+                        } else {
+                            a.pdf_li(scene, p, &si)
+                        }
                     }
                     None => 0.0,
                 }
@@ -276,26 +406,50 @@ fn emitter(kind: ShapeKind) -> Shape {
 
 #[test]
 fn area_lights_match_their_pdfs() {
-    let quad = TriangleMesh::quad(Vec3::new(0.0, 0.0, 1.0), Vec3::new(0.6, 0.0, 0.1), Vec3::new(0.0, -0.4, 0.0));
+    let quad = TriangleMesh::quad(
+        Vec3::new(0.0, 0.0, 1.0),
+        Vec3::new(0.6, 0.0, 0.1),
+        Vec3::new(0.0, -0.4, 0.0),
+    );
     let scene = light_scene(vec![emitter(ShapeKind::Mesh(quad))], vec![]);
     check_light("quad light", &scene, Vec3::new(0.2, 0.1, 0.0));
 
-    let scene = light_scene(vec![emitter(ShapeKind::Sphere { center: Vec3::new(0.3, 0.0, 1.0), radius: 0.5 })], vec![]);
+    let scene = light_scene(
+        vec![emitter(ShapeKind::Sphere {
+            center: Vec3::new(0.3, 0.0, 1.0),
+            radius: 0.5,
+        })],
+        vec![],
+    );
     check_light("sphere light outside", &scene, Vec3::ZERO);
     check_light("sphere light close", &scene, Vec3::new(0.3, 0.0, 0.3));
 
-    let inside = emitter(ShapeKind::Sphere { center: Vec3::ZERO, radius: 1.0 }).flipped();
+    let inside = emitter(ShapeKind::Sphere {
+        center: Vec3::ZERO,
+        radius: 1.0,
+    })
+    .flipped();
     let scene = light_scene(vec![inside], vec![]);
     check_light("sphere light inside", &scene, Vec3::new(0.2, -0.5, 0.1));
 
     let n = Vec3::new(0.2, 0.3, -1.0).normalize();
-    let scene = light_scene(vec![emitter(ShapeKind::Disk { center: Vec3::new(0.0, 0.0, 1.0), normal: n, radius: 0.7 })], vec![]);
+    let scene = light_scene(
+        vec![emitter(ShapeKind::Disk {
+            center: Vec3::new(0.0, 0.0, 1.0),
+            normal: n,
+            radius: 0.7,
+        })],
+        vec![],
+    );
     check_light("disk light", &scene, Vec3::ZERO);
 }
 
 #[test]
 fn environment_lights_match_their_pdfs() {
-    let scene = light_scene(vec![], vec![LightDesc::Environment(EnvironmentDesc::Constant(Rgb::ONE))]);
+    let scene = light_scene(
+        vec![],
+        vec![LightDesc::Environment(EnvironmentDesc::Constant(Rgb::ONE))],
+    );
     check_light("constant environment", &scene, Vec3::ZERO);
 
     // A sky with a small bright sun and a gradient, rotated off the axes.
@@ -303,12 +457,24 @@ fn environment_lights_match_their_pdfs() {
     let mut img = Image::new(w, h);
     for y in 0..h {
         for x in 0..w {
-            let sun = if (x as i32 - 40).abs() < 2 && (y as i32 - 9).abs() < 2 { 500.0 } else { 0.0 };
-            img.set(x, y, Rgb::new(0.2 + y as f32 / h as f32 + sun, 0.5 + sun, 1.0 + sun));
+            let sun = if (x as i32 - 40).abs() < 2 && (y as i32 - 9).abs() < 2 {
+                500.0
+            } else {
+                0.0
+            };
+            img.set(
+                x,
+                y,
+                Rgb::new(0.2 + y as f32 / h as f32 + sun, 0.5 + sun, 1.0 + sun),
+            );
         }
     }
     let to_world = glam::Mat3::from_axis_angle(Vec3::new(1.0, 1.0, 0.0).normalize(), 0.7);
-    let env = EnvironmentDesc::Image { image: Arc::new(img), scale: Rgb::ONE, to_world };
+    let env = EnvironmentDesc::Image {
+        image: Arc::new(img),
+        scale: Rgb::ONE,
+        to_world,
+    };
     let scene = light_scene(vec![], vec![LightDesc::Environment(env)]);
     check_light("image environment", &scene, Vec3::ZERO);
 }
@@ -318,34 +484,74 @@ fn delta_lights_fall_off_as_expected() {
     let scene = light_scene(
         vec![],
         vec![
-            LightDesc::Point { position: Vec3::new(0.0, 0.0, 2.0), intensity: Rgb::splat(8.0) },
-            LightDesc::Spot { position: Vec3::new(0.0, 0.0, 2.0), direction: -Vec3::Z, intensity: Rgb::splat(8.0), cone_angle: 30.0, falloff_start: 20.0 },
-            LightDesc::Distant { direction: Vec3::new(0.0, 0.0, -1.0), irradiance: Rgb::splat(3.0) },
+            LightDesc::Point {
+                position: Vec3::new(0.0, 0.0, 2.0),
+                intensity: Rgb::splat(8.0),
+            },
+            LightDesc::Spot {
+                position: Vec3::new(0.0, 0.0, 2.0),
+                direction: -Vec3::Z,
+                intensity: Rgb::splat(8.0),
+                cone_angle: 30.0,
+                falloff_start: 20.0,
+            },
+            LightDesc::Distant {
+                direction: Vec3::new(0.0, 0.0, -1.0),
+                irradiance: Rgb::splat(3.0),
+            },
         ],
     );
     let lights = Lights::new(&scene);
     let u = Vec2::splat(0.5);
-    let point = lights.lights[0].sample_li(&scene, Vec3::ZERO, u).expect("point");
+    let point = lights.lights[0]
+        .sample_li(&scene, Vec3::ZERO, u)
+        .expect("point");
     assert!((point.li.r - 2.0).abs() < 1e-6 && point.delta && (point.wi - Vec3::Z).length() < 1e-6);
-    let spot = |p: Vec3| lights.lights[1].sample_li(&scene, p, u).map_or(0.0, |s| s.li.r);
-    assert!((spot(Vec3::ZERO) - 2.0).abs() < 1e-6, "full intensity on the axis");
+    let spot = |p: Vec3| {
+        lights.lights[1]
+            .sample_li(&scene, p, u)
+            .map_or(0.0, |s| s.li.r)
+    };
+    assert!(
+        (spot(Vec3::ZERO) - 2.0).abs() < 1e-6,
+        "full intensity on the axis"
+    );
     let at = |deg: f32| Vec3::new(2.0 * deg.to_radians().tan(), 0.0, 0.0);
-    assert!(spot(at(25.0)) > 0.0 && spot(at(25.0)) < spot(at(15.0)) * 0.9, "falloff between 20 and 30 degrees");
+    assert!(
+        spot(at(25.0)) > 0.0 && spot(at(25.0)) < spot(at(15.0)) * 0.9,
+        "falloff between 20 and 30 degrees"
+    );
     assert_eq!(spot(at(31.0)), 0.0, "nothing outside the cone");
-    let sun = lights.lights[2].sample_li(&scene, Vec3::ZERO, u).expect("sun");
+    let sun = lights.lights[2]
+        .sample_li(&scene, Vec3::ZERO, u)
+        .expect("sun");
     assert!((sun.wi - Vec3::Z).length() < 1e-6 && sun.li.r == 3.0 && sun.point.is_none());
     // Power of the spot: intensity times the solid angle of full light plus half the ring.
-    let expect = 8.0 * 2.0 * PI * ((1.0 - 20f32.to_radians().cos()) + 0.5 * (20f32.to_radians().cos() - 30f32.to_radians().cos()));
+    let expect = 8.0
+        * 2.0
+        * PI
+        * ((1.0 - 20f32.to_radians().cos())
+            + 0.5 * (20f32.to_radians().cos() - 30f32.to_radians().cos()));
     assert!((lights.lights[1].power(&scene) - expect).abs() < 1e-3);
 }
 
 #[test]
 fn cosine_and_cone_warps_match_their_pdfs() {
-    chi2_test("cosine hemisphere", |rng| Some(warp::square_to_cosine_hemisphere(rng.next_2d())), warp::cosine_hemisphere_pdf);
+    chi2_test(
+        "cosine hemisphere",
+        |rng| Some(warp::square_to_cosine_hemisphere(rng.next_2d())),
+        warp::cosine_hemisphere_pdf,
+    );
     let frame = Frame::from_normal(Vec3::new(0.3, -0.2, 0.9).normalize());
     chi2_test(
         "cone 0.7",
         |rng| Some(frame.to_world(warp::square_to_uniform_cone(rng.next_2d(), 0.7))),
-        |w| if frame.to_local(w).z >= 0.7 { warp::uniform_cone_pdf(0.7) } else { 0.0 },
+        |w| {
+            if frame.to_local(w).z >= 0.7 {
+                warp::uniform_cone_pdf(0.7)
+            } else {
+                0.0
+            }
+        },
     );
 }

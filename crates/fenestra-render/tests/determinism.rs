@@ -6,9 +6,19 @@ use fenestra_render::integrator::IntegratorOptions;
 use fenestra_scene::builtin;
 
 fn sums_with_threads(threads: usize, name: &str) -> Vec<[f64; 3]> {
-    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("pool");
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("pool");
     pool.install(|| {
-        let (film, _) = common::render(builtin::load("box-4holes").expect("builtin"), name, IntegratorOptions::default(), 24, 16, 5);
+        let (film, _) = common::render(
+            builtin::load("box-4holes").expect("builtin"),
+            name,
+            IntegratorOptions::default(),
+            24,
+            16,
+            5,
+        );
         film.pixels.iter().map(|p| p.sum).collect()
     })
 }
@@ -18,16 +28,38 @@ fn one_and_two_threads_give_identical_pixels() {
     for name in ["hf", "af_hf"] {
         let one = sums_with_threads(1, name);
         let two = sums_with_threads(2, name);
-        assert!(one.iter().zip(&two).all(|(a, b)| a.map(f64::to_bits) == b.map(f64::to_bits)), "{name}");
-        assert!(one.iter().any(|p| p[0] > 0.0), "{name}: the image is not black");
+        assert!(
+            one.iter()
+                .zip(&two)
+                .all(|(a, b)| a.map(f64::to_bits) == b.map(f64::to_bits)),
+            "{name}"
+        );
+        assert!(
+            one.iter().any(|p| p[0] > 0.0),
+            "{name}: the image is not black"
+        );
     }
 }
 
 #[test]
 fn another_seed_gives_another_image() {
-    let pool = rayon::ThreadPoolBuilder::new().num_threads(2).build().expect("pool");
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .expect("pool");
     let render = |seed| {
-        pool.install(|| common::render(builtin::load("box-hole").expect("builtin"), "af_hf", IntegratorOptions::default(), 8, 4, seed).0.image())
+        pool.install(|| {
+            common::render(
+                builtin::load("box-hole").expect("builtin"),
+                "af_hf",
+                IntegratorOptions::default(),
+                8,
+                4,
+                seed,
+            )
+            .0
+            .image()
+        })
     };
     assert_ne!(render(1), render(2));
 }

@@ -9,15 +9,27 @@ use fenestra_scene::light::Emission;
 use fenestra_scene::{Camera, Material, RenderDefaults, SceneDesc, Shape, ShapeKind};
 
 fn furnace(albedo: f32, le: f32) -> SceneDesc {
-    let sphere = Shape::new(ShapeKind::Sphere { center: Vec3::ZERO, radius: 1.0 }, 0)
-        .flipped()
-        .emitting(Emission::radiance(Rgb::splat(le)));
+    let sphere = Shape::new(
+        ShapeKind::Sphere {
+            center: Vec3::ZERO,
+            radius: 1.0,
+        },
+        0,
+    )
+    .flipped()
+    .emitting(Emission::radiance(Rgb::splat(le)));
     SceneDesc {
         name: "furnace".into(),
         shapes: vec![sphere],
         materials: vec![Material::diffuse(albedo)],
         lights: vec![],
-        camera: Camera::look_at(Vec3::new(0.1, -0.3, 0.2), Vec3::new(0.0, 1.0, 0.0), Vec3::Z, 70.0).expect("camera"),
+        camera: Camera::look_at(
+            Vec3::new(0.1, -0.3, 0.2),
+            Vec3::new(0.0, 1.0, 0.0),
+            Vec3::Z,
+            70.0,
+        )
+        .expect("camera"),
         defaults: RenderDefaults::default(),
     }
 }
@@ -27,7 +39,10 @@ fn furnace_radiance_matches_the_analytic_value() {
     for albedo in [0.5f32, 0.8] {
         let expect = 1.0 / (1.0 - albedo as f64);
         for name in ["hf", "af_hf"] {
-            let options = IntegratorOptions { max_depth: 200, ..Default::default() };
+            let options = IntegratorOptions {
+                max_depth: 200,
+                ..Default::default()
+            };
             let (film, stats) = common::render(furnace(albedo, 1.0), name, options, 16, 256, 1);
             let (mean, se) = common::region_mean(&film, 0, 16, 0, 16);
             assert_eq!(stats.rays.dropped, 0);
@@ -36,7 +51,10 @@ fn furnace_radiance_matches_the_analytic_value() {
                 "{name}, albedo {albedo}: mean {mean:.4} +- {se:.4}, expected {expect}"
             );
             // The mean is only meaningful with a small standard error.
-            assert!(se < 0.01 * expect, "{name}: standard error {se} too large to test");
+            assert!(
+                se < 0.01 * expect,
+                "{name}: standard error {se} too large to test"
+            );
         }
     }
 }
@@ -49,10 +67,16 @@ fn truncated_furnace_sums_the_first_bounces() {
     for depth in [1u32, 2, 4] {
         let expect: f64 = (0..depth).map(|k| a.powi(k as i32)).sum();
         for name in ["hf", "af_hf"] {
-            let options = IntegratorOptions { max_depth: depth, ..Default::default() };
+            let options = IntegratorOptions {
+                max_depth: depth,
+                ..Default::default()
+            };
             let (film, _) = common::render(furnace(a as f32, 1.0), name, options, 16, 128, 2);
             let (mean, se) = common::region_mean(&film, 0, 16, 0, 16);
-            assert!((mean - expect).abs() < 4.0 * se + 1e-4, "{name} depth {depth}: {mean} +- {se}, expected {expect}");
+            assert!(
+                (mean - expect).abs() < 4.0 * se + 1e-4,
+                "{name} depth {depth}: {mean} +- {se}, expected {expect}"
+            );
         }
     }
 }

@@ -19,12 +19,20 @@ impl Camera {
         let forward = (target - eye).normalize_or_zero();
         let right = forward.cross(up).normalize_or_zero();
         if forward == Vec3::ZERO || right == Vec3::ZERO || !eye.is_finite() {
-            return Err(format!("degenerate camera: eye {eye}, target {target}, up {up}"));
+            return Err(format!(
+                "degenerate camera: eye {eye}, target {target}, up {up}"
+            ));
         }
         if !(fov_y > 0.0 && fov_y < 180.0) {
             return Err(format!("field of view {fov_y} must be in (0, 180) degrees"));
         }
-        Ok(Camera { position: eye, forward, right, up: right.cross(forward), fov_y })
+        Ok(Camera {
+            position: eye,
+            forward,
+            right,
+            up: right.cross(forward),
+            fov_y,
+        })
     }
 
     pub fn forward(&self) -> Vec3 {
@@ -38,7 +46,10 @@ impl Camera {
         let aspect = width as f32 / height as f32;
         let sx = (2.0 * film.x / width as f32 - 1.0) * tan_half * aspect;
         let sy = (1.0 - 2.0 * film.y / height as f32) * tan_half;
-        Ray::new(self.position, (self.forward + self.right * sx + self.up * sy).normalize())
+        Ray::new(
+            self.position,
+            (self.forward + self.right * sx + self.up * sy).normalize(),
+        )
     }
 }
 

@@ -26,8 +26,21 @@ impl SurfaceInteraction {
 
     /// The interaction at point `p` of primitive `prim` with barycentrics (b1, b2) (meshes),
     /// as if a ray had hit it there: used by light sampling to see the same normals as rays.
-    pub fn on_surface(shape: &Shape, shape_index: usize, prim: usize, p: Vec3, b1: f32, b2: f32) -> Self {
-        let hit = Hit { t: 0.0, shape: shape_index as u32, prim: prim as u32, u: b1, v: b2 };
+    pub fn on_surface(
+        shape: &Shape,
+        shape_index: usize,
+        prim: usize,
+        p: Vec3,
+        b1: f32,
+        b2: f32,
+    ) -> Self {
+        let hit = Hit {
+            t: 0.0,
+            shape: shape_index as u32,
+            prim: prim as u32,
+            u: b1,
+            v: b2,
+        };
         Self::from_hit(shape, &Ray::new(p, Vec3::Z), &hit)
     }
 
@@ -44,9 +57,14 @@ impl SurfaceInteraction {
                 let (uv, dpdu) = match &m.uvs {
                     Some(uv) => {
                         let [t0, t1, t2] = [uv[i0], uv[i1], uv[i2]];
-                        let (du1, du2, dv1, dv2) = (t1.x - t0.x, t2.x - t0.x, t1.y - t0.y, t2.y - t0.y);
+                        let (du1, du2, dv1, dv2) =
+                            (t1.x - t0.x, t2.x - t0.x, t1.y - t0.y, t2.y - t0.y);
                         let det = du1 * dv2 - dv1 * du2;
-                        let dpdu = if det.abs() > 1e-12 { ((p1 - p0) * dv2 - (p2 - p0) * dv1) / det } else { p1 - p0 };
+                        let dpdu = if det.abs() > 1e-12 {
+                            ((p1 - p0) * dv2 - (p2 - p0) * dv1) / det
+                        } else {
+                            p1 - p0
+                        };
                         (t0 * b0 + t1 * b1 + t2 * b2, dpdu)
                     }
                     None => (Vec2::new(b1, b2), p1 - p0),
@@ -72,11 +90,18 @@ impl SurfaceInteraction {
                 let dir = (ray.at(hit.t) - *center).normalize();
                 let p = *center + dir * *radius;
                 let phi = dir.y.atan2(dir.x);
-                let uv = Vec2::new((phi * INV_2PI).rem_euclid(1.0), dir.z.clamp(-1.0, 1.0).acos() * INV_PI);
+                let uv = Vec2::new(
+                    (phi * INV_2PI).rem_euclid(1.0),
+                    dir.z.clamp(-1.0, 1.0).acos() * INV_PI,
+                );
                 let dpdu = Vec3::new(-dir.y, dir.x, 0.0);
                 (p, dir, dir, dpdu, uv)
             }
-            ShapeKind::Disk { center, normal, radius } => {
+            ShapeKind::Disk {
+                center,
+                normal,
+                radius,
+            } => {
                 let p = ray.at(hit.t);
                 let f = Frame::from_normal(*normal);
                 let local = f.to_local(p - *center);
@@ -88,6 +113,15 @@ impl SurfaceInteraction {
             ng = -ng;
             ns = -ns;
         }
-        SurfaceInteraction { p, ng, ns, dpdu, uv, shape: hit.shape as usize, prim, t: hit.t }
+        SurfaceInteraction {
+            p,
+            ng,
+            ns,
+            dpdu,
+            uv,
+            shape: hit.shape as usize,
+            prim,
+            t: hit.t,
+        }
     }
 }

@@ -12,18 +12,34 @@ pub enum Material {
     /// `eta` is the interior index over the exterior one.
     Dielectric { eta: f32 },
     /// Energy-normalised Phong: kd/pi + ks (n+2)/(2 pi) cos^n(alpha).
-    Phong { diffuse: Rgb, specular: Rgb, exponent: f32 },
+    Phong {
+        diffuse: Rgb,
+        specular: Rgb,
+        exponent: f32,
+    },
     /// Anisotropic Ward with Walter's (2005) normalisation (seed 003 §2.5).
-    Ward { diffuse: Rgb, specular: Rgb, alpha_x: f32, alpha_y: f32 },
+    Ward {
+        diffuse: Rgb,
+        specular: Rgb,
+        alpha_x: f32,
+        alpha_y: f32,
+    },
     /// GGX microfacet conductor with complex index eta + i k per channel.
-    RoughConductor { eta: Rgb, k: Rgb, alpha_x: f32, alpha_y: f32 },
+    RoughConductor {
+        eta: Rgb,
+        k: Rgb,
+        alpha_x: f32,
+        alpha_y: f32,
+    },
     /// GGX microfacet dielectric (Walter et al. 2007).
     RoughDielectric { eta: f32, alpha: f32 },
 }
 
 impl Material {
     pub fn diffuse(r: f32) -> Self {
-        Material::Diffuse { reflectance: Rgb::splat(r) }
+        Material::Diffuse {
+            reflectance: Rgb::splat(r),
+        }
     }
 
     /// A parameter that makes no physical sense, as a message; `None` when valid.
@@ -34,29 +50,50 @@ impl Material {
             Material::Diffuse { reflectance: r } | Material::Mirror { reflectance: r } => {
                 (!rgb_ok(r)).then(|| format!("reflectance {r:?} must be finite and non-negative"))
             }
-            Material::Dielectric { eta } | Material::RoughDielectric { eta, .. } if !(eta.is_finite() && *eta > 0.0) => {
+            Material::Dielectric { eta } | Material::RoughDielectric { eta, .. }
+                if !(eta.is_finite() && *eta > 0.0) =>
+            {
                 Some(format!("index of refraction {eta} must be positive"))
             }
-            Material::RoughDielectric { alpha, .. } if !alpha_ok(*alpha) => Some(format!("roughness {alpha} must be positive")),
-            Material::Phong { diffuse, specular, exponent } => {
+            Material::RoughDielectric { alpha, .. } if !alpha_ok(*alpha) => {
+                Some(format!("roughness {alpha} must be positive"))
+            }
+            Material::Phong {
+                diffuse,
+                specular,
+                exponent,
+            } => {
                 if !rgb_ok(diffuse) || !rgb_ok(specular) {
                     Some("Phong reflectances must be finite and non-negative".into())
                 } else {
-                    (!(exponent.is_finite() && *exponent >= 0.0)).then(|| format!("Phong exponent {exponent} must be >= 0"))
+                    (!(exponent.is_finite() && *exponent >= 0.0))
+                        .then(|| format!("Phong exponent {exponent} must be >= 0"))
                 }
             }
-            Material::Ward { diffuse, specular, alpha_x, alpha_y } => {
+            Material::Ward {
+                diffuse,
+                specular,
+                alpha_x,
+                alpha_y,
+            } => {
                 if !rgb_ok(diffuse) || !rgb_ok(specular) {
                     Some("Ward reflectances must be finite and non-negative".into())
                 } else {
-                    (!alpha_ok(*alpha_x) || !alpha_ok(*alpha_y)).then(|| "Ward roughness must be positive".into())
+                    (!alpha_ok(*alpha_x) || !alpha_ok(*alpha_y))
+                        .then(|| "Ward roughness must be positive".into())
                 }
             }
-            Material::RoughConductor { eta, k, alpha_x, alpha_y } => {
+            Material::RoughConductor {
+                eta,
+                k,
+                alpha_x,
+                alpha_y,
+            } => {
                 if !rgb_ok(eta) || !rgb_ok(k) {
                     Some("conductor eta and k must be finite and non-negative".into())
                 } else {
-                    (!alpha_ok(*alpha_x) || !alpha_ok(*alpha_y)).then(|| "conductor roughness must be positive".into())
+                    (!alpha_ok(*alpha_x) || !alpha_ok(*alpha_y))
+                        .then(|| "conductor roughness must be positive".into())
                 }
             }
             _ => None,

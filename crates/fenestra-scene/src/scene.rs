@@ -20,7 +20,12 @@ pub struct RenderDefaults {
 
 impl Default for RenderDefaults {
     fn default() -> Self {
-        RenderDefaults { width: 512, height: 512, spp: 64, max_depth: 8 }
+        RenderDefaults {
+            width: 512,
+            height: 512,
+            spp: 64,
+            max_depth: 8,
+        }
     }
 }
 
@@ -39,9 +44,20 @@ pub struct SceneDesc {
 #[derive(Debug, thiserror::Error)]
 pub enum SceneError {
     #[error("shape {shape}: material index {material} out of range ({count} materials)")]
-    MaterialIndex { shape: usize, material: usize, count: usize },
-    #[error("shape {shape}: triangle {triangle} uses vertex {vertex} but the mesh has {count} vertices")]
-    VertexIndex { shape: usize, triangle: usize, vertex: u32, count: usize },
+    MaterialIndex {
+        shape: usize,
+        material: usize,
+        count: usize,
+    },
+    #[error(
+        "shape {shape}: triangle {triangle} uses vertex {vertex} but the mesh has {count} vertices"
+    )]
+    VertexIndex {
+        shape: usize,
+        triangle: usize,
+        vertex: u32,
+        count: usize,
+    },
     #[error("shape {shape}: {what}")]
     Geometry { shape: usize, what: String },
     #[error("material {index}: {what}")]
@@ -118,7 +134,11 @@ impl Scene {
     }
 
     pub fn triangle_count(&self) -> usize {
-        self.shapes.iter().filter(|s| matches!(s.kind, ShapeKind::Mesh(_))).map(Shape::primitive_count).sum()
+        self.shapes
+            .iter()
+            .filter(|s| matches!(s.kind, ShapeKind::Mesh(_)))
+            .map(Shape::primitive_count)
+            .sum()
     }
 }
 
@@ -130,20 +150,32 @@ fn validate(desc: &SceneDesc) -> Result<(), SceneError> {
     }
     for (i, s) in desc.shapes.iter().enumerate() {
         if s.material >= desc.materials.len() {
-            return Err(SceneError::MaterialIndex { shape: i, material: s.material, count: desc.materials.len() });
+            return Err(SceneError::MaterialIndex {
+                shape: i,
+                material: s.material,
+                count: desc.materials.len(),
+            });
         }
         let geo = |what: String| Err(SceneError::Geometry { shape: i, what });
         match &s.kind {
             ShapeKind::Mesh(m) => {
                 for (t, tri) in m.indices.iter().enumerate() {
                     if let Some(&v) = tri.iter().find(|&&v| v as usize >= m.positions.len()) {
-                        return Err(SceneError::VertexIndex { shape: i, triangle: t, vertex: v, count: m.positions.len() });
+                        return Err(SceneError::VertexIndex {
+                            shape: i,
+                            triangle: t,
+                            vertex: v,
+                            count: m.positions.len(),
+                        });
                     }
                 }
                 if m.positions.iter().any(|p| !p.is_finite()) {
                     return geo("a vertex position is not finite".into());
                 }
-                if m.normals.as_ref().is_some_and(|n| n.len() != m.positions.len()) {
+                if m.normals
+                    .as_ref()
+                    .is_some_and(|n| n.len() != m.positions.len())
+                {
                     return geo("normal count differs from vertex count".into());
                 }
                 if m.uvs.as_ref().is_some_and(|n| n.len() != m.positions.len()) {
@@ -155,9 +187,18 @@ fn validate(desc: &SceneDesc) -> Result<(), SceneError> {
                     return geo(format!("sphere centre {center} radius {radius} invalid"));
                 }
             }
-            ShapeKind::Disk { center, normal, radius } => {
-                if !center.is_finite() || !(radius.is_finite() && *radius > 0.0) || (normal.length() - 1.0).abs() > 1e-3 {
-                    return geo(format!("disk centre {center} normal {normal} radius {radius} invalid"));
+            ShapeKind::Disk {
+                center,
+                normal,
+                radius,
+            } => {
+                if !center.is_finite()
+                    || !(radius.is_finite() && *radius > 0.0)
+                    || (normal.length() - 1.0).abs() > 1e-3
+                {
+                    return geo(format!(
+                        "disk centre {center} normal {normal} radius {radius} invalid"
+                    ));
                 }
             }
         }
@@ -168,9 +209,19 @@ fn validate(desc: &SceneDesc) -> Result<(), SceneError> {
         }
     }
     for (i, l) in desc.lights.iter().enumerate() {
-        let bad = |what: &str| Err(SceneError::Light { index: i, what: what.into() });
+        let bad = |what: &str| {
+            Err(SceneError::Light {
+                index: i,
+                what: what.into(),
+            })
+        };
         match l {
-            LightDesc::Spot { direction, cone_angle, falloff_start, .. } => {
+            LightDesc::Spot {
+                direction,
+                cone_angle,
+                falloff_start,
+                ..
+            } => {
                 if direction.length() < 1e-6 {
                     return bad("spot light direction is zero");
                 }
@@ -178,7 +229,9 @@ fn validate(desc: &SceneDesc) -> Result<(), SceneError> {
                     return bad("spot light cone angles must satisfy 0 <= falloff start <= cone angle <= 180");
                 }
             }
-            LightDesc::Distant { direction, .. } if direction.length() < 1e-6 => return bad("distant light direction is zero"),
+            LightDesc::Distant { direction, .. } if direction.length() < 1e-6 => {
+                return bad("distant light direction is zero")
+            }
             _ => {}
         }
     }

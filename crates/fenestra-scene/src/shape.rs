@@ -18,14 +18,33 @@ impl TriangleMesh {
     /// A planar parallelogram centred at `center` spanned by half-edges `hu` and `hv`; its
     /// normal is `hu x hv` normalised.
     pub fn quad(center: Vec3, hu: Vec3, hv: Vec3) -> Self {
-        let positions = vec![center - hu - hv, center + hu - hv, center + hu + hv, center - hu + hv];
-        let uvs = Some(vec![Vec2::new(0.0, 0.0), Vec2::new(1.0, 0.0), Vec2::new(1.0, 1.0), Vec2::new(0.0, 1.0)]);
-        TriangleMesh { positions, normals: None, uvs, indices: vec![[0, 1, 2], [0, 2, 3]] }
+        let positions = vec![
+            center - hu - hv,
+            center + hu - hv,
+            center + hu + hv,
+            center - hu + hv,
+        ];
+        let uvs = Some(vec![
+            Vec2::new(0.0, 0.0),
+            Vec2::new(1.0, 0.0),
+            Vec2::new(1.0, 1.0),
+            Vec2::new(0.0, 1.0),
+        ]);
+        TriangleMesh {
+            positions,
+            normals: None,
+            uvs,
+            indices: vec![[0, 1, 2], [0, 2, 3]],
+        }
     }
 
     pub fn triangle(&self, i: usize) -> [Vec3; 3] {
         let [a, b, c] = self.indices[i];
-        [self.positions[a as usize], self.positions[b as usize], self.positions[c as usize]]
+        [
+            self.positions[a as usize],
+            self.positions[b as usize],
+            self.positions[c as usize],
+        ]
     }
 
     pub fn triangle_area(&self, i: usize) -> f32 {
@@ -37,7 +56,8 @@ impl TriangleMesh {
     pub fn append(&mut self, other: &TriangleMesh) {
         let base = self.positions.len() as u32;
         self.positions.extend_from_slice(&other.positions);
-        self.indices.extend(other.indices.iter().map(|t| t.map(|i| i + base)));
+        self.indices
+            .extend(other.indices.iter().map(|t| t.map(|i| i + base)));
         match (&mut self.uvs, &other.uvs) {
             (Some(a), Some(b)) => a.extend_from_slice(b),
             _ => self.uvs = None,
@@ -52,9 +72,16 @@ impl TriangleMesh {
 #[derive(Clone, Debug)]
 pub enum ShapeKind {
     Mesh(TriangleMesh),
-    Sphere { center: Vec3, radius: f32 },
+    Sphere {
+        center: Vec3,
+        radius: f32,
+    },
     /// A disk of `radius` around `center`, facing `normal` (unit).
-    Disk { center: Vec3, normal: Vec3, radius: f32 },
+    Disk {
+        center: Vec3,
+        normal: Vec3,
+        radius: f32,
+    },
 }
 
 /// A shape with its material and, if it emits, its area emission.
@@ -70,7 +97,12 @@ pub struct Shape {
 
 impl Shape {
     pub fn new(kind: ShapeKind, material: usize) -> Self {
-        Shape { kind, material, emission: None, flip_normals: false }
+        Shape {
+            kind,
+            material,
+            emission: None,
+            flip_normals: false,
+        }
     }
     pub fn emitting(mut self, e: Emission) -> Self {
         self.emission = Some(e);
@@ -104,8 +136,15 @@ impl Shape {
                 let [a, b, c] = m.triangle(prim);
                 (a.min(b).min(c), a.max(b).max(c))
             }
-            ShapeKind::Sphere { center, radius } => (*center - Vec3::splat(*radius), *center + Vec3::splat(*radius)),
-            ShapeKind::Disk { center, normal, radius } => {
+            ShapeKind::Sphere { center, radius } => (
+                *center - Vec3::splat(*radius),
+                *center + Vec3::splat(*radius),
+            ),
+            ShapeKind::Disk {
+                center,
+                normal,
+                radius,
+            } => {
                 // Extent of a disk along axis i is r * sqrt(1 - n_i^2).
                 let e = (Vec3::ONE - *normal * *normal).max(Vec3::ZERO).sqrt() * *radius;
                 (*center - e, *center + e)
@@ -115,19 +154,34 @@ impl Shape {
 
     /// Exact intersection with primitive `prim` in (tmin, tmax): (t, u, v) where (u, v) are
     /// the barycentrics of the 2nd and 3rd vertex for triangles and unused otherwise.
-    pub fn intersect(&self, prim: usize, ray: &Ray, tmin: f32, tmax: f32) -> Option<(f32, f32, f32)> {
+    pub fn intersect(
+        &self,
+        prim: usize,
+        ray: &Ray,
+        tmin: f32,
+        tmax: f32,
+    ) -> Option<(f32, f32, f32)> {
         match &self.kind {
             ShapeKind::Mesh(m) => intersect_triangle(m.triangle(prim), ray, tmin, tmax),
-            ShapeKind::Sphere { center, radius } => intersect_sphere(*center, *radius, ray, tmin, tmax).map(|t| (t, 0.0, 0.0)),
-            ShapeKind::Disk { center, normal, radius } => {
-                intersect_disk(*center, *normal, *radius, ray, tmin, tmax).map(|t| (t, 0.0, 0.0))
+            ShapeKind::Sphere { center, radius } => {
+                intersect_sphere(*center, *radius, ray, tmin, tmax).map(|t| (t, 0.0, 0.0))
             }
+            ShapeKind::Disk {
+                center,
+                normal,
+                radius,
+            } => intersect_disk(*center, *normal, *radius, ray, tmin, tmax).map(|t| (t, 0.0, 0.0)),
         }
     }
 }
 
 /// Möller-Trumbore ray/triangle test.
-pub fn intersect_triangle([p0, p1, p2]: [Vec3; 3], ray: &Ray, tmin: f32, tmax: f32) -> Option<(f32, f32, f32)> {
+pub fn intersect_triangle(
+    [p0, p1, p2]: [Vec3; 3],
+    ray: &Ray,
+    tmin: f32,
+    tmax: f32,
+) -> Option<(f32, f32, f32)> {
     let e1 = p1 - p0;
     let e2 = p2 - p0;
     let pv = ray.d.cross(e2);
@@ -175,7 +229,14 @@ pub fn intersect_sphere(center: Vec3, radius: f32, ray: &Ray, tmin: f32, tmax: f
     }
 }
 
-pub fn intersect_disk(center: Vec3, normal: Vec3, radius: f32, ray: &Ray, tmin: f32, tmax: f32) -> Option<f32> {
+pub fn intersect_disk(
+    center: Vec3,
+    normal: Vec3,
+    radius: f32,
+    ray: &Ray,
+    tmin: f32,
+    tmax: f32,
+) -> Option<f32> {
     let denom = normal.dot(ray.d);
     if denom.abs() < 1e-12 {
         return None;
@@ -194,9 +255,16 @@ mod tests {
     #[test]
     fn sphere_hits_from_outside_and_inside() {
         let r = Ray::new(Vec3::new(0.0, 0.0, -5.0), Vec3::Z);
-        assert!((intersect_sphere(Vec3::ZERO, 1.0, &r, 0.0, f32::INFINITY).expect("hit") - 4.0).abs() < 1e-5);
+        assert!(
+            (intersect_sphere(Vec3::ZERO, 1.0, &r, 0.0, f32::INFINITY).expect("hit") - 4.0).abs()
+                < 1e-5
+        );
         let inside = Ray::new(Vec3::ZERO, Vec3::X);
-        assert!((intersect_sphere(Vec3::ZERO, 2.0, &inside, 0.0, f32::INFINITY).expect("hit") - 2.0).abs() < 1e-5);
+        assert!(
+            (intersect_sphere(Vec3::ZERO, 2.0, &inside, 0.0, f32::INFINITY).expect("hit") - 2.0)
+                .abs()
+                < 1e-5
+        );
         assert!(intersect_sphere(Vec3::ZERO, 1.0, &r, 0.0, 3.9).is_none());
     }
 
@@ -206,7 +274,13 @@ mod tests {
         let r = Ray::new(Vec3::new(0.25, 0.25, 1.0), -Vec3::Z);
         let (t, u, v) = intersect_triangle(tri, &r, 0.0, 10.0).expect("hit");
         assert!((t - 1.0).abs() < 1e-6 && (u - 0.25).abs() < 1e-6 && (v - 0.25).abs() < 1e-6);
-        assert!(intersect_triangle(tri, &Ray::new(Vec3::new(0.8, 0.8, 1.0), -Vec3::Z), 0.0, 10.0).is_none());
+        assert!(intersect_triangle(
+            tri,
+            &Ray::new(Vec3::new(0.8, 0.8, 1.0), -Vec3::Z),
+            0.0,
+            10.0
+        )
+        .is_none());
         assert!(intersect_disk(Vec3::ZERO, Vec3::Z, 1.0, &r, 0.0, 10.0).is_some());
         assert!(intersect_disk(Vec3::ZERO, Vec3::Z, 0.3, &r, 0.0, 10.0).is_none());
     }
@@ -214,7 +288,14 @@ mod tests {
     #[test]
     fn disk_bounds_are_tight_and_conservative() {
         let n = Vec3::new(1.0, 1.0, 0.0).normalize();
-        let s = Shape::new(ShapeKind::Disk { center: Vec3::ZERO, normal: n, radius: 2.0 }, 0);
+        let s = Shape::new(
+            ShapeKind::Disk {
+                center: Vec3::ZERO,
+                normal: n,
+                radius: 2.0,
+            },
+            0,
+        );
         let (lo, hi) = s.primitive_bounds(0);
         assert!((hi.z - 2.0).abs() < 1e-5 && (hi.x - 2.0 * 0.5f32.sqrt()).abs() < 1e-5);
         assert_eq!(lo, -hi);

@@ -6,10 +6,32 @@ use fenestra_scene::{builtin, Backend, Shape, ShapeKind};
 
 fn test_shapes() -> Vec<Shape> {
     let mut shapes = builtin::load("box-4holes").expect("builtin").shapes;
-    shapes.push(Shape::new(ShapeKind::Sphere { center: Vec3::new(0.1, 0.2, -0.2), radius: 0.15 }, 0));
-    shapes.push(Shape::new(ShapeKind::Sphere { center: Vec3::new(-0.25, -0.1, 0.1), radius: 0.1 }, 0).flipped());
+    shapes.push(Shape::new(
+        ShapeKind::Sphere {
+            center: Vec3::new(0.1, 0.2, -0.2),
+            radius: 0.15,
+        },
+        0,
+    ));
+    shapes.push(
+        Shape::new(
+            ShapeKind::Sphere {
+                center: Vec3::new(-0.25, -0.1, 0.1),
+                radius: 0.1,
+            },
+            0,
+        )
+        .flipped(),
+    );
     let n = Vec3::new(0.3, -0.5, 0.8).normalize();
-    shapes.push(Shape::new(ShapeKind::Disk { center: Vec3::new(0.2, -0.2, 0.2), normal: n, radius: 0.12 }, 0));
+    shapes.push(Shape::new(
+        ShapeKind::Disk {
+            center: Vec3::new(0.2, -0.2, 0.2),
+            normal: n,
+            radius: 0.12,
+        },
+        0,
+    ));
     shapes
 }
 
@@ -34,22 +56,38 @@ fn embree_and_obvhs_return_the_same_hits() {
             (Some(a), Some(b)) => {
                 hits += 1;
                 // Rays grazing a shared edge may pick either neighbour: accept equal distance.
-                assert!((a.t - b.t).abs() <= 1e-4 * a.t.max(1.0), "ray {i}: {a:?} vs {b:?}");
+                assert!(
+                    (a.t - b.t).abs() <= 1e-4 * a.t.max(1.0),
+                    "ray {i}: {a:?} vs {b:?}"
+                );
                 if a.shape != b.shape || a.prim != b.prim {
                     let same_point = (ray.at(a.t) - ray.at(b.t)).length() < 1e-4;
                     assert!(same_point, "ray {i}: {a:?} vs {b:?}");
                 } else if a.shape < 3 {
-                    assert!((a.u - b.u).abs() < 1e-3 && (a.v - b.v).abs() < 1e-3, "ray {i}: {a:?} vs {b:?}");
+                    assert!(
+                        (a.u - b.u).abs() < 1e-3 && (a.v - b.v).abs() < 1e-3,
+                        "ray {i}: {a:?} vs {b:?}"
+                    );
                 }
             }
             (None, None) => {}
-            _ => panic!("ray {i} from {o} along {}: embree {a:?}, obvhs {b:?}", ray.d),
+            _ => panic!(
+                "ray {i} from {o} along {}: embree {a:?}, obvhs {b:?}",
+                ray.d
+            ),
         }
         let oa = embree.occluded(&ray, tmax);
         assert_eq!(oa, obvhs.occluded(&ray, tmax), "ray {i}");
-        assert_eq!(oa, a.is_some(), "ray {i}: occlusion agrees with closest hit");
+        assert_eq!(
+            oa,
+            a.is_some(),
+            "ray {i}: occlusion agrees with closest hit"
+        );
         occluded += oa as u32;
     }
     // The test means something only if both outcomes occur often.
-    assert!(hits > 10_000 && occluded < 19_000, "hits {hits}, occluded {occluded}");
+    assert!(
+        hits > 10_000 && occluded < 19_000,
+        "hits {hits}, occluded {occluded}"
+    );
 }

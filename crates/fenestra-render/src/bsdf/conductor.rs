@@ -13,7 +13,11 @@ pub struct RoughConductor {
 
 impl RoughConductor {
     pub fn new(eta: Rgb, k: Rgb, ax: f32, ay: f32) -> Self {
-        RoughConductor { eta, k, ggx: Ggx::new(ax, ay) }
+        RoughConductor {
+            eta,
+            k,
+            ggx: Ggx::new(ax, ay),
+        }
     }
 
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> Rgb {
@@ -40,6 +44,11 @@ impl RoughConductor {
             return None;
         }
         let pdf = self.pdf(wo, wi);
-        Some(BsdfSample { wi, weight: self.eval(wo, wi) * (wi.z / pdf), pdf, delta: false })
+        Some(BsdfSample {
+            wi,
+            weight: self.eval(wo, wi) * (wi.z / pdf),
+            pdf,
+            delta: false,
+        })
     }
 }

@@ -14,11 +14,21 @@ impl SmoothDielectric {
     pub fn sample(&self, wo: Vec3, uc: f32) -> Option<BsdfSample> {
         let f = fresnel::dielectric(wo.z, self.eta);
         if uc < f {
-            return Some(BsdfSample { wi: reflect_z(wo), weight: Rgb::ONE, pdf: f, delta: true });
+            return Some(BsdfSample {
+                wi: reflect_z(wo),
+                weight: Rgb::ONE,
+                pdf: f,
+                delta: true,
+            });
         }
         let (wi, etap) = fresnel::refract(wo, Vec3::Z, self.eta)?;
         // Radiance is compressed by eta^2 when it enters a denser medium (non-symmetric
         // scattering for camera paths, Veach 1997 §5.2).
-        Some(BsdfSample { wi, weight: Rgb::splat(1.0 / (etap * etap)), pdf: 1.0 - f, delta: true })
+        Some(BsdfSample {
+            wi,
+            weight: Rgb::splat(1.0 / (etap * etap)),
+            pdf: 1.0 - f,
+            delta: true,
+        })
     }
 }

@@ -18,6 +18,11 @@ impl Diffuse {
     pub fn sample(&self, _wo: Vec3, u: Vec2) -> Option<BsdfSample> {
         let wi = warp::square_to_cosine_hemisphere(u);
         let pdf = warp::cosine_hemisphere_pdf(wi);
-        Some(BsdfSample { wi, weight: self.reflectance, pdf, delta: false })
+        Some(BsdfSample {
+            wi,
+            weight: self.reflectance,
+            pdf,
+            delta: false,
+        })
     }
 }

@@ -5,7 +5,11 @@ use fenestra_core::{Rgb, Vec3};
 /// Unpolarised Fresnel reflectance at a dielectric interface. `cos_i` is measured against the
 /// normal on the exterior side (negative when arriving from inside); `eta` = interior/exterior.
 pub fn dielectric(cos_i: f32, eta: f32) -> f32 {
-    let (cos_i, eta) = if cos_i < 0.0 { (-cos_i, 1.0 / eta) } else { (cos_i, eta) };
+    let (cos_i, eta) = if cos_i < 0.0 {
+        (-cos_i, 1.0 / eta)
+    } else {
+        (cos_i, eta)
+    };
     let cos_i = cos_i.min(1.0);
     let sin2_t = (1.0 - cos_i * cos_i) / (eta * eta);
     if sin2_t >= 1.0 {
@@ -52,7 +56,8 @@ pub fn conductor(cos_i: f32, eta: Rgb, k: Rgb) -> Rgb {
         let rs = abs2(c - t_re, -t_im) / abs2(c + t_re, t_im).max(1e-20);
         // r_p = (n^2 c - t) / (n^2 c + t), n^2 = (eta^2 - k^2) + i 2 eta k
         let (n2_re, n2_im) = (eta * eta - k * k, 2.0 * eta * k);
-        let rp = abs2(n2_re * c - t_re, n2_im * c - t_im) / abs2(n2_re * c + t_re, n2_im * c + t_im).max(1e-20);
+        let rp = abs2(n2_re * c - t_re, n2_im * c - t_im)
+            / abs2(n2_re * c + t_re, n2_im * c + t_im).max(1e-20);
         (0.5 * (rs + rp)).clamp(0.0, 1.0)
     };
     Rgb::new(f(eta.r, k.r), f(eta.g, k.g), f(eta.b, k.b))

@@ -12,7 +12,10 @@ pub struct Ggx {
 impl Ggx {
     /// Roughness is clamped away from zero, where the distribution degenerates to a delta.
     pub fn new(ax: f32, ay: f32) -> Self {
-        Ggx { ax: ax.max(1e-3), ay: ay.max(1e-3) }
+        Ggx {
+            ax: ax.max(1e-3),
+            ay: ay.max(1e-3),
+        }
     }
 
     /// D(h) for a unit half vector in the upper hemisphere.
@@ -54,7 +57,11 @@ impl Ggx {
         if wh.z < 0.0 {
             wh = -wh;
         }
-        let t1 = if wh.z < 0.99999 { Vec3::Z.cross(wh).normalize() } else { Vec3::X };
+        let t1 = if wh.z < 0.99999 {
+            Vec3::Z.cross(wh).normalize()
+        } else {
+            Vec3::X
+        };
         let t2 = wh.cross(t1);
         let r = u.x.sqrt();
         let phi = 2.0 * PI * u.y;

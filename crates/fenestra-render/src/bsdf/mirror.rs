@@ -10,6 +10,11 @@ pub struct Mirror {
 
 impl Mirror {
     pub fn sample(&self, wo: Vec3) -> Option<BsdfSample> {
-        Some(BsdfSample { wi: reflect_z(wo), weight: self.reflectance, pdf: 1.0, delta: true })
+        Some(BsdfSample {
+            wi: reflect_z(wo),
+            weight: self.reflectance,
+            pdf: 1.0,
+            delta: true,
+        })
     }
 }

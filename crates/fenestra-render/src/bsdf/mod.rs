@@ -62,12 +62,26 @@ impl Bsdf {
             Material::Diffuse { reflectance } => Bsdf::Diffuse(Diffuse { reflectance }),
             Material::Mirror { reflectance } => Bsdf::Mirror(Mirror { reflectance }),
             Material::Dielectric { eta } => Bsdf::SmoothDielectric(SmoothDielectric { eta }),
-            Material::Phong { diffuse, specular, exponent } => Bsdf::Phong(Phong::new(diffuse, specular, exponent)),
-            Material::Ward { diffuse, specular, alpha_x, alpha_y } => Bsdf::Ward(Ward::new(diffuse, specular, alpha_x, alpha_y)),
-            Material::RoughConductor { eta, k, alpha_x, alpha_y } => {
-                Bsdf::RoughConductor(RoughConductor::new(eta, k, alpha_x, alpha_y))
+            Material::Phong {
+                diffuse,
+                specular,
+                exponent,
+            } => Bsdf::Phong(Phong::new(diffuse, specular, exponent)),
+            Material::Ward {
+                diffuse,
+                specular,
+                alpha_x,
+                alpha_y,
+            } => Bsdf::Ward(Ward::new(diffuse, specular, alpha_x, alpha_y)),
+            Material::RoughConductor {
+                eta,
+                k,
+                alpha_x,
+                alpha_y,
+            } => Bsdf::RoughConductor(RoughConductor::new(eta, k, alpha_x, alpha_y)),
+            Material::RoughDielectric { eta, alpha } => {
+                Bsdf::RoughDielectric(RoughDielectric::new(eta, alpha))
             }
-            Material::RoughDielectric { eta, alpha } => Bsdf::RoughDielectric(RoughDielectric::new(eta, alpha)),
         }
     }
 
@@ -86,7 +100,9 @@ impl Bsdf {
         if let Bsdf::RoughDielectric(b) = self {
             return b.eval(wo, wi);
         }
-        let Some((wo, wi)) = opaque_side(wo, wi) else { return Rgb::ZERO };
+        let Some((wo, wi)) = opaque_side(wo, wi) else {
+            return Rgb::ZERO;
+        };
         match self {
             Bsdf::Diffuse(b) => b.eval(wo, wi),
             Bsdf::Phong(b) => b.eval(wo, wi),
@@ -101,7 +117,9 @@ impl Bsdf {
         if let Bsdf::RoughDielectric(b) = self {
             return b.pdf(wo, wi);
         }
-        let Some((wo, wi)) = opaque_side(wo, wi) else { return 0.0 };
+        let Some((wo, wi)) = opaque_side(wo, wi) else {
+            return 0.0;
+        };
         match self {
             Bsdf::Diffuse(b) => b.pdf(wo, wi),
             Bsdf::Phong(b) => b.pdf(wo, wi),
@@ -132,7 +150,10 @@ impl Bsdf {
             Bsdf::SmoothDielectric(_) | Bsdf::RoughDielectric(_) => None,
         }?;
         let ok = s.wi.z > 0.0 && s.pdf > 0.0 && s.weight.is_finite();
-        ok.then(|| BsdfSample { wi: if flip { flip_z(s.wi) } else { s.wi }, ..s })
+        ok.then(|| BsdfSample {
+            wi: if flip { flip_z(s.wi) } else { s.wi },
+            ..s
+        })
     }
 }
 

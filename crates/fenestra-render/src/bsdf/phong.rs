@@ -14,7 +14,12 @@ pub struct Phong {
 
 impl Phong {
     pub fn new(diffuse: Rgb, specular: Rgb, exponent: f32) -> Self {
-        Phong { diffuse, specular, exponent, p_specular: specular_probability(diffuse, specular) }
+        Phong {
+            diffuse,
+            specular,
+            exponent,
+            p_specular: specular_probability(diffuse, specular),
+        }
     }
 
     fn cos_alpha(wo: Vec3, wi: Vec3) -> f32 {
@@ -23,7 +28,8 @@ impl Phong {
 
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> Rgb {
         let n = self.exponent;
-        self.diffuse * INV_PI + self.specular * ((n + 2.0) * INV_2PI * Self::cos_alpha(wo, wi).powf(n))
+        self.diffuse * INV_PI
+            + self.specular * ((n + 2.0) * INV_2PI * Self::cos_alpha(wo, wi).powf(n))
     }
 
     pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
@@ -38,7 +44,11 @@ impl Phong {
             let cos_a = u.x.powf(1.0 / (self.exponent + 1.0));
             let sin_a = (1.0 - cos_a * cos_a).max(0.0).sqrt();
             let phi = 2.0 * fenestra_core::PI * u.y;
-            Frame::from_normal(reflect_z(wo)).to_world(Vec3::new(sin_a * phi.cos(), sin_a * phi.sin(), cos_a))
+            Frame::from_normal(reflect_z(wo)).to_world(Vec3::new(
+                sin_a * phi.cos(),
+                sin_a * phi.sin(),
+                cos_a,
+            ))
         } else {
             warp::square_to_cosine_hemisphere(u)
         };
@@ -46,6 +56,11 @@ impl Phong {
             return None;
         }
         let pdf = self.pdf(wo, wi);
-        Some(BsdfSample { wi, weight: self.eval(wo, wi) * (wi.z / pdf), pdf, delta: false })
+        Some(BsdfSample {
+            wi,
+            weight: self.eval(wo, wi) * (wi.z / pdf),
+            pdf,
+            delta: false,
+        })
     }
 }

@@ -39,11 +39,16 @@ fn half_vector(wo: Vec3, wi: Vec3, eta: f32) -> Option<(Vec3, f32, bool)> {
 
 impl RoughDielectric {
     pub fn new(eta: f32, alpha: f32) -> Self {
-        RoughDielectric { eta, ggx: Ggx::new(alpha, alpha) }
+        RoughDielectric {
+            eta,
+            ggx: Ggx::new(alpha, alpha),
+        }
     }
 
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> Rgb {
-        let Some((wm, etap, reflection)) = half_vector(wo, wi, self.eta) else { return Rgb::ZERO };
+        let Some((wm, etap, reflection)) = half_vector(wo, wi, self.eta) else {
+            return Rgb::ZERO;
+        };
         let f = fresnel::dielectric(wo.dot(wm), self.eta);
         let dg = self.ggx.d(wm) * self.ggx.g(wo, wi);
         if reflection {
@@ -57,7 +62,9 @@ impl RoughDielectric {
     }
 
     pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
-        let Some((wm, etap, reflection)) = half_vector(wo, wi, self.eta) else { return 0.0 };
+        let Some((wm, etap, reflection)) = half_vector(wo, wi, self.eta) else {
+            return 0.0;
+        };
         let f = fresnel::dielectric(wo.dot(wm), self.eta);
         let pv = self.ggx.pdf_visible(wo, wm);
         if reflection {
@@ -90,6 +97,11 @@ impl RoughDielectric {
             return None;
         }
         let weight = self.eval(wo, wi) * (wi.z.abs() / pdf);
-        weight.is_finite().then_some(BsdfSample { wi, weight, pdf, delta: false })
+        weight.is_finite().then_some(BsdfSample {
+            wi,
+            weight,
+            pdf,
+            delta: false,
+        })
     }
 }

@@ -16,7 +16,13 @@ pub struct Ward {
 
 impl Ward {
     pub fn new(diffuse: Rgb, specular: Rgb, ax: f32, ay: f32) -> Self {
-        Ward { diffuse, specular, ax, ay, p_specular: specular_probability(diffuse, specular) }
+        Ward {
+            diffuse,
+            specular,
+            ax,
+            ay,
+            p_specular: specular_probability(diffuse, specular),
+        }
     }
 
     /// exp(-(hx^2/ax^2 + hy^2/ay^2) / hz^2) for a unit half vector.
@@ -44,7 +50,11 @@ impl Ward {
 
     pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         let h = (wo + wi).normalize_or_zero();
-        let spec = if h == Vec3::ZERO { 0.0 } else { self.pdf_h(h) / (4.0 * wo.dot(h).abs()) };
+        let spec = if h == Vec3::ZERO {
+            0.0
+        } else {
+            self.pdf_h(h) / (4.0 * wo.dot(h).abs())
+        };
         self.p_specular * spec + (1.0 - self.p_specular) * warp::cosine_hemisphere_pdf(wi)
     }
 
@@ -54,7 +64,8 @@ impl Ward {
             let a = 2.0 * PI * u.y;
             let phi = (self.ay * a.sin()).atan2(self.ax * a.cos());
             let (s, c) = phi.sin_cos();
-            let tan2 = -(1.0 - u.x).ln() / (c * c / (self.ax * self.ax) + s * s / (self.ay * self.ay));
+            let tan2 =
+                -(1.0 - u.x).ln() / (c * c / (self.ax * self.ax) + s * s / (self.ay * self.ay));
             let cos_t = 1.0 / (1.0 + tan2).sqrt();
             let sin_t = (1.0 - cos_t * cos_t).max(0.0).sqrt();
             reflect(wo, Vec3::new(sin_t * c, sin_t * s, cos_t))
@@ -65,6 +76,11 @@ impl Ward {
             return None;
         }
         let pdf = self.pdf(wo, wi);
-        Some(BsdfSample { wi, weight: self.eval(wo, wi) * (wi.z / pdf), pdf, delta: false })
+        Some(BsdfSample {
+            wi,
+            weight: self.eval(wo, wi) * (wi.z / pdf),
+            pdf,
+            delta: false,
+        })
     }
 }

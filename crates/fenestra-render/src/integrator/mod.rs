@@ -41,7 +41,13 @@ pub struct RenderControl<'a> {
 pub trait Integrator: Sync {
     fn name(&self) -> String;
     fn max_depth(&self) -> u32;
-    fn render(&self, scene: &RenderScene, film: &mut Film, settings: &RenderSettings, control: &RenderControl) -> RenderStats;
+    fn render(
+        &self,
+        scene: &RenderScene,
+        film: &mut Film,
+        settings: &RenderSettings,
+        control: &RenderControl,
+    ) -> RenderStats;
 }
 
 /// Options shared by the path-tracing integrators.
@@ -56,14 +62,21 @@ pub struct IntegratorOptions {
 
 impl Default for IntegratorOptions {
     fn default() -> Self {
-        IntegratorOptions { max_depth: 8, mis: MisHeuristic::Power { beta: 2.0 }, rr_depth: 3 }
+        IntegratorOptions {
+            max_depth: 8,
+            mis: MisHeuristic::Power { beta: 2.0 },
+            rr_depth: 3,
+        }
     }
 }
 
 /// The integrators known by name.
 pub const INTEGRATORS: &[(&str, &str)] = &[
     ("hf", "BSDF sampling only (hemispherical formulation)"),
-    ("af_hf", "next-event estimation on emitters and BSDF sampling combined by MIS"),
+    (
+        "af_hf",
+        "next-event estimation on emitters and BSDF sampling combined by MIS",
+    ),
 ];
 
 pub fn by_name(name: &str, options: IntegratorOptions) -> Result<Box<dyn Integrator>, String> {
@@ -72,14 +85,23 @@ pub fn by_name(name: &str, options: IntegratorOptions) -> Result<Box<dyn Integra
         "af_hf" => Ok(Box::new(PathTracer::new(true, options))),
         _ => {
             let names: Vec<&str> = INTEGRATORS.iter().map(|i| i.0).collect();
-            Err(format!("unknown integrator '{name}' (available: {})", names.join(", ")))
+            Err(format!(
+                "unknown integrator '{name}' (available: {})",
+                names.join(", ")
+            ))
         }
     }
 }
 
 /// One path sample: the radiance carried along `ray` into the camera.
 pub trait PathEstimator: Sync {
-    fn li(&self, scene: &RenderScene, ray: fenestra_core::Ray, sampler: &mut Sampler, rays: &mut RayCounters) -> Rgb;
+    fn li(
+        &self,
+        scene: &RenderScene,
+        ray: fenestra_core::Ray,
+        sampler: &mut Sampler,
+        rays: &mut RayCounters,
+    ) -> Rgb;
 }
 
 /// Largest number of samples per pixel added in one pass (keeps Ctrl-C and time limits prompt).
@@ -100,7 +122,12 @@ pub fn render_progressive(
     let start = Instant::now();
     let (width, height) = (film.width, film.height);
     let pixels = width as u64 * height as u64;
-    control.progress.start(settings.time_limit.is_none().then_some(pixels * settings.spp as u64));
+    control.progress.start(
+        settings
+            .time_limit
+            .is_none()
+            .then_some(pixels * settings.spp as u64),
+    );
     let mut rays = RayCounters::default();
     let mut done = 0u32;
     let mut pass = 1u32;
@@ -173,5 +200,57 @@ pub fn render_progressive(
         mrays_per_s: rays.total_rays() as f64 / time_s.max(1e-9) / 1e6,
         shadow_rays_per_pixel: rays.shadow as f64 / pixels.max(1) as f64,
         interrupted,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::LightSelection;
+    use fenestra_scene::{builtin, Backend, Scene};
+
+    /// Returns NaN, +inf or 1 depending on the sample's first random number.
+    struct Faulty;
+    impl PathEstimator for Faulty {
+        fn li(
+            &self,
+            _: &RenderScene,
+            _: fenestra_core::Ray,
+            sampler: &mut Sampler,
+            _: &mut RayCounters,
+        ) -> Rgb {
+            match (sampler.next_1d() * 4.0) as u32 {
+                0 => Rgb::new(f32::NAN, 0.0, 0.0),
+                1 => Rgb::splat(f32::INFINITY),
+                _ => Rgb::ONE,
+            }
+        }
+    }
+
+    #[test]
+    fn non_finite_samples_are_dropped_and_counted() {
+        let scene = Scene::build(builtin::load("box-hole").expect("builtin"), Backend::Obvhs)
+            .expect("scene");
+        let scene = RenderScene::new(scene, LightSelection::Power);
+        let mut film = Film::new(8, 8);
+        let cancel = AtomicBool::new(false);
+        let control = RenderControl {
+            cancel: &cancel,
+            progress: &NoProgress,
+        };
+        let settings = RenderSettings {
+            spp: 16,
+            time_limit: None,
+            seed: 3,
+        };
+        let stats =
+            render_progressive("faulty", 2, &Faulty, &scene, &mut film, &settings, &control);
+        let kept: u64 = film.pixels.iter().map(|p| p.count as u64).sum();
+        assert!(stats.rays.dropped > 0);
+        assert_eq!(kept + stats.rays.dropped, 8 * 8 * 16);
+        assert!(
+            film.image().pixels.iter().all(|p| *p == Rgb::ONE),
+            "only finite samples reach the film"
+        );
     }
 }

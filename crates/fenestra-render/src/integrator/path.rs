@@ -2,7 +2,9 @@
 //! `hf` samples the BSDF only (seed 000's hemispherical formulation); `af_hf` adds next-event
 //! estimation on emitters and combines both techniques by MIS (seed 000 §4, §5.2).
 
-use super::{render_progressive, Integrator, IntegratorOptions, PathEstimator, RenderControl, RenderSettings};
+use super::{
+    render_progressive, Integrator, IntegratorOptions, PathEstimator, RenderControl, RenderSettings,
+};
 use crate::film::Film;
 use crate::light::Light;
 use crate::stats::{RayCounters, RenderStats};
@@ -31,8 +33,22 @@ impl Integrator for PathTracer {
         self.options.max_depth
     }
 
-    fn render(&self, scene: &RenderScene, film: &mut Film, settings: &RenderSettings, control: &RenderControl) -> RenderStats {
-        render_progressive(&self.name(), self.options.max_depth, self, scene, film, settings, control)
+    fn render(
+        &self,
+        scene: &RenderScene,
+        film: &mut Film,
+        settings: &RenderSettings,
+        control: &RenderControl,
+    ) -> RenderStats {
+        render_progressive(
+            &self.name(),
+            self.options.max_depth,
+            self,
+            scene,
+            film,
+            settings,
+            control,
+        )
     }
 }
 
@@ -75,8 +91,12 @@ impl PathTracer {
     ) -> Rgb {
         let u_pick = sampler.next_1d();
         let u = sampler.next_2d();
-        let Some((index, pick)) = scene.light_sampler.sample(si.p, si.ns, u_pick) else { return Rgb::ZERO };
-        let Some(ls) = scene.lights.lights[index].sample_li(&scene.scene, si.p, u) else { return Rgb::ZERO };
+        let Some((index, pick)) = scene.light_sampler.sample(si.p, si.ns, u_pick) else {
+            return Rgb::ZERO;
+        };
+        let Some(ls) = scene.lights.lights[index].sample_li(&scene.scene, si.p, u) else {
+            return Rgb::ZERO;
+        };
         let frame = si.shading_frame();
         let wi_local = frame.to_local(ls.wi);
         if !sides_agree(si, wo, ls.wi, wo_local.z, wi_local.z) {
@@ -87,23 +107,42 @@ impl PathTracer {
             return Rgb::ZERO;
         }
         let origin = offset_origin(si.p, si.ng, ls.wi);
-        let tmax = ls.point.map_or(f32::INFINITY, |q| (q - origin).length() * (1.0 - 1e-4));
+        let tmax = ls
+            .point
+            .map_or(f32::INFINITY, |q| (q - origin).length() * (1.0 - 1e-4));
         rays.shadow += 1;
         if scene.scene.occluded(&Ray::new(origin, ls.wi), tmax) {
             return Rgb::ZERO;
         }
         let light_pdf = pick * ls.pdf;
-        let weight = if ls.delta { 1.0 } else { self.options.mis.weight(light_pdf, bsdf.pdf(wo_local, wi_local)) };
+        let weight = if ls.delta {
+            1.0
+        } else {
+            self.options
+                .mis
+                .weight(light_pdf, bsdf.pdf(wo_local, wi_local))
+        };
         f * ls.li * (wi_local.z.abs() * weight / light_pdf)
     }
 }
 
 impl PathEstimator for PathTracer {
-    fn li(&self, scene: &RenderScene, mut ray: Ray, sampler: &mut Sampler, rays: &mut RayCounters) -> Rgb {
+    fn li(
+        &self,
+        scene: &RenderScene,
+        mut ray: Ray,
+        sampler: &mut Sampler,
+        rays: &mut RayCounters,
+    ) -> Rgb {
         let max_depth = self.options.max_depth;
         let mut l = Rgb::ZERO;
         let mut beta = Rgb::ONE;
-        let mut prev = Previous { p: ray.o, n: ray.d, bsdf_pdf: 0.0, delta: true };
+        let mut prev = Previous {
+            p: ray.o,
+            n: ray.d,
+            bsdf_pdf: 0.0,
+            delta: true,
+        };
         // `segments` counts the path's segments up to the vertex being shaded.
         for segments in 1.. {
             if segments > 1 {
@@ -111,8 +150,12 @@ impl PathEstimator for PathTracer {
             }
             let Some(hit) = scene.scene.intersect(&ray, f32::INFINITY) else {
                 for &e in &scene.lights.environments {
-                    let Light::Environment(env) = &scene.lights.lights[e] else { continue };
-                    let w = self.bsdf_weight(&prev, || scene.light_sampler.pmf(prev.p, prev.n, e) * env.pdf_li(ray.d));
+                    let Light::Environment(env) = &scene.lights.lights[e] else {
+                        continue;
+                    };
+                    let w = self.bsdf_weight(&prev, || {
+                        scene.light_sampler.pmf(prev.p, prev.n, e) * env.pdf_li(ray.d)
+                    });
                     l += beta * env.le(ray.d) * w;
                 }
                 break;
@@ -122,8 +165,11 @@ impl PathEstimator for PathTracer {
             if let Some((index, le)) = scene.lights.le(&si, wo) {
                 if !le.is_black() {
                     let w = self.bsdf_weight(&prev, || {
-                        let Light::Area(area) = &scene.lights.lights[index] else { return 0.0 };
-                        scene.light_sampler.pmf(prev.p, prev.n, index) * area.pdf_li(&scene.scene, prev.p, &si)
+                        let Light::Area(area) = &scene.lights.lights[index] else {
+                            return 0.0;
+                        };
+                        scene.light_sampler.pmf(prev.p, prev.n, index)
+                            * area.pdf_li(&scene.scene, prev.p, &si)
                     });
                     l += beta * le * w;
                 }
@@ -139,13 +185,20 @@ impl PathEstimator for PathTracer {
             }
             let uc = sampler.next_1d();
             let u = sampler.next_2d();
-            let Some(bs) = bsdf.sample(wo_local, uc, u) else { break };
+            let Some(bs) = bsdf.sample(wo_local, uc, u) else {
+                break;
+            };
             let wi = frame.to_world(bs.wi);
             if !sides_agree(&si, wo, wi, wo_local.z, bs.wi.z) {
                 break;
             }
             beta *= bs.weight;
-            prev = Previous { p: si.p, n: si.ns, bsdf_pdf: bs.pdf, delta: bs.delta };
+            prev = Previous {
+                p: si.p,
+                n: si.ns,
+                bsdf_pdf: bs.pdf,
+                delta: bs.delta,
+            };
             if segments + 1 >= self.options.rr_depth {
                 // Russian roulette (seed 000 §3.2.1): continue with probability q, divide by q.
                 let q = beta.max_component().min(0.95);

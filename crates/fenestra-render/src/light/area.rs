@@ -20,10 +20,19 @@ impl AreaLight {
     pub fn new(scene: &Scene, shape: usize, emission: Emission) -> Self {
         let s = &scene.shapes[shape];
         let triangles = match &s.kind {
-            ShapeKind::Mesh(m) => Some(Distribution1D::new(&(0..m.indices.len()).map(|i| m.triangle_area(i)).collect::<Vec<_>>())),
+            ShapeKind::Mesh(m) => Some(Distribution1D::new(
+                &(0..m.indices.len())
+                    .map(|i| m.triangle_area(i))
+                    .collect::<Vec<_>>(),
+            )),
             _ => None,
         };
-        AreaLight { shape, emission, area: s.area(), triangles }
+        AreaLight {
+            shape,
+            emission,
+            area: s.area(),
+            triangles,
+        }
     }
 
     pub fn shape(&self) -> usize {
@@ -53,22 +62,33 @@ impl AreaLight {
     pub fn sample_li(&self, scene: &Scene, p: Vec3, u: Vec2) -> Option<LightSample> {
         let shape = &scene.shapes[self.shape];
         let (si, pdf) = match &shape.kind {
-            ShapeKind::Sphere { center, radius } if Self::sphere_cone(*center, *radius, p).is_some() => {
+            ShapeKind::Sphere { center, radius }
+                if Self::sphere_cone(*center, *radius, p).is_some() =>
+            {
                 let cos_max = Self::sphere_cone(*center, *radius, p)?;
                 let axis = (*center - p).normalize();
-                let dir = Frame::from_normal(axis).to_world(warp::square_to_uniform_cone(u, cos_max));
+                let dir =
+                    Frame::from_normal(axis).to_world(warp::square_to_uniform_cone(u, cos_max));
                 // Closest point of the sphere along dir; grazing directions take the tangent point.
                 let dc = (*center - p).length();
                 let cos_t = dir.dot(axis);
-                let t = dc * cos_t - (radius * radius - dc * dc * (1.0 - cos_t * cos_t)).max(0.0).sqrt();
-                let si = SurfaceInteraction::on_surface(shape, self.shape, 0, p + dir * t, 0.0, 0.0);
+                let t = dc * cos_t
+                    - (radius * radius - dc * dc * (1.0 - cos_t * cos_t))
+                        .max(0.0)
+                        .sqrt();
+                let si =
+                    SurfaceInteraction::on_surface(shape, self.shape, 0, p + dir * t, 0.0, 0.0);
                 (si, warp::uniform_cone_pdf(cos_max))
             }
             _ => {
                 let (prim, point, b) = self.sample_area(&shape.kind, u);
                 let si = SurfaceInteraction::on_surface(shape, self.shape, prim, point, b.x, b.y);
                 let d = si.p - p;
-                let pdf = warp::area_to_solid_angle(1.0 / self.area, d.length_squared(), si.ng.dot(d.normalize_or_zero()));
+                let pdf = warp::area_to_solid_angle(
+                    1.0 / self.area,
+                    d.length_squared(),
+                    si.ng.dot(d.normalize_or_zero()),
+                );
                 (si, pdf)
             }
         };
@@ -79,23 +99,44 @@ impl AreaLight {
         }
         let wi = d / dist;
         let li = self.le(&si, -wi);
-        (!li.is_black()).then_some(LightSample { wi, li, pdf, point: Some(si.p), delta: false })
+        (!li.is_black()).then_some(LightSample {
+            wi,
+            li,
+            pdf,
+            point: Some(si.p),
+            delta: false,
+        })
     }
 
     /// Uniform point on the shape by area: (primitive, point, barycentrics).
     fn sample_area(&self, kind: &ShapeKind, u: Vec2) -> (usize, Vec3, Vec2) {
         match kind {
             ShapeKind::Mesh(m) => {
-                let dist = self.triangles.as_ref().unwrap_or_else(|| unreachable!("meshes have a triangle distribution"));
+                let dist = self
+                    .triangles
+                    .as_ref()
+                    .unwrap_or_else(|| unreachable!("meshes have a triangle distribution"));
                 let (tri, _, ux) = dist.sample_discrete(u.x);
                 let b = warp::square_to_triangle(Vec2::new(ux, u.y));
                 let [p0, p1, p2] = m.triangle(tri);
                 (tri, p0 * (1.0 - b.x - b.y) + p1 * b.x + p2 * b.y, b)
             }
-            ShapeKind::Sphere { center, radius } => (0, *center + warp::square_to_uniform_sphere(u) * *radius, Vec2::ZERO),
-            ShapeKind::Disk { center, normal, radius } => {
+            ShapeKind::Sphere { center, radius } => (
+                0,
+                *center + warp::square_to_uniform_sphere(u) * *radius,
+                Vec2::ZERO,
+            ),
+            ShapeKind::Disk {
+                center,
+                normal,
+                radius,
+            } => {
                 let d = warp::square_to_disk_concentric(u) * *radius;
-                (0, *center + Frame::from_normal(*normal).to_world(Vec3::new(d.x, d.y, 0.0)), Vec2::ZERO)
+                (
+                    0,
+                    *center + Frame::from_normal(*normal).to_world(Vec3::new(d.x, d.y, 0.0)),
+                    Vec2::ZERO,
+                )
             }
         }
     }
@@ -108,6 +149,10 @@ impl AreaLight {
             }
         }
         let d = si.p - p;
-        warp::area_to_solid_angle(1.0 / self.area, d.length_squared(), si.ng.dot(d.normalize_or_zero()))
+        warp::area_to_solid_angle(
+            1.0 / self.area,
+            d.length_squared(),
+            si.ng.dot(d.normalize_or_zero()),
+        )
     }
 }

@@ -13,11 +13,20 @@ pub struct DistantLight {
 
 impl DistantLight {
     pub fn new(direction: Vec3, irradiance: Rgb) -> Self {
-        DistantLight { direction: direction.normalize(), irradiance }
+        DistantLight {
+            direction: direction.normalize(),
+            irradiance,
+        }
     }
 
     pub fn sample_li(&self) -> Option<LightSample> {
-        Some(LightSample { wi: -self.direction, li: self.irradiance, pdf: 1.0, point: None, delta: true })
+        Some(LightSample {
+            wi: -self.direction,
+            li: self.irradiance,
+            pdf: 1.0,
+            point: None,
+            delta: true,
+        })
     }
 
     pub fn power(&self, scene: &Scene) -> f32 {

@@ -28,17 +28,26 @@ impl Environment {
     pub fn new(desc: &EnvironmentDesc) -> Self {
         match desc {
             EnvironmentDesc::Constant(l) => Environment::Constant(*l),
-            EnvironmentDesc::Image { image, scale, to_world } => {
+            EnvironmentDesc::Image {
+                image,
+                scale,
+                to_world,
+            } => {
                 let (w, h) = (image.width, image.height);
                 let mut func = vec![0.0f32; w * h];
                 for y in 0..h {
                     let sin_theta = (PI * (y as f32 + 0.5) / h as f32).sin();
                     for x in 0..w {
-                        func[y * w + x] = (image.get(x, y) * *scale).luminance().max(0.0) * sin_theta;
+                        func[y * w + x] =
+                            (image.get(x, y) * *scale).luminance().max(0.0) * sin_theta;
                     }
                 }
                 // Rotation part only, so directions stay unit length.
-                let to_world = Mat3::from_cols(to_world.x_axis.normalize(), to_world.y_axis.normalize(), to_world.z_axis.normalize());
+                let to_world = Mat3::from_cols(
+                    to_world.x_axis.normalize(),
+                    to_world.y_axis.normalize(),
+                    to_world.z_axis.normalize(),
+                );
                 Environment::Image(ImageEnvironment {
                     image: image.clone(),
                     scale: *scale,
@@ -65,7 +74,9 @@ impl Environment {
 
     pub fn sample_li(&self, u: Vec2) -> Option<LightSample> {
         let (wi, pdf) = match self {
-            Environment::Constant(_) => (warp::square_to_uniform_sphere(u), warp::UNIFORM_SPHERE_PDF),
+            Environment::Constant(_) => {
+                (warp::square_to_uniform_sphere(u), warp::UNIFORM_SPHERE_PDF)
+            }
             Environment::Image(e) => {
                 let (uv, pdf_uv) = e.distribution.sample(u);
                 let theta = uv.y * PI;
@@ -78,7 +89,13 @@ impl Environment {
                 (e.to_world * local, pdf_uv / (2.0 * PI * PI * sin_t))
             }
         };
-        Some(LightSample { wi, li: self.le(wi), pdf, point: None, delta: false })
+        Some(LightSample {
+            wi,
+            li: self.le(wi),
+            pdf,
+            point: None,
+            delta: false,
+        })
     }
 
     pub fn pdf_li(&self, dir: Vec3) -> f32 {

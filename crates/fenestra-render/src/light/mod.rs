@@ -79,11 +79,27 @@ impl Lights {
         let mut environments = Vec::new();
         for desc in &scene.lights {
             let light = match desc {
-                LightDesc::Point { position, intensity } => Light::Point(PointLight::new(*position, *intensity)),
-                LightDesc::Spot { position, direction, intensity, cone_angle, falloff_start } => {
-                    Light::Spot(SpotLight::new(*position, *direction, *intensity, *cone_angle, *falloff_start))
-                }
-                LightDesc::Distant { direction, irradiance } => Light::Distant(DistantLight::new(*direction, *irradiance)),
+                LightDesc::Point {
+                    position,
+                    intensity,
+                } => Light::Point(PointLight::new(*position, *intensity)),
+                LightDesc::Spot {
+                    position,
+                    direction,
+                    intensity,
+                    cone_angle,
+                    falloff_start,
+                } => Light::Spot(SpotLight::new(
+                    *position,
+                    *direction,
+                    *intensity,
+                    *cone_angle,
+                    *falloff_start,
+                )),
+                LightDesc::Distant {
+                    direction,
+                    irradiance,
+                } => Light::Distant(DistantLight::new(*direction, *irradiance)),
                 LightDesc::Environment(env) => {
                     environments.push(lights.len());
                     Light::Environment(Environment::new(env))
@@ -102,13 +118,19 @@ impl Lights {
                 })
             })
             .collect();
-        Lights { lights, area_of_shape, environments }
+        Lights {
+            lights,
+            area_of_shape,
+            environments,
+        }
     }
 
     /// Radiance leaving an emitter hit at `si` towards `wo` (zero on its back side).
     pub fn le(&self, si: &SurfaceInteraction, wo: Vec3) -> Option<(usize, Rgb)> {
         let i = self.area_of_shape[si.shape]?;
-        let Light::Area(a) = &self.lights[i] else { return None };
+        let Light::Area(a) = &self.lights[i] else {
+            return None;
+        };
         Some((i, a.le(si, wo)))
     }
 }

@@ -11,7 +11,10 @@ pub struct PointLight {
 
 impl PointLight {
     pub fn new(position: Vec3, intensity: Rgb) -> Self {
-        PointLight { position, intensity }
+        PointLight {
+            position,
+            intensity,
+        }
     }
 
     pub fn sample_li(&self, p: Vec3) -> Option<LightSample> {
@@ -21,7 +24,13 @@ impl PointLight {
             return None;
         }
         let wi = d / d2.sqrt();
-        Some(LightSample { wi, li: self.intensity / d2, pdf: 1.0, point: Some(self.position), delta: true })
+        Some(LightSample {
+            wi,
+            li: self.intensity / d2,
+            pdf: 1.0,
+            point: Some(self.position),
+            delta: true,
+        })
     }
 
     pub fn power(&self) -> f32 {

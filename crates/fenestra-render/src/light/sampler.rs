@@ -20,7 +20,9 @@ pub struct UniformLightSampler {
 
 impl UniformLightSampler {
     pub fn new(lights: &Lights) -> Self {
-        UniformLightSampler { count: lights.lights.len() }
+        UniformLightSampler {
+            count: lights.lights.len(),
+        }
     }
 }
 
@@ -49,7 +51,9 @@ pub struct PowerLightSampler {
 impl PowerLightSampler {
     pub fn new(scene: &Scene, lights: &Lights) -> Self {
         let powers: Vec<f32> = lights.lights.iter().map(|l| l.power(scene)).collect();
-        PowerLightSampler { distribution: (!powers.is_empty()).then(|| Distribution1D::new(&powers)) }
+        PowerLightSampler {
+            distribution: (!powers.is_empty()).then(|| Distribution1D::new(&powers)),
+        }
     }
 }
 
@@ -60,6 +64,8 @@ impl LightSampler for PowerLightSampler {
         (pmf > 0.0).then_some((i, pmf))
     }
     fn pmf(&self, _p: Vec3, _n: Vec3, light: usize) -> f32 {
-        self.distribution.as_ref().map_or(0.0, |d| d.discrete_pmf(light))
+        self.distribution
+            .as_ref()
+            .map_or(0.0, |d| d.discrete_pmf(light))
     }
 }

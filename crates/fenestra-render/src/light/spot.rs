@@ -22,7 +22,13 @@ fn smoothstep(a: f32, b: f32, x: f32) -> f32 {
 
 impl SpotLight {
     /// `cone_angle` is the total half-angle, `falloff_start` where the falloff begins (degrees).
-    pub fn new(position: Vec3, direction: Vec3, intensity: Rgb, cone_angle: f32, falloff_start: f32) -> Self {
+    pub fn new(
+        position: Vec3,
+        direction: Vec3,
+        intensity: Rgb,
+        cone_angle: f32,
+        falloff_start: f32,
+    ) -> Self {
         SpotLight {
             position,
             direction: direction.normalize(),
@@ -43,11 +49,20 @@ impl SpotLight {
         if falloff == 0.0 {
             return None;
         }
-        Some(LightSample { wi, li: self.intensity * (falloff / d2), pdf: 1.0, point: Some(self.position), delta: true })
+        Some(LightSample {
+            wi,
+            li: self.intensity * (falloff / d2),
+            pdf: 1.0,
+            point: Some(self.position),
+            delta: true,
+        })
     }
 
     pub fn power(&self) -> f32 {
         // Full intensity inside the inner cone, smoothstep average (1/2) in the falloff ring.
-        self.intensity.luminance() * 2.0 * PI * ((1.0 - self.cos_start) + 0.5 * (self.cos_start - self.cos_end))
+        self.intensity.luminance()
+            * 2.0
+            * PI
+            * ((1.0 - self.cos_start) + 0.5 * (self.cos_start - self.cos_end))
     }
 }

@@ -2,17 +2,41 @@
 #![allow(dead_code)] // each test binary uses a subset
 
 use fenestra_render::integrator::{self, IntegratorOptions, NoProgress};
-use fenestra_render::{Film, LightSelection, RenderControl, RenderScene, RenderSettings, RenderStats};
+use fenestra_render::{
+    Film, LightSelection, RenderControl, RenderScene, RenderSettings, RenderStats,
+};
 use fenestra_scene::{Backend, Scene, SceneDesc};
 use std::sync::atomic::AtomicBool;
 
-pub fn render(desc: SceneDesc, name: &str, options: IntegratorOptions, size: u32, spp: u32, seed: u64) -> (Film, RenderStats) {
-    let scene = RenderScene::new(Scene::build(desc, Backend::default()).expect("scene"), LightSelection::Power);
+pub fn render(
+    desc: SceneDesc,
+    name: &str,
+    options: IntegratorOptions,
+    size: u32,
+    spp: u32,
+    seed: u64,
+) -> (Film, RenderStats) {
+    let scene = RenderScene::new(
+        Scene::build(desc, Backend::default()).expect("scene"),
+        LightSelection::Power,
+    );
     let integrator = integrator::by_name(name, options).expect("integrator");
     let mut film = Film::new(size, size);
     let cancel = AtomicBool::new(false);
-    let control = RenderControl { cancel: &cancel, progress: &NoProgress };
-    let stats = integrator.render(&scene, &mut film, &RenderSettings { spp, time_limit: None, seed }, &control);
+    let control = RenderControl {
+        cancel: &cancel,
+        progress: &NoProgress,
+    };
+    let stats = integrator.render(
+        &scene,
+        &mut film,
+        &RenderSettings {
+            spp,
+            time_limit: None,
+            seed,
+        },
+        &control,
+    );
     (film, stats)
 }
 

@@ -41,10 +41,22 @@ impl EmbreeScene {
                 let geom = match &shape.kind {
                     ShapeKind::Mesh(mesh) => {
                         let g = rtcNewGeometry(device, RTCGeometryType::TRIANGLE);
-                        let vb = rtcSetNewGeometryBuffer(g, RTCBufferType::VERTEX, 0, RTCFormat::FLOAT3, 12, mesh.positions.len())
-                            as *mut f32;
-                        let ib = rtcSetNewGeometryBuffer(g, RTCBufferType::INDEX, 0, RTCFormat::UINT3, 12, mesh.indices.len())
-                            as *mut u32;
+                        let vb = rtcSetNewGeometryBuffer(
+                            g,
+                            RTCBufferType::VERTEX,
+                            0,
+                            RTCFormat::FLOAT3,
+                            12,
+                            mesh.positions.len(),
+                        ) as *mut f32;
+                        let ib = rtcSetNewGeometryBuffer(
+                            g,
+                            RTCBufferType::INDEX,
+                            0,
+                            RTCFormat::UINT3,
+                            12,
+                            mesh.indices.len(),
+                        ) as *mut u32;
                         if vb.is_null() || ib.is_null() {
                             rtcReleaseGeometry(g);
                             return Err(device_error(device));
@@ -61,7 +73,9 @@ impl EmbreeScene {
                     }
                     ShapeKind::Sphere { .. } | ShapeKind::Disk { .. } => {
                         let g = rtcNewGeometry(device, RTCGeometryType::USER);
-                        let boxed = Box::new(Analytic { shape: shape.clone() });
+                        let boxed = Box::new(Analytic {
+                            shape: shape.clone(),
+                        });
                         let ptr = &*boxed as *const Analytic as *mut c_void;
                         analytic.push(boxed);
                         rtcSetGeometryUserPrimitiveCount(g, 1);
@@ -83,7 +97,11 @@ impl EmbreeScene {
                 rtcReleaseDevice(device);
                 return Err(format!("Embree failed to build the scene: {err:?}"));
             }
-            Ok(EmbreeScene { device, scene, _analytic: analytic })
+            Ok(EmbreeScene {
+                device,
+                scene,
+                _analytic: analytic,
+            })
         }
     }
 }
@@ -105,7 +123,11 @@ impl Drop for EmbreeScene {
 
 fn context() -> RTCIntersectContext {
     // rtcInitIntersectContext is an inline C function; this is what it does.
-    RTCIntersectContext { flags: RTCIntersectContextFlags::INCOHERENT, filter: None, instID: [INVALID_ID] }
+    RTCIntersectContext {
+        flags: RTCIntersectContextFlags::INCOHERENT,
+        filter: None,
+        instID: [INVALID_ID],
+    }
 }
 
 fn rtc_ray(ray: &Ray, tmax: f32) -> RTCRay {
@@ -129,7 +151,16 @@ impl RayQuery for EmbreeScene {
     fn intersect(&self, ray: &Ray, tmax: f32) -> Option<Hit> {
         let mut rh = RTCRayHit {
             ray: rtc_ray(ray, tmax),
-            hit: RTCHit { Ng_x: 0.0, Ng_y: 0.0, Ng_z: 0.0, u: 0.0, v: 0.0, primID: INVALID_ID, geomID: INVALID_ID, instID: [INVALID_ID] },
+            hit: RTCHit {
+                Ng_x: 0.0,
+                Ng_y: 0.0,
+                Ng_z: 0.0,
+                u: 0.0,
+                v: 0.0,
+                primID: INVALID_ID,
+                geomID: INVALID_ID,
+                instID: [INVALID_ID],
+            },
         };
         let mut ctx = context();
         // SAFETY: committed scene, valid ray and context.
@@ -156,7 +187,10 @@ impl RayQuery for EmbreeScene {
 /// and the SOA layout of RTCRayN with N = 1 is that of RTCRay).
 unsafe fn ray_of(r: *const RTCRay) -> Ray {
     let r = unsafe { &*r };
-    Ray::new(Vec3::new(r.org_x, r.org_y, r.org_z), Vec3::new(r.dir_x, r.dir_y, r.dir_z))
+    Ray::new(
+        Vec3::new(r.org_x, r.org_y, r.org_z),
+        Vec3::new(r.dir_x, r.dir_y, r.dir_z),
+    )
 }
 
 unsafe extern "C" fn bounds_fn(args: *const RTCBoundsFunctionArguments) {

@@ -52,14 +52,27 @@ impl std::str::FromStr for Backend {
             #[cfg(feature = "embree")]
             "embree" => Ok(Backend::Embree),
             #[cfg(not(feature = "embree"))]
-            "embree" => Err("this build has no Embree support (built without the `embree` feature)".into()),
+            "embree" => {
+                Err("this build has no Embree support (built without the `embree` feature)".into())
+            }
             "obvhs" => Ok(Backend::Obvhs),
-            _ => Err(format!("unknown ray-query backend '{s}' (expected embree or obvhs)")),
+            _ => Err(format!(
+                "unknown ray-query backend '{s}' (expected embree or obvhs)"
+            )),
         }
     }
 }
 
 impl Backend {
+    /// Every backend this build has.
+    pub fn available() -> Vec<Backend> {
+        vec![
+            #[cfg(feature = "embree")]
+            Backend::Embree,
+            Backend::Obvhs,
+        ]
+    }
+
     pub fn name(self) -> &'static str {
         match self {
             #[cfg(feature = "embree")]

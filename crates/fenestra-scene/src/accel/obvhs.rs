@@ -10,8 +10,15 @@ use std::time::Duration;
 #[derive(Clone, Copy)]
 enum Prim {
     Triangle([Vec3; 3]),
-    Sphere { center: Vec3, radius: f32 },
-    Disk { center: Vec3, normal: Vec3, radius: f32 },
+    Sphere {
+        center: Vec3,
+        radius: f32,
+    },
+    Disk {
+        center: Vec3,
+        normal: Vec3,
+        radius: f32,
+    },
 }
 
 struct Item {
@@ -39,13 +46,27 @@ impl ObvhsScene {
             for p in 0..shape.primitive_count() {
                 let prim = match &shape.kind {
                     ShapeKind::Mesh(m) => Prim::Triangle(m.triangle(p)),
-                    ShapeKind::Sphere { center, radius } => Prim::Sphere { center: *center, radius: *radius },
-                    ShapeKind::Disk { center, normal, radius } => {
-                        Prim::Disk { center: *center, normal: *normal, radius: *radius }
-                    }
+                    ShapeKind::Sphere { center, radius } => Prim::Sphere {
+                        center: *center,
+                        radius: *radius,
+                    },
+                    ShapeKind::Disk {
+                        center,
+                        normal,
+                        radius,
+                    } => Prim::Disk {
+                        center: *center,
+                        normal: *normal,
+                        radius: *radius,
+                    },
                 };
                 let (lo, hi) = shape.primitive_bounds(p);
-                items.push(Item { prim, shape: s as u32, index: p as u32, bounds: Aabb::new(lo.into(), hi.into()) });
+                items.push(Item {
+                    prim,
+                    shape: s as u32,
+                    index: p as u32,
+                    bounds: Aabb::new(lo.into(), hi.into()),
+                });
             }
         }
         let bvh = (!items.is_empty()).then(|| {
@@ -63,8 +84,14 @@ impl ObvhsScene {
 fn intersect_prim(prim: &Prim, ray: &Ray, tmax: f32) -> Option<(f32, f32, f32)> {
     match *prim {
         Prim::Triangle(t) => intersect_triangle(t, ray, 0.0, tmax),
-        Prim::Sphere { center, radius } => intersect_sphere(center, radius, ray, 0.0, tmax).map(|t| (t, 0.0, 0.0)),
-        Prim::Disk { center, normal, radius } => intersect_disk(center, normal, radius, ray, 0.0, tmax).map(|t| (t, 0.0, 0.0)),
+        Prim::Sphere { center, radius } => {
+            intersect_sphere(center, radius, ray, 0.0, tmax).map(|t| (t, 0.0, 0.0))
+        }
+        Prim::Disk {
+            center,
+            normal,
+            radius,
+        } => intersect_disk(center, normal, radius, ray, 0.0, tmax).map(|t| (t, 0.0, 0.0)),
     }
 }
 
@@ -78,7 +105,13 @@ impl RayQuery for ObvhsScene {
             let item = self.item(bvh, id);
             match intersect_prim(&item.prim, ray, r.tmax) {
                 Some((t, u, v)) => {
-                    best = Some(Hit { t, shape: item.shape, prim: item.index, u, v });
+                    best = Some(Hit {
+                        t,
+                        shape: item.shape,
+                        prim: item.index,
+                        u,
+                        v,
+                    });
                     t
                 }
                 None => f32::INFINITY,
@@ -88,7 +121,9 @@ impl RayQuery for ObvhsScene {
     }
 
     fn occluded(&self, ray: &Ray, tmax: f32) -> bool {
-        let Some(bvh) = self.bvh.as_ref() else { return false };
+        let Some(bvh) = self.bvh.as_ref() else {
+            return false;
+        };
         let oray = obvhs::ray::Ray::new(ray.o.into(), ray.d.into(), 0.0, tmax);
         !bvh.ray_traverse_miss(oray, |_, id| {
             intersect_prim(&self.item(bvh, id).prim, ray, tmax).map_or(f32::INFINITY, |h| h.0)

@@ -51,12 +51,18 @@ fn ceiling(holes: &[Rect]) -> TriangleMesh {
     for i in 0..xs.len() - 1 {
         for j in 0..ys.len() - 1 {
             let c = [(xs[i] + xs[i + 1]) * 0.5, (ys[j] + ys[j + 1]) * 0.5];
-            let in_hole = holes.iter().any(|(lo, hi)| c[0] > lo[0] && c[0] < hi[0] && c[1] > lo[1] && c[1] < hi[1]);
+            let in_hole = holes
+                .iter()
+                .any(|(lo, hi)| c[0] > lo[0] && c[0] < hi[0] && c[1] > lo[1] && c[1] < hi[1]);
             if !in_hole {
                 let hx = (xs[i + 1] - xs[i]) * 0.5;
                 let hy = (ys[j + 1] - ys[j]) * 0.5;
                 // Normal -z: facing into the box.
-                mesh.append(&TriangleMesh::quad(Vec3::new(c[0], c[1], 0.5), Vec3::new(0.0, hy, 0.0), Vec3::new(hx, 0.0, 0.0)));
+                mesh.append(&TriangleMesh::quad(
+                    Vec3::new(c[0], c[1], 0.5),
+                    Vec3::new(0.0, hy, 0.0),
+                    Vec3::new(hx, 0.0, 0.0),
+                ));
             }
         }
     }
@@ -67,10 +73,26 @@ fn ceiling(holes: &[Rect]) -> TriangleMesh {
 fn walls() -> TriangleMesh {
     let h = 0.5;
     let mut m = TriangleMesh::quad(Vec3::new(0.0, 0.0, -h), Vec3::X * h, Vec3::Y * h); // floor, +z
-    m.append(&TriangleMesh::quad(Vec3::new(-h, 0.0, 0.0), Vec3::Y * h, Vec3::Z * h)); // x = -0.5, +x
-    m.append(&TriangleMesh::quad(Vec3::new(h, 0.0, 0.0), Vec3::Z * h, Vec3::Y * h)); // x = +0.5, -x
-    m.append(&TriangleMesh::quad(Vec3::new(0.0, -h, 0.0), Vec3::Z * h, Vec3::X * h)); // y = -0.5, +y
-    m.append(&TriangleMesh::quad(Vec3::new(0.0, h, 0.0), Vec3::X * h, Vec3::Z * h)); // y = +0.5, -y
+    m.append(&TriangleMesh::quad(
+        Vec3::new(-h, 0.0, 0.0),
+        Vec3::Y * h,
+        Vec3::Z * h,
+    )); // x = -0.5, +x
+    m.append(&TriangleMesh::quad(
+        Vec3::new(h, 0.0, 0.0),
+        Vec3::Z * h,
+        Vec3::Y * h,
+    )); // x = +0.5, -x
+    m.append(&TriangleMesh::quad(
+        Vec3::new(0.0, -h, 0.0),
+        Vec3::Z * h,
+        Vec3::X * h,
+    )); // y = -0.5, +y
+    m.append(&TriangleMesh::quad(
+        Vec3::new(0.0, h, 0.0),
+        Vec3::X * h,
+        Vec3::Z * h,
+    )); // y = +0.5, -y
     m
 }
 
@@ -80,7 +102,10 @@ pub fn box_scene(variant: Variant) -> SceneDesc {
         Variant::FourHoles => "box-4holes",
         Variant::Sky => "box-hole-sky",
     };
-    let mut shapes = vec![Shape::new(ShapeKind::Mesh(walls()), WALL), Shape::new(ShapeKind::Mesh(ceiling(&holes(&variant))), WALL)];
+    let mut shapes = vec![
+        Shape::new(ShapeKind::Mesh(walls()), WALL),
+        Shape::new(ShapeKind::Mesh(ceiling(&holes(&variant))), WALL),
+    ];
     let mut lights = Vec::new();
     match variant {
         Variant::Sky => lights.push(LightDesc::Environment(EnvironmentDesc::Constant(Rgb::ONE))),
@@ -98,14 +123,24 @@ pub fn box_scene(variant: Variant) -> SceneDesc {
         materials: vec![Material::diffuse(0.75), Material::diffuse(0.0)],
         lights,
         camera: box_camera(),
-        defaults: RenderDefaults { width: 256, height: 256, spp: 64, max_depth: 6 },
+        defaults: RenderDefaults {
+            width: 256,
+            height: 256,
+            spp: 64,
+            max_depth: 6,
+        },
     }
 }
 
 fn box_camera() -> Camera {
     // Fixed valid parameters: look_at cannot fail here.
-    Camera::look_at(Vec3::new(0.0, -0.45, 0.0), Vec3::new(0.0, 0.5, 0.0), Vec3::Z, 60.0)
-        .unwrap_or_else(|e| unreachable!("{e}"))
+    Camera::look_at(
+        Vec3::new(0.0, -0.45, 0.0),
+        Vec3::new(0.0, 0.5, 0.0),
+        Vec3::Z,
+        60.0,
+    )
+    .unwrap_or_else(|e| unreachable!("{e}"))
 }
 
 /// box-hole with a bumpy sphere of 2 x 512 x 1024 = 1,048,576 triangles standing on the floor.
@@ -121,15 +156,21 @@ pub fn box_blob() -> SceneDesc {
         for j in 0..np {
             let phi = 2.0 * PI * j as f32 / np as f32;
             let r = radius * (1.0 + 0.06 * (12.0 * theta).sin() * (9.0 * phi).sin());
-            let d = Vec3::new(theta.sin() * phi.cos(), theta.sin() * phi.sin(), theta.cos());
+            let d = Vec3::new(
+                theta.sin() * phi.cos(),
+                theta.sin() * phi.sin(),
+                theta.cos(),
+            );
             mesh.positions.push(centre + d * r);
         }
     }
     let idx = |i: usize, j: usize| (i * np + j % np) as u32;
     for i in 0..nt {
         for j in 0..np {
-            mesh.indices.push([idx(i, j), idx(i + 1, j), idx(i + 1, j + 1)]);
-            mesh.indices.push([idx(i, j), idx(i + 1, j + 1), idx(i, j + 1)]);
+            mesh.indices
+                .push([idx(i, j), idx(i + 1, j), idx(i + 1, j + 1)]);
+            mesh.indices
+                .push([idx(i, j), idx(i + 1, j + 1), idx(i, j + 1)]);
         }
     }
     desc.shapes.push(Shape::new(ShapeKind::Mesh(mesh), WALL));
@@ -150,7 +191,9 @@ mod tests {
         let four = holes(&Variant::FourHoles);
         assert!((area(&ceiling(&four)) - (1.0 - 4.0 * 0.125 * 0.125)).abs() < 1e-5);
         // One hole's near corner 0.125 m from the ceiling corner (0.5, 0.5).
-        assert!(four.iter().any(|(_, hi)| (hi[0] - 0.375).abs() < 1e-6 && (hi[1] - 0.375).abs() < 1e-6));
+        assert!(four
+            .iter()
+            .any(|(_, hi)| (hi[0] - 0.375).abs() < 1e-6 && (hi[1] - 0.375).abs() < 1e-6));
         // The ceiling faces into the box.
         let c = ceiling(&four);
         let [a, b, d] = c.triangle(0);
@@ -160,8 +203,14 @@ mod tests {
     #[test]
     fn emitter_radiates_25_watts_downwards() {
         let s = box_scene(Variant::OneHole);
-        let e = s.shapes.iter().find(|s| s.emission.is_some()).expect("emitter");
-        let ShapeKind::Mesh(m) = &e.kind else { panic!("emitter is a mesh") };
+        let e = s
+            .shapes
+            .iter()
+            .find(|s| s.emission.is_some())
+            .expect("emitter");
+        let ShapeKind::Mesh(m) = &e.kind else {
+            panic!("emitter is a mesh")
+        };
         let [a, b, c] = m.triangle(0);
         assert!((b - a).cross(c - a).z < 0.0, "faces down");
         let power = e.emission.expect("emission").radiance.r * PI * e.area();

@@ -1,0 +1,223 @@
+//! The `fenestra` binary as a user meets it: outputs, determinism across thread counts, and
+//! clear errors (non-zero exit, no panic) for bad input.
+
+use fenestra_core::image::{read_exr_metadata, Image};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn fenestra(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_fenestra"))
+        .args(args)
+        .output()
+        .expect("run fenestra")
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("fenestra-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    dir.join(name)
+}
+
+fn render(out: &Path, extra: &[&str]) -> Output {
+    let mut args = vec![
+        "render",
+        "builtin:box-hole",
+        "--spp",
+        "4",
+        "--resolution",
+        "24x16",
+        "-o",
+        out.to_str().expect("utf-8"),
+    ];
+    args.extend_from_slice(extra);
+    fenestra(&args)
+}
+
+#[test]
+fn render_writes_exr_png_and_sidecar() {
+    let out = tmp("basic.exr");
+    let o = render(&out, &["--json"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let summary: serde_json::Value = serde_json::from_slice(&o.stdout).expect("--json prints JSON");
+    assert_eq!(summary["spp"], 4);
+    assert_eq!(summary["rays"]["camera"], 24 * 16 * 4);
+    let img = Image::read(&out).expect("exr");
+    assert_eq!((img.width, img.height), (24, 16));
+    assert!(img.mean().r > 0.0);
+    let meta = read_exr_metadata(&out).expect("metadata");
+    assert_eq!(
+        meta.get("fenestra:integrator").map(String::as_str),
+        Some("af_hf")
+    );
+    assert_eq!(meta.get("fenestra:spp").map(String::as_str), Some("4"));
+    assert!(
+        meta.contains_key("fenestra:render_time_s") && meta.contains_key("fenestra:shadow_rays")
+    );
+    let sidecar: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.with_extension("json")).expect("json"))
+            .expect("valid");
+    assert_eq!(sidecar["scene"], "box-hole");
+    assert!(Image::read(&out.with_extension("png")).is_ok());
+}
+
+#[test]
+fn one_and_two_threads_write_identical_images() {
+    let (a, b) = (tmp("t1.exr"), tmp("t2.exr"));
+    assert!(render(&a, &["--threads", "1", "--seed", "9"])
+        .status
+        .success());
+    assert!(render(&b, &["--threads", "2", "--seed", "9"])
+        .status
+        .success());
+    // Pixels bit for bit (the headers differ only in render time).
+    assert_eq!(Image::read(&a).expect("a"), Image::read(&b).expect("b"));
+    let png = |p: &Path| std::fs::read(p.with_extension("png")).expect("png");
+    assert_eq!(png(&a), png(&b));
+}
+
+#[test]
+fn time_budget_renders_whole_passes() {
+    let out = tmp("timed.exr");
+    let o = fenestra(&[
+        "render",
+        "builtin:box-4holes",
+        "--time",
+        "0.5",
+        "--resolution",
+        "16x16",
+        "--json",
+        "-o",
+        out.to_str().expect("utf-8"),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let s: serde_json::Value = serde_json::from_slice(&o.stdout).expect("json");
+    assert!(s["spp"].as_u64().expect("spp") >= 1);
+    assert_eq!(
+        s["spp"], s["spp_max"],
+        "every pixel has the same sample count"
+    );
+}
+
+fn assert_clear_error(args: &[&str], expect: &str) {
+    let o = fenestra(args);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "{args:?} should fail");
+    assert!(!err.contains("panicked"), "{args:?} panicked: {err}");
+    assert!(
+        err.contains(expect),
+        "{args:?}: expected '{expect}' in: {err}"
+    );
+}
+
+#[test]
+fn bad_input_gets_a_clear_error() {
+    let out = tmp("err.exr");
+    let o = out.to_str().expect("utf-8");
+    assert_clear_error(
+        &["render", "/no/such/scene.pbrt", "-o", o],
+        "cannot open scene file /no/such/scene.pbrt",
+    );
+    assert_clear_error(
+        &["render", "builtin:nope", "-o", o],
+        "unknown built-in scene 'nope' (available: box-hole",
+    );
+    assert_clear_error(
+        &[
+            "render",
+            "builtin:box-hole",
+            "--resolution",
+            "640x",
+            "-o",
+            o,
+        ],
+        "bad resolution '640x'",
+    );
+    assert_clear_error(
+        &[
+            "render",
+            "builtin:box-hole",
+            "--resolution",
+            "0x10",
+            "-o",
+            o,
+        ],
+        "bad resolution '0x10'",
+    );
+    assert_clear_error(
+        &[
+            "render",
+            "builtin:box-hole",
+            "--integrator",
+            "bdpt",
+            "-o",
+            o,
+        ],
+        "unknown integrator 'bdpt' (available: hf, af_hf)",
+    );
+    assert_clear_error(
+        &["render", "builtin:box-hole", "--spp", "0", "-o", o],
+        "--spp must be at least 1",
+    );
+    assert_clear_error(
+        &["render", "builtin:box-hole", "--spp", "-3", "-o", o],
+        "error",
+    );
+    assert_clear_error(
+        &["render", "builtin:box-hole", "--time", "-1", "-o", o],
+        "--time must be a positive number",
+    );
+    assert_clear_error(
+        &["render", "builtin:box-hole", "-o", "out.png"],
+        "must end in .exr",
+    );
+    assert_clear_error(
+        &["render", "builtin:box-hole", "--threads", "0", "-o", o],
+        "--threads must be at least 1",
+    );
+    assert_clear_error(
+        &["render", "builtin:box-hole", "--bvh", "optix", "-o", o],
+        "unknown ray-query backend 'optix'",
+    );
+    assert!(!out.exists(), "no output is written when the input is bad");
+}
+
+#[cfg(unix)]
+#[test]
+fn interrupting_a_render_keeps_what_it_has() {
+    let out = tmp("interrupted.exr");
+    let child = Command::new(env!("CARGO_BIN_EXE_fenestra"))
+        .args([
+            "render",
+            "builtin:box-hole",
+            "--spp",
+            "100000",
+            "--resolution",
+            "32x32",
+            "--json",
+            "-o",
+            out.to_str().expect("utf-8"),
+        ])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("spawn");
+    // Let it take some samples, then send SIGINT as Ctrl-C would.
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    let kill = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .expect("kill");
+    assert!(kill.success());
+    let o = child.wait_with_output().expect("wait");
+    assert_eq!(
+        o.status.code(),
+        Some(130),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let s: serde_json::Value = serde_json::from_slice(&o.stdout).expect("summary");
+    assert_eq!(s["interrupted"], true);
+    assert!(s["spp"].as_u64().expect("spp") >= 1 && s["spp"].as_u64().expect("spp") < 100000);
+    let img = Image::read(&out).expect("partial image written");
+    assert!(img.mean().r > 0.0);
+}
