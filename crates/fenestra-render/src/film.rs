@@ -31,12 +31,10 @@ impl Pixel {
         if n < 2.0 {
             return [0.0; 3];
         }
-        let mut out = [0.0; 3];
-        for i in 0..3 {
+        std::array::from_fn(|i| {
             let mean = self.sum[i] / n;
-            out[i] = ((self.sum_sq[i] / n - mean * mean) * n / (n - 1.0)).max(0.0) / n;
-        }
-        out
+            ((self.sum_sq[i] / n - mean * mean) * n / (n - 1.0)).max(0.0) / n
+        })
     }
 }
 

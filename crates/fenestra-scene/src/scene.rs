@@ -183,7 +183,7 @@ fn validate(desc: &SceneDesc) -> Result<(), SceneError> {
                 }
             }
             ShapeKind::Sphere { center, radius } => {
-                if !center.is_finite() || !(radius.is_finite() && *radius > 0.0) {
+                if !(center.is_finite() && radius.is_finite() && *radius > 0.0) {
                     return geo(format!("sphere centre {center} radius {radius} invalid"));
                 }
             }
@@ -192,8 +192,7 @@ fn validate(desc: &SceneDesc) -> Result<(), SceneError> {
                 normal,
                 radius,
             } => {
-                if !center.is_finite()
-                    || !(radius.is_finite() && *radius > 0.0)
+                if !(center.is_finite() && radius.is_finite() && *radius > 0.0)
                     || (normal.length() - 1.0).abs() > 1e-3
                 {
                     return geo(format!(

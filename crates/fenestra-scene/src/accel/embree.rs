@@ -17,7 +17,9 @@ struct Analytic {
 pub struct EmbreeScene {
     device: RTCDevice,
     scene: RTCScene,
-    /// Owned by us, pointed to by Embree's user geometries; never moved after creation.
+    /// Owned by us, pointed to by Embree's user geometries: boxed so that the pointers stay
+    /// valid while the vector grows.
+    #[allow(clippy::vec_box)]
     _analytic: Vec<Box<Analytic>>,
 }
 
