@@ -29,6 +29,16 @@ enum Command {
     List,
 }
 
+/// A rayon pool with `threads` workers (all cores by default).
+fn thread_pool(threads: Option<usize>) -> anyhow::Result<rayon::ThreadPool> {
+    let mut pool = rayon::ThreadPoolBuilder::new();
+    if let Some(t) = threads {
+        anyhow::ensure!(t > 0, "--threads must be at least 1");
+        pool = pool.num_threads(t);
+    }
+    Ok(pool.build()?)
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {

@@ -71,14 +71,7 @@ pub fn run(args: RaybenchArgs) -> Result<()> {
     if args.rays == 0 || args.repeat == 0 {
         bail!("--rays and --repeat must be at least 1");
     }
-    let mut pool = rayon::ThreadPoolBuilder::new();
-    if let Some(t) = args.threads {
-        if t == 0 {
-            bail!("--threads must be at least 1");
-        }
-        pool = pool.num_threads(t);
-    }
-    let pool = pool.build().context("cannot start worker threads")?;
+    let pool = crate::thread_pool(args.threads)?;
     let desc = scene_arg::load(&args.scene)?;
     pool.install(|| -> Result<()> {
         let backends = if args.bvh.is_empty() { Backend::available() } else { args.bvh.clone() };

@@ -146,14 +146,7 @@ pub fn run(args: RenderArgs) -> Result<bool> {
             .with_context(|| format!("cannot create output folder {}", dir.display()))?;
     }
 
-    let mut pool = rayon::ThreadPoolBuilder::new();
-    if let Some(t) = args.threads {
-        if t == 0 {
-            bail!("--threads must be at least 1");
-        }
-        pool = pool.num_threads(t);
-    }
-    let pool = pool.build().context("cannot start worker threads")?;
+    let pool = crate::thread_pool(args.threads)?;
 
     let cancel = Arc::new(AtomicBool::new(false));
     let flag = cancel.clone();

@@ -40,15 +40,6 @@ impl RoughConductor {
     pub fn sample(&self, wo: Vec3, u: Vec2) -> Option<BsdfSample> {
         let h = self.ggx.sample_visible(wo, u);
         let wi = reflect(wo, h);
-        if wi.z <= 0.0 {
-            return None;
-        }
-        let pdf = self.pdf(wo, wi);
-        Some(BsdfSample {
-            wi,
-            weight: self.eval(wo, wi) * (wi.z / pdf),
-            pdf,
-            delta: false,
-        })
+        BsdfSample::reflected(wi, |wi| self.eval(wo, wi), |wi| self.pdf(wo, wi))
     }
 }

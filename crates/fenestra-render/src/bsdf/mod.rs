@@ -35,6 +35,28 @@ pub struct BsdfSample {
     pub delta: bool,
 }
 
+impl BsdfSample {
+    /// A sampled reflection direction `wi` (upper hemisphere) of a non-delta lobe, with its
+    /// weight and density from the material's own `eval` and `pdf` (which include every lobe
+    /// of a mixture); `None` below the surface.
+    fn reflected(
+        wi: Vec3,
+        eval: impl Fn(Vec3) -> Rgb,
+        pdf: impl Fn(Vec3) -> f32,
+    ) -> Option<BsdfSample> {
+        if wi.z <= 0.0 {
+            return None;
+        }
+        let pdf = pdf(wi);
+        (pdf > 0.0).then(|| BsdfSample {
+            wi,
+            weight: eval(wi) * (wi.z / pdf),
+            pdf,
+            delta: false,
+        })
+    }
+}
+
 #[derive(Clone, Debug)]
 pub enum Bsdf {
     Diffuse(Diffuse),

@@ -52,15 +52,6 @@ impl Phong {
         } else {
             warp::square_to_cosine_hemisphere(u)
         };
-        if wi.z <= 0.0 {
-            return None;
-        }
-        let pdf = self.pdf(wo, wi);
-        Some(BsdfSample {
-            wi,
-            weight: self.eval(wo, wi) * (wi.z / pdf),
-            pdf,
-            delta: false,
-        })
+        BsdfSample::reflected(wi, |wi| self.eval(wo, wi), |wi| self.pdf(wo, wi))
     }
 }

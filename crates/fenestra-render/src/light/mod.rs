@@ -32,6 +32,14 @@ pub struct LightSample {
     pub delta: bool,
 }
 
+/// Unit direction from `p` to a point light at `position` and the squared distance, or
+/// `None` when they coincide.
+fn toward(position: Vec3, p: Vec3) -> Option<(Vec3, f32)> {
+    let d = position - p;
+    let d2 = d.length_squared();
+    (d2 > 0.0).then(|| (d / d2.sqrt(), d2))
+}
+
 #[derive(Clone, Debug)]
 pub enum Light {
     Point(PointLight),

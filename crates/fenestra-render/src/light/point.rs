@@ -18,12 +18,7 @@ impl PointLight {
     }
 
     pub fn sample_li(&self, p: Vec3) -> Option<LightSample> {
-        let d = self.position - p;
-        let d2 = d.length_squared();
-        if d2 == 0.0 {
-            return None;
-        }
-        let wi = d / d2.sqrt();
+        let (wi, d2) = super::toward(self.position, p)?;
         Some(LightSample {
             wi,
             li: self.intensity / d2,

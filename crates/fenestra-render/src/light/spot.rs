@@ -39,12 +39,7 @@ impl SpotLight {
     }
 
     pub fn sample_li(&self, p: Vec3) -> Option<LightSample> {
-        let d = self.position - p;
-        let d2 = d.length_squared();
-        if d2 == 0.0 {
-            return None;
-        }
-        let wi = d / d2.sqrt();
+        let (wi, d2) = super::toward(self.position, p)?;
         let falloff = smoothstep(self.cos_end, self.cos_start, (-wi).dot(self.direction));
         if falloff == 0.0 {
             return None;
