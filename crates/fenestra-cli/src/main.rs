@@ -1,5 +1,7 @@
 //! The `fenestra` command line.
 
+mod bench;
+mod compare;
 mod progress;
 mod raybench;
 mod render;
@@ -23,6 +25,13 @@ struct Cli {
 enum Command {
     /// Render a scene to linear EXR, with a tone-mapped PNG and a JSON sidecar beside it.
     Render(render::RenderArgs),
+    /// Render a high-sample reference, or reuse the cached one made with the same scene
+    /// content, settings and resolution.
+    Reference(render::ReferenceArgs),
+    /// Error, relative error and efficiency of images against a reference.
+    Compare(compare::CompareArgs),
+    /// Run a bench suite (TOML) and write its report (HTML, plots, tables).
+    Bench(bench::BenchArgs),
     /// Measure closest-hit and shadow-ray throughput of the ray-query backends.
     Raybench(raybench::RaybenchArgs),
     /// List the built-in scenes and the integrators.
@@ -47,6 +56,9 @@ fn main() -> ExitCode {
             Ok(true) => return ExitCode::from(130),
             other => other.map(|_| ()),
         },
+        Command::Reference(args) => render::reference(args),
+        Command::Compare(args) => compare::run(args),
+        Command::Bench(args) => bench::run(args),
         Command::Raybench(args) => raybench::run(args),
         Command::List => {
             println!("built-in scenes (use as builtin:NAME):");

@@ -1,35 +1,39 @@
-//! `fenestra render`.
+//! `fenestra render` and `fenestra reference`.
 
 use crate::{progress::Bar, scene_arg};
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
+use fenestra_core::image::Image;
 use fenestra_core::mis::MisHeuristic;
+use fenestra_eval::hash::debug_hash;
+use fenestra_eval::metrics;
 use fenestra_render::integrator::{self, IntegratorOptions};
-use fenestra_render::{output, Film, LightSelection, RenderControl, RenderScene, RenderSettings};
+use fenestra_render::{
+    output, Film, LightSelection, RenderControl, RenderScene, RenderSettings, RenderStats,
+};
 use fenestra_scene::{Backend, Scene};
-use std::path::PathBuf;
+use serde_json::json;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 
-#[derive(Clone, Copy, ValueEnum)]
+#[derive(Clone, Copy, ValueEnum, Debug)]
 enum Mis {
     Balance,
     Power,
 }
 
+/// What is rendered and how: shared by `render` and `reference`.
 #[derive(Args)]
-pub struct RenderArgs {
+pub struct RenderOpts {
     /// builtin:NAME (see `fenestra list`) or a scene file.
     scene: String,
     /// Integrator: hf (BSDF sampling) or af_hf (light and BSDF sampling with MIS).
     #[arg(long, default_value = "af_hf")]
     integrator: String,
     /// Samples per pixel (default: the scene's).
-    #[arg(long, conflicts_with = "time")]
+    #[arg(long)]
     spp: Option<u32>,
-    /// Render for this many seconds instead of a fixed sample count.
-    #[arg(long, allow_negative_numbers = true)]
-    time: Option<f64>,
     /// Maximum path length in segments from the camera to the emitter (2 = direct light only).
     #[arg(long)]
     max_depth: Option<u32>,
@@ -59,15 +63,44 @@ pub struct RenderArgs {
     /// PNG exposure in stops (default: automatic, log-average luminance to middle grey).
     #[arg(long, allow_negative_numbers = true)]
     exposure: Option<f32>,
-    /// Output EXR; the PNG and JSON sidecar are written beside it.
-    #[arg(short, long)]
-    output: PathBuf,
     /// Print the summary as JSON.
     #[arg(long)]
     json: bool,
     /// No progress bar.
     #[arg(short, long)]
     quiet: bool,
+}
+
+#[derive(Args)]
+pub struct RenderArgs {
+    #[command(flatten)]
+    opts: RenderOpts,
+    /// Render for this many seconds instead of a fixed sample count (with --spp: whichever
+    /// comes first).
+    #[arg(long, allow_negative_numbers = true)]
+    time: Option<f64>,
+    /// A reference image: the sidecar then records MSE and relative MSE after every pass
+    /// (the convergence curve).
+    #[arg(long)]
+    reference: Option<PathBuf>,
+    /// Stop once the relative MSE against --reference falls to this value.
+    #[arg(long, requires = "reference")]
+    target_rel_mse: Option<f64>,
+    /// Also write OUT.var.exr, the per-pixel variance of the mean.
+    #[arg(long)]
+    variance: bool,
+    /// Output EXR; the PNG and JSON sidecar are written beside it.
+    #[arg(short, long)]
+    output: PathBuf,
+}
+
+#[derive(Args)]
+pub struct ReferenceArgs {
+    #[command(flatten)]
+    opts: RenderOpts,
+    /// Folder of cached references, keyed by scene content, settings and resolution.
+    #[arg(long, default_value = "refs")]
+    cache: PathBuf,
 }
 
 fn parse_resolution(s: &str) -> Result<(u32, u32)> {
@@ -85,16 +118,129 @@ fn parse_resolution(s: &str) -> Result<(u32, u32)> {
     Ok((w, h))
 }
 
-/// Renders; returns whether the render was interrupted (its partial result is written).
-pub fn run(args: RenderArgs) -> Result<bool> {
-    // Check every argument before the (possibly long) scene build.
-    let resolution = args
-        .resolution
-        .as_deref()
-        .map(parse_resolution)
-        .transpose()?;
-    if args
-        .output
+/// A render fully specified and checked, ready to run.
+struct Job {
+    desc: fenestra_scene::SceneDesc,
+    width: u32,
+    height: u32,
+    integrator: Box<dyn integrator::Integrator>,
+    /// Kept for the reference cache key.
+    options: IntegratorOptions,
+    settings: RenderSettings,
+}
+
+impl RenderOpts {
+    /// Checks every argument before the (possibly long) scene build.
+    fn job(&self, time: Option<f64>) -> Result<Job> {
+        let resolution = self
+            .resolution
+            .as_deref()
+            .map(parse_resolution)
+            .transpose()?;
+        if let Some(t) = time {
+            if !(t.is_finite() && t > 0.0) {
+                bail!("--time must be a positive number of seconds, got {t}");
+            }
+        }
+        if self.spp == Some(0) {
+            bail!("--spp must be at least 1");
+        }
+        if self.max_depth == Some(0) {
+            bail!("--max-depth must be at least 1 (1 = emitters seen directly, 2 = direct light)");
+        }
+        if !(self.beta.is_finite() && self.beta > 0.0) {
+            bail!("--beta must be positive, got {}", self.beta);
+        }
+        let mis = match self.mis {
+            Mis::Balance => MisHeuristic::Balance,
+            Mis::Power => MisHeuristic::Power { beta: self.beta },
+        };
+        let desc = scene_arg::load(&self.scene)?;
+        let (width, height) = resolution.unwrap_or((desc.defaults.width, desc.defaults.height));
+        let options = IntegratorOptions {
+            max_depth: self.max_depth.unwrap_or(desc.defaults.max_depth),
+            mis,
+            rr_depth: self.rr_depth,
+        };
+        let integrator =
+            integrator::by_name(&self.integrator, options.clone()).map_err(anyhow::Error::msg)?;
+        let spp = match time {
+            Some(_) => self.spp.unwrap_or(u32::MAX),
+            None => self.spp.unwrap_or(desc.defaults.spp),
+        };
+        let settings = RenderSettings {
+            spp,
+            time_limit: time,
+            seed: self.seed,
+        };
+        Ok(Job {
+            desc,
+            width,
+            height,
+            integrator,
+            options,
+            settings,
+        })
+    }
+
+    /// Runs the job on a pool of --threads workers, with Ctrl-C stopping it cleanly.
+    fn run(
+        &self,
+        job: Job,
+        hook: Option<fenestra_render::integrator::PassHook>,
+    ) -> Result<(RenderStats, Film)> {
+        let pool = crate::thread_pool(self.threads)?;
+        let cancel = Arc::new(AtomicBool::new(false));
+        let flag = cancel.clone();
+        // First Ctrl-C: finish the rows in flight and write what is done; second: quit at once.
+        let _ = ctrlc::set_handler(move || {
+            if flag.swap(true, Ordering::SeqCst) {
+                std::process::exit(130);
+            }
+            eprintln!(
+                "\ninterrupted: writing the samples taken so far (Ctrl-C again to quit at once)"
+            );
+        });
+        pool.install(|| -> Result<_> {
+            let scene =
+                Scene::build(job.desc, self.bvh.unwrap_or_default()).context("invalid scene")?;
+            let render_scene = RenderScene::new(scene, self.light_selection);
+            let mut film = Film::new(job.width, job.height);
+            let bar = Bar::new(self.quiet || self.json);
+            let mut control = RenderControl::new(&cancel, &bar);
+            control.on_pass = hook;
+            let stats = job
+                .integrator
+                .render(&render_scene, &mut film, &job.settings, &control);
+            bar.finish();
+            Ok((stats, film))
+        })
+    }
+
+    fn report(
+        &self,
+        output: &Path,
+        stats: &RenderStats,
+        sidecar: &serde_json::Value,
+    ) -> Result<()> {
+        if self.json {
+            println!("{}", serde_json::to_string(sidecar)?);
+        } else {
+            println!("{}", stats.summary());
+            let (png, json) = output::companion_paths(output);
+            println!(
+                "wrote {}, {}, {}",
+                output.display(),
+                png.display(),
+                json.display()
+            );
+        }
+        Ok(())
+    }
+}
+
+fn check_exr(path: &Path) -> Result<()> {
+    if path
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase)
@@ -103,86 +249,120 @@ pub fn run(args: RenderArgs) -> Result<bool> {
     {
         bail!(
             "output {} must end in .exr (the PNG and JSON are written beside it)",
-            args.output.display()
+            path.display()
         );
     }
-    if let Some(t) = args.time {
-        if !(t.is_finite() && t > 0.0) {
-            bail!("--time must be a positive number of seconds, got {t}");
-        }
-    }
-    if args.spp == Some(0) {
-        bail!("--spp must be at least 1");
-    }
-    if args.max_depth == Some(0) {
-        bail!("--max-depth must be at least 1 (1 = emitters seen directly, 2 = direct light)");
-    }
-    if !(args.beta.is_finite() && args.beta > 0.0) {
-        bail!("--beta must be positive, got {}", args.beta);
-    }
-    let mis = match args.mis {
-        Mis::Balance => MisHeuristic::Balance,
-        Mis::Power => MisHeuristic::Power { beta: args.beta },
-    };
-    let desc = scene_arg::load(&args.scene)?;
-    let (width, height) = resolution.unwrap_or((desc.defaults.width, desc.defaults.height));
-    let options = IntegratorOptions {
-        max_depth: args.max_depth.unwrap_or(desc.defaults.max_depth),
-        mis,
-        rr_depth: args.rr_depth,
-    };
-    let integrator = integrator::by_name(&args.integrator, options).map_err(anyhow::Error::msg)?;
-    let settings = RenderSettings {
-        spp: if args.time.is_some() {
-            args.spp.unwrap_or(u32::MAX)
-        } else {
-            args.spp.unwrap_or(desc.defaults.spp)
-        },
-        time_limit: args.time,
-        seed: args.seed,
-    };
-    if let Some(dir) = args.output.parent().filter(|d| !d.as_os_str().is_empty()) {
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir)
             .with_context(|| format!("cannot create output folder {}", dir.display()))?;
     }
+    Ok(())
+}
 
-    let pool = crate::thread_pool(args.threads)?;
-
-    let cancel = Arc::new(AtomicBool::new(false));
-    let flag = cancel.clone();
-    // First Ctrl-C: finish the rows in flight and write what is done; second: quit at once.
-    let _ = ctrlc::set_handler(move || {
-        if flag.swap(true, Ordering::SeqCst) {
-            std::process::exit(130);
+/// Renders; returns whether the render was interrupted (its partial result is written).
+pub fn run(args: RenderArgs) -> Result<bool> {
+    check_exr(&args.output)?;
+    if let Some(t) = args.target_rel_mse {
+        if !(t.is_finite() && t > 0.0) {
+            bail!("--target-rel-mse must be positive, got {t}");
         }
-        eprintln!("\ninterrupted: writing the samples taken so far (Ctrl-C again to quit at once)");
-    });
-
-    let (stats, film) = pool.install(|| -> Result<_> {
-        let scene = Scene::build(desc, args.bvh.unwrap_or_default()).context("invalid scene")?;
-        let render_scene = RenderScene::new(scene, args.light_selection);
-        let mut film = Film::new(width, height);
-        let bar = Bar::new(args.quiet || args.json);
-        let control = RenderControl {
-            cancel: &cancel,
-            progress: &bar,
+    }
+    let job = args.opts.job(args.time)?;
+    let reference = match &args.reference {
+        Some(p) => {
+            let r = Image::read(p)?;
+            if (r.width, r.height) != (job.width as usize, job.height as usize) {
+                bail!(
+                    "reference {} is {}x{}, the render {}x{}",
+                    p.display(),
+                    r.width,
+                    r.height,
+                    job.width,
+                    job.height
+                );
+            }
+            Some(r)
+        }
+        None => None,
+    };
+    // Convergence: metrics against the reference after every pass.
+    let curve = Mutex::new(Vec::new());
+    let hook = |film: &Film, time_s: f64| -> bool {
+        let Some(r) = &reference else { return true };
+        let Ok(m) = metrics::compare(&film.image(), r) else {
+            return true;
         };
-        let stats = integrator.render(&render_scene, &mut film, &settings, &control);
-        bar.finish();
-        Ok((stats, film))
-    })?;
-    output::write_render(&args.output, &film, &stats, args.exposure)?;
-    if args.json {
-        println!("{}", serde_json::to_string(&stats)?);
-    } else {
-        println!("{}", stats.summary());
-        let (png, json) = output::companion_paths(&args.output);
+        let spp = film.sample_count_range().0;
+        if let Ok(mut c) = curve.lock() {
+            c.push(json!({ "spp": spp, "time_s": time_s, "mse": m.mse, "rel_mse": m.rel_mse }));
+        }
+        args.target_rel_mse.is_none_or(|t| m.rel_mse > t)
+    };
+    let (stats, film) = args.opts.run(job, Some(&hook))?;
+    let mut sidecar = serde_json::to_value(&stats)?;
+    if reference.is_some() {
+        sidecar["convergence"] = json!(curve.into_inner().unwrap_or_default());
+    }
+    output::write_render(
+        &args.output,
+        &film,
+        &stats,
+        &sidecar,
+        args.opts.exposure,
+        args.variance,
+    )?;
+    args.opts.report(&args.output, &stats, &sidecar)?;
+    Ok(stats.interrupted)
+}
+
+/// Renders a reference into the cache, or finds it there; prints where it is.
+pub fn reference(args: ReferenceArgs) -> Result<()> {
+    let job = args.opts.job(None)?;
+    // Everything that changes the picture goes into the key.
+    let key = debug_hash(&(
+        &job.desc,
+        &args.opts.integrator,
+        format!("{:?}", job.options),
+        job.width,
+        job.height,
+        job.settings.spp,
+        job.settings.seed,
+        format!("{:?}", args.opts.light_selection),
+        env!("CARGO_PKG_VERSION"),
+    ));
+    let path = args.cache.join(format!(
+        "{}-{key:016x}.exr",
+        fenestra_eval::suite::slug(&job.desc.name)
+    ));
+    let sidecar_path = output::companion_paths(&path).1;
+    if path.exists() && sidecar_path.exists() && output::variance_path(&path).exists() {
+        let summary = json!({ "path": path, "cached": true, "sidecar": sidecar_path });
+        if args.opts.json {
+            println!("{summary}");
+        } else {
+            println!("reference {} (cached)", path.display());
+        }
+        return Ok(());
+    }
+    check_exr(&path)?;
+    let (stats, film) = args.opts.run(job, None)?;
+    if stats.interrupted {
+        bail!("reference interrupted: nothing cached");
+    }
+    let mut sidecar = serde_json::to_value(&stats)?;
+    sidecar["reference_key"] = json!(format!("{key:016x}"));
+    output::write_render(&path, &film, &stats, &sidecar, args.opts.exposure, true)?;
+    if args.opts.json {
         println!(
-            "wrote {}, {}, {}",
-            args.output.display(),
-            png.display(),
-            json.display()
+            "{}",
+            json!({ "path": path, "cached": false, "sidecar": sidecar_path, "time_s": stats.time_s })
+        );
+    } else {
+        println!(
+            "{}\nreference {} (rendered)",
+            stats.summary(),
+            path.display()
         );
     }
-    Ok(stats.interrupted)
+    Ok(())
 }

@@ -221,3 +221,137 @@ fn interrupting_a_render_keeps_what_it_has() {
     let img = Image::read(&out).expect("partial image written");
     assert!(img.mean().r > 0.0);
 }
+
+#[test]
+fn reference_is_cached_by_content_and_settings() {
+    let cache = tmp("refcache");
+    let run = |spp: &str| {
+        let o = fenestra(&[
+            "reference",
+            "builtin:box-hole",
+            "--spp",
+            spp,
+            "--resolution",
+            "8x8",
+            "--cache",
+            cache.to_str().expect("utf-8"),
+            "--json",
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        serde_json::from_slice::<serde_json::Value>(&o.stdout).expect("json")
+    };
+    let first = run("16");
+    assert_eq!(first["cached"], false);
+    let again = run("16");
+    assert_eq!(again["cached"], true);
+    assert_eq!(first["path"], again["path"]);
+    let other = run("32");
+    assert_eq!(other["cached"], false, "other settings, other reference");
+    assert_ne!(first["path"], other["path"]);
+    let path = PathBuf::from(first["path"].as_str().expect("path"));
+    assert!(
+        path.with_extension("var.exr").exists(),
+        "references carry their variance"
+    );
+}
+
+#[test]
+fn compare_reports_metrics_and_efficiency() {
+    let (reference, img) = (tmp("cmp-ref.exr"), tmp("cmp-img.exr"));
+    let r = fenestra(&[
+        "render",
+        "builtin:box-hole",
+        "--spp",
+        "64",
+        "--resolution",
+        "24x16",
+        "-o",
+        reference.to_str().expect("utf-8"),
+    ]);
+    assert!(r.status.success());
+    assert!(render(&img, &[]).status.success());
+    let o = fenestra(&[
+        "compare",
+        "--ref",
+        reference.to_str().expect("utf-8"),
+        img.to_str().expect("utf-8"),
+        reference.to_str().expect("utf-8"),
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let rows: serde_json::Value = serde_json::from_slice(&o.stdout).expect("json");
+    let (noisy, exact) = (&rows[0], &rows[1]);
+    for key in ["mse", "rel_mse", "mae", "mean", "time_s", "efficiency"] {
+        assert!(noisy[key].is_number(), "{key} missing in {noisy}");
+    }
+    assert!(noisy["mse"].as_f64().expect("mse") > 0.0);
+    assert_eq!(exact["mse"], 0.0);
+    let e = noisy["efficiency"].as_f64().expect("eff");
+    let expect = 1.0 / (noisy["mse"].as_f64().expect("mse") * noisy["time_s"].as_f64().expect("t"));
+    assert!((e - expect).abs() <= 1e-9 * expect);
+}
+
+#[test]
+fn bench_writes_a_report_and_resumes() {
+    let dir = tmp("bench");
+    let suite = dir.with_extension("toml");
+    std::fs::write(
+        &suite,
+        r#"name = "ci"
+resolution = [8, 8]
+repetitions = 2
+[reference]
+integrator = "af_hf"
+spp = 64
+[[scene]]
+scene = "builtin:box-hole"
+max_depth = [2]
+[[technique]]
+label = "HF"
+integrator = "hf"
+[[technique]]
+label = "AF_HF"
+integrator = "af_hf"
+[[budget]]
+spp = 8
+"#,
+    )
+    .expect("suite");
+    let cache = dir.join("cache");
+    let args = [
+        "bench",
+        suite.to_str().expect("utf-8"),
+        "-o",
+        dir.to_str().expect("utf-8"),
+        "--cache",
+        cache.to_str().expect("utf-8"),
+    ];
+    let o = fenestra(&args);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    for f in [
+        "index.html",
+        "results.json",
+        "table.md",
+        "plots/box-hole-d2-time.svg",
+        "img/box-hole-d2-af_hf-8spp-r0-err.png",
+    ] {
+        assert!(dir.join(f).exists(), "{f} missing");
+    }
+    let table = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        table.contains("| builtin:box-hole | 2 | 8spp | AF_HF |"),
+        "{table}"
+    );
+    let lines = |p: &Path| std::fs::read_to_string(p).expect("results").lines().count();
+    assert_eq!(lines(&dir.join("results.jsonl")), 4);
+    // Running again resumes: nothing is rendered twice.
+    let o = fenestra(&args);
+    assert!(o.status.success());
+    assert!(
+        !String::from_utf8_lossy(&o.stderr).contains("[1/4]"),
+        "finished runs are skipped"
+    );
+    assert_eq!(lines(&dir.join("results.jsonl")), 4);
+    let html = std::fs::read_to_string(dir.join("index.html")).expect("html");
+    assert!(html.contains("<table>") && html.contains("plots/box-hole-d2-spp.svg"));
+}

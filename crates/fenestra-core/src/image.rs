@@ -40,6 +40,31 @@ impl Image {
         self.pixels[y * self.width + x] = c;
     }
 
+    /// The `w` x `h` region with top-left corner (x, y), clamped to the image.
+    pub fn crop(&self, x: usize, y: usize, w: usize, h: usize) -> Image {
+        let (x, y) = (x.min(self.width), y.min(self.height));
+        let (w, h) = (w.min(self.width - x), h.min(self.height - y));
+        let mut out = Image::new(w, h);
+        for j in 0..h {
+            out.pixels[j * w..(j + 1) * w].copy_from_slice(
+                &self.pixels[(y + j) * self.width + x..(y + j) * self.width + x + w],
+            );
+        }
+        out
+    }
+
+    /// Each pixel repeated `k` x `k` times (nearest-neighbour zoom, for looking at noise).
+    pub fn upscale(&self, k: usize) -> Image {
+        let k = k.max(1);
+        let mut out = Image::new(self.width * k, self.height * k);
+        for y in 0..out.height {
+            for x in 0..out.width {
+                out.set(x, y, self.get(x / k, y / k));
+            }
+        }
+        out
+    }
+
     /// Mean of all pixels (f64 accumulation).
     pub fn mean(&self) -> Rgb {
         let mut acc = [0.0f64; 3];
@@ -161,7 +186,8 @@ impl Image {
         })
     }
 
-    fn auto_exposure_scale(&self) -> f32 {
+    /// The scale that maps the log-average luminance to middle grey (0.18).
+    pub fn auto_exposure_scale(&self) -> f32 {
         let (mut sum, mut n) = (0.0f64, 0usize);
         for p in &self.pixels {
             let l = p.luminance();

@@ -35,18 +35,31 @@ pub fn exr_metadata(stats: &RenderStats) -> BTreeMap<String, String> {
     m
 }
 
-/// Writes OUT.exr, OUT.png and OUT.json, each atomically.
+/// The variance image written beside OUT.exr: OUT.var.exr.
+pub fn variance_path(exr_path: &Path) -> PathBuf {
+    exr_path.with_extension("var.exr")
+}
+
+/// Writes OUT.exr, OUT.png and the JSON sidecar OUT.json (`sidecar`: the statistics plus
+/// whatever the caller measured), each atomically; with `variance`, also OUT.var.exr, the
+/// per-pixel variance of the mean.
 pub fn write_render(
     exr_path: &Path,
     film: &Film,
     stats: &RenderStats,
+    sidecar: &serde_json::Value,
     exposure: Option<f32>,
+    variance: bool,
 ) -> Result<(), ImageError> {
     let image = film.image();
     image.write_exr(exr_path, &exr_metadata(stats))?;
+    if variance {
+        film.variance_image()
+            .write_exr(&variance_path(exr_path), &exr_metadata(stats))?;
+    }
     let (png, json) = companion_paths(exr_path);
     image.write_png(&png, exposure)?;
-    let text = serde_json::to_string_pretty(stats).map_err(|e| ImageError::Write {
+    let text = serde_json::to_string_pretty(sidecar).map_err(|e| ImageError::Write {
         path: json.clone(),
         reason: e.to_string(),
     })?;

@@ -32,10 +32,25 @@ pub trait Progress: Sync {
 pub struct NoProgress;
 impl Progress for NoProgress {}
 
-/// Progress reporting and cancellation (Ctrl-C) for a render.
+/// Called after every completed pass with the film and the seconds spent so far; returns
+/// whether to go on (a measurement can stop a render once it reaches a target error).
+pub type PassHook<'a> = &'a (dyn Fn(&Film, f64) -> bool + Sync);
+
+/// Progress reporting, cancellation (Ctrl-C) and a per-pass hook for a render.
 pub struct RenderControl<'a> {
     pub cancel: &'a AtomicBool,
     pub progress: &'a dyn Progress,
+    pub on_pass: Option<PassHook<'a>>,
+}
+
+impl<'a> RenderControl<'a> {
+    pub fn new(cancel: &'a AtomicBool, progress: &'a dyn Progress) -> Self {
+        RenderControl {
+            cancel,
+            progress,
+            on_pass: None,
+        }
+    }
 }
 
 pub trait Integrator: Sync {
@@ -180,6 +195,11 @@ pub fn render_progressive(
         }
         done += n;
         pass = (pass * 2).min(MAX_PASS);
+        if let Some(hook) = control.on_pass {
+            if !hook(film, start.elapsed().as_secs_f64()) {
+                break;
+            }
+        }
     }
     let time_s = start.elapsed().as_secs_f64();
     let (spp, spp_max) = film.sample_count_range();
@@ -234,10 +254,7 @@ mod tests {
         let scene = RenderScene::new(scene, LightSelection::Power);
         let mut film = Film::new(8, 8);
         let cancel = AtomicBool::new(false);
-        let control = RenderControl {
-            cancel: &cancel,
-            progress: &NoProgress,
-        };
+        let control = RenderControl::new(&cancel, &NoProgress);
         let settings = RenderSettings {
             spp: 16,
             time_limit: None,

@@ -23,10 +23,7 @@ pub fn render(
     let integrator = integrator::by_name(name, options).expect("integrator");
     let mut film = Film::new(size, size);
     let cancel = AtomicBool::new(false);
-    let control = RenderControl {
-        cancel: &cancel,
-        progress: &NoProgress,
-    };
+    let control = RenderControl::new(&cancel, &NoProgress);
     let stats = integrator.render(
         &scene,
         &mut film,

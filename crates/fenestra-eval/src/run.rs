@@ -1,0 +1,235 @@
+//! Running a suite: each reference and each run is a separate `fenestra` process, so one
+//! technique's crash loses nothing else. Finished runs are appended to `results.jsonl` at
+//! once; running the suite again skips them (resume after an interruption).
+
+use crate::metrics::{self, Metrics};
+use crate::suite::{slug, RunSpec, Suite};
+use fenestra_core::image::Image;
+use serde::{Deserialize, Serialize};
+use serde_json::Value;
+use std::collections::HashMap;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// A finished run: what was asked, what the renderer reported, and its error.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct RunRecord {
+    pub spec: RunSpec,
+    /// Path of the EXR relative to the report folder.
+    pub image: String,
+    pub reference: String,
+    /// The render's JSON sidecar (time_s, spp, rays, convergence, ...).
+    pub stats: Value,
+    pub metrics: Metrics,
+}
+
+/// The reference of one (scene, path length).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct ReferenceRecord {
+    pub scene: String,
+    pub max_depth: u32,
+    /// Path relative to the report folder.
+    pub image: String,
+    pub cached: bool,
+}
+
+/// Added to the suite's seed for its references.
+pub const REFERENCE_SEED_OFFSET: u64 = 1 << 40;
+
+pub struct Runner<'a> {
+    /// The `fenestra` executable.
+    pub program: PathBuf,
+    pub suite: &'a Suite,
+    /// Folder of the suite file (scene paths are relative to it).
+    pub suite_dir: PathBuf,
+    pub out: PathBuf,
+    /// Where references are cached across reports.
+    pub cache: PathBuf,
+    pub threads: Option<usize>,
+}
+
+fn run_json(mut cmd: Command) -> Result<Value, String> {
+    let shown = format!("{cmd:?}");
+    let out = cmd
+        .output()
+        .map_err(|e| format!("cannot run {shown}: {e}"))?;
+    if !out.status.success() {
+        let err = String::from_utf8_lossy(&out.stderr);
+        return Err(format!("{shown} failed ({}): {}", out.status, err.trim()));
+    }
+    serde_json::from_slice(&out.stdout).map_err(|e| format!("{shown}: unreadable summary: {e}"))
+}
+
+impl Runner<'_> {
+    fn scene_arg(&self, scene: &str) -> String {
+        if scene.starts_with("builtin:") {
+            scene.to_string()
+        } else {
+            self.suite_dir.join(scene).display().to_string()
+        }
+    }
+
+    fn base(&self, sub: &str, scene: &str, depth: u32) -> Command {
+        let mut cmd = Command::new(&self.program);
+        let [w, h] = self.suite.resolution;
+        cmd.args([
+            sub,
+            &self.scene_arg(scene),
+            "--resolution",
+            &format!("{w}x{h}"),
+            "--max-depth",
+            &depth.to_string(),
+            "--json",
+            "--quiet",
+        ]);
+        if let Some(t) = self.threads {
+            cmd.args(["--threads", &t.to_string()]);
+        }
+        cmd
+    }
+
+    /// Renders (or finds in the cache) the reference of (scene, depth). Its seed is far from
+    /// the runs' (seed, seed + 1, ...): a run sharing the reference's random numbers would
+    /// look converged.
+    pub fn reference(&self, scene: &str, depth: u32) -> Result<ReferenceRecord, String> {
+        let r = &self.suite.reference;
+        let mut cmd = self.base("reference", scene, depth);
+        let seed = self.suite.seed.wrapping_add(REFERENCE_SEED_OFFSET);
+        cmd.args([
+            "--integrator",
+            &r.integrator,
+            "--spp",
+            &r.spp.to_string(),
+            "--seed",
+            &seed.to_string(),
+        ]);
+        cmd.args(["--cache", &self.cache.display().to_string()]);
+        cmd.args(&r.args);
+        let v = run_json(cmd)?;
+        let cached_path = v["path"].as_str().ok_or("reference summary has no path")?;
+        // Copy it into the report folder so the report stands alone.
+        let rel = format!("refs/{}-d{depth}.exr", slug(scene));
+        std::fs::create_dir_all(self.out.join("refs")).map_err(|e| e.to_string())?;
+        std::fs::copy(cached_path, self.out.join(&rel))
+            .map_err(|e| format!("copying {cached_path}: {e}"))?;
+        Ok(ReferenceRecord {
+            scene: scene.into(),
+            max_depth: depth,
+            image: rel,
+            cached: v["cached"].as_bool().unwrap_or(false),
+        })
+    }
+
+    pub fn run(&self, spec: &RunSpec, reference: &ReferenceRecord) -> Result<RunRecord, String> {
+        let tech = &self.suite.techniques[spec.technique];
+        let rel = format!("runs/{}.exr", spec.id);
+        let mut cmd = self.base("render", &spec.scene, spec.max_depth);
+        cmd.args([
+            "--integrator",
+            &tech.integrator,
+            "--seed",
+            &spec.seed.to_string(),
+        ]);
+        cmd.args(&tech.args);
+        cmd.args(self.suite.budgets[spec.budget].render_args());
+        cmd.args([
+            "--reference",
+            &self.out.join(&reference.image).display().to_string(),
+        ]);
+        cmd.args(["-o", &self.out.join(&rel).display().to_string()]);
+        let stats = run_json(cmd)?;
+        let img = Image::read(&self.out.join(&rel)).map_err(|e| e.to_string())?;
+        let reference_img =
+            Image::read(&self.out.join(&reference.image)).map_err(|e| e.to_string())?;
+        let metrics = metrics::compare(&img, &reference_img).map_err(|e| e.to_string())?;
+        Ok(RunRecord {
+            spec: spec.clone(),
+            image: rel,
+            reference: reference.image.clone(),
+            stats,
+            metrics,
+        })
+    }
+
+    /// Runs everything not yet in results.jsonl; `report` hears about each step.
+    pub fn run_all(
+        &self,
+        mut report: impl FnMut(&str),
+    ) -> Result<(Vec<ReferenceRecord>, Vec<RunRecord>), String> {
+        std::fs::create_dir_all(self.out.join("runs"))
+            .map_err(|e| format!("cannot create {}: {e}", self.out.display()))?;
+        let results_path = self.out.join("results.jsonl");
+        let mut done = read_results(&results_path)?;
+        let mut file = std::fs::OpenOptions::new()
+            .create(true)
+            .append(true)
+            .open(&results_path)
+            .map_err(|e| format!("cannot write {}: {e}", results_path.display()))?;
+        let mut references: HashMap<(String, u32), ReferenceRecord> = HashMap::new();
+        let runs = self.suite.runs();
+        let mut failures = 0;
+        for (i, spec) in runs.iter().enumerate() {
+            if done.iter().any(|r| r.spec == *spec) {
+                continue;
+            }
+            let key = (spec.scene.clone(), spec.max_depth);
+            if !references.contains_key(&key) {
+                report(&format!(
+                    "reference {} path length {}",
+                    spec.scene, spec.max_depth
+                ));
+                references.insert(key.clone(), self.reference(&spec.scene, spec.max_depth)?);
+            }
+            report(&format!("[{}/{}] {}", i + 1, runs.len(), spec.id));
+            match self.run(spec, &references[&key]) {
+                Ok(record) => {
+                    let line = serde_json::to_string(&record).map_err(|e| e.to_string())?;
+                    writeln!(file, "{line}")
+                        .and_then(|_| file.flush())
+                        .map_err(|e| e.to_string())?;
+                    done.push(record);
+                }
+                Err(e) => {
+                    failures += 1;
+                    report(&format!("run {} failed (the others go on): {e}", spec.id));
+                }
+            }
+        }
+        // References of runs finished in an earlier invocation.
+        for r in &done {
+            let key = (r.spec.scene.clone(), r.spec.max_depth);
+            references.entry(key).or_insert_with(|| ReferenceRecord {
+                scene: r.spec.scene.clone(),
+                max_depth: r.spec.max_depth,
+                image: r.reference.clone(),
+                cached: true,
+            });
+        }
+        if failures > 0 {
+            report(&format!(
+                "{failures} runs failed; run the suite again to retry them"
+            ));
+        }
+        let mut refs: Vec<ReferenceRecord> = references.into_values().collect();
+        refs.sort_by(|a, b| (&a.scene, a.max_depth).cmp(&(&b.scene, b.max_depth)));
+        // Keep only runs of the current suite, in its order.
+        let records = runs
+            .iter()
+            .filter_map(|s| done.iter().find(|r| r.spec == *s).cloned())
+            .collect();
+        Ok((refs, records))
+    }
+}
+
+/// The runs recorded so far (a truncated last line, from an interrupted write, is ignored).
+pub fn read_results(path: &Path) -> Result<Vec<RunRecord>, String> {
+    match std::fs::read_to_string(path) {
+        Ok(text) => Ok(text
+            .lines()
+            .filter_map(|l| serde_json::from_str(l).ok())
+            .collect()),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(Vec::new()),
+        Err(e) => Err(format!("cannot read {}: {e}", path.display())),
+    }
+}

@@ -1,0 +1,290 @@
+//! Bench suites: which scenes, techniques and budgets to compare, read from TOML.
+
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Suite {
+    pub name: String,
+    #[serde(default)]
+    pub description: String,
+    /// Image size [width, height] for every run.
+    pub resolution: [u32; 2],
+    /// Runs of each configuration, with seeds seed, seed + 1, ...
+    #[serde(default = "one")]
+    pub repetitions: u32,
+    #[serde(default)]
+    pub seed: u64,
+    pub reference: Reference,
+    #[serde(rename = "scene")]
+    pub scenes: Vec<SceneEntry>,
+    /// The first technique is the baseline that speed-ups are relative to.
+    #[serde(rename = "technique")]
+    pub techniques: Vec<Technique>,
+    #[serde(rename = "budget")]
+    pub budgets: Vec<Budget>,
+}
+
+fn one() -> u32 {
+    1
+}
+
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Reference {
+    pub integrator: String,
+    pub spp: u32,
+    /// More `fenestra render` arguments for the reference.
+    #[serde(default)]
+    pub args: Vec<String>,
+}
+
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneEntry {
+    /// builtin:NAME or a scene file (relative to the suite file).
+    pub scene: String,
+    /// Path lengths to run (segments, 2 = direct light).
+    pub max_depth: Vec<u32>,
+}
+
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Technique {
+    pub label: String,
+    pub integrator: String,
+    /// More `fenestra render` arguments, e.g. ["--mis", "balance"].
+    #[serde(default)]
+    pub args: Vec<String>,
+}
+
+/// Exactly one of `spp`, `time` or `rel_mse` (time to reach a relative MSE, within
+/// `max_time`).
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Budget {
+    pub spp: Option<u32>,
+    pub time: Option<f64>,
+    pub rel_mse: Option<f64>,
+    pub max_time: Option<f64>,
+}
+
+impl Budget {
+    /// Short name used in run ids and tables.
+    pub fn label(&self) -> String {
+        match (self.spp, self.time, self.rel_mse) {
+            (Some(s), _, _) => format!("{s}spp"),
+            (_, Some(t), _) => format!("{t}s"),
+            (_, _, Some(r)) => format!("relmse{r}"),
+            _ => "invalid".into(),
+        }
+    }
+
+    /// The `fenestra render` arguments that impose the budget.
+    pub fn render_args(&self) -> Vec<String> {
+        match (self.spp, self.time, self.rel_mse) {
+            (Some(s), _, _) => vec!["--spp".into(), s.to_string()],
+            (_, Some(t), _) => vec!["--time".into(), t.to_string()],
+            (_, _, Some(r)) => {
+                vec![
+                    "--target-rel-mse".into(),
+                    r.to_string(),
+                    "--time".into(),
+                    self.max_time.unwrap_or(600.0).to_string(),
+                ]
+            }
+            _ => vec![],
+        }
+    }
+}
+
+/// One render of a suite.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct RunSpec {
+    pub id: String,
+    pub scene: String,
+    pub max_depth: u32,
+    pub technique: usize,
+    pub budget: usize,
+    pub repetition: u32,
+    pub seed: u64,
+}
+
+impl Suite {
+    /// Reads and checks a suite file; errors name the file, line and column.
+    pub fn load(path: &Path) -> Result<Suite, String> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| format!("cannot read suite {}: {e}", path.display()))?;
+        let suite: Suite = toml::from_str(&text).map_err(|e| {
+            let (line, col) = e.span().map_or((0, 0), |s| line_col(&text, s.start));
+            format!("{}:{line}:{col}: {}", path.display(), e.message())
+        })?;
+        suite
+            .check()
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+        Ok(suite)
+    }
+
+    fn check(&self) -> Result<(), String> {
+        if self.scenes.is_empty() || self.techniques.is_empty() || self.budgets.is_empty() {
+            return Err(
+                "a suite needs at least one [[scene]], [[technique]] and [[budget]]".into(),
+            );
+        }
+        if self.resolution.contains(&0) || self.repetitions == 0 || self.reference.spp == 0 {
+            return Err("resolution, repetitions and reference spp must be positive".into());
+        }
+        for (i, b) in self.budgets.iter().enumerate() {
+            let set = [b.spp.is_some(), b.time.is_some(), b.rel_mse.is_some()]
+                .iter()
+                .filter(|&&x| x)
+                .count();
+            if set != 1 {
+                return Err(format!(
+                    "budget {}: give exactly one of spp, time or rel_mse",
+                    i + 1
+                ));
+            }
+            if b.max_time.is_some() && b.rel_mse.is_none() {
+                return Err(format!("budget {}: max_time goes with rel_mse", i + 1));
+            }
+        }
+        for s in &self.scenes {
+            if s.max_depth.is_empty() || s.max_depth.contains(&0) {
+                return Err(format!(
+                    "scene {}: max_depth needs path lengths of at least 1",
+                    s.scene
+                ));
+            }
+        }
+        let mut labels: Vec<&str> = self.techniques.iter().map(|t| t.label.as_str()).collect();
+        labels.sort_unstable();
+        if labels.windows(2).any(|w| w[0] == w[1]) {
+            return Err("technique labels must be distinct".into());
+        }
+        Ok(())
+    }
+
+    /// Every run, in the order they are executed.
+    pub fn runs(&self) -> Vec<RunSpec> {
+        let mut runs = Vec::new();
+        for s in &self.scenes {
+            for &d in &s.max_depth {
+                for (b, budget) in self.budgets.iter().enumerate() {
+                    for (t, tech) in self.techniques.iter().enumerate() {
+                        for rep in 0..self.repetitions {
+                            let id = format!(
+                                "{}-d{d}-{}-{}-r{rep}",
+                                slug(&s.scene),
+                                slug(&tech.label),
+                                budget.label()
+                            );
+                            runs.push(RunSpec {
+                                id,
+                                scene: s.scene.clone(),
+                                max_depth: d,
+                                technique: t,
+                                budget: b,
+                                repetition: rep,
+                                seed: self.seed + rep as u64,
+                            });
+                        }
+                    }
+                }
+            }
+        }
+        runs
+    }
+}
+
+/// A file-name-safe form of a label.
+pub fn slug(s: &str) -> String {
+    let s = s.strip_prefix("builtin:").unwrap_or(s);
+    s.chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' || c == '.' {
+                c.to_ascii_lowercase()
+            } else {
+                '_'
+            }
+        })
+        .collect()
+}
+
+fn line_col(text: &str, offset: usize) -> (usize, usize) {
+    let before = &text[..offset.min(text.len())];
+    let line = before.matches('\n').count() + 1;
+    let col = before.len() - before.rfind('\n').map_or(0, |i| i + 1) + 1;
+    (line, col)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const SUITE: &str = r#"
+name = "t"
+resolution = [8, 8]
+repetitions = 2
+[reference]
+integrator = "af_hf"
+spp = 64
+[[scene]]
+scene = "builtin:box-hole"
+max_depth = [2, 4]
+[[technique]]
+label = "HF"
+integrator = "hf"
+[[technique]]
+label = "AF_HF power"
+integrator = "af_hf"
+args = ["--mis", "power"]
+[[budget]]
+spp = 4
+[[budget]]
+rel_mse = 0.1
+max_time = 5
+"#;
+
+    fn write(name: &str, text: &str) -> std::path::PathBuf {
+        let p =
+            std::env::temp_dir().join(format!("fenestra-suite-{}-{name}.toml", std::process::id()));
+        std::fs::write(&p, text).expect("write");
+        p
+    }
+
+    #[test]
+    fn suites_expand_into_runs() {
+        let s = Suite::load(&write("ok", SUITE)).expect("valid");
+        let runs = s.runs();
+        assert_eq!(runs.len(), 2 * 2 * 2 * 2);
+        assert_eq!(runs[0].id, "box-hole-d2-hf-4spp-r0");
+        assert_eq!(runs[1].seed, 1);
+        assert_eq!(
+            s.budgets[1].render_args(),
+            ["--target-rel-mse", "0.1", "--time", "5"]
+        );
+        let mut ids: Vec<_> = runs.iter().map(|r| r.id.clone()).collect();
+        ids.dedup();
+        assert_eq!(ids.len(), runs.len(), "ids are unique");
+    }
+
+    #[test]
+    fn bad_suites_are_explained() {
+        let e =
+            Suite::load(&write("typo", &SUITE.replace("repetitions", "repetitons"))).unwrap_err();
+        assert!(e.contains(":4:1:") && e.contains("repetitons"), "{e}");
+        let e = Suite::load(&write(
+            "two",
+            &SUITE.replace("spp = 4\n", "spp = 4\ntime = 2\n"),
+        ))
+        .unwrap_err();
+        assert!(e.contains("budget 1: give exactly one"), "{e}");
+        let e = Suite::load(&write("depth", &SUITE.replace("[2, 4]", "[]"))).unwrap_err();
+        assert!(e.contains("max_depth"), "{e}");
+        assert!(Suite::load(Path::new("/no/suite.toml"))
+            .unwrap_err()
+            .contains("cannot read suite"));
+    }
+}

@@ -1,0 +1,157 @@
+//! The per-pixel z-test Mitsuba 3 uses to show a render is unbiased: every pixel's difference
+//! from a reference, divided by the standard error of that difference, must be consistent
+//! with chance at significance alpha after Sidak correction for the number of pixels.
+
+use crate::EvalError;
+use fenestra_core::image::Image;
+use serde::Serialize;
+use statrs::distribution::{ContinuousCDF, Normal};
+
+#[derive(Clone, Debug, Serialize)]
+pub struct ZTest {
+    /// Pixel-channel values tested.
+    pub tests: usize,
+    /// How many fell below the corrected per-value significance.
+    pub failing: usize,
+    /// Per-value significance after Sidak correction: 1 - (1 - alpha)^(1/tests).
+    pub alpha_per_test: f64,
+    /// Smallest two-sided p-value and where it occurred (x, y, channel).
+    pub min_p: f64,
+    pub worst: (usize, usize, usize),
+    pub passed: bool,
+}
+
+/// Tests `img` (with per-pixel variance of its mean `var`) against `reference` (with its own
+/// variance `ref_var`, or exact if `None`), after averaging `block` x `block` pixels (which
+/// makes variance estimates of heavy-tailed estimators trustworthy).
+pub fn z_test(
+    img: &Image,
+    var: &Image,
+    reference: &Image,
+    ref_var: Option<&Image>,
+    alpha: f64,
+    block: usize,
+) -> Result<ZTest, EvalError> {
+    for other in [Some(var), Some(reference), ref_var].into_iter().flatten() {
+        if (other.width, other.height) != (img.width, img.height) {
+            return Err(EvalError::SizeMismatch(
+                img.width,
+                img.height,
+                other.width,
+                other.height,
+            ));
+        }
+    }
+    let block = block.max(1);
+    let (bw, bh) = (img.width / block, img.height / block);
+    let normal = Normal::standard();
+    let tests = bw * bh * 3;
+    let alpha_per_test = 1.0 - (1.0 - alpha).powf(1.0 / tests.max(1) as f64);
+    let mut out = ZTest {
+        tests,
+        failing: 0,
+        alpha_per_test,
+        min_p: 1.0,
+        worst: (0, 0, 0),
+        passed: true,
+    };
+    // Mean of a block and the variance of that mean, per channel.
+    let block_stats = |im: &Image, bx: usize, by: usize, square: f64| -> [f64; 3] {
+        let mut acc = [0.0f64; 3];
+        for y in by * block..(by + 1) * block {
+            for x in bx * block..(bx + 1) * block {
+                for (a, v) in acc.iter_mut().zip(im.get(x, y).to_array()) {
+                    *a += v as f64;
+                }
+            }
+        }
+        acc.map(|a| a / square)
+    };
+    let (n, n2) = (
+        (block * block) as f64,
+        (block * block * block * block) as f64,
+    );
+    for by in 0..bh {
+        for bx in 0..bw {
+            let x = block_stats(img, bx, by, n);
+            let v = block_stats(var, bx, by, n2);
+            let r = block_stats(reference, bx, by, n);
+            let vr = ref_var.map_or([0.0; 3], |rv| block_stats(rv, bx, by, n2));
+            for c in 0..3 {
+                let sd = (v[c] + vr[c]).sqrt();
+                let diff = x[c] - r[c];
+                let p = if sd > 0.0 {
+                    2.0 * (1.0 - normal.cdf((diff / sd).abs()))
+                } else if diff.abs() <= 1e-6 * r[c].abs().max(1e-6) {
+                    1.0
+                } else {
+                    0.0
+                };
+                if p < out.min_p {
+                    out.min_p = p;
+                    out.worst = (bx * block, by * block, c);
+                }
+                if p < alpha_per_test {
+                    out.failing += 1;
+                }
+            }
+        }
+    }
+    out.passed = out.failing == 0;
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use fenestra_core::Rgb;
+
+    fn noisy(mean: f32, sd: f32, seed: u32) -> (Image, Image) {
+        let mut img = Image::new(32, 32);
+        let mut var = Image::new(32, 32);
+        for (i, (p, v)) in img.pixels.iter_mut().zip(var.pixels.iter_mut()).enumerate() {
+            // Sum of 12 uniforms minus 6: approximately standard normal.
+            let g = |k: u32| {
+                (0..12)
+                    .map(|j| {
+                        fenestra_core::sampler::hash_u32(
+                            seed ^ (i as u32 * 97 + k * 13 + j) * 2654435761,
+                        ) as f32
+                            / u32::MAX as f32
+                    })
+                    .sum::<f32>()
+                    - 6.0
+            };
+            *p = Rgb::new(mean + sd * g(0), mean + sd * g(1), mean + sd * g(2));
+            *v = Rgb::splat(sd * sd);
+        }
+        (img, var)
+    }
+
+    #[test]
+    fn unbiased_noise_passes_and_a_shift_fails() {
+        let reference = {
+            let mut r = Image::new(32, 32);
+            r.pixels.iter_mut().for_each(|p| *p = Rgb::splat(1.0));
+            r
+        };
+        let (img, var) = noisy(1.0, 0.1, 1);
+        let t = z_test(&img, &var, &reference, None, 0.01, 1).expect("sizes");
+        assert!(t.passed, "{t:?}");
+        assert_eq!(t.tests, 32 * 32 * 3);
+        // A 5% bias is 0.5 standard errors per pixel, invisible pixel by pixel, but blocks of
+        // 8x8 pixels shrink the standard error 8x and expose it.
+        let (biased, var) = noisy(1.05, 0.1, 2);
+        assert!(
+            !z_test(&biased, &var, &reference, None, 0.01, 8)
+                .expect("sizes")
+                .passed
+        );
+        let (biased, var) = noisy(1.5, 0.1, 3);
+        assert!(
+            !z_test(&biased, &var, &reference, None, 0.01, 1)
+                .expect("sizes")
+                .passed
+        );
+    }
+}
