@@ -2,7 +2,9 @@
 
 mod bench;
 mod compare;
+mod lpca;
 mod progress;
+mod prt;
 mod raybench;
 mod render;
 mod scene_arg;
@@ -32,6 +34,13 @@ enum Command {
     Compare(compare::CompareArgs),
     /// Run a bench suite (TOML) and write its report (HTML, plots, tables).
     Bench(bench::BenchArgs),
+    /// Compress a matrix (NPY) with k-means, SortMeans, LPCA or SortCluster-LPCA.
+    Lpca(lpca::LpcaArgs),
+    /// Generate a synthetic BTF-like matrix (apparent-BRDF arrangement) as NPY.
+    Btf(lpca::BtfArgs),
+    /// Precomputed radiance transfer matrix (vertices x 6R^2 cubemap lights) of a glossy
+    /// self-shadowing mesh, as NPY.
+    Prt(prt::PrtArgs),
     /// Measure closest-hit and shadow-ray throughput of the ray-query backends.
     Raybench(raybench::RaybenchArgs),
     /// List the built-in scenes and the integrators.
@@ -59,6 +68,9 @@ fn main() -> ExitCode {
         Command::Reference(args) => render::reference(args),
         Command::Compare(args) => compare::run(args),
         Command::Bench(args) => bench::run(args),
+        Command::Lpca(args) => lpca::run(args),
+        Command::Btf(args) => lpca::btf(args),
+        Command::Prt(args) => prt::run(args),
         Command::Raybench(args) => raybench::run(args),
         Command::List => {
             println!("built-in scenes (use as builtin:NAME):");

@@ -252,6 +252,17 @@ pub fn write_report(
         rs = suite.reference.spp,
         base = esc(&suite.techniques[0].label),
     );
+    // Sections in the suite's order of scenes and path lengths.
+    let order = |r: &ReferenceRecord| {
+        let s = suite
+            .scenes
+            .iter()
+            .position(|s| s.scene == r.scene)
+            .unwrap_or(usize::MAX);
+        (s, r.max_depth)
+    };
+    let mut refs: Vec<&ReferenceRecord> = refs.iter().collect();
+    refs.sort_by_key(|r| order(r));
     for reference in refs {
         let ref_img = Image::read(&out.join(&reference.image))?;
         let ev = ref_img.auto_exposure_scale().log2();

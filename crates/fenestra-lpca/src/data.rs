@@ -1,0 +1,41 @@
+//! A data set: n points of dimension d, stored row-major in f32.
+
+use crate::LpcaError;
+
+#[derive(Clone, Debug)]
+pub struct Dataset {
+    pub n: usize,
+    pub d: usize,
+    pub values: Vec<f32>,
+}
+
+impl Dataset {
+    pub fn new(n: usize, d: usize, values: Vec<f32>) -> Result<Self, LpcaError> {
+        if values.len() != n * d {
+            return Err(LpcaError::Input(format!(
+                "{} values do not make {n} rows of {d}",
+                values.len()
+            )));
+        }
+        if n == 0 || d == 0 {
+            return Err(LpcaError::Input("the data set is empty".into()));
+        }
+        if let Some(i) = values.iter().position(|v| !v.is_finite()) {
+            return Err(LpcaError::Input(format!(
+                "row {}, column {}: value is not finite",
+                i / d,
+                i % d
+            )));
+        }
+        Ok(Dataset { n, d, values })
+    }
+
+    pub fn row(&self, i: usize) -> &[f32] {
+        &self.values[i * self.d..(i + 1) * self.d]
+    }
+
+    /// Sum of squared norms of all points.
+    pub fn total_energy(&self) -> f64 {
+        self.values.iter().map(|&v| v as f64 * v as f64).sum()
+    }
+}

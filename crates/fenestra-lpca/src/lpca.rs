@@ -1,0 +1,142 @@
+//! The LPCA driver (Kambhatla-Leen, §3.3.2): seed, then for each (dimension, iterations) of
+//! the schedule alternate fitting subspaces and classifying points. With the SortCluster
+//! algorithm the classification is Alg. 2; everything else is shared, so both produce the
+//! same assignments.
+
+use crate::classify::{self, ClassifyStats};
+use crate::data::Dataset;
+use crate::fit::fit;
+use crate::init::{seed, Init, Seeding};
+use crate::schedule::Schedule;
+use crate::subspace::Subspace;
+use crate::LpcaError;
+use serde::Serialize;
+use std::time::Instant;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub enum Algorithm {
+    /// Exhaustive classification (Lloyd's k-means when the schedule is "0:N").
+    Lpca,
+    /// SortCluster-LPCA (SortMeans when the schedule is "0:N").
+    ScLpca,
+}
+
+impl std::str::FromStr for Algorithm {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "lpca" => Ok(Algorithm::Lpca),
+            "sc-lpca" => Ok(Algorithm::ScLpca),
+            _ => Err(format!(
+                "unknown algorithm '{s}' (expected lpca or sc-lpca)"
+            )),
+        }
+    }
+}
+
+#[derive(Clone, Debug)]
+pub struct Options {
+    pub clusters: usize,
+    pub schedule: Schedule,
+    pub algorithm: Algorithm,
+    pub init: Init,
+    pub seed: u64,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct IterationStats {
+    pub dim: usize,
+    pub iteration: usize,
+    pub fit_seconds: f64,
+    #[serde(flatten)]
+    pub classify: ClassifyStats,
+    /// Objective after this iteration: sum of point-subspace distances.
+    pub phi: f64,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct Outcome {
+    #[serde(skip)]
+    pub assignments: Vec<u32>,
+    #[serde(skip)]
+    pub distances: Vec<f64>,
+    #[serde(skip)]
+    pub models: Vec<Subspace>,
+    pub init: Seeding,
+    /// Exhaustive classification after seeds that give none (random, distance-sum).
+    pub initial_classification: Option<ClassifyStats>,
+    pub iterations: Vec<IterationStats>,
+    /// Seed 003's objective: the sum over points of the distance to their subspace.
+    pub phi: f64,
+    /// Sum of squared distances over the sum of squared norms of the points.
+    pub relative_squared_error: f64,
+    pub classification_seconds: f64,
+    pub distance_evals: u64,
+}
+
+pub fn run(data: &Dataset, options: &Options) -> Result<Outcome, LpcaError> {
+    let k = options.clusters;
+    if k == 0 || k > data.n {
+        return Err(LpcaError::Input(format!(
+            "--clusters must be between 1 and the number of points ({}), got {k}",
+            data.n
+        )));
+    }
+    if options.schedule.max_dim() >= data.d {
+        return Err(LpcaError::Input(format!(
+            "subspace dimension {} must be below the data dimension {}",
+            options.schedule.max_dim(),
+            data.d
+        )));
+    }
+    // Fits run in parallel over clusters; faer itself runs sequentially inside each, which
+    // keeps every result independent of the thread count.
+    faer::set_global_parallelism(faer::Par::Seq);
+    let init = seed(data, k, options.init, options.seed);
+    let mut models: Vec<Subspace> = init
+        .centroids
+        .iter()
+        .map(|&i| Subspace::point(data.row(i).iter().map(|&v| v as f64).collect()))
+        .collect();
+    let (mut assign, mut dist, initial_classification) = match &init.assignment {
+        Some((a, d)) => (a.clone(), d.clone(), None),
+        None => {
+            let (mut a, mut d) = (vec![0u32; data.n], vec![0.0; data.n]);
+            let s = classify::full(data, &models, &mut a, &mut d);
+            (a, d, Some(s))
+        }
+    };
+    let mut iterations = Vec::new();
+    for &(dim, iters) in &options.schedule.0 {
+        for iteration in 0..iters {
+            let t = Instant::now();
+            models = fit(data, &assign, &models, dim);
+            let fit_seconds = t.elapsed().as_secs_f64();
+            let classify = match options.algorithm {
+                Algorithm::Lpca => classify::full(data, &models, &mut assign, &mut dist),
+                Algorithm::ScLpca => classify::sorted(data, &models, &mut assign, &mut dist),
+            };
+            iterations.push(IterationStats {
+                dim,
+                iteration,
+                fit_seconds,
+                classify,
+                phi: dist.iter().sum(),
+            });
+        }
+    }
+    let energy = data.total_energy();
+    Ok(Outcome {
+        phi: dist.iter().sum(),
+        relative_squared_error: dist.iter().map(|d| d * d).sum::<f64>()
+            / energy.max(f64::MIN_POSITIVE),
+        classification_seconds: iterations.iter().map(|i| i.classify.seconds).sum(),
+        distance_evals: iterations.iter().map(|i| i.classify.distance_evals).sum(),
+        assignments: assign,
+        distances: dist,
+        models,
+        init,
+        initial_classification,
+        iterations,
+    })
+}

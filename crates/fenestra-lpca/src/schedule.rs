@@ -1,0 +1,55 @@
+//! Dimension schedules such as (0:15),(2:10),(4:7): subspace dimension and iterations at it.
+
+use crate::LpcaError;
+
+#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize)]
+pub struct Schedule(pub Vec<(usize, usize)>);
+
+impl Schedule {
+    /// Parses "0:15,2:10,4:7" (parentheses allowed: "(0:15),(2:10)").
+    pub fn parse(s: &str) -> Result<Schedule, LpcaError> {
+        let bad = |part: &str| {
+            LpcaError::Input(format!(
+                "bad schedule entry '{part}' in '{s}': expected DIM:ITERATIONS, e.g. 0:15,2:10"
+            ))
+        };
+        let mut out = Vec::new();
+        for part in s
+            .split(',')
+            .map(|p| p.trim().trim_start_matches('(').trim_end_matches(')'))
+            .filter(|p| !p.is_empty())
+        {
+            let (dim, iters) = part.split_once(':').ok_or_else(|| bad(part))?;
+            let dim: usize = dim.trim().parse().map_err(|_| bad(part))?;
+            let iters: usize = iters.trim().parse().map_err(|_| bad(part))?;
+            if iters == 0 {
+                return Err(bad(part));
+            }
+            out.push((dim, iters));
+        }
+        if out.is_empty() {
+            return Err(LpcaError::Input("the schedule is empty".into()));
+        }
+        Ok(Schedule(out))
+    }
+
+    pub fn max_dim(&self) -> usize {
+        self.0.iter().map(|s| s.0).max().unwrap_or(0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parses_the_seed_schedule() {
+        let s = Schedule::parse("(0:15),(2:10),(4:7),(8:5),(12:4),(16:2),(24:1)").expect("valid");
+        assert_eq!(s.0[0], (0, 15));
+        assert_eq!(s.max_dim(), 24);
+        assert_eq!(Schedule::parse("0:3").expect("valid").0, vec![(0, 3)]);
+        assert!(Schedule::parse("0:0").is_err());
+        assert!(Schedule::parse("a:1").is_err());
+        assert!(Schedule::parse("").is_err());
+    }
+}
