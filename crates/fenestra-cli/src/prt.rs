@@ -61,14 +61,15 @@ pub fn knot_mesh(segments: usize, sides: usize) -> TriangleMesh {
         normals.push(n);
     }
     let mut mesh = TriangleMesh::default();
+    let mut centres: Vec<Vec3> = Vec::with_capacity(segments * sides);
     for (i, &t) in ts.iter().enumerate() {
         let (c, tn, nn) = (curve(t), tangents[i], normals[i]);
         let b = tn.cross(nn);
         for j in 0..sides {
             let v = 2.0 * PI * j as f32 / sides as f32;
             let radius = 0.2 * (1.0 + 0.18 * (17.0 * t).sin() * (3.0 * v).cos());
-            mesh.positions
-                .push(c + (nn * v.cos() + b * v.sin()) * radius);
+            mesh.positions.push(c + (nn * v.cos() + b * v.sin()) * radius);
+            centres.push(c);
         }
     }
     let idx = |i: usize, j: usize| ((i % segments) * sides + j % sides) as u32;
@@ -80,7 +81,7 @@ pub fn knot_mesh(segments: usize, sides: usize) -> TriangleMesh {
                 .push([idx(i, j), idx(i + 1, j + 1), idx(i, j + 1)]);
         }
     }
-    // Area-weighted vertex normals.
+    // Area-weighted vertex normals, oriented away from the tube's axis.
     let mut vn = vec![Vec3::ZERO; mesh.positions.len()];
     for t in &mesh.indices {
         let [a, b, c] = t.map(|i| mesh.positions[i as usize]);
@@ -89,7 +90,15 @@ pub fn knot_mesh(segments: usize, sides: usize) -> TriangleMesh {
             vn[i as usize] += fnrm;
         }
     }
-    mesh.normals = Some(vn.into_iter().map(|n| n.normalize_or_zero()).collect());
+    let outward = |(i, n): (usize, Vec3)| {
+        let n = n.normalize_or_zero();
+        if n.dot(mesh.positions[i] - centres[i]) < 0.0 {
+            -n
+        } else {
+            n
+        }
+    };
+    mesh.normals = Some(vn.into_iter().enumerate().map(outward).collect());
     mesh
 }
 

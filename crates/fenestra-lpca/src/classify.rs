@@ -5,7 +5,7 @@
 //! no farther one can be nearer.
 
 use crate::data::Dataset;
-use crate::subspace::{subspace_distance, Subspace};
+use crate::subspace::{subspace_distance, GramBlocks, Subspace};
 use rayon::prelude::*;
 use std::time::Instant;
 
@@ -74,9 +74,10 @@ pub fn sorted_neighbours(models: &[Subspace]) -> Vec<Vec<(f64, u32)>> {
     let pairs: Vec<(usize, usize)> = (0..k)
         .flat_map(|i| (i + 1..k).map(move |j| (i, j)))
         .collect();
+    let gram = GramBlocks::new(models);
     let d: Vec<f64> = pairs
         .par_iter()
-        .map(|&(i, j)| subspace_distance(&models[i], &models[j]))
+        .map(|&(i, j)| subspace_distance(models, &gram, i, j))
         .collect();
     let mut rows = vec![Vec::with_capacity(k.saturating_sub(1)); k];
     for (&(i, j), &dij) in pairs.iter().zip(&d) {
