@@ -118,6 +118,10 @@ pub fn run(args: PrtArgs) -> Result<()> {
     if args.segments < 3 || args.sides < 3 || args.resolution == 0 || args.supersample == 0 {
         bail!("--segments and --sides must be at least 3, --resolution and --supersample positive");
     }
+    let bytes = args.segments as f64 * args.sides as f64 * 6.0 * (args.resolution as f64).powi(2) * 4.0;
+    if bytes > 8.0 * (1u64 << 30) as f64 {
+        bail!("the matrix would take {:.1} GiB; lower --segments, --sides or --resolution", bytes / (1u64 << 30) as f64);
+    }
     let mesh = knot_mesh(args.segments, args.sides);
     let vertex_normals = mesh.normals.clone().context("knot mesh has normals")?;
     let positions = mesh.positions.clone();
