@@ -21,7 +21,7 @@ def per_dim(s):
     return rows
 
 
-print("## Classification per iteration against subspace dimension (k = 256)\n")
+print("## Classification per iteration against subspace dimension (4,096 vertices, k = 128)\n")
 print("| dim | LPCA s | SC-LPCA s (of which D, M) | speed-up | LPCA distances | SC-LPCA distances | ratio |")
 print("|---|---|---|---|---|---|---|")
 a, b = per_dim(stats("dims-lpca")), per_dim(stats("dims-sc-lpca"))
@@ -35,7 +35,7 @@ tb = stats("dims-sc-lpca")["outcome"]["classification_seconds"]
 print(f"\nWhole schedule: LPCA {ta:.1f} s, SC-LPCA {tb:.1f} s ({ta / tb:.1f}x); identical assignments: {same('dims-lpca', 'dims-sc-lpca')}; "
       f"phi {stats('dims-sc-lpca')['outcome']['phi']:.4e}, relative squared error {stats('dims-sc-lpca')['outcome']['relative_squared_error']:.3e}\n")
 
-print("## Against the number of clusters (schedule 0:2,4:1,12:1)\n")
+print("## Against the number of clusters (4,096 vertices, schedule 0:2,4:1,12:1)\n")
 print("| k | dim | LPCA s | SC-LPCA s | speed-up | identical |")
 print("|---|---|---|---|---|---|")
 for k in (32, 64, 128, 256):
@@ -44,7 +44,7 @@ for k in (32, 64, 128, 256):
         x, y = a[dim][-1], b[dim][-1]
         print(f"| {k} | {dim} | {x['seconds']:.2f} | {y['seconds']:.2f} | {x['seconds'] / y['seconds']:.1f}x | {same(f'k{k}-lpca', f'k{k}-sc-lpca')} |")
 
-print("\n## Seeding (k = 256), then 10 SortMeans iterations\n")
+print("\n## Seeding (16,384 vertices, k = 256), then 10 SortMeans iterations\n")
 print("| seeding | latency s | distances | phi after seeding + 10 iterations | relative squared error |")
 print("|---|---|---|---|---|")
 for init in ("random", "distance-sum", "kmeans++", "sortmeans++"):
