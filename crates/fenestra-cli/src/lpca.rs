@@ -101,7 +101,10 @@ pub fn btf(args: BtfArgs) -> Result<()> {
     }
     let bytes = (args.size as f64).powi(2) * args.views as f64 * args.lights as f64 * 8.0;
     if bytes > 8.0 * (1u64 << 30) as f64 {
-        bail!("the matrix would take {:.1} GiB; lower --size, --views or --lights", bytes / (1u64 << 30) as f64);
+        bail!(
+            "the matrix would take {:.1} GiB; lower --size, --views or --lights",
+            bytes / (1u64 << 30) as f64
+        );
     }
     let data = synthetic::btf_like(
         args.size,

@@ -68,7 +68,8 @@ pub fn knot_mesh(segments: usize, sides: usize) -> TriangleMesh {
         for j in 0..sides {
             let v = 2.0 * PI * j as f32 / sides as f32;
             let radius = 0.2 * (1.0 + 0.18 * (17.0 * t).sin() * (3.0 * v).cos());
-            mesh.positions.push(c + (nn * v.cos() + b * v.sin()) * radius);
+            mesh.positions
+                .push(c + (nn * v.cos() + b * v.sin()) * radius);
             centres.push(c);
         }
     }
@@ -118,9 +119,13 @@ pub fn run(args: PrtArgs) -> Result<()> {
     if args.segments < 3 || args.sides < 3 || args.resolution == 0 || args.supersample == 0 {
         bail!("--segments and --sides must be at least 3, --resolution and --supersample positive");
     }
-    let bytes = args.segments as f64 * args.sides as f64 * 6.0 * (args.resolution as f64).powi(2) * 4.0;
+    let bytes =
+        args.segments as f64 * args.sides as f64 * 6.0 * (args.resolution as f64).powi(2) * 4.0;
     if bytes > 8.0 * (1u64 << 30) as f64 {
-        bail!("the matrix would take {:.1} GiB; lower --segments, --sides or --resolution", bytes / (1u64 << 30) as f64);
+        bail!(
+            "the matrix would take {:.1} GiB; lower --segments, --sides or --resolution",
+            bytes / (1u64 << 30) as f64
+        );
     }
     let mesh = knot_mesh(args.segments, args.sides);
     let vertex_normals = mesh.normals.clone().context("knot mesh has normals")?;

@@ -360,25 +360,101 @@ spp = 8
 fn btf_lpca_and_prt_commands_work_end_to_end() {
     let (btf, out, prt) = (tmp("btf.npy"), tmp("lpca-out"), tmp("prt.npy"));
     let s = |p: &Path| p.to_str().expect("utf-8").to_string();
-    let o = fenestra(&["btf", "--size", "8", "--views", "4", "--lights", "4", "--materials", "3", "--dim", "2", "-o", &s(&btf)]);
+    let o = fenestra(&[
+        "btf",
+        "--size",
+        "8",
+        "--views",
+        "4",
+        "--lights",
+        "4",
+        "--materials",
+        "3",
+        "--dim",
+        "2",
+        "-o",
+        &s(&btf),
+    ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     for algorithm in ["lpca", "sc-lpca"] {
         let dir = out.join(algorithm);
-        let o = fenestra(&["lpca", &s(&btf), "--clusters", "3", "--schedule", "0:3,2:2", "--algorithm", algorithm, "-o", &s(&dir)]);
+        let o = fenestra(&[
+            "lpca",
+            &s(&btf),
+            "--clusters",
+            "3",
+            "--schedule",
+            "0:3,2:2",
+            "--algorithm",
+            algorithm,
+            "-o",
+            &s(&dir),
+        ]);
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-        for f in ["assignments.npy", "means.npy", "bases.npy", "dims.npy", "coefficients.npy", "stats.json"] {
+        for f in [
+            "assignments.npy",
+            "means.npy",
+            "bases.npy",
+            "dims.npy",
+            "coefficients.npy",
+            "stats.json",
+        ] {
             assert!(dir.join(f).exists(), "{f}");
         }
-        let stats: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.join("stats.json")).expect("stats")).expect("json");
-        assert_eq!(stats["outcome"]["iterations"].as_array().expect("iterations").len(), 5);
+        let stats: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(dir.join("stats.json")).expect("stats"))
+                .expect("json");
+        assert_eq!(
+            stats["outcome"]["iterations"]
+                .as_array()
+                .expect("iterations")
+                .len(),
+            5
+        );
     }
     let read = |p: PathBuf| std::fs::read(p).expect("npy");
-    assert_eq!(read(out.join("lpca/assignments.npy")), read(out.join("sc-lpca/assignments.npy")));
-    let o = fenestra(&["prt", "--segments", "8", "--sides", "4", "--resolution", "2", "--supersample", "1", "-o", &s(&prt)]);
+    assert_eq!(
+        read(out.join("lpca/assignments.npy")),
+        read(out.join("sc-lpca/assignments.npy"))
+    );
+    let o = fenestra(&[
+        "prt",
+        "--segments",
+        "8",
+        "--sides",
+        "4",
+        "--resolution",
+        "2",
+        "--supersample",
+        "1",
+        "-o",
+        &s(&prt),
+    ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     assert!(String::from_utf8_lossy(&o.stdout).contains("32 vertices x 24 cubemap pixels"));
-    assert_clear_error(&["lpca", "/no/data.npy", "--clusters", "2", "-o", &s(&out)], "/no/data.npy");
-    assert_clear_error(&["lpca", &s(&btf), "--clusters", "2", "--schedule", "0:x", "-o", &s(&out)], "bad schedule entry '0:x'");
-    assert_clear_error(&["lpca", &s(&btf), "--clusters", "1000", "-o", &s(&out)], "--clusters must be between 1 and the number of points (64)");
-    assert_clear_error(&["prt", "--resolution", "4096", "-o", &s(&prt)], "would take");
+    assert_clear_error(
+        &["lpca", "/no/data.npy", "--clusters", "2", "-o", &s(&out)],
+        "/no/data.npy",
+    );
+    assert_clear_error(
+        &[
+            "lpca",
+            &s(&btf),
+            "--clusters",
+            "2",
+            "--schedule",
+            "0:x",
+            "-o",
+            &s(&out),
+        ],
+        "bad schedule entry '0:x'",
+    );
+    assert_clear_error(
+        &["lpca", &s(&btf), "--clusters", "1000", "-o", &s(&out)],
+        "--clusters must be between 1 and the number of points (64)",
+    );
+    assert_clear_error(
+        &["prt", "--resolution", "4096", "-o", &s(&prt)],
+        "would take",
+    );
 }

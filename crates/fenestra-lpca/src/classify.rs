@@ -29,6 +29,30 @@ fn better(dist: f64, idx: u32, best_dist: f64, best_idx: u32) -> bool {
     dist < best_dist || (dist == best_dist && idx < best_idx)
 }
 
+/// Runs `nearest(point, previous cluster, scratch) -> (cluster, distance, evaluations)` for
+/// every point in parallel, updating `assign` and `dist`; returns (evaluations, moved points).
+fn each_point(
+    data: &Dataset,
+    assign: &mut [u32],
+    dist: &mut [f64],
+    nearest: impl Fn(&[f32], u32, &mut [f64]) -> (u32, f64, u64) + Sync,
+) -> (u64, u64) {
+    assign
+        .par_iter_mut()
+        .zip(dist.par_iter_mut())
+        .enumerate()
+        .map_init(
+            || vec![0.0; data.d],
+            |s, (i, (a, d))| {
+                let (best, best_dist, evals) = nearest(data.row(i), *a, s);
+                let moved = (best != *a) as u64;
+                (*a, *d) = (best, best_dist);
+                (evals, moved)
+            },
+        )
+        .reduce(|| (0, 0), |x, y| (x.0 + y.0, x.1 + y.1))
+}
+
 /// Exhaustive search; `assign` and `dist` are overwritten.
 pub fn full(
     data: &Dataset,
@@ -37,31 +61,20 @@ pub fn full(
     dist: &mut [f64],
 ) -> ClassifyStats {
     let start = Instant::now();
-    let changed: u64 = assign
-        .par_iter_mut()
-        .zip(dist.par_iter_mut())
-        .enumerate()
-        .map_init(
-            || vec![0.0; data.d],
-            |s, (i, (a, d))| {
-                let x = data.row(i);
-                let (mut bi, mut bd) = (0u32, f64::INFINITY);
-                for (j, m) in models.iter().enumerate() {
-                    let dj = m.distance(x, s);
-                    if better(dj, j as u32, bd, bi) {
-                        (bi, bd) = (j as u32, dj);
-                    }
-                }
-                let moved = (*a != bi) as u64;
-                (*a, *d) = (bi, bd);
-                moved
-            },
-        )
-        .sum();
+    let (distance_evals, changed) = each_point(data, assign, dist, |x, _, s| {
+        let (mut bi, mut bd) = (0u32, f64::INFINITY);
+        for (j, m) in models.iter().enumerate() {
+            let dj = m.distance(x, s);
+            if better(dj, j as u32, bd, bi) {
+                (bi, bd) = (j as u32, dj);
+            }
+        }
+        (bi, bd, models.len() as u64)
+    });
     ClassifyStats {
         seconds: start.elapsed().as_secs_f64(),
         overhead_seconds: 0.0,
-        distance_evals: (data.n * models.len()) as u64,
+        distance_evals,
         subspace_distance_evals: 0,
         changed,
     }
@@ -99,43 +112,31 @@ pub fn sorted(
     let start = Instant::now();
     let neighbours = sorted_neighbours(models);
     let overhead_seconds = start.elapsed().as_secs_f64();
-    let (evals, changed): (u64, u64) = assign
-        .par_iter_mut()
-        .zip(dist.par_iter_mut())
-        .enumerate()
-        .map_init(
-            || vec![0.0; data.d],
-            |s, (i, (a, d))| {
-                let x = data.row(i);
-                let prev = *a;
-                let model = &models[prev as usize];
-                let d_i = model.distance(x, s);
-                // Rounding bound for the pruning test: distances are accurate to ~1e-15 of
-                // |x - mu|; the margin is many orders larger and still prunes the same.
-                let scale = model.distance_to_mean(x);
-                let (mut bi, mut bd) = (prev, d_i);
-                let mut evals = 1u64;
-                for &(dij, j) in &neighbours[prev as usize] {
-                    if dij - (d_i + bd) > 1e-9 * (dij + d_i + bd + scale) {
-                        break;
-                    }
-                    let dj = models[j as usize].distance(x, s);
-                    evals += 1;
-                    if better(dj, j, bd, bi) {
-                        (bi, bd) = (j, dj);
-                    }
-                }
-                let moved = (bi != prev) as u64;
-                (*a, *d) = (bi, bd);
-                (evals, moved)
-            },
-        )
-        .reduce(|| (0, 0), |x, y| (x.0 + y.0, x.1 + y.1));
+    let (distance_evals, changed) = each_point(data, assign, dist, |x, prev, s| {
+        let model = &models[prev as usize];
+        let d_i = model.distance(x, s);
+        // Rounding bound for the pruning test: distances are accurate to ~1e-15 of |x - mu|
+        // and D is a guaranteed lower bound; the margin is many orders larger than that.
+        let scale = model.distance_to_mean(x);
+        let (mut bi, mut bd) = (prev, d_i);
+        let mut evals = 1u64;
+        for &(dij, j) in &neighbours[prev as usize] {
+            if dij - (d_i + bd) > 1e-9 * (dij + d_i + bd + scale) {
+                break;
+            }
+            let dj = models[j as usize].distance(x, s);
+            evals += 1;
+            if better(dj, j, bd, bi) {
+                (bi, bd) = (j, dj);
+            }
+        }
+        (bi, bd, evals)
+    });
     let k = models.len() as u64;
     ClassifyStats {
         seconds: start.elapsed().as_secs_f64(),
         overhead_seconds,
-        distance_evals: evals,
+        distance_evals,
         subspace_distance_evals: k * k.saturating_sub(1) / 2,
         changed,
     }

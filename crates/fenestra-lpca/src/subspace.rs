@@ -76,7 +76,10 @@ impl GramBlocks {
         offsets.push(columns.len());
         let d = models.first().map_or(0, |m| m.mean.len());
         let b = faer::Mat::<f64>::from_fn(d, columns.len(), |r, c| columns[c][r]);
-        GramBlocks { offsets, gram: b.transpose() * &b }
+        GramBlocks {
+            offsets,
+            gram: b.transpose() * &b,
+        }
     }
 
     /// <dir_i(a), dir_j(b)>.
@@ -108,7 +111,9 @@ pub fn subspace_distance(models: &[Subspace], gram: &GramBlocks, a: usize, b: us
         gram.get(x, xi, y, yj)
     });
     let rhs = faer::Mat::<f64>::from_fn(m, 1, |i, _| dot(k[i], &delta));
-    let Ok(eigenvalues) = g.self_adjoint_eigenvalues(faer::Side::Lower) else { return 0.0 };
+    let Ok(eigenvalues) = g.self_adjoint_eigenvalues(faer::Side::Lower) else {
+        return 0.0;
+    };
     let lambda_max = eigenvalues.last().copied().unwrap_or(0.0);
     let z = match g.llt(faer::Side::Lower) {
         Ok(llt) => {
@@ -131,7 +136,11 @@ pub fn subspace_distance(models: &[Subspace], gram: &GramBlocks, a: usize, b: us
     let upper = dot(&r, &r).sqrt();
     // |P r| <= |K^T r| / sqrt(lambda_min) on span(K); directions with eigenvalues below the
     // rounding level are shared by both subspaces and r has no component along them.
-    let lambda_min = eigenvalues.iter().copied().find(|&l| l > 1e-10 * lambda_max).unwrap_or(0.0);
+    let lambda_min = eigenvalues
+        .iter()
+        .copied()
+        .find(|&l| l > 1e-10 * lambda_max)
+        .unwrap_or(0.0);
     if lambda_min <= 0.0 {
         return 0.0;
     }
@@ -179,7 +188,10 @@ mod tests {
         // Intersecting lines: 0.
         let d = line([2.0, -1.0, 0.0], [0.0, 1.0, 0.0]);
         assert!(dist(&a, &d).abs() < 1e-12);
-        let (p, q) = (Subspace::point(vec![0.0, 0.0, 0.0]), Subspace::point(vec![3.0, 4.0, 0.0]));
+        let (p, q) = (
+            Subspace::point(vec![0.0, 0.0, 0.0]),
+            Subspace::point(vec![3.0, 4.0, 0.0]),
+        );
         assert!((dist(&p, &q) - 5.0).abs() < 1e-12);
         // A line and a point: distance from the point to the line.
         assert!((dist(&a, &q) - 4.0).abs() < 1e-9);
