@@ -114,9 +114,8 @@ mod tests {
             let g = |k: u32| {
                 (0..12)
                     .map(|j| {
-                        fenestra_core::sampler::hash_u32(
-                            seed ^ (i as u32 * 97 + k * 13 + j) * 2654435761,
-                        ) as f32
+                        let key = (i as u32).wrapping_mul(97).wrapping_add(k * 13 + j);
+                        fenestra_core::sampler::hash_combine(seed, key) as f32
                             / u32::MAX as f32
                     })
                     .sum::<f32>()
