@@ -115,8 +115,7 @@ mod tests {
                 (0..12)
                     .map(|j| {
                         let key = (i as u32).wrapping_mul(97).wrapping_add(k * 13 + j);
-                        fenestra_core::sampler::hash_combine(seed, key) as f32
-                            / u32::MAX as f32
+                        fenestra_core::sampler::hash_combine(seed, key) as f32 / u32::MAX as f32
                     })
                     .sum::<f32>()
                     - 6.0
