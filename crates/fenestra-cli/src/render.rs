@@ -115,6 +115,10 @@ fn parse_resolution(s: &str) -> Result<(u32, u32)> {
     if w == 0 || h == 0 || w > 65536 || h > 65536 {
         bail!(bad());
     }
+    // The film keeps 56 bytes per pixel (sums and squares in f64, a count).
+    if w as u64 * h as u64 > 1 << 28 {
+        bail!("resolution {w}x{h} is too large: at most 268 million pixels (about 15 GB of film)");
+    }
     Ok((w, h))
 }
 

@@ -458,3 +458,20 @@ fn btf_lpca_and_prt_commands_work_end_to_end() {
         "would take",
     );
 }
+
+#[test]
+fn an_impossibly_large_film_is_refused_before_allocating() {
+    let out = tmp("huge.exr");
+    let o = out.to_str().expect("utf-8");
+    assert_clear_error(
+        &[
+            "render",
+            "builtin:box-hole",
+            "--resolution",
+            "65536x65536",
+            "-o",
+            o,
+        ],
+        "too large",
+    );
+}
