@@ -138,6 +138,7 @@ pub fn run(args: PrtArgs) -> Result<()> {
         camera: Camera::look_at(Vec3::new(0.0, -4.0, 1.0), Vec3::ZERO, Vec3::Z, 45.0)
             .map_err(anyhow::Error::msg)?,
         defaults: RenderDefaults::default(),
+        portals: Vec::new(),
     };
     let scene = Scene::build(desc, Backend::default())?;
     let (r, s) = (args.resolution, args.supersample);

@@ -14,8 +14,9 @@ pub use integrator::{Integrator, RenderControl, RenderSettings};
 pub use stats::RenderStats;
 
 use bsdf::Bsdf;
-use fenestra_scene::Scene;
+use fenestra_scene::{Material, Scene, SurfaceInteraction};
 use light::{LightSampler, Lights, PowerLightSampler, UniformLightSampler};
+use std::borrow::Cow;
 
 /// How lights are chosen for next-event estimation.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
@@ -58,6 +59,18 @@ impl RenderScene {
             bsdfs,
             lights,
             light_sampler,
+        }
+    }
+
+    /// The BSDF at a surface point: the material's, with textured reflectance looked up at
+    /// the point's uv.
+    pub fn bsdf_at(&self, si: &SurfaceInteraction) -> Cow<'_, Bsdf> {
+        let material = self.scene.shapes[si.shape].material;
+        match &self.scene.materials[material] {
+            Material::TexturedDiffuse { texture } => Cow::Owned(Bsdf::Diffuse(bsdf::Diffuse {
+                reflectance: texture.lookup(si.uv),
+            })),
+            _ => Cow::Borrowed(&self.bsdfs[material]),
         }
     }
 }

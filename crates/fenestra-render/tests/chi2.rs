@@ -366,6 +366,7 @@ fn light_scene(shapes: Vec<Shape>, lights: Vec<LightDesc>) -> Scene {
         lights,
         camera,
         defaults: RenderDefaults::default(),
+        portals: Vec::new(),
     };
     Scene::build(desc, Backend::Obvhs).expect("scene")
 }

@@ -31,6 +31,7 @@ fn furnace(albedo: f32, le: f32) -> SceneDesc {
         )
         .expect("camera"),
         defaults: RenderDefaults::default(),
+        portals: Vec::new(),
     }
 }
 

@@ -2,14 +2,25 @@
 
 use fenestra_core::{Ray, Vec2, Vec3};
 
+/// How the field of view is given.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum FieldOfView {
+    /// Vertical angle in degrees (fenestra's built-in scenes).
+    Vertical(f32),
+    /// Angle in degrees across the shorter image axis (pbrt-v4's "fov").
+    ShorterAxis(f32),
+}
+
 #[derive(Clone, Debug)]
 pub struct Camera {
     pub position: Vec3,
     forward: Vec3,
     right: Vec3,
     up: Vec3,
-    /// Vertical field of view in degrees.
-    pub fov_y: f32,
+    pub fov: FieldOfView,
+    /// pbrt's "screenwindow" (x0, x1, y0, y1) in units of tan(fov / 2); the default spans
+    /// the field of view with the image's aspect ratio.
+    pub screen_window: Option<[f32; 4]>,
 }
 
 impl Camera {
@@ -23,29 +34,83 @@ impl Camera {
                 "degenerate camera: eye {eye}, target {target}, up {up}"
             ));
         }
-        if !(fov_y > 0.0 && fov_y < 180.0) {
-            return Err(format!("field of view {fov_y} must be in (0, 180) degrees"));
-        }
-        Ok(Camera {
-            position: eye,
+        Self::from_basis(
+            eye,
             forward,
             right,
-            up: right.cross(forward),
-            fov_y,
+            right.cross(forward),
+            FieldOfView::Vertical(fov_y),
+            None,
+        )
+    }
+
+    /// A camera whose film spans `right` (image x) and `up` (image y) around `forward`: a
+    /// film point (sx, sy) in units of tan(fov / 2) looks along forward + sx right + sy up.
+    /// The basis may be left-handed (pbrt-v4's is) and is used as given.
+    pub fn from_basis(
+        position: Vec3,
+        forward: Vec3,
+        right: Vec3,
+        up: Vec3,
+        fov: FieldOfView,
+        screen_window: Option<[f32; 4]>,
+    ) -> Result<Self, String> {
+        let (FieldOfView::Vertical(angle) | FieldOfView::ShorterAxis(angle)) = fov;
+        if !(angle > 0.0 && angle < 180.0) {
+            return Err(format!("field of view {angle} must be in (0, 180) degrees"));
+        }
+        let finite = [position, forward, right, up].iter().all(|v| v.is_finite());
+        if !finite || forward.cross(right).length() < 1e-12 || up.length() < 1e-12 {
+            return Err(format!(
+                "degenerate camera: position {position}, forward {forward}, right {right}, up {up}"
+            ));
+        }
+        if let Some(w) = screen_window {
+            if !w.iter().all(|v| v.is_finite()) || w[0] >= w[1] || w[2] >= w[3] {
+                return Err(format!(
+                    "screen window {w:?} must be finite with x0 < x1 and y0 < y1"
+                ));
+            }
+        }
+        Ok(Camera {
+            position,
+            forward,
+            right,
+            up,
+            fov,
+            screen_window,
         })
     }
 
+    /// Unit viewing direction.
     pub fn forward(&self) -> Vec3 {
-        self.forward
+        self.forward.normalize()
+    }
+
+    /// The film basis (forward, right, up) as given.
+    pub fn basis(&self) -> (Vec3, Vec3, Vec3) {
+        (self.forward, self.right, self.up)
+    }
+
+    /// The film's extent (x0, x1, y0, y1) in the camera's tangent plane for a `width` x
+    /// `height` image.
+    pub fn window(&self, width: u32, height: u32) -> [f32; 4] {
+        let aspect = width as f32 / height as f32;
+        let (angle, base) = match self.fov {
+            FieldOfView::Vertical(a) => (a, [-aspect, aspect, -1.0, 1.0]),
+            FieldOfView::ShorterAxis(a) if aspect >= 1.0 => (a, [-aspect, aspect, -1.0, 1.0]),
+            FieldOfView::ShorterAxis(a) => (a, [-1.0, 1.0, -1.0 / aspect, 1.0 / aspect]),
+        };
+        let t = (0.5 * angle.to_radians()).tan();
+        self.screen_window.unwrap_or(base).map(|v| v * t)
     }
 
     /// The primary ray through film position `film` (pixels, x right, y down, (0,0) the top
     /// left corner of the image) on a `width` x `height` film.
     pub fn generate_ray(&self, film: Vec2, width: u32, height: u32) -> Ray {
-        let tan_half = (0.5 * self.fov_y.to_radians()).tan();
-        let aspect = width as f32 / height as f32;
-        let sx = (2.0 * film.x / width as f32 - 1.0) * tan_half * aspect;
-        let sy = (1.0 - 2.0 * film.y / height as f32) * tan_half;
+        let [x0, x1, y0, y1] = self.window(width, height);
+        let sx = x0 + (x1 - x0) * film.x / width as f32;
+        let sy = y1 - (y1 - y0) * film.y / height as f32;
         Ray::new(
             self.position,
             (self.forward + self.right * sx + self.up * sy).normalize(),

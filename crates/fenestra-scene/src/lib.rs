@@ -8,13 +8,17 @@ pub mod camera;
 pub mod interaction;
 pub mod light;
 pub mod material;
+pub mod mesh;
+pub mod pbrt;
 pub mod scene;
 pub mod shape;
+pub mod texture;
 
 pub use accel::{Backend, Hit, RayQuery};
-pub use camera::Camera;
+pub use camera::{Camera, FieldOfView};
 pub use interaction::SurfaceInteraction;
 pub use light::{Emission, EnvironmentDesc, LightDesc};
 pub use material::Material;
 pub use scene::{RenderDefaults, Scene, SceneDesc, SceneError};
 pub use shape::{Shape, ShapeKind, TriangleMesh};
+pub use texture::ImageTexture;

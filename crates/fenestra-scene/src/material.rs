@@ -1,16 +1,23 @@
 //! Materials as parameters; the render crate's bsdf module evaluates and samples them.
 
+use crate::texture::ImageTexture;
 use fenestra_core::Rgb;
+use std::sync::Arc;
 
 #[derive(Clone, Debug)]
 pub enum Material {
     /// Lambertian reflector.
     Diffuse { reflectance: Rgb },
+    /// Lambertian reflector whose reflectance comes from an image texture.
+    TexturedDiffuse { texture: Arc<ImageTexture> },
     /// Perfect specular reflector.
     Mirror { reflectance: Rgb },
     /// Smooth dielectric interface with Fresnel reflection and refraction (seed 000 §2.4);
     /// `eta` is the interior index over the exterior one.
     Dielectric { eta: f32 },
+    /// A thin dielectric sheet (a window pane): specular reflection with the sheet's total
+    /// reflectance including inter-reflections, straight transmission of the rest.
+    ThinDielectric { eta: f32 },
     /// Energy-normalised Phong: kd/pi + ks (n+2)/(2 pi) cos^n(alpha).
     Phong {
         diffuse: Rgb,
@@ -50,7 +57,9 @@ impl Material {
             Material::Diffuse { reflectance: r } | Material::Mirror { reflectance: r } => {
                 (!rgb_ok(r)).then(|| format!("reflectance {r:?} must be finite and non-negative"))
             }
-            Material::Dielectric { eta } | Material::RoughDielectric { eta, .. }
+            Material::Dielectric { eta }
+            | Material::ThinDielectric { eta }
+            | Material::RoughDielectric { eta, .. }
                 if !(eta.is_finite() && *eta > 0.0) =>
             {
                 Some(format!("index of refraction {eta} must be positive"))

@@ -39,6 +39,9 @@ pub struct SceneDesc {
     pub lights: Vec<LightDesc>,
     pub camera: Camera,
     pub defaults: RenderDefaults,
+    /// Light portals given by the scene (pbrt-v4's "point3 portal" of an infinite light):
+    /// planar quads, corners in order.
+    pub portals: Vec<[Vec3; 4]>,
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -75,6 +78,7 @@ pub struct Scene {
     pub lights: Vec<LightDesc>,
     pub camera: Camera,
     pub defaults: RenderDefaults,
+    pub portals: Vec<[Vec3; 4]>,
     pub backend: Backend,
     accel: Box<dyn RayQuery>,
     bounds: (Vec3, Vec3),
@@ -104,6 +108,7 @@ impl Scene {
             lights: desc.lights,
             camera: desc.camera,
             defaults: desc.defaults,
+            portals: desc.portals,
             backend,
             accel,
             bounds: (lo, hi),

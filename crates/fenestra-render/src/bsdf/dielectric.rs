@@ -32,3 +32,32 @@ impl SmoothDielectric {
         })
     }
 }
+
+/// A thin dielectric sheet (pbrt's "thindielectric"): both interfaces of a pane in one
+/// surface. The pane's reflectance sums the inter-reflections, R' = R + T^2 R / (1 - R^2);
+/// the rest passes straight through, back into the medium it came from.
+#[derive(Clone, Debug)]
+pub struct ThinDielectric {
+    pub eta: f32,
+}
+
+impl ThinDielectric {
+    pub fn sample(&self, wo: Vec3, uc: f32) -> Option<BsdfSample> {
+        let mut r = fresnel::dielectric(wo.z.abs(), self.eta);
+        if r < 1.0 {
+            let t = 1.0 - r;
+            r += t * t * r / (1.0 - r * r);
+        }
+        let (wi, pdf) = if uc < r {
+            (reflect_z(wo), r)
+        } else {
+            (-wo, 1.0 - r)
+        };
+        (pdf > 0.0).then_some(BsdfSample {
+            wi,
+            weight: Rgb::ONE,
+            pdf,
+            delta: true,
+        })
+    }
+}

@@ -13,7 +13,7 @@ mod rough_dielectric;
 mod ward;
 
 pub use conductor::RoughConductor;
-pub use dielectric::SmoothDielectric;
+pub use dielectric::{SmoothDielectric, ThinDielectric};
 pub use diffuse::Diffuse;
 pub use mirror::Mirror;
 pub use phong::Phong;
@@ -62,6 +62,7 @@ pub enum Bsdf {
     Diffuse(Diffuse),
     Mirror(Mirror),
     SmoothDielectric(SmoothDielectric),
+    ThinDielectric(ThinDielectric),
     Phong(Phong),
     Ward(Ward),
     RoughConductor(RoughConductor),
@@ -82,6 +83,11 @@ impl Bsdf {
     pub fn from_material(m: &Material) -> Bsdf {
         match *m {
             Material::Diffuse { reflectance } => Bsdf::Diffuse(Diffuse { reflectance }),
+            // The mean stands in until a hit point's texture lookup replaces it.
+            Material::TexturedDiffuse { ref texture } => Bsdf::Diffuse(Diffuse {
+                reflectance: texture.average(),
+            }),
+            Material::ThinDielectric { eta } => Bsdf::ThinDielectric(ThinDielectric { eta }),
             Material::Mirror { reflectance } => Bsdf::Mirror(Mirror { reflectance }),
             Material::Dielectric { eta } => Bsdf::SmoothDielectric(SmoothDielectric { eta }),
             Material::Phong {
@@ -109,12 +115,18 @@ impl Bsdf {
 
     /// Whether every lobe is a Dirac delta (light sampling is pointless there).
     pub fn is_delta(&self) -> bool {
-        matches!(self, Bsdf::Mirror(_) | Bsdf::SmoothDielectric(_))
+        matches!(
+            self,
+            Bsdf::Mirror(_) | Bsdf::SmoothDielectric(_) | Bsdf::ThinDielectric(_)
+        )
     }
 
     /// Whether the material transmits (otherwise it is opaque and two-sided).
     pub fn is_transmissive(&self) -> bool {
-        matches!(self, Bsdf::SmoothDielectric(_) | Bsdf::RoughDielectric(_))
+        matches!(
+            self,
+            Bsdf::SmoothDielectric(_) | Bsdf::ThinDielectric(_) | Bsdf::RoughDielectric(_)
+        )
     }
 
     /// BSDF value f(wo, wi) (without the cosine).
@@ -130,7 +142,10 @@ impl Bsdf {
             Bsdf::Phong(b) => b.eval(wo, wi),
             Bsdf::Ward(b) => b.eval(wo, wi),
             Bsdf::RoughConductor(b) => b.eval(wo, wi),
-            Bsdf::Mirror(_) | Bsdf::SmoothDielectric(_) | Bsdf::RoughDielectric(_) => Rgb::ZERO,
+            Bsdf::Mirror(_)
+            | Bsdf::SmoothDielectric(_)
+            | Bsdf::ThinDielectric(_)
+            | Bsdf::RoughDielectric(_) => Rgb::ZERO,
         }
     }
 
@@ -147,7 +162,10 @@ impl Bsdf {
             Bsdf::Phong(b) => b.pdf(wo, wi),
             Bsdf::Ward(b) => b.pdf(wo, wi),
             Bsdf::RoughConductor(b) => b.pdf(wo, wi),
-            Bsdf::Mirror(_) | Bsdf::SmoothDielectric(_) | Bsdf::RoughDielectric(_) => 0.0,
+            Bsdf::Mirror(_)
+            | Bsdf::SmoothDielectric(_)
+            | Bsdf::ThinDielectric(_)
+            | Bsdf::RoughDielectric(_) => 0.0,
         }
     }
 
@@ -158,6 +176,7 @@ impl Bsdf {
         }
         match self {
             Bsdf::SmoothDielectric(b) => return b.sample(wo, uc),
+            Bsdf::ThinDielectric(b) => return b.sample(wo, uc),
             Bsdf::RoughDielectric(b) => return b.sample(wo, uc, u),
             _ => {}
         }
@@ -169,7 +188,7 @@ impl Bsdf {
             Bsdf::Phong(b) => b.sample(wo, uc, u),
             Bsdf::Ward(b) => b.sample(wo, uc, u),
             Bsdf::RoughConductor(b) => b.sample(wo, u),
-            Bsdf::SmoothDielectric(_) | Bsdf::RoughDielectric(_) => None,
+            Bsdf::SmoothDielectric(_) | Bsdf::ThinDielectric(_) | Bsdf::RoughDielectric(_) => None,
         }?;
         let ok = s.wi.z > 0.0 && s.pdf > 0.0 && s.weight.is_finite();
         ok.then(|| BsdfSample {

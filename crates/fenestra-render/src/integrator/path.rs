@@ -177,7 +177,8 @@ impl PathEstimator for PathTracer {
             if segments >= max_depth {
                 break;
             }
-            let bsdf = &scene.bsdfs[scene.scene.shapes[si.shape].material];
+            let bsdf = scene.bsdf_at(&si);
+            let bsdf = bsdf.as_ref();
             let frame = si.shading_frame();
             let wo_local = frame.to_local(wo);
             if self.nee && !bsdf.is_delta() {

@@ -129,6 +129,7 @@ pub fn box_scene(variant: Variant) -> SceneDesc {
             spp: 64,
             max_depth: 6,
         },
+        portals: Vec::new(),
     }
 }
 

@@ -1,0 +1,158 @@
+//! Wavefront OBJ with MTL materials through tobj. MTL maps onto fenestra materials as:
+//! Ke > 0 -> diffuse area emission; d < 1 or illum 4/6/7/9 -> smooth dielectric of index Ni
+//! (1.5 if absent); Ks > 0 -> normalised Phong (Kd, Ks, Ns); map_Kd -> textured diffuse;
+//! otherwise Lambertian Kd (0.5 when absent).
+
+use super::MeshError;
+use crate::texture::ImageTexture;
+use crate::{Material, TriangleMesh};
+use fenestra_core::image::Image;
+use fenestra_core::{Rgb, Vec2, Vec3};
+use std::path::Path;
+use std::sync::Arc;
+
+/// An OBJ file's meshes, each with an index into `materials`.
+pub struct ObjModel {
+    pub meshes: Vec<(TriangleMesh, usize)>,
+    /// Materials with their emitted radiance (Ke), if any; the last is the default material
+    /// of faces without one.
+    pub materials: Vec<(Material, Option<Rgb>)>,
+    /// Problems that did not stop loading (a missing MTL file, an unreadable texture).
+    pub warnings: Vec<String>,
+}
+
+pub fn read(path: &Path) -> Result<ObjModel, MeshError> {
+    let err = |reason: String| MeshError {
+        path: path.to_path_buf(),
+        reason,
+    };
+    let (models, mtl) =
+        tobj::load_obj(path, &tobj::GPU_LOAD_OPTIONS).map_err(|e| err(e.to_string()))?;
+    let mut warnings = Vec::new();
+    let mtl = mtl.unwrap_or_else(|e| {
+        warnings.push(format!("{}: materials not loaded ({e})", path.display()));
+        Vec::new()
+    });
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let mut materials: Vec<(Material, Option<Rgb>)> =
+        mtl.iter().map(|m| convert(m, dir, &mut warnings)).collect();
+    let default = materials.len();
+    materials.push((Material::diffuse(0.5), None));
+    let mut meshes = Vec::new();
+    for m in &models {
+        let mesh = &m.mesh;
+        let n = mesh.positions.len() / 3;
+        let vec3s = |v: &[f32]| -> Vec<Vec3> {
+            v.chunks_exact(3)
+                .map(|c| Vec3::new(c[0], c[1], c[2]))
+                .collect()
+        };
+        let normals = (mesh.normals.len() == 3 * n && n > 0).then(|| vec3s(&mesh.normals));
+        let uvs = (mesh.texcoords.len() == 2 * n && n > 0).then(|| {
+            mesh.texcoords
+                .chunks_exact(2)
+                .map(|c| Vec2::new(c[0], c[1]))
+                .collect()
+        });
+        let indices: Vec<[u32; 3]> = mesh
+            .indices
+            .chunks_exact(3)
+            .map(|c| [c[0], c[1], c[2]])
+            .collect();
+        if let Some(bad) = indices.iter().flatten().find(|&&i| i as usize >= n) {
+            return Err(err(format!("object '{}' uses vertex {bad} of {n}", m.name)));
+        }
+        if indices.is_empty() {
+            continue;
+        }
+        let material = mesh.material_id.filter(|&i| i < default).unwrap_or(default);
+        meshes.push((
+            TriangleMesh {
+                positions: vec3s(&mesh.positions),
+                normals,
+                uvs,
+                indices,
+            },
+            material,
+        ));
+    }
+    if meshes.is_empty() {
+        return Err(err("no triangles".into()));
+    }
+    Ok(ObjModel {
+        meshes,
+        materials,
+        warnings,
+    })
+}
+
+fn convert(m: &tobj::Material, dir: &Path, warnings: &mut Vec<String>) -> (Material, Option<Rgb>) {
+    let rgb = |c: Option<[f32; 3]>| c.map(Rgb::from);
+    let kd = rgb(m.diffuse).unwrap_or(Rgb::splat(0.5));
+    let ks = rgb(m.specular).unwrap_or(Rgb::ZERO);
+    let emission = rgb(m.emissive).filter(|e| e.max_component() > 0.0);
+    let transparent =
+        m.dissolve.is_some_and(|d| d < 1.0) || matches!(m.illumination_model, Some(4 | 6 | 7 | 9));
+    let material = if transparent {
+        Material::Dielectric {
+            eta: m.optical_density.filter(|&n| n > 0.0).unwrap_or(1.5),
+        }
+    } else if let Some(tex) = &m.diffuse_texture {
+        let p = dir.join(tex.replace('\\', "/"));
+        match Image::read(&p) {
+            Ok(img) => Material::TexturedDiffuse {
+                texture: Arc::new(ImageTexture::new(Arc::new(img), p)),
+            },
+            Err(e) => {
+                warnings.push(format!(
+                    "material '{}': texture not loaded ({e}); using Kd",
+                    m.name
+                ));
+                Material::Diffuse { reflectance: kd }
+            }
+        }
+    } else if ks.max_component() > 0.0 {
+        Material::Phong {
+            diffuse: kd,
+            specular: ks,
+            exponent: m.shininess.unwrap_or(10.0).max(0.0),
+        }
+    } else {
+        Material::Diffuse { reflectance: kd }
+    };
+    (material, emission)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reads_mtl_materials() {
+        let dir = std::env::temp_dir().join(format!("fenestra-obj-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("dir");
+        std::fs::write(
+            dir.join("m.mtl"),
+            "newmtl lamp\nKd 0 0 0\nKe 5 5 4\nnewmtl glass\nNi 1.33\nd 0.2\n\
+             newmtl shiny\nKd 0.2 0.3 0.4\nKs 0.5 0.5 0.5\nNs 80\n",
+        )
+        .expect("mtl");
+        std::fs::write(
+            dir.join("m.obj"),
+            "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nusemtl lamp\nf 1 2 3\n\
+             usemtl glass\nf 1 3 4\no other\nusemtl shiny\nf 1 2 3 4\n",
+        )
+        .expect("obj");
+        let m = read(&dir.join("m.obj")).expect("read");
+        let tris: usize = m.meshes.iter().map(|(t, _)| t.indices.len()).sum();
+        assert_eq!(tris, 4);
+        assert_eq!(m.materials[0].1, Some(Rgb::new(5.0, 5.0, 4.0)));
+        assert!(
+            matches!(m.materials[1].0, Material::Dielectric { eta } if (eta - 1.33).abs() < 1e-6)
+        );
+        assert!(matches!(m.materials[2].0, Material::Phong { exponent, .. } if exponent == 80.0));
+        std::fs::write(dir.join("bad.obj"), "v 0 0 0\nf 1 2 3\n").expect("obj");
+        assert!(read(&dir.join("bad.obj")).is_err());
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}

@@ -1,0 +1,628 @@
+//! The graphics state machine of pbrt-v4: transforms, attribute stack, named coordinate
+//! systems, materials, textures and object instances, turning directives into a `SceneDesc`.
+
+use super::lexer::tokenize;
+use super::parser::{parse, Directive};
+use super::{Loc, PbrtError, Warning};
+use crate::texture::ImageTexture;
+use crate::{Camera, FieldOfView, LightDesc, Material, RenderDefaults, SceneDesc, Shape};
+use fenestra_core::image::Image;
+use fenestra_core::{Rgb, Vec3};
+use glam::{DMat4, DVec3};
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// How deep Include may nest before it is taken for a cycle.
+const MAX_INCLUDE_DEPTH: usize = 32;
+
+/// An area light attached to the shapes that follow ("AreaLightSource diffuse").
+#[derive(Clone, Debug)]
+pub(super) struct AreaSpec {
+    pub radiance: Rgb,
+    pub two_sided: bool,
+    /// Total emitted power (W) of each shape, replacing the radiance's magnitude.
+    pub power: Option<f32>,
+}
+
+#[derive(Clone, Debug)]
+pub(super) struct GraphicsState {
+    pub ctm: DMat4,
+    pub reverse: bool,
+    pub material: usize,
+    pub area: Option<AreaSpec>,
+}
+
+struct Saved {
+    state: GraphicsState,
+    transform_only: bool,
+    loc: Loc,
+}
+
+/// A named texture.
+#[derive(Clone, Debug)]
+pub(super) enum Tex {
+    Rgb(Rgb),
+    Image(Arc<ImageTexture>),
+}
+
+struct CameraSpec {
+    camera_from_world: DMat4,
+    fov: f32,
+    screen_window: Option<[f32; 4]>,
+    loc: Loc,
+}
+
+pub(super) struct Builder {
+    pub shapes: Vec<Shape>,
+    pub materials: Vec<Material>,
+    pub lights: Vec<LightDesc>,
+    pub portals: Vec<[Vec3; 4]>,
+    pub gs: GraphicsState,
+    stack: Vec<Saved>,
+    named_coords: HashMap<String, DMat4>,
+    named_materials: HashMap<String, usize>,
+    pub textures: HashMap<String, Tex>,
+    images: HashMap<PathBuf, Arc<Image>>,
+    objects: HashMap<String, Vec<Shape>>,
+    /// The instance being defined (ObjectBegin .. ObjectEnd) and its shapes.
+    pub object: Option<(String, Vec<Shape>)>,
+    camera: Option<CameraSpec>,
+    defaults: RenderDefaults,
+    warnings: Vec<Warning>,
+    warning_index: HashMap<String, usize>,
+    depth: usize,
+}
+
+impl Builder {
+    pub fn new() -> Self {
+        Builder {
+            shapes: Vec::new(),
+            // pbrt-v4's default material: diffuse, reflectance 0.5.
+            materials: vec![Material::diffuse(0.5)],
+            lights: Vec::new(),
+            portals: Vec::new(),
+            gs: GraphicsState {
+                ctm: DMat4::IDENTITY,
+                reverse: false,
+                material: 0,
+                area: None,
+            },
+            stack: Vec::new(),
+            named_coords: HashMap::new(),
+            named_materials: HashMap::new(),
+            textures: HashMap::new(),
+            images: HashMap::new(),
+            objects: HashMap::new(),
+            object: None,
+            camera: None,
+            defaults: RenderDefaults {
+                width: 1280,
+                height: 720,
+                spp: 16,
+                max_depth: 6,
+            },
+            warnings: Vec::new(),
+            warning_index: HashMap::new(),
+            depth: 0,
+        }
+    }
+
+    /// Records something unsupported; repeated kinds are counted, not repeated.
+    pub fn warn(&mut self, what: impl Into<String>, loc: &Loc) {
+        let what = what.into();
+        match self.warning_index.get(&what) {
+            Some(&i) => self.warnings[i].count += 1,
+            None => {
+                self.warning_index.insert(what.clone(), self.warnings.len());
+                self.warnings.push(Warning {
+                    what,
+                    count: 1,
+                    first: loc.clone(),
+                });
+            }
+        }
+    }
+
+    /// Parses and runs the file `path` whose contents are `bytes`; `from` is the Include
+    /// directive that named it.
+    pub fn run_bytes(
+        &mut self,
+        bytes: &[u8],
+        path: &Path,
+        from: Option<&Loc>,
+    ) -> Result<(), PbrtError> {
+        let file = Arc::new(path.to_path_buf());
+        let text = std::str::from_utf8(bytes).map_err(|e| {
+            let good = &bytes[..e.valid_up_to()];
+            let line = good.iter().filter(|&&b| b == b'\n').count() as u32 + 1;
+            let line_start = good.iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1);
+            let col = String::from_utf8_lossy(&good[line_start..]).chars().count() as u32 + 1;
+            let bad = bytes[e.valid_up_to()];
+            let gz = if bytes.starts_with(&[0x1f, 0x8b]) {
+                " (gzip-compressed scene files are not supported: decompress it first)"
+            } else {
+                ""
+            };
+            PbrtError {
+                loc: Loc {
+                    file: file.clone(),
+                    line,
+                    col,
+                },
+                msg: format!("not a text file: invalid UTF-8 byte 0x{bad:02x}{gz}"),
+            }
+        })?;
+        let tokens = tokenize(text, &file)?;
+        let end = tokens.last().map_or(
+            Loc {
+                file: file.clone(),
+                line: 1,
+                col: 1,
+            },
+            |t| t.loc.clone(),
+        );
+        let directives = parse(&tokens, end)?;
+        if directives.is_empty() && from.is_none() {
+            return Err(PbrtError::at(
+                &Loc {
+                    file,
+                    line: 1,
+                    col: 1,
+                },
+                "the scene file has no directives (empty or only comments)",
+            ));
+        }
+        let dir = path.parent().unwrap_or(Path::new("")).to_path_buf();
+        for d in &directives {
+            self.directive(d, &dir)?;
+            for p in d.params.unused() {
+                let what = format!(
+                    "parameter \"{} {}\" of {} \"{}\"",
+                    p.ty,
+                    p.name,
+                    d.name,
+                    d.str(0)
+                );
+                self.warn(what, &p.loc);
+            }
+        }
+        Ok(())
+    }
+
+    fn include(&mut self, d: &Directive, dir: &Path) -> Result<(), PbrtError> {
+        let path = dir.join(d.str(0));
+        if self.depth >= MAX_INCLUDE_DEPTH {
+            return Err(PbrtError::at(
+                &d.loc,
+                format!(
+                    "{} nests more than {MAX_INCLUDE_DEPTH} files deep (an include cycle?)",
+                    d.name
+                ),
+            ));
+        }
+        if path.extension().is_some_and(|e| e == "gz") {
+            return Err(PbrtError::at(
+                &d.loc,
+                format!(
+                    "{}: gzip-compressed scene files are not supported",
+                    path.display()
+                ),
+            ));
+        }
+        let bytes = std::fs::read(&path).map_err(|e| {
+            PbrtError::at(
+                &d.loc,
+                format!("cannot read included file {}: {e}", path.display()),
+            )
+        })?;
+        self.depth += 1;
+        let r = self.run_bytes(&bytes, &path, Some(&d.loc));
+        self.depth -= 1;
+        r
+    }
+
+    fn directive(&mut self, d: &Directive, dir: &Path) -> Result<(), PbrtError> {
+        let num3 = |o: usize| DVec3::new(d.num(o), d.num(o + 1), d.num(o + 2));
+        let matrix = || DMat4::from_cols_array(&std::array::from_fn(|i| d.num(i)));
+        match d.name {
+            "Include" | "Import" => self.include(d, dir)?,
+            "Identity" => self.gs.ctm = DMat4::IDENTITY,
+            "Translate" => self.gs.ctm *= DMat4::from_translation(num3(0)),
+            "Scale" => self.gs.ctm *= DMat4::from_scale(num3(0)),
+            "Rotate" => {
+                let axis = num3(1);
+                if axis.length() == 0.0 {
+                    return Err(PbrtError::at(&d.loc, "Rotate axis is the zero vector"));
+                }
+                self.gs.ctm *= DMat4::from_axis_angle(axis.normalize(), d.num(0).to_radians());
+            }
+            "LookAt" => self.gs.ctm *= look_at(num3(0), num3(3), num3(6), &d.loc)?,
+            "Transform" => self.gs.ctm = matrix(),
+            "ConcatTransform" => self.gs.ctm *= matrix(),
+            "CoordinateSystem" => {
+                self.named_coords.insert(d.str(0).into(), self.gs.ctm);
+            }
+            "CoordSysTransform" => match self.named_coords.get(d.str(0)) {
+                Some(m) => self.gs.ctm = *m,
+                None => {
+                    return Err(PbrtError::at(
+                        &d.loc,
+                        format!("unknown coordinate system \"{}\"", d.str(0)),
+                    ))
+                }
+            },
+            "ReverseOrientation" => self.gs.reverse = !self.gs.reverse,
+            "AttributeBegin" | "TransformBegin" => self.stack.push(Saved {
+                state: self.gs.clone(),
+                transform_only: d.name == "TransformBegin",
+                loc: d.loc.clone(),
+            }),
+            "AttributeEnd" | "TransformEnd" => self.pop(d)?,
+            "ActiveTransform" if d.str(0) == "All" => {}
+            "ActiveTransform" | "TransformTimes" => {
+                self.warn(format!("{} (motion blur)", d.name), &d.loc)
+            }
+            "WorldBegin" => {
+                self.gs.ctm = DMat4::IDENTITY;
+                self.named_coords.insert("world".into(), DMat4::IDENTITY);
+            }
+            "WorldEnd" => {}
+            "Camera" => self.camera(d),
+            "Film" => {
+                if !matches!(d.str(0), "rgb" | "gbuffer") {
+                    self.warn(format!("Film \"{}\" (rendered as rgb)", d.str(0)), &d.loc);
+                }
+                let p = &d.params;
+                self.defaults.width = positive(p.int("xresolution", 1280)?, "xresolution", &d.loc)?;
+                self.defaults.height = positive(p.int("yresolution", 720)?, "yresolution", &d.loc)?;
+                // The output file is named on the command line.
+                p.string("filename")?;
+            }
+            "Sampler" => {
+                // Any pbrt sampler maps to fenestra's Owen-scrambled Sobol sequence.
+                self.defaults.spp =
+                    positive(d.params.int("pixelsamples", 16)?, "pixelsamples", &d.loc)?;
+                d.params.int("seed", 0)?;
+            }
+            "Integrator" => {
+                if !matches!(d.str(0), "path" | "volpath") {
+                    self.warn(
+                        format!(
+                            "Integrator \"{}\" (rendered with af_hf, a path tracer)",
+                            d.str(0)
+                        ),
+                        &d.loc,
+                    );
+                    d.params.use_all();
+                }
+                let depth = d.params.int("maxdepth", 5)?;
+                // pbrt counts bounces; fenestra counts segments from the camera (2 = direct).
+                self.defaults.max_depth = positive(depth + 1, "maxdepth", &d.loc)?;
+            }
+            "PixelFilter" => {
+                if d.str(0) != "box" {
+                    self.warn(
+                        format!("PixelFilter \"{}\" (fenestra uses a box filter)", d.str(0)),
+                        &d.loc,
+                    );
+                }
+                d.params.use_all();
+            }
+            // The acceleration structure does not change the picture.
+            "Accelerator" => d.params.use_all(),
+            "ColorSpace" if d.str(0) == "srgb" => {}
+            "ColorSpace" | "Option" | "Attribute" | "MakeNamedMedium" | "MediumInterface" => {
+                self.warn(format!("{} \"{}\"", d.name, d.str(0)), &d.loc);
+                d.params.use_all();
+            }
+            "Material" => self.gs.material = self.material(d.str(0), &d.params, &d.loc)?,
+            "MakeNamedMaterial" => {
+                let Some(ty) = d.params.string("type")? else {
+                    return Err(PbrtError::at(
+                        &d.loc,
+                        format!(
+                            "MakeNamedMaterial \"{}\" needs a \"string type\" parameter",
+                            d.str(0)
+                        ),
+                    ));
+                };
+                let index = self.material(&ty, &d.params, &d.loc)?;
+                self.named_materials.insert(d.str(0).into(), index);
+            }
+            "NamedMaterial" => match self.named_materials.get(d.str(0)) {
+                Some(&i) => self.gs.material = i,
+                None => return Err(PbrtError::at(
+                    &d.loc,
+                    format!(
+                        "unknown named material \"{}\" (define it with MakeNamedMaterial first)",
+                        d.str(0)
+                    ),
+                )),
+            },
+            "Texture" => self.texture(d, dir)?,
+            "LightSource" => self.light(d, dir)?,
+            "AreaLightSource" => self.area_light(d)?,
+            "Shape" => self.shape(d, dir)?,
+            "ObjectBegin" => {
+                if let Some((name, _)) = &self.object {
+                    return Err(PbrtError::at(
+                        &d.loc,
+                        format!("ObjectBegin inside the definition of object \"{name}\""),
+                    ));
+                }
+                self.stack.push(Saved {
+                    state: self.gs.clone(),
+                    transform_only: false,
+                    loc: d.loc.clone(),
+                });
+                self.object = Some((d.str(0).into(), Vec::new()));
+            }
+            "ObjectEnd" => {
+                let Some((name, shapes)) = self.object.take() else {
+                    return Err(PbrtError::at(&d.loc, "ObjectEnd without ObjectBegin"));
+                };
+                self.objects.insert(name, shapes);
+                self.pop(d)?;
+            }
+            "ObjectInstance" => {
+                let Some(shapes) = self.objects.get(d.str(0)) else {
+                    return Err(PbrtError::at(
+                        &d.loc,
+                        format!(
+                            "unknown object \"{}\" (define it with ObjectBegin first)",
+                            d.str(0)
+                        ),
+                    ));
+                };
+                if self.object.is_some() {
+                    return Err(PbrtError::at(
+                        &d.loc,
+                        "ObjectInstance inside an object definition",
+                    ));
+                }
+                let ctm = self.gs.ctm;
+                let placed: Vec<Shape> = shapes
+                    .iter()
+                    .map(|s| super::shapes::transform(s, &ctm, &d.loc))
+                    .collect::<Result<_, _>>()?;
+                self.shapes.extend(placed);
+            }
+            other => {
+                return Err(PbrtError::at(
+                    &d.loc,
+                    format!("directive {other} is not handled"),
+                ))
+            }
+        }
+        Ok(())
+    }
+
+    fn pop(&mut self, d: &Directive) -> Result<(), PbrtError> {
+        let Some(saved) = self.stack.pop() else {
+            return Err(PbrtError::at(
+                &d.loc,
+                format!("{} without a matching begin", d.name),
+            ));
+        };
+        if saved.transform_only {
+            self.gs.ctm = saved.state.ctm;
+        } else {
+            self.gs = saved.state;
+        }
+        Ok(())
+    }
+
+    fn camera(&mut self, d: &Directive) {
+        let p = &d.params;
+        if d.str(0) != "perspective" {
+            self.warn(
+                format!("Camera \"{}\" (rendered as perspective)", d.str(0)),
+                &d.loc,
+            );
+            p.use_all();
+        }
+        let fov = p.float("fov", 90.0).unwrap_or(90.0);
+        let screen_window = p
+            .floats("screenwindow")
+            .ok()
+            .flatten()
+            .and_then(|v| <[f32; 4]>::try_from(v.as_slice()).ok());
+        if p.float("lensradius", 0.0).unwrap_or(0.0) > 0.0 {
+            self.warn(
+                "Camera \"lensradius\" > 0 (depth of field; rendered as a pinhole)",
+                &d.loc,
+            );
+        }
+        p.float("focaldistance", 1e6).ok();
+        self.named_coords
+            .insert("camera".into(), self.gs.ctm.inverse());
+        self.camera = Some(CameraSpec {
+            camera_from_world: self.gs.ctm,
+            fov,
+            screen_window,
+            loc: d.loc.clone(),
+        });
+    }
+
+    fn texture(&mut self, d: &Directive, dir: &Path) -> Result<(), PbrtError> {
+        let (name, ty, class) = (d.str(0), d.str(1), d.str(2));
+        let p = &d.params;
+        if ty == "float" {
+            self.warn(format!("float Texture \"{class}\""), &d.loc);
+            p.use_all();
+            return Ok(());
+        }
+        let tex = match class {
+            "imagemap" => {
+                let Some(file) = p.string("filename")? else {
+                    return Err(PbrtError::at(
+                        &d.loc,
+                        format!("imagemap texture \"{name}\" needs \"string filename\""),
+                    ));
+                };
+                let path = dir.join(&file);
+                let image = self.image(&path, &d.loc)?;
+                let mut t = ImageTexture::new(image, path.clone());
+                t.scale = p.float("scale", 1.0)?;
+                t.invert = p.bool("invert", false)?;
+                t.uscale = p.float("uscale", 1.0)?;
+                t.vscale = p.float("vscale", 1.0)?;
+                t.udelta = p.float("udelta", 0.0)?;
+                t.vdelta = p.float("vdelta", 0.0)?;
+                p.string("filter")?;
+                p.float("maxanisotropy", 8.0)?;
+                if let Some(w) = p.string("wrap")?.filter(|w| w != "repeat") {
+                    self.warn(
+                        format!("texture wrap mode \"{w}\" (textures repeat)"),
+                        &d.loc,
+                    );
+                }
+                if let Some(m) = p.string("mapping")?.filter(|m| m != "uv") {
+                    self.warn(
+                        format!("texture mapping \"{m}\" (uv mapping is used)"),
+                        &d.loc,
+                    );
+                }
+                if let Some(e) = p.string("encoding")? {
+                    let png = path
+                        .extension()
+                        .is_some_and(|x| x.eq_ignore_ascii_case("png"));
+                    if !(png && e == "sRGB" || !png && e == "linear") {
+                        self.warn(format!("texture encoding \"{e}\" (PNG is read as sRGB, EXR and HDR as linear)"), &d.loc);
+                    }
+                }
+                Tex::Image(Arc::new(t))
+            }
+            "constant" => Tex::Rgb(match p.spectrum("value")? {
+                Some((s, loc)) => super::spectra::to_rgb(&s).map_err(|e| PbrtError::at(&loc, e))?,
+                None => Rgb::ONE,
+            }),
+            _ => {
+                self.warn(
+                    format!("Texture class \"{class}\" (replaced by 0.5 grey)"),
+                    &d.loc,
+                );
+                p.use_all();
+                Tex::Rgb(Rgb::splat(0.5))
+            }
+        };
+        self.textures.insert(name.into(), tex);
+        Ok(())
+    }
+
+    /// An image file, read once however many textures or lights use it.
+    pub fn image(&mut self, path: &Path, loc: &Loc) -> Result<Arc<Image>, PbrtError> {
+        if let Some(img) = self.images.get(path) {
+            return Ok(img.clone());
+        }
+        let img = Arc::new(Image::read(path).map_err(|e| PbrtError::at(loc, e.to_string()))?);
+        self.images.insert(path.to_path_buf(), img.clone());
+        Ok(img)
+    }
+
+    /// Adds a finished shape to the scene or to the object being defined.
+    pub fn add_shape(&mut self, shape: Shape) {
+        match &mut self.object {
+            Some((_, shapes)) => shapes.push(shape),
+            None => self.shapes.push(shape),
+        }
+    }
+
+    pub fn finish(self, name: String) -> Result<(SceneDesc, Vec<Warning>), PbrtError> {
+        if let Some(open) = self.stack.last() {
+            return Err(PbrtError::at(
+                &open.loc,
+                "this begin has no matching AttributeEnd/TransformEnd/ObjectEnd before the end of the scene",
+            ));
+        }
+        let camera = match &self.camera {
+            Some(c) => make_camera(c)?,
+            None => Camera::from_basis(
+                Vec3::ZERO,
+                Vec3::Z,
+                Vec3::X,
+                Vec3::Y,
+                FieldOfView::ShorterAxis(90.0),
+                None,
+            )
+            .map_err(|e| {
+                PbrtError::at(
+                    &Loc {
+                        file: Arc::new(PathBuf::new()),
+                        line: 1,
+                        col: 1,
+                    },
+                    e,
+                )
+            })?,
+        };
+        let mut shapes = self.shapes;
+        let mut materials = self.materials;
+        // Drop pbrt's default material when nothing uses it.
+        if shapes.iter().all(|s| s.material != 0) {
+            materials.remove(0);
+            shapes.iter_mut().for_each(|s| s.material -= 1);
+        }
+        let desc = SceneDesc {
+            name,
+            shapes,
+            materials,
+            lights: self.lights,
+            camera,
+            defaults: self.defaults,
+            portals: self.portals,
+        };
+        Ok((desc, self.warnings))
+    }
+}
+
+fn positive(v: i64, what: &str, loc: &Loc) -> Result<u32, PbrtError> {
+    if v > 0 && v <= 1 << 24 {
+        Ok(v as u32)
+    } else {
+        Err(PbrtError::at(
+            loc,
+            format!("{what} must be a positive integer, found {v}"),
+        ))
+    }
+}
+
+/// pbrt's LookAt: the camera-from-world matrix of a camera at `pos` looking at `look`, whose
+/// camera-space +x is up x dir (pbrt's screen space is left-handed).
+fn look_at(pos: DVec3, look: DVec3, up: DVec3, loc: &Loc) -> Result<DMat4, PbrtError> {
+    let dir = (look - pos).normalize_or_zero();
+    let right = up.normalize_or_zero().cross(dir);
+    if dir == DVec3::ZERO || right.length() < 1e-12 {
+        return Err(PbrtError::at(
+            loc,
+            "LookAt: the eye equals the target, or the up vector is parallel to the view direction",
+        ));
+    }
+    let right = right.normalize();
+    let new_up = dir.cross(right);
+    let world_from_camera = DMat4::from_cols(
+        right.extend(0.0),
+        new_up.extend(0.0),
+        dir.extend(0.0),
+        pos.extend(1.0),
+    );
+    Ok(world_from_camera.inverse())
+}
+
+fn make_camera(c: &CameraSpec) -> Result<Camera, PbrtError> {
+    let m = c.camera_from_world.inverse();
+    let v = |x: DVec3| x.as_vec3();
+    if !m.is_finite() {
+        return Err(PbrtError::at(&c.loc, "the camera transform is singular"));
+    }
+    Camera::from_basis(
+        v(m.transform_point3(DVec3::ZERO)),
+        v(m.transform_vector3(DVec3::Z)),
+        v(m.transform_vector3(DVec3::X)),
+        v(m.transform_vector3(DVec3::Y)),
+        FieldOfView::ShorterAxis(c.fov),
+        c.screen_window,
+    )
+    .map_err(|e| PbrtError::at(&c.loc, e))
+}

@@ -1,0 +1,477 @@
+//! Writes a scene as a pbrt-v4 file that [`super::load`] reads back to the same scene. Large
+//! meshes go to binary PLY files and environment images to EXR, in a folder beside the file.
+//! Phong and Ward materials use fenestra's own "phong"/"ward" types (pbrt-v4 has no
+//! equivalent); everything else is plain pbrt-v4.
+
+use crate::light::{EnvironmentDesc, LightDesc};
+use crate::{Camera, FieldOfView, Material, SceneDesc, ShapeKind, TriangleMesh};
+use fenestra_core::image::Image;
+use fenestra_core::{Rgb, Vec3};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// Meshes with more triangles than this are written as PLY files.
+const INLINE_TRIANGLES: usize = 4096;
+
+#[derive(Debug, thiserror::Error)]
+#[error("exporting to {path}: {reason}")]
+pub struct ExportError {
+    pub path: PathBuf,
+    pub reason: String,
+}
+
+/// What an export wrote.
+pub struct Exported {
+    pub files: Vec<PathBuf>,
+}
+
+/// Writes `desc` to `path` (a .pbrt file) and its data folder `<stem>-data/` when needed.
+pub fn write(desc: &SceneDesc, path: &Path) -> Result<Exported, ExportError> {
+    let err = |reason: String| ExportError {
+        path: path.to_path_buf(),
+        reason,
+    };
+    let stem = path
+        .file_stem()
+        .ok_or_else(|| err("the output needs a file name".into()))?
+        .to_string_lossy()
+        .into_owned();
+    let data_name = format!("{stem}-data");
+    let data_dir = path.with_file_name(&data_name);
+    let mut files = Vec::new();
+    let mut data = |name: String, write: &dyn Fn(&Path) -> Result<(), String>| {
+        std::fs::create_dir_all(&data_dir).map_err(|e| err(e.to_string()))?;
+        let file = data_dir.join(&name);
+        fenestra_core::image::write_atomically(&file, write).map_err(|e| err(e.to_string()))?;
+        files.push(file);
+        Ok::<String, ExportError>(format!("{data_name}/{name}"))
+    };
+
+    let mut s = String::new();
+    let d = &desc.defaults;
+    let _ = writeln!(
+        s,
+        "# {} exported by fenestra {}",
+        desc.name,
+        env!("CARGO_PKG_VERSION")
+    );
+    let _ = writeln!(
+        s,
+        "Film \"rgb\" \"integer xresolution\" [ {} ] \"integer yresolution\" [ {} ]",
+        d.width, d.height
+    );
+    let _ = writeln!(
+        s,
+        "Sampler \"zsobol\" \"integer pixelsamples\" [ {} ]",
+        d.spp
+    );
+    // fenestra counts path segments (2 = direct light), pbrt bounces.
+    let _ = writeln!(
+        s,
+        "Integrator \"path\" \"integer maxdepth\" [ {} ]",
+        d.max_depth.saturating_sub(1)
+    );
+    camera(&mut s, &desc.camera, d.width, d.height);
+    s.push_str("\nWorldBegin\n\n");
+    for (i, m) in desc.materials.iter().enumerate() {
+        material(&mut s, i, m);
+    }
+    let mut portals_written = desc.portals.is_empty();
+    for (i, l) in desc.lights.iter().enumerate() {
+        match l {
+            LightDesc::Point {
+                position,
+                intensity,
+            } => {
+                let _ = writeln!(
+                    s,
+                    "LightSource \"point\" \"point3 from\" [ {} ] \"rgb I\" [ {} ]",
+                    v3(*position),
+                    rgb(*intensity)
+                );
+            }
+            LightDesc::Spot {
+                position,
+                direction,
+                intensity,
+                cone_angle,
+                falloff_start,
+            } => {
+                let _ = writeln!(
+                    s,
+                    "LightSource \"spot\" \"point3 from\" [ {} ] \"point3 to\" [ {} ] \"rgb I\" [ {} ] \"float coneangle\" [ {} ] \"float conedelta\" [ {} ]",
+                    v3(*position),
+                    v3(*position + *direction),
+                    rgb(*intensity),
+                    cone_angle,
+                    cone_angle - falloff_start
+                );
+            }
+            LightDesc::Distant {
+                direction,
+                irradiance,
+            } => {
+                let _ = writeln!(
+                    s,
+                    "LightSource \"distant\" \"point3 from\" [ 0 0 0 ] \"point3 to\" [ {} ] \"rgb L\" [ {} ]",
+                    v3(*direction),
+                    rgb(*irradiance)
+                );
+            }
+            LightDesc::Environment(env) => {
+                let portal = if portals_written {
+                    String::new()
+                } else {
+                    portals_written = true;
+                    let c = desc.portals[0];
+                    format!(
+                        " \"point3 portal\" [ {} {} {} {} ]",
+                        v3(c[0]),
+                        v3(c[1]),
+                        v3(c[2]),
+                        v3(c[3])
+                    )
+                };
+                match env {
+                    EnvironmentDesc::Constant(l) => {
+                        let _ = writeln!(
+                            s,
+                            "LightSource \"infinite\" \"rgb L\" [ {} ]{portal}",
+                            rgb(*l)
+                        );
+                    }
+                    EnvironmentDesc::Image {
+                        image,
+                        scale,
+                        to_world,
+                    } => {
+                        let mut baked = Image::new(image.width, image.height);
+                        for y in 0..image.height {
+                            for x in 0..image.width {
+                                let c = image.get(x, y);
+                                baked.set(
+                                    x,
+                                    y,
+                                    Rgb::new(c.r * scale.r, c.g * scale.g, c.b * scale.b),
+                                );
+                            }
+                        }
+                        let file = data(format!("environment-{i}.exr"), &|tmp| {
+                            baked
+                                .write_exr(tmp, &Default::default())
+                                .map_err(|e| e.to_string())
+                        })?;
+                        let m = glam::Mat4::from_mat3(*to_world);
+                        let _ = writeln!(s, "AttributeBegin");
+                        let _ = writeln!(s, "  Transform [ {} ]", join(&m.to_cols_array()));
+                        let _ = writeln!(
+                            s,
+                            "  # A 2:1 latitude-longitude map (fenestra reads these; pbrt-v4 wants square equal-area maps)"
+                        );
+                        let _ = writeln!(
+                            s,
+                            "  LightSource \"infinite\" \"string filename\" \"{file}\"{portal}"
+                        );
+                        let _ = writeln!(s, "AttributeEnd");
+                    }
+                }
+            }
+        }
+    }
+    if !portals_written {
+        let _ = writeln!(s, "# portals (no infinite light to attach them to):");
+        for c in &desc.portals {
+            let _ = writeln!(
+                s,
+                "#   {} | {} | {} | {}",
+                v3(c[0]),
+                v3(c[1]),
+                v3(c[2]),
+                v3(c[3])
+            );
+        }
+    }
+    for (i, shape) in desc.shapes.iter().enumerate() {
+        let _ = writeln!(s, "\nAttributeBegin");
+        let _ = writeln!(s, "  NamedMaterial \"m{}\"", shape.material);
+        if let Some(e) = &shape.emission {
+            let _ = writeln!(
+                s,
+                "  AreaLightSource \"diffuse\" \"rgb L\" [ {} ] \"bool twosided\" {}",
+                rgb(e.radiance),
+                e.two_sided
+            );
+        }
+        match &shape.kind {
+            ShapeKind::Mesh(mesh) => {
+                let mut mesh = std::borrow::Cow::Borrowed(mesh);
+                if shape.flip_normals {
+                    match mesh.to_mut().normals.as_mut() {
+                        // With vertex normals pbrt-v4 ignores ReverseOrientation: flip them.
+                        Some(n) => n.iter_mut().for_each(|v| *v = -*v),
+                        None => s.push_str("  ReverseOrientation\n"),
+                    }
+                }
+                if mesh.indices.len() > INLINE_TRIANGLES {
+                    let file = data(format!("shape-{i}.ply"), &|tmp| {
+                        let f = std::fs::File::create(tmp).map_err(|e| e.to_string())?;
+                        let mut w = std::io::BufWriter::new(f);
+                        crate::mesh::ply::write(&mesh, &mut w).map_err(|e| e.to_string())?;
+                        std::io::Write::flush(&mut w).map_err(|e| e.to_string())
+                    })?;
+                    let _ = writeln!(s, "  Shape \"plymesh\" \"string filename\" \"{file}\"");
+                } else {
+                    inline_mesh(&mut s, &mesh);
+                }
+            }
+            ShapeKind::Sphere { center, radius } => {
+                if shape.flip_normals {
+                    s.push_str("  ReverseOrientation\n");
+                }
+                let _ = writeln!(s, "  Translate {}", v3(*center));
+                let _ = writeln!(s, "  Shape \"sphere\" \"float radius\" [ {radius} ]");
+            }
+            ShapeKind::Disk {
+                center,
+                normal,
+                radius,
+            } => {
+                if shape.flip_normals {
+                    s.push_str("  ReverseOrientation\n");
+                }
+                // A right-handed frame with z along the normal (no mirroring, no flip).
+                let f = fenestra_core::Frame::from_normal(*normal);
+                let t = normal.cross(f.s);
+                let m = glam::Mat4::from_cols(
+                    f.s.extend(0.0),
+                    t.extend(0.0),
+                    normal.extend(0.0),
+                    center.extend(1.0),
+                );
+                let _ = writeln!(s, "  Transform [ {} ]", join(&m.to_cols_array()));
+                let _ = writeln!(s, "  Shape \"disk\" \"float radius\" [ {radius} ]");
+            }
+        }
+        let _ = writeln!(s, "AttributeEnd");
+    }
+    fenestra_core::image::write_atomically(path, |tmp| {
+        std::fs::write(tmp, &s).map_err(|e| e.to_string())
+    })
+    .map_err(|e| err(e.to_string()))?;
+    files.insert(0, path.to_path_buf());
+    Ok(Exported { files })
+}
+
+fn join(v: &[f32]) -> String {
+    v.iter()
+        .map(|x| x.to_string())
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+fn v3(v: Vec3) -> String {
+    join(&v.to_array())
+}
+
+fn rgb(c: Rgb) -> String {
+    join(&c.to_array())
+}
+
+fn camera(s: &mut String, c: &Camera, width: u32, height: u32) {
+    let (forward, right, up) = c.basis();
+    let orthonormal_rh = (forward.length() - 1.0).abs() < 1e-5
+        && (right.length() - 1.0).abs() < 1e-5
+        && (up.length() - 1.0).abs() < 1e-5
+        && forward.cross(up).dot(right) > 0.9999;
+    if orthonormal_rh {
+        // pbrt's camera space is left-handed: mirror x so that the picture is not mirrored.
+        let _ = writeln!(s, "Scale -1 1 1");
+        let _ = writeln!(
+            s,
+            "LookAt {}  {}  {}",
+            v3(c.position),
+            v3(c.position + forward),
+            v3(up)
+        );
+    } else {
+        let world_from_camera = glam::DMat4::from_cols(
+            right.as_dvec3().extend(0.0),
+            up.as_dvec3().extend(0.0),
+            forward.as_dvec3().extend(0.0),
+            c.position.as_dvec3().extend(1.0),
+        );
+        let m = world_from_camera.inverse().as_mat4();
+        let _ = writeln!(s, "Transform [ {} ]", join(&m.to_cols_array()));
+    }
+    let (FieldOfView::Vertical(fov) | FieldOfView::ShorterAxis(fov)) = c.fov;
+    // pbrt's fov spans the shorter axis: a portrait image with a vertical fov, or any
+    // explicit window, is written as a screen window.
+    let window = match (c.fov, c.screen_window) {
+        (_, Some(w)) => Some(w),
+        (FieldOfView::Vertical(_), None) if width < height => {
+            let a = width as f32 / height as f32;
+            Some([-a, a, -1.0, 1.0])
+        }
+        _ => None,
+    };
+    let _ = write!(s, "Camera \"perspective\" \"float fov\" [ {fov} ]");
+    if let Some(w) = window {
+        let _ = write!(s, " \"float screenwindow\" [ {} ]", join(&w));
+    }
+    s.push('\n');
+}
+
+fn material(s: &mut String, i: usize, m: &Material) {
+    let _ = write!(s, "MakeNamedMaterial \"m{i}\" ");
+    match m {
+        Material::Diffuse { reflectance } => {
+            let _ = write!(
+                s,
+                "\"string type\" \"diffuse\" \"rgb reflectance\" [ {} ]",
+                rgb(*reflectance)
+            );
+        }
+        Material::TexturedDiffuse { texture } => {
+            // The texture is declared just before the material.
+            let decl = format!(
+                "Texture \"t{i}\" \"spectrum\" \"imagemap\" \"string filename\" \"{}\" \"float scale\" [ {} ] \"bool invert\" {} \"float uscale\" [ {} ] \"float vscale\" [ {} ] \"float udelta\" [ {} ] \"float vdelta\" [ {} ]\n",
+                texture.path.display(),
+                texture.scale,
+                texture.invert,
+                texture.uscale,
+                texture.vscale,
+                texture.udelta,
+                texture.vdelta
+            );
+            let at = s.rfind("MakeNamedMaterial").unwrap_or(s.len());
+            s.insert_str(at, &decl);
+            let _ = write!(
+                s,
+                "\"string type\" \"diffuse\" \"texture reflectance\" \"t{i}\""
+            );
+        }
+        Material::Mirror { reflectance } => {
+            let _ = write!(
+                s,
+                "\"string type\" \"conductor\" \"rgb reflectance\" [ {} ]",
+                rgb(*reflectance)
+            );
+        }
+        Material::Dielectric { eta } => {
+            let _ = write!(s, "\"string type\" \"dielectric\" \"float eta\" [ {eta} ]");
+        }
+        Material::ThinDielectric { eta } => {
+            let _ = write!(
+                s,
+                "\"string type\" \"thindielectric\" \"float eta\" [ {eta} ]"
+            );
+        }
+        Material::Phong {
+            diffuse,
+            specular,
+            exponent,
+        } => {
+            let _ = write!(
+                s,
+                "\"string type\" \"phong\" \"rgb diffuse\" [ {} ] \"rgb specular\" [ {} ] \"float exponent\" [ {exponent} ]",
+                rgb(*diffuse),
+                rgb(*specular)
+            );
+        }
+        Material::Ward {
+            diffuse,
+            specular,
+            alpha_x,
+            alpha_y,
+        } => {
+            let _ = write!(
+                s,
+                "\"string type\" \"ward\" \"rgb diffuse\" [ {} ] \"rgb specular\" [ {} ] \"float alphax\" [ {alpha_x} ] \"float alphay\" [ {alpha_y} ]",
+                rgb(*diffuse),
+                rgb(*specular)
+            );
+        }
+        Material::RoughConductor {
+            eta,
+            k,
+            alpha_x,
+            alpha_y,
+        } => {
+            let _ = write!(
+                s,
+                "\"string type\" \"conductor\" \"rgb eta\" [ {} ] \"rgb k\" [ {} ] \"float uroughness\" [ {alpha_x} ] \"float vroughness\" [ {alpha_y} ] \"bool remaproughness\" false",
+                rgb(*eta),
+                rgb(*k)
+            );
+        }
+        Material::RoughDielectric { eta, alpha } => {
+            let _ = write!(
+                s,
+                "\"string type\" \"dielectric\" \"float eta\" [ {eta} ] \"float roughness\" [ {alpha} ] \"bool remaproughness\" false"
+            );
+        }
+    }
+    s.push('\n');
+}
+
+fn inline_mesh(s: &mut String, m: &TriangleMesh) {
+    let flat = |v: &[Vec3]| v.iter().map(|p| v3(*p)).collect::<Vec<_>>().join("  ");
+    let _ = write!(
+        s,
+        "  Shape \"trianglemesh\"\n    \"point3 P\" [ {} ]\n    \"integer indices\" [ ",
+        flat(&m.positions)
+    );
+    let idx: Vec<String> = m.indices.iter().flatten().map(|i| i.to_string()).collect();
+    let _ = write!(s, "{} ]", idx.join(" "));
+    if let Some(n) = &m.normals {
+        let _ = write!(s, "\n    \"normal N\" [ {} ]", flat(n));
+    }
+    if let Some(uv) = &m.uvs {
+        let t: Vec<String> = uv.iter().map(|p| format!("{} {}", p.x, p.y)).collect();
+        let _ = write!(s, "\n    \"point2 uv\" [ {} ]", t.join("  "));
+    }
+    s.push('\n');
+}
+
+/// Shapes compared for the round-trip test: kind, material, emission and orientation.
+#[cfg(test)]
+pub(crate) fn same_shape(a: &crate::Shape, b: &crate::Shape, tol: f32) -> bool {
+    let close = |x: Vec3, y: Vec3| (x - y).length() <= tol * (1.0 + x.length());
+    let geometry = match (&a.kind, &b.kind) {
+        (ShapeKind::Mesh(m), ShapeKind::Mesh(n)) => {
+            m.indices == n.indices
+                && m.positions.len() == n.positions.len()
+                && m.positions
+                    .iter()
+                    .zip(&n.positions)
+                    .all(|(x, y)| close(*x, *y))
+                && m.uvs.is_some() == n.uvs.is_some()
+                && m.normals.is_some() == n.normals.is_some()
+        }
+        (
+            ShapeKind::Sphere { center, radius },
+            ShapeKind::Sphere {
+                center: c2,
+                radius: r2,
+            },
+        ) => close(*center, *c2) && (radius - r2).abs() <= tol * radius,
+        (
+            ShapeKind::Disk {
+                center,
+                normal,
+                radius,
+            },
+            ShapeKind::Disk {
+                center: c2,
+                normal: n2,
+                radius: r2,
+            },
+        ) => close(*center, *c2) && close(*normal, *n2) && (radius - r2).abs() <= tol * radius,
+        _ => false,
+    };
+    geometry
+        && a.material == b.material
+        && a.flip_normals == b.flip_normals
+        && a.emission.map(|e| (e.radiance, e.two_sided))
+            == b.emission.map(|e| (e.radiance, e.two_sided))
+}

@@ -1,0 +1,343 @@
+//! pbrt-v4 light sources: point, spot, distant, infinite (constant, or an image: pbrt-v4's
+//! square equal-area octahedral maps are resampled to fenestra's latitude-longitude layout,
+//! and 2:1 images are read as latitude-longitude directly), and diffuse area lights.
+//! "power" and "illuminance" rescale the spectrum as pbrt-v4 does, with luminance standing in
+//! for pbrt's photometric normalisation.
+
+use super::builder::{AreaSpec, Builder};
+use super::params::ParamList;
+use super::parser::Directive;
+use super::spectra;
+use super::{Loc, PbrtError};
+use crate::light::{EnvironmentDesc, LightDesc};
+use fenestra_core::image::Image;
+use fenestra_core::{Rgb, Vec3, PI};
+use glam::{DMat3, DVec3};
+use std::path::Path;
+use std::sync::Arc;
+
+impl Builder {
+    pub(super) fn light(&mut self, d: &Directive, dir: &Path) -> Result<(), PbrtError> {
+        let p = &d.params;
+        let ctm = self.gs.ctm;
+        let point = |v: Vec3| ctm.transform_point3(v.as_dvec3()).as_vec3();
+        let vector = |v: Vec3| ctm.transform_vector3(v.as_dvec3()).as_vec3();
+        let scale = p.float("scale", 1.0)?;
+        let light = match d.str(0) {
+            "point" => {
+                let mut i = spectrum(p, "I", &d.loc)? * scale;
+                if let Some(power) = p.opt_float("power")? {
+                    i = normalised(i, power / (4.0 * PI), &d.loc)?;
+                }
+                LightDesc::Point {
+                    position: point(p.point3("from", Vec3::ZERO)?),
+                    intensity: i,
+                }
+            }
+            "spot" => {
+                let cone = p.float("coneangle", 30.0)?;
+                let delta = p.float("conedelta", 5.0)?;
+                let mut i = spectrum(p, "I", &d.loc)? * scale;
+                if let Some(power) = p.opt_float("power")? {
+                    let (cos_total, cos_start) =
+                        (cone.to_radians().cos(), (cone - delta).to_radians().cos());
+                    let k = 2.0 * PI * ((1.0 - cos_start) + (cos_start - cos_total) / 2.0);
+                    i = normalised(i, power / k, &d.loc)?;
+                }
+                let from = p.point3("from", Vec3::ZERO)?;
+                let to = p.point3("to", Vec3::Z)?;
+                LightDesc::Spot {
+                    position: point(from),
+                    direction: vector(to - from).normalize_or_zero(),
+                    intensity: i,
+                    cone_angle: cone,
+                    falloff_start: (cone - delta).max(0.0),
+                }
+            }
+            "distant" => {
+                let mut l = spectrum(p, "L", &d.loc)? * scale;
+                if let Some(e) = p.opt_float("illuminance")? {
+                    l = normalised(l, e, &d.loc)?;
+                }
+                let from = p.point3("from", Vec3::ZERO)?;
+                let to = p.point3("to", Vec3::Z)?;
+                LightDesc::Distant {
+                    direction: vector(to - from).normalize_or_zero(),
+                    irradiance: l,
+                }
+            }
+            "infinite" => self.infinite(d, dir, scale)?,
+            other => {
+                self.warn(format!("LightSource \"{other}\" (skipped)"), &d.loc);
+                p.use_all();
+                return Ok(());
+            }
+        };
+        if self.object.is_some() {
+            self.warn("light sources inside object definitions (skipped)", &d.loc);
+            return Ok(());
+        }
+        self.lights.push(light);
+        Ok(())
+    }
+
+    fn infinite(&mut self, d: &Directive, dir: &Path, scale: f32) -> Result<LightDesc, PbrtError> {
+        let p = &d.params;
+        let ctm = self.gs.ctm;
+        if let Some(corners) = p.point3s("portal")? {
+            if corners.len() != 4 {
+                return Err(PbrtError::at(
+                    &d.loc,
+                    format!("\"point3 portal\" needs 4 points, found {}", corners.len()),
+                ));
+            }
+            let c: [Vec3; 4] =
+                std::array::from_fn(|i| ctm.transform_point3(corners[i].as_dvec3()).as_vec3());
+            self.portals.push(c);
+        }
+        let illuminance = p.opt_float("illuminance")?;
+        let filename = p.string("filename")?;
+        if filename.is_some() && p.has("L") {
+            return Err(PbrtError::at(
+                &d.loc,
+                "infinite light: give either \"L\" or \"filename\", not both",
+            ));
+        }
+        let Some(file) = filename else {
+            let mut l = spectrum(p, "L", &d.loc)? * scale;
+            if let Some(e) = illuminance {
+                // A constant sky of luminance Y gives illuminance pi Y on a horizontal plane.
+                l = normalised(l, e / PI, &d.loc)?;
+            }
+            return Ok(LightDesc::Environment(EnvironmentDesc::Constant(l)));
+        };
+        let path = dir.join(&file);
+        let img = self.image(&path, &d.loc)?;
+        let latlong = if img.width == img.height {
+            Arc::new(equal_area_to_latlong(&img))
+        } else if img.width == 2 * img.height {
+            img
+        } else {
+            return Err(PbrtError::at(
+                &d.loc,
+                format!(
+                    "{}: environment images must be square (pbrt-v4 equal-area) or 2:1 (latitude-longitude), found {}x{}",
+                    path.display(),
+                    img.width,
+                    img.height
+                ),
+            ));
+        };
+        let linear = DMat3::from_mat4(ctm);
+        let to_world = orthonormal(&linear).ok_or_else(|| {
+            PbrtError::at(
+                &d.loc,
+                "the transform of an image infinite light must be a rotation",
+            )
+        })?;
+        let mut s = scale;
+        if let Some(e) = illuminance {
+            let e_img = upper_illuminance(&latlong);
+            if !(e_img > 0.0) {
+                return Err(PbrtError::at(
+                    &d.loc,
+                    "\"illuminance\" given for an image that is black above the horizon",
+                ));
+            }
+            s *= e / e_img;
+        }
+        Ok(LightDesc::Environment(EnvironmentDesc::Image {
+            image: latlong,
+            scale: Rgb::splat(s),
+            to_world: to_world.as_mat3(),
+        }))
+    }
+
+    pub(super) fn area_light(&mut self, d: &Directive) -> Result<(), PbrtError> {
+        let p = &d.params;
+        if d.str(0) != "diffuse" {
+            self.warn(
+                format!("AreaLightSource \"{}\" (skipped)", d.str(0)),
+                &d.loc,
+            );
+            p.use_all();
+            return Ok(());
+        }
+        if p.has("filename") {
+            self.warn("image area lights (\"filename\"; L is used)", &d.loc);
+            p.string("filename")?;
+        }
+        let radiance = spectrum(p, "L", &d.loc)? * p.float("scale", 1.0)?;
+        self.gs.area = Some(AreaSpec {
+            radiance,
+            two_sided: p.bool("twosided", false)?,
+            power: p.opt_float("power")?,
+        });
+        Ok(())
+    }
+}
+
+/// A light's spectrum parameter as RGB; pbrt-v4's default is the colour space's white.
+fn spectrum(p: &ParamList, name: &str, _loc: &Loc) -> Result<Rgb, PbrtError> {
+    match p.spectrum(name)? {
+        Some((s, l)) => spectra::to_rgb(&s).map_err(|e| PbrtError::at(&l, e)),
+        None => Ok(Rgb::ONE),
+    }
+}
+
+/// `c` rescaled so that its luminance is `target`.
+fn normalised(c: Rgb, target: f32, loc: &Loc) -> Result<Rgb, PbrtError> {
+    let y = c.luminance();
+    if y > 0.0 && target.is_finite() && target >= 0.0 {
+        Ok(c * (target / y))
+    } else {
+        Err(PbrtError::at(
+            loc,
+            "power or illuminance needs a spectrum of positive luminance",
+        ))
+    }
+}
+
+fn orthonormal(m: &DMat3) -> Option<DMat3> {
+    let s = m.x_axis.length();
+    let ok = [m.x_axis, m.y_axis, m.z_axis]
+        .iter()
+        .all(|c| (c.length() - s).abs() < 1e-4 * s)
+        && m.x_axis.dot(m.y_axis).abs() < 1e-4 * s * s
+        && m.x_axis.dot(m.z_axis).abs() < 1e-4 * s * s
+        && s > 0.0;
+    ok.then(|| *m * (1.0 / s))
+}
+
+/// Clarberg's equal-area octahedral mapping of the unit sphere to [0,1]^2 (pbrt-v4's
+/// environment map layout).
+pub(super) fn sphere_to_square(d: DVec3) -> (f64, f64) {
+    let (x, y, z) = (d.x.abs(), d.y.abs(), d.z.abs());
+    let r = (1.0 - z).max(0.0).sqrt();
+    let a = x.max(y);
+    let b = if a == 0.0 { 0.0 } else { x.min(y) / a };
+    let mut phi = b.atan() * 2.0 / std::f64::consts::PI;
+    if x < y {
+        phi = 1.0 - phi;
+    }
+    let mut v = phi * r;
+    let mut u = r - v;
+    if d.z < 0.0 {
+        std::mem::swap(&mut u, &mut v);
+        u = 1.0 - u;
+        v = 1.0 - v;
+    }
+    ((u.copysign(d.x) + 1.0) * 0.5, (v.copysign(d.y) + 1.0) * 0.5)
+}
+
+/// Resamples an equal-area square map (side N) to latitude-longitude (2N x N), bilinearly.
+fn equal_area_to_latlong(sq: &Image) -> Image {
+    let n = sq.width;
+    let (w, h) = (2 * n, n);
+    let mut out = Image::new(w, h);
+    for row in 0..h {
+        let theta = std::f64::consts::PI * (row as f64 + 0.5) / h as f64;
+        for col in 0..w {
+            let phi = 2.0 * std::f64::consts::PI * (col as f64 + 0.5) / w as f64;
+            let d = DVec3::new(
+                theta.sin() * phi.cos(),
+                theta.sin() * phi.sin(),
+                theta.cos(),
+            );
+            let (u, v) = sphere_to_square(d);
+            let (x, y) = (u * n as f64 - 0.5, v * n as f64 - 0.5);
+            let (x0, y0) = (x.floor(), y.floor());
+            let (fx, fy) = ((x - x0) as f32, (y - y0) as f32);
+            let at = |dx: f64, dy: f64| {
+                let cx = (x0 + dx).clamp(0.0, (n - 1) as f64) as usize;
+                let cy = (y0 + dy).clamp(0.0, (n - 1) as f64) as usize;
+                sq.get(cx, cy)
+            };
+            let c = at(0.0, 0.0) * ((1.0 - fx) * (1.0 - fy))
+                + at(1.0, 0.0) * (fx * (1.0 - fy))
+                + at(0.0, 1.0) * ((1.0 - fx) * fy)
+                + at(1.0, 1.0) * (fx * fy);
+            out.set(col, row, c);
+        }
+    }
+    out
+}
+
+/// Illuminance (luminance-weighted) a latitude-longitude map gives a surface facing +z,
+/// exact for the piecewise-constant map: a texel row between theta0 and theta1 contributes
+/// dphi * (sin^2 theta1 - sin^2 theta0) / 2 per unit radiance.
+fn upper_illuminance(img: &Image) -> f32 {
+    let (w, h) = (img.width, img.height);
+    let dphi = 2.0 * std::f64::consts::PI / w as f64;
+    let mut e = 0.0f64;
+    for row in 0..h {
+        let t0 = std::f64::consts::PI * row as f64 / h as f64;
+        let t1 =
+            (std::f64::consts::PI * (row + 1) as f64 / h as f64).min(std::f64::consts::FRAC_PI_2);
+        if t1 <= t0 {
+            break;
+        }
+        let weight = dphi * (t1.sin().powi(2) - t0.sin().powi(2)) / 2.0;
+        let sum: f64 = (0..w).map(|col| img.get(col, row).luminance() as f64).sum();
+        e += sum * weight;
+    }
+    e as f32
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn equal_area_mapping_is_equal_area() {
+        // Directions on a fine latitude-longitude grid, weighted by solid angle, must cover
+        // the square's 4x4 cells evenly.
+        let mut cells = [0.0f64; 16];
+        let (nt, np) = (400, 800);
+        for i in 0..nt {
+            let theta = std::f64::consts::PI * (i as f64 + 0.5) / nt as f64;
+            for j in 0..np {
+                let phi = 2.0 * std::f64::consts::PI * (j as f64 + 0.5) / np as f64;
+                let d = DVec3::new(
+                    theta.sin() * phi.cos(),
+                    theta.sin() * phi.sin(),
+                    theta.cos(),
+                );
+                let (u, v) = sphere_to_square(d);
+                assert!((0.0..=1.0).contains(&u) && (0.0..=1.0).contains(&v));
+                let c = ((u * 4.0).min(3.0) as usize) + 4 * ((v * 4.0).min(3.0) as usize);
+                cells[c] += theta.sin();
+            }
+        }
+        let total: f64 = cells.iter().sum();
+        for c in cells {
+            assert!((c / total - 1.0 / 16.0).abs() < 2e-3, "{cells:?}");
+        }
+        // +z maps to the centre, -z to the corners.
+        let (u, v) = sphere_to_square(DVec3::Z);
+        assert!((u - 0.5).abs() < 1e-12 && (v - 0.5).abs() < 1e-12);
+    }
+
+    #[test]
+    fn constant_map_illuminance_is_pi_times_radiance() {
+        let mut img = Image::new(64, 32);
+        for y in 0..32 {
+            for x in 0..64 {
+                img.set(x, y, Rgb::splat(2.0));
+            }
+        }
+        assert!((upper_illuminance(&img) / (2.0 * PI) - 1.0).abs() < 1e-5);
+        let sq = {
+            let mut s = Image::new(16, 16);
+            for y in 0..16 {
+                for x in 0..16 {
+                    s.set(x, y, Rgb::splat(3.0));
+                }
+            }
+            s
+        };
+        let ll = equal_area_to_latlong(&sq);
+        assert_eq!((ll.width, ll.height), (32, 16));
+        assert!((ll.mean().r - 3.0).abs() < 1e-5);
+    }
+}

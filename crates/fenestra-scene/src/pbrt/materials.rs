@@ -1,0 +1,188 @@
+//! pbrt-v4 materials mapped onto fenestra's. Approximations (docs/scenes.md):
+//! - coateddiffuse: normalised Phong with specular F0 = ((eta-1)/(eta+1))^2 (0.04 for 1.5),
+//!   diffuse reflectance * (1 - F0) and exponent 2/alpha^2 - 2 (the Phong lobe with the
+//!   GGX lobe's curvature at its peak, Walter et al. 2007);
+//! - smooth conductor (alpha < 1e-3): a mirror of the normal-incidence Fresnel reflectance;
+//! - dielectric with spectral eta: the mean of the RGB values (no dispersion);
+//! - anisotropic rough dielectric: alpha = sqrt(alpha_u alpha_v).
+//!
+//! fenestra adds two types of its own so that its exports round-trip: "phong" (rgb diffuse,
+//! rgb specular, float exponent) and "ward" (rgb diffuse, rgb specular, float alphax, alphay).
+
+use super::builder::{Builder, Tex};
+use super::params::ParamList;
+use super::spectra;
+use super::{Loc, PbrtError};
+use crate::Material;
+use fenestra_core::Rgb;
+
+/// pbrt-v4 treats microfacet distributions with alpha below this as perfectly smooth.
+const SMOOTH_ALPHA: f32 = 1e-3;
+
+/// A reflectance as given: a value or a named texture.
+enum Reflectance {
+    Value(Rgb),
+    Texture(Tex),
+}
+
+impl Builder {
+    /// Creates the material and returns its index.
+    pub(super) fn material(
+        &mut self,
+        ty: &str,
+        p: &ParamList,
+        loc: &Loc,
+    ) -> Result<usize, PbrtError> {
+        let rgb = |name: &str, default: Rgb| -> Result<Rgb, PbrtError> {
+            match p.spectrum(name)? {
+                Some((s, l)) => spectra::to_rgb(&s).map_err(|e| PbrtError::at(&l, e)),
+                None => Ok(default),
+            }
+        };
+        let m = match ty {
+            "diffuse" => match self.reflectance(p, loc)? {
+                Reflectance::Value(r) => Material::Diffuse { reflectance: r },
+                Reflectance::Texture(Tex::Rgb(r)) => Material::Diffuse { reflectance: r },
+                Reflectance::Texture(Tex::Image(texture)) => Material::TexturedDiffuse { texture },
+            },
+            "coateddiffuse" => {
+                let r = match self.reflectance(p, loc)? {
+                    Reflectance::Value(r) | Reflectance::Texture(Tex::Rgb(r)) => r,
+                    Reflectance::Texture(Tex::Image(t)) => {
+                        self.warn("image texture on coateddiffuse (its mean is used)", loc);
+                        t.average()
+                    }
+                };
+                let eta = p.float("eta", 1.5)?;
+                let f0 = ((eta - 1.0) / (eta + 1.0)).powi(2);
+                let alpha = self.alpha(p)?.max(SMOOTH_ALPHA);
+                for unused in ["thickness", "g", "maxdepth", "nsamples"] {
+                    let _ = p
+                        .float(unused, 0.0)
+                        .or_else(|_| p.int(unused, 0).map(|v| v as f32));
+                }
+                if p.has("albedo") {
+                    p.spectrum("albedo")?;
+                }
+                Material::Phong {
+                    diffuse: r * (1.0 - f0),
+                    specular: Rgb::splat(f0),
+                    exponent: (2.0 / (alpha * alpha) - 2.0).clamp(0.0, 1e6),
+                }
+            }
+            "conductor" => {
+                let (eta, k) = match p.spectrum("reflectance")? {
+                    Some((s, l)) => {
+                        let r = spectra::to_rgb(&s).map_err(|e| PbrtError::at(&l, e))?;
+                        // pbrt-v4: eta = 1 and k = 2 sqrt(r) / sqrt(1 - r) reproduce r at
+                        // normal incidence.
+                        let k = r.map(|v| {
+                            let v = v.clamp(0.0, 0.9999);
+                            2.0 * v.sqrt() / (1.0 - v).sqrt()
+                        });
+                        (Rgb::ONE, k)
+                    }
+                    None => (
+                        rgb("eta", spectra::named("metal-Cu-eta").unwrap_or(Rgb::ONE))?,
+                        rgb("k", spectra::named("metal-Cu-k").unwrap_or(Rgb::ONE))?,
+                    ),
+                };
+                let (au, av) = self.alphas(p)?;
+                if au.max(av) < SMOOTH_ALPHA {
+                    let f0 =
+                        |e: f32, k: f32| ((e - 1.0).powi(2) + k * k) / ((e + 1.0).powi(2) + k * k);
+                    Material::Mirror {
+                        reflectance: Rgb::new(f0(eta.r, k.r), f0(eta.g, k.g), f0(eta.b, k.b)),
+                    }
+                } else {
+                    Material::RoughConductor {
+                        eta,
+                        k,
+                        alpha_x: au.max(SMOOTH_ALPHA),
+                        alpha_y: av.max(SMOOTH_ALPHA),
+                    }
+                }
+            }
+            "dielectric" | "thindielectric" => {
+                let eta = match p.spectrum("eta")? {
+                    None => 1.5,
+                    Some((s, l)) => {
+                        let c = spectra::to_rgb(&s).map_err(|e| PbrtError::at(&l, e))?;
+                        if c.max_component() - c.r.min(c.g).min(c.b) > 1e-6 {
+                            self.warn("dispersive (spectral) eta (the mean index is used)", &l);
+                        }
+                        c.average()
+                    }
+                };
+                if ty == "thindielectric" {
+                    Material::ThinDielectric { eta }
+                } else {
+                    let (au, av) = self.alphas(p)?;
+                    if au.max(av) < SMOOTH_ALPHA {
+                        Material::Dielectric { eta }
+                    } else {
+                        Material::RoughDielectric {
+                            eta,
+                            alpha: (au * av).sqrt().max(SMOOTH_ALPHA),
+                        }
+                    }
+                }
+            }
+            "phong" => Material::Phong {
+                diffuse: rgb("diffuse", Rgb::splat(0.5))?,
+                specular: rgb("specular", Rgb::ZERO)?,
+                exponent: p.float("exponent", 10.0)?,
+            },
+            "ward" => Material::Ward {
+                diffuse: rgb("diffuse", Rgb::splat(0.5))?,
+                specular: rgb("specular", Rgb::splat(0.04))?,
+                alpha_x: p.float("alphax", 0.1)?,
+                alpha_y: p.float("alphay", 0.1)?,
+            },
+            "" => return Ok(0),
+            other => {
+                self.warn(
+                    format!("Material \"{other}\" (replaced by diffuse 0.5)"),
+                    loc,
+                );
+                p.use_all();
+                Material::diffuse(0.5)
+            }
+        };
+        if let Some(what) = m.validate() {
+            return Err(PbrtError::at(loc, format!("material \"{ty}\": {what}")));
+        }
+        self.materials.push(m);
+        Ok(self.materials.len() - 1)
+    }
+
+    fn reflectance(&mut self, p: &ParamList, loc: &Loc) -> Result<Reflectance, PbrtError> {
+        if p.type_of("reflectance") == Some("texture") {
+            let name = p.texture("reflectance")?.unwrap_or_default();
+            return match self.textures.get(&name) {
+                Some(t) => Ok(Reflectance::Texture(t.clone())),
+                None => Err(PbrtError::at(loc, format!("unknown texture \"{name}\""))),
+            };
+        }
+        Ok(Reflectance::Value(match p.spectrum("reflectance")? {
+            Some((s, l)) => spectra::to_rgb(&s).map_err(|e| PbrtError::at(&l, e))?,
+            None => Rgb::splat(0.5),
+        }))
+    }
+
+    /// GGX (alpha_u, alpha_v) from "roughness" or "uroughness"/"vroughness"; pbrt-v4 remaps
+    /// roughness r to alpha = sqrt(r) unless "remaproughness" is false.
+    fn alphas(&mut self, p: &ParamList) -> Result<(f32, f32), PbrtError> {
+        let r = p.float("roughness", 0.0)?;
+        let u = p.opt_float("uroughness")?.unwrap_or(r);
+        let v = p.opt_float("vroughness")?.unwrap_or(r);
+        let remap = p.bool("remaproughness", true)?;
+        let a = |x: f32| if remap { x.max(0.0).sqrt() } else { x };
+        Ok((a(u), a(v)))
+    }
+
+    fn alpha(&mut self, p: &ParamList) -> Result<f32, PbrtError> {
+        let (u, v) = self.alphas(p)?;
+        Ok((u * v).sqrt())
+    }
+}

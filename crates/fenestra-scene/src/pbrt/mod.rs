@@ -1,0 +1,108 @@
+//! The pbrt-v4 scene format: a lexer and parser for the whole syntax and a builder that maps
+//! the supported subset onto fenestra's scene model. What the builder cannot represent is
+//! reported once per kind with its count and first location (an error with `strict`).
+//! docs/scenes.md lists what is supported and how each approximation is made.
+
+mod builder;
+pub mod export;
+mod lexer;
+mod lights;
+mod materials;
+mod params;
+mod parser;
+mod shapes;
+mod spectra;
+
+use crate::SceneDesc;
+use std::fmt;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// A position in a scene file (1-based line and column, in characters).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Loc {
+    pub file: Arc<PathBuf>,
+    pub line: u32,
+    pub col: u32,
+}
+
+impl fmt::Display for Loc {
+    fn fmt(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        write!(f, "{}:{}:{}", self.file.display(), self.line, self.col)
+    }
+}
+
+#[derive(Debug, thiserror::Error)]
+#[error("{loc}: {msg}")]
+pub struct PbrtError {
+    pub loc: Loc,
+    pub msg: String,
+}
+
+impl PbrtError {
+    pub fn at(loc: &Loc, msg: impl Into<String>) -> Self {
+        PbrtError {
+            loc: loc.clone(),
+            msg: msg.into(),
+        }
+    }
+}
+
+/// Something the file asks for that fenestra does not do, counted over the whole scene.
+#[derive(Clone, Debug)]
+pub struct Warning {
+    pub what: String,
+    pub count: usize,
+    pub first: Loc,
+}
+
+impl fmt::Display for Warning {
+    fn fmt(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        write!(f, "{}: unsupported: {}", self.first, self.what)?;
+        if self.count > 1 {
+            write!(f, " ({} times)", self.count)?;
+        }
+        Ok(())
+    }
+}
+
+/// A scene read from a file, with what could not be represented.
+pub struct Loaded {
+    pub desc: SceneDesc,
+    pub warnings: Vec<Warning>,
+}
+
+/// Reads a pbrt-v4 scene file (and what it includes). With `strict`, anything unsupported is
+/// an error instead of a warning.
+pub fn load(path: &Path, strict: bool) -> Result<Loaded, PbrtError> {
+    let start = Loc {
+        file: Arc::new(path.to_path_buf()),
+        line: 1,
+        col: 1,
+    };
+    let bytes = std::fs::read(path)
+        .map_err(|e| PbrtError::at(&start, format!("cannot read scene file: {e}")))?;
+    load_bytes(&bytes, path, strict)
+}
+
+/// Reads a scene from memory; `path` names it in messages and anchors relative includes.
+pub fn load_bytes(bytes: &[u8], path: &Path, strict: bool) -> Result<Loaded, PbrtError> {
+    let mut b = builder::Builder::new();
+    b.run_bytes(bytes, path, None)?;
+    let name = path
+        .file_stem()
+        .map_or_else(|| "scene".into(), |s| s.to_string_lossy().into_owned());
+    let (desc, warnings) = b.finish(name)?;
+    if strict && !warnings.is_empty() {
+        let w = &warnings[0];
+        let more = match warnings.len() {
+            1 => String::new(),
+            n => format!(" (and {} more kinds of unsupported input)", n - 1),
+        };
+        return Err(PbrtError::at(
+            &w.first,
+            format!("unsupported in strict mode: {}{more}", w.what),
+        ));
+    }
+    Ok(Loaded { desc, warnings })
+}

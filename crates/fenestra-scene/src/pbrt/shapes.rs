@@ -1,0 +1,428 @@
+//! pbrt-v4 shapes: trianglemesh, plymesh, bilinearmesh, sphere and disk, built in object space
+//! and moved to the world by the current transform.
+
+use super::builder::Builder;
+use super::parser::Directive;
+use super::{Loc, PbrtError};
+use crate::light::Emission;
+use crate::{Shape, ShapeKind, TriangleMesh};
+use fenestra_core::{Vec2, Vec3, PI};
+use glam::{DMat3, DMat4, DVec3};
+use std::path::Path;
+
+/// Bilinear patches that are not planar are split into this many quads per side.
+const BILINEAR_SPLITS: usize = 8;
+
+impl Builder {
+    pub(super) fn shape(&mut self, d: &Directive, dir: &Path) -> Result<(), PbrtError> {
+        let p = &d.params;
+        let reverse = self.gs.reverse;
+        let kind = match d.str(0) {
+            "trianglemesh" => {
+                let mesh = triangle_mesh(d)?;
+                ShapeKind::Mesh(mesh)
+            }
+            "plymesh" => {
+                let Some(file) = p.string("filename")? else {
+                    return Err(PbrtError::at(&d.loc, "plymesh needs \"string filename\""));
+                };
+                if p.has("displacement") {
+                    self.warn("plymesh displacement", &d.loc);
+                    p.use_all();
+                }
+                let mesh = crate::mesh::ply::read(&dir.join(&file))
+                    .map_err(|e| PbrtError::at(&d.loc, e.to_string()))?;
+                ShapeKind::Mesh(mesh)
+            }
+            "bilinearmesh" => ShapeKind::Mesh(bilinear_mesh(d)?),
+            "sphere" => {
+                let radius = p.float("radius", 1.0)?;
+                let (zmin, zmax, phimax) = (
+                    p.float("zmin", -radius)?,
+                    p.float("zmax", radius)?,
+                    p.float("phimax", 360.0)?,
+                );
+                if zmin > -radius || zmax < radius || phimax < 360.0 {
+                    self.warn(
+                        "partial sphere (zmin, zmax, phimax; the full sphere is used)",
+                        &d.loc,
+                    );
+                }
+                positive_size(radius, "sphere radius", &d.loc)?;
+                ShapeKind::Sphere {
+                    center: Vec3::ZERO,
+                    radius,
+                }
+            }
+            "disk" => {
+                let radius = p.float("radius", 1.0)?;
+                positive_size(radius, "disk radius", &d.loc)?;
+                if p.float("innerradius", 0.0)? > 0.0 || p.float("phimax", 360.0)? < 360.0 {
+                    self.warn(
+                        "partial disk (innerradius, phimax; the full disk is used)",
+                        &d.loc,
+                    );
+                }
+                ShapeKind::Disk {
+                    center: Vec3::new(0.0, 0.0, p.float("height", 0.0)?),
+                    normal: Vec3::Z,
+                    radius,
+                }
+            }
+            other => {
+                self.warn(format!("Shape \"{other}\" (skipped)"), &d.loc);
+                p.use_all();
+                return Ok(());
+            }
+        };
+        // pbrt-v4: a mesh with vertex normals takes its orientation from them alone.
+        let has_normals = matches!(&kind, ShapeKind::Mesh(m) if m.normals.is_some());
+        let mut shape = Shape::new(kind, self.gs.material);
+        shape.flip_normals = reverse && !has_normals;
+        let mut shape = transform(&shape, &self.gs.ctm, &d.loc)?;
+        if let Some(area) = self.gs.area.clone() {
+            if self.object.is_some() {
+                self.warn(
+                    "area lights inside object instances (emission dropped)",
+                    &d.loc,
+                );
+            } else {
+                let a = shape.area();
+                if !(a > 0.0) {
+                    return Err(PbrtError::at(&d.loc, "an area light shape has zero area"));
+                }
+                shape.emission = Some(match area.power {
+                    Some(power) => {
+                        let lum = area.radiance.luminance();
+                        if !(lum > 0.0) {
+                            return Err(PbrtError::at(
+                                &d.loc,
+                                "area light \"power\" needs a radiance with positive luminance",
+                            ));
+                        }
+                        Emission::from_power(area.radiance * (power / lum), a, area.two_sided)
+                    }
+                    None => Emission {
+                        radiance: area.radiance,
+                        two_sided: area.two_sided,
+                    },
+                });
+            }
+        }
+        self.add_shape(shape);
+        Ok(())
+    }
+}
+
+fn positive_size(v: f32, what: &str, loc: &Loc) -> Result<(), PbrtError> {
+    if v > 0.0 && v.is_finite() {
+        Ok(())
+    } else {
+        Err(PbrtError::at(
+            loc,
+            format!("{what} must be positive, found {v}"),
+        ))
+    }
+}
+
+/// Checks indices against the vertex count and groups them by `n`.
+fn indices<const N: usize>(
+    d: &Directive,
+    vertices: usize,
+    what: &str,
+) -> Result<Vec<[u32; N]>, PbrtError> {
+    let (idx, loc) = match d.params.ints("indices")? {
+        Some(i) => i,
+        None if vertices == N => ((0..N as i64).collect(), d.loc.clone()),
+        None => {
+            return Err(PbrtError::at(
+                &d.loc,
+                format!("{what} needs \"integer indices\" (it has {vertices} vertices)"),
+            ))
+        }
+    };
+    if idx.len() % N != 0 {
+        return Err(PbrtError::at(
+            &loc,
+            format!(
+                "{what} indices: {} values is not a multiple of {N}",
+                idx.len()
+            ),
+        ));
+    }
+    if let Some(bad) = idx.iter().find(|&&i| i < 0 || i as usize >= vertices) {
+        return Err(PbrtError::at(
+            &loc,
+            format!("{what} index {bad} is out of range ({vertices} vertices)"),
+        ));
+    }
+    Ok(idx
+        .chunks_exact(N)
+        .map(|c| std::array::from_fn(|k| c[k] as u32))
+        .collect())
+}
+
+/// Vertex attributes P, N and uv, with their counts checked against P.
+fn attributes(
+    d: &Directive,
+    what: &str,
+) -> Result<(Vec<Vec3>, Option<Vec<Vec3>>, Option<Vec<Vec2>>), PbrtError> {
+    let p = &d.params;
+    let Some(positions) = p.point3s("P")? else {
+        return Err(PbrtError::at(&d.loc, format!("{what} needs \"point3 P\"")));
+    };
+    let n = positions.len();
+    let normals = p.normals("N")?;
+    let uvs = p.point2s("uv")?;
+    let check = |len: Option<usize>, name: &str| match len {
+        Some(l) if l != n => Err(PbrtError::at(
+            &d.loc,
+            format!("{what}: {l} values of \"{name}\" for {n} vertices"),
+        )),
+        _ => Ok(()),
+    };
+    check(normals.as_ref().map(Vec::len), "N")?;
+    check(uvs.as_ref().map(Vec::len), "uv")?;
+    Ok((positions, normals, uvs))
+}
+
+fn triangle_mesh(d: &Directive) -> Result<TriangleMesh, PbrtError> {
+    let (positions, normals, uvs) = attributes(d, "trianglemesh")?;
+    let indices = indices::<3>(d, positions.len(), "trianglemesh")?;
+    Ok(TriangleMesh {
+        positions,
+        normals,
+        uvs,
+        indices,
+    })
+}
+
+/// Bilinear patches (p00, p10, p01, p11) as triangles: two per planar patch, a grid of
+/// bilinearly interpolated points otherwise.
+fn bilinear_mesh(d: &Directive) -> Result<TriangleMesh, PbrtError> {
+    let (positions, normals, uvs) = attributes(d, "bilinearmesh")?;
+    let patches = indices::<4>(d, positions.len(), "bilinearmesh")?;
+    let mut mesh = TriangleMesh {
+        normals: normals.as_ref().map(|_| Vec::new()),
+        uvs: Some(Vec::new()),
+        ..TriangleMesh::default()
+    };
+    for q in patches {
+        let [a, b, c, e] = q.map(|i| i as usize);
+        let planar = {
+            let n = (positions[b] - positions[a]).cross(positions[c] - positions[a]);
+            let scale =
+                (positions[b] - positions[a]).length() + (positions[c] - positions[a]).length();
+            (positions[e] - positions[a])
+                .dot(n.normalize_or_zero())
+                .abs()
+                <= 1e-6 * scale
+        };
+        let k = if planar { 1 } else { BILINEAR_SPLITS };
+        let base = mesh.positions.len() as u32;
+        for j in 0..=k {
+            for i in 0..=k {
+                let (u, v) = (i as f32 / k as f32, j as f32 / k as f32);
+                let w = [(1.0 - u) * (1.0 - v), u * (1.0 - v), (1.0 - u) * v, u * v];
+                let mix3 = |x: &[Vec3]| x[a] * w[0] + x[b] * w[1] + x[c] * w[2] + x[e] * w[3];
+                mesh.positions.push(mix3(&positions));
+                if let (Some(out), Some(n)) = (mesh.normals.as_mut(), normals.as_ref()) {
+                    out.push(mix3(n).normalize_or_zero());
+                }
+                let uv = match &uvs {
+                    Some(t) => t[a] * w[0] + t[b] * w[1] + t[c] * w[2] + t[e] * w[3],
+                    None => Vec2::new(u, v),
+                };
+                if let Some(out) = mesh.uvs.as_mut() {
+                    out.push(uv);
+                }
+            }
+        }
+        let at = |i: usize, j: usize| base + (j * (k + 1) + i) as u32;
+        for j in 0..k {
+            for i in 0..k {
+                mesh.indices
+                    .push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
+                mesh.indices
+                    .push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
+            }
+        }
+    }
+    Ok(mesh)
+}
+
+/// `shape` moved by `m`. A transform that mirrors flips the orientation of meshes without
+/// vertex normals and of spheres and disks, as in pbrt-v4. Spheres and disks stay analytic
+/// under similarity transforms and are tessellated otherwise.
+pub(super) fn transform(shape: &Shape, m: &DMat4, loc: &Loc) -> Result<Shape, PbrtError> {
+    let linear = DMat3::from_mat4(*m);
+    let det = linear.determinant();
+    if !(det.is_finite() && det.abs() > 1e-300) || !m.is_finite() {
+        return Err(PbrtError::at(
+            loc,
+            "the current transform is singular or not finite",
+        ));
+    }
+    let normal_m = linear.inverse().transpose();
+    let pt = |p: Vec3| m.transform_point3(p.as_dvec3()).as_vec3();
+    let nrm = |n: Vec3| (normal_m * n.as_dvec3()).normalize_or_zero().as_vec3();
+    let mirrored = det < 0.0;
+    let mut out = shape.clone();
+    out.kind = match &shape.kind {
+        ShapeKind::Mesh(mesh) => {
+            if mirrored && mesh.normals.is_none() {
+                out.flip_normals = !out.flip_normals;
+            }
+            ShapeKind::Mesh(TriangleMesh {
+                positions: mesh.positions.iter().map(|&p| pt(p)).collect(),
+                normals: mesh
+                    .normals
+                    .as_ref()
+                    .map(|n| n.iter().map(|&v| nrm(v)).collect()),
+                uvs: mesh.uvs.clone(),
+                indices: mesh.indices.clone(),
+            })
+        }
+        quadric => {
+            let scale = similarity_scale(&linear);
+            if mirrored {
+                out.flip_normals = !out.flip_normals;
+            }
+            match (quadric, scale) {
+                (ShapeKind::Sphere { center, radius }, Some(s)) => ShapeKind::Sphere {
+                    center: pt(*center),
+                    radius: radius * s as f32,
+                },
+                (
+                    ShapeKind::Disk {
+                        center,
+                        normal,
+                        radius,
+                    },
+                    Some(s),
+                ) => ShapeKind::Disk {
+                    center: pt(*center),
+                    normal: nrm(*normal),
+                    radius: radius * s as f32,
+                },
+                (q, _) => {
+                    // Outward vertex normals give the side; flip_normals still applies.
+                    let mut mesh = tessellate(q);
+                    mesh.positions.iter_mut().for_each(|p| *p = pt(*p));
+                    if let Some(n) = mesh.normals.as_mut() {
+                        n.iter_mut().for_each(|v| *v = nrm(*v));
+                    }
+                    ShapeKind::Mesh(mesh)
+                }
+            }
+        }
+    };
+    Ok(out)
+}
+
+/// The uniform scale factor of `l` if it is a rotation times a uniform scale (possibly
+/// mirrored), `None` otherwise.
+fn similarity_scale(l: &DMat3) -> Option<f64> {
+    let cols = [l.x_axis, l.y_axis, l.z_axis];
+    let s = cols[0].length();
+    let tol = 1e-5 * s;
+    let ortho = |a: DVec3, b: DVec3| a.dot(b).abs() <= tol * s;
+    let same = cols.iter().all(|c| (c.length() - s).abs() <= tol);
+    (same && ortho(cols[0], cols[1]) && ortho(cols[0], cols[2]) && ortho(cols[1], cols[2]))
+        .then_some(s)
+}
+
+/// A sphere or disk as a triangle mesh with outward normals, for non-uniform transforms.
+fn tessellate(kind: &ShapeKind) -> TriangleMesh {
+    let mut mesh = TriangleMesh {
+        normals: Some(Vec::new()),
+        uvs: Some(Vec::new()),
+        ..TriangleMesh::default()
+    };
+    let (rings, segments) = (48usize, 96usize);
+    let frame_pt = |center: Vec3, normal: Vec3, radius: f32, r: f32, phi: f32| {
+        let f = fenestra_core::Frame::from_normal(normal);
+        center + (f.s * phi.cos() + f.t * phi.sin()) * (r * radius)
+    };
+    for i in 0..=rings {
+        let v = i as f32 / rings as f32;
+        for j in 0..=segments {
+            let u = j as f32 / segments as f32;
+            let phi = 2.0 * PI * u;
+            let (p, n) = match *kind {
+                ShapeKind::Sphere { center, radius } => {
+                    let theta = PI * v;
+                    let d = Vec3::new(
+                        theta.sin() * phi.cos(),
+                        theta.sin() * phi.sin(),
+                        theta.cos(),
+                    );
+                    (center + d * radius, d)
+                }
+                ShapeKind::Disk {
+                    center,
+                    normal,
+                    radius,
+                } => (frame_pt(center, normal, radius, 1.0 - v, phi), normal),
+                ShapeKind::Mesh(_) => unreachable!("only quadrics are tessellated"),
+            };
+            mesh.positions.push(p);
+            if let Some(ns) = mesh.normals.as_mut() {
+                ns.push(n);
+            }
+            if let Some(t) = mesh.uvs.as_mut() {
+                t.push(Vec2::new(u, v));
+            }
+        }
+    }
+    let at = |i: usize, j: usize| (i * (segments + 1) + j) as u32;
+    for i in 0..rings {
+        for j in 0..segments {
+            mesh.indices
+                .push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
+            mesh.indices
+                .push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
+        }
+    }
+    mesh
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::sync::Arc;
+
+    fn loc() -> Loc {
+        Loc {
+            file: Arc::new("t".into()),
+            line: 1,
+            col: 1,
+        }
+    }
+
+    #[test]
+    fn similarity_keeps_spheres_analytic_and_stretch_tessellates() {
+        let s = Shape::new(
+            ShapeKind::Sphere {
+                center: Vec3::ZERO,
+                radius: 1.0,
+            },
+            0,
+        );
+        let m = DMat4::from_translation(DVec3::new(1.0, 2.0, 3.0))
+            * DMat4::from_axis_angle(DVec3::new(1.0, 1.0, 0.0).normalize(), 0.7)
+            * DMat4::from_scale(DVec3::splat(2.0));
+        let t = transform(&s, &m, &loc()).expect("transform");
+        assert!(
+            matches!(t.kind, ShapeKind::Sphere { radius, center } if (radius - 2.0).abs() < 1e-5 && (center - Vec3::new(1.0, 2.0, 3.0)).length() < 1e-5)
+        );
+        let stretched = transform(&s, &DMat4::from_scale(DVec3::new(1.0, 1.0, 3.0)), &loc())
+            .expect("transform");
+        let ShapeKind::Mesh(mesh) = &stretched.kind else {
+            panic!("tessellated")
+        };
+        let top = mesh.positions.iter().map(|p| p.z).fold(f32::MIN, f32::max);
+        assert!((top - 3.0).abs() < 1e-4);
+        assert!(transform(&s, &DMat4::from_scale(DVec3::new(1.0, 0.0, 1.0)), &loc()).is_err());
+    }
+}

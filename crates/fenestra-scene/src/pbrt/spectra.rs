@@ -1,0 +1,167 @@
+//! pbrt-v4 spectra turned into fenestra's linear sRGB: sampled spectra and blackbodies through
+//! the CIE 1931 observer (the analytic multi-lobe fit of Wyman, Sloan and Shirley 2013, JCGT
+//! 2(2)), and the named spectra pbrt-v4 ships, as RGB values.
+
+use super::params::SpectrumParam;
+use fenestra_core::Rgb;
+
+fn lobe(l: f64, mu: f64, s1: f64, s2: f64) -> f64 {
+    let s = if l < mu { s1 } else { s2 };
+    (-0.5 * ((l - mu) / s).powi(2)).exp()
+}
+
+/// CIE 1931 2-degree colour matching functions at wavelength `l` (nm), Wyman et al. 2013.
+fn cie_xyz(l: f64) -> [f64; 3] {
+    [
+        1.056 * lobe(l, 599.8, 37.9, 31.0) + 0.362 * lobe(l, 442.0, 16.0, 26.7)
+            - 0.065 * lobe(l, 501.1, 20.4, 26.2),
+        0.821 * lobe(l, 568.8, 46.9, 40.5) + 0.286 * lobe(l, 530.9, 16.3, 31.1),
+        1.217 * lobe(l, 437.0, 11.8, 36.0) + 0.681 * lobe(l, 459.0, 26.0, 13.8),
+    ]
+}
+
+fn xyz_to_linear_srgb([x, y, z]: [f64; 3]) -> [f64; 3] {
+    [
+        3.2406 * x - 1.5372 * y - 0.4986 * z,
+        -0.9689 * x + 1.8758 * y + 0.0415 * z,
+        0.0557 * x - 0.2040 * y + 1.0570 * z,
+    ]
+}
+
+/// RGB of a spectrum given as a function of wavelength, scaled per channel so that the
+/// constant spectrum 1 maps to white (1, 1, 1).
+fn spectrum_to_rgb(s: impl Fn(f64) -> f64) -> Rgb {
+    let integrate = |s: &dyn Fn(f64) -> f64| {
+        let mut acc = [0.0; 3];
+        for i in 0..=470 {
+            let l = 360.0 + i as f64;
+            let c = cie_xyz(l);
+            let v = s(l);
+            for k in 0..3 {
+                acc[k] += c[k] * v;
+            }
+        }
+        xyz_to_linear_srgb(acc)
+    };
+    let white = integrate(&|_| 1.0);
+    let c = integrate(&s);
+    Rgb::new(
+        (c[0] / white[0]) as f32,
+        (c[1] / white[1]) as f32,
+        (c[2] / white[2]) as f32,
+    )
+}
+
+/// Colour of a blackbody at `kelvin`, normalised like pbrt-v4 (peak 1) and then to luminance 1.
+pub fn blackbody(kelvin: f32) -> Rgb {
+    let t = kelvin as f64;
+    let planck = |l: f64| {
+        let lm = l * 1e-9;
+        let (h, c, k) = (6.626_070_15e-34, 299_792_458.0, 1.380_649e-23);
+        2.0 * h * c * c / (lm.powi(5) * ((h * c / (lm * k * t)).exp() - 1.0))
+    };
+    let rgb = spectrum_to_rgb(planck);
+    let y = rgb.luminance();
+    if y > 0.0 && y.is_finite() {
+        rgb / y
+    } else {
+        Rgb::ZERO
+    }
+}
+
+/// Piecewise-linear spectrum through (wavelength, value) pairs, constant beyond its ends.
+pub fn sampled(pairs: &[(f32, f32)]) -> Rgb {
+    let mut p: Vec<(f64, f64)> = pairs.iter().map(|&(l, v)| (l as f64, v as f64)).collect();
+    p.sort_by(|a, b| a.0.total_cmp(&b.0));
+    spectrum_to_rgb(|l| {
+        let i = p.partition_point(|q| q.0 < l);
+        if i == 0 {
+            p[0].1
+        } else if i == p.len() {
+            p[p.len() - 1].1
+        } else {
+            let (a, b) = (p[i - 1], p[i]);
+            let t = if b.0 > a.0 {
+                (l - a.0) / (b.0 - a.0)
+            } else {
+                0.0
+            };
+            a.1 + t * (b.1 - a.1)
+        }
+    })
+}
+
+/// Named spectra of pbrt-v4 as RGB: metal indices (eta, k) at the sRGB primaries and glass
+/// indices at 550 nm. Illuminants are white (fenestra renders in sRGB with a D65 white).
+pub fn named(name: &str) -> Option<Rgb> {
+    let v = |r, g, b| Some(Rgb::new(r, g, b));
+    match name {
+        "metal-Au-eta" => v(0.143, 0.374, 1.442),
+        "metal-Au-k" => v(3.983, 2.385, 1.603),
+        "metal-Ag-eta" => v(0.155, 0.117, 0.138),
+        "metal-Ag-k" => v(4.828, 3.122, 2.147),
+        "metal-Al-eta" => v(1.657, 0.880, 0.521),
+        "metal-Al-k" => v(9.224, 6.270, 4.837),
+        "metal-Cu-eta" => v(0.200, 0.924, 1.102),
+        "metal-Cu-k" => v(3.912, 2.452, 2.142),
+        "metal-CuZn-eta" => v(0.444, 0.527, 1.094),
+        "metal-CuZn-k" => v(3.695, 2.765, 1.829),
+        "glass-BK7" => Some(Rgb::splat(1.5168)),
+        "glass-BAF10" => Some(Rgb::splat(1.6700)),
+        "glass-FK51A" => Some(Rgb::splat(1.4866)),
+        "glass-LASF9" => Some(Rgb::splat(1.8503)),
+        "glass-F5" | "glass-SF5" => Some(Rgb::splat(1.6727)),
+        "glass-F10" | "glass-SF10" => Some(Rgb::splat(1.7283)),
+        "glass-F11" | "glass-SF11" => Some(Rgb::splat(1.7847)),
+        "stdillum-D65" | "illum-acesD60" | "stdillum-D50" | "stdillum-E" => Some(Rgb::ONE),
+        "stdillum-A" => Some(blackbody(2856.0)),
+        _ => None,
+    }
+}
+
+/// All names [`named`] knows, for error messages.
+pub const NAMES: &str = "metal-{Au,Ag,Al,Cu,CuZn}-{eta,k}, glass-{BK7,BAF10,FK51A,LASF9,F5,F10,F11}, stdillum-{D65,D50,E,A}";
+
+/// The RGB value of a spectrum parameter, or why it has none.
+pub fn to_rgb(s: &SpectrumParam) -> Result<Rgb, String> {
+    match s {
+        SpectrumParam::Rgb(c) => Ok(*c),
+        SpectrumParam::Blackbody(t) if *t > 0.0 => Ok(blackbody(*t)),
+        SpectrumParam::Blackbody(t) => Err(format!("blackbody temperature {t} must be positive")),
+        SpectrumParam::Sampled(p) if p.is_empty() => Err("empty spectrum".into()),
+        SpectrumParam::Sampled(p) => Ok(sampled(p)),
+        SpectrumParam::Named(n) => named(n).ok_or_else(|| {
+            if n.contains('.') {
+                format!("spectrum files (\"{n}\") are not supported; use rgb or a named spectrum")
+            } else {
+                format!("unknown named spectrum \"{n}\" (known: {NAMES})")
+            }
+        }),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn flat_spectra_are_grey_and_blackbodies_have_the_right_hue() {
+        let g = sampled(&[(400.0, 0.5), (700.0, 0.5)]);
+        assert!((g.r - 0.5).abs() < 1e-4 && (g.g - 0.5).abs() < 1e-4 && (g.b - 0.5).abs() < 1e-4);
+        let warm = blackbody(2700.0);
+        let cool = blackbody(10000.0);
+        assert!(warm.r > warm.g && warm.g > warm.b, "{warm:?}");
+        assert!(cool.b > cool.r, "{cool:?}");
+        assert!((warm.luminance() - 1.0).abs() < 1e-4);
+        // Near the equal-energy white point a blackbody is nearly neutral.
+        let e = blackbody(5455.0);
+        assert!((e.r / e.b - 1.0).abs() < 0.15, "{e:?}");
+    }
+
+    #[test]
+    fn red_spectrum_is_red() {
+        let r = sampled(&[(400.0, 0.0), (580.0, 0.0), (600.0, 1.0), (700.0, 1.0)]);
+        assert!(r.r > 0.5 && r.g < 0.3 && r.b < 0.1, "{r:?}");
+        assert!(to_rgb(&SpectrumParam::Named("metal-Xx-eta".into())).is_err());
+    }
+}

@@ -1,0 +1,86 @@
+//! Image textures for reflectance (pbrt-v4's "imagemap").
+
+use fenestra_core::image::Image;
+use fenestra_core::{Rgb, Vec2};
+use std::path::PathBuf;
+use std::sync::Arc;
+
+#[derive(Clone, Debug)]
+pub struct ImageTexture {
+    pub image: Arc<Image>,
+    /// The file it came from (kept for export).
+    pub path: PathBuf,
+    pub scale: f32,
+    pub invert: bool,
+    /// uv mapping: (u * uscale + udelta, v * vscale + vdelta).
+    pub uscale: f32,
+    pub vscale: f32,
+    pub udelta: f32,
+    pub vdelta: f32,
+}
+
+impl ImageTexture {
+    pub fn new(image: Arc<Image>, path: PathBuf) -> Self {
+        ImageTexture {
+            image,
+            path,
+            scale: 1.0,
+            invert: false,
+            uscale: 1.0,
+            vscale: 1.0,
+            udelta: 0.0,
+            vdelta: 0.0,
+        }
+    }
+
+    /// Bilinearly filtered, repeating lookup; as in pbrt-v4, v = 1 is the image's top row.
+    pub fn lookup(&self, uv: Vec2) -> Rgb {
+        let (w, h) = (self.image.width, self.image.height);
+        let s = (uv.x * self.uscale + self.udelta) * w as f32 - 0.5;
+        let t = (1.0 - (uv.y * self.vscale + self.vdelta)) * h as f32 - 0.5;
+        if !(s.is_finite() && t.is_finite()) {
+            return self.finish(Rgb::ZERO);
+        }
+        let (x0, y0) = (s.floor(), t.floor());
+        let (fx, fy) = (s - x0, t - y0);
+        let wrap = |v: f32, n: usize| (v as i64).rem_euclid(n as i64) as usize;
+        let texel = |dx: f32, dy: f32| self.image.get(wrap(x0 + dx, w), wrap(y0 + dy, h));
+        let c = texel(0.0, 0.0) * ((1.0 - fx) * (1.0 - fy))
+            + texel(1.0, 0.0) * (fx * (1.0 - fy))
+            + texel(0.0, 1.0) * ((1.0 - fx) * fy)
+            + texel(1.0, 1.0) * (fx * fy);
+        self.finish(c)
+    }
+
+    fn finish(&self, c: Rgb) -> Rgb {
+        let c = c * self.scale;
+        if self.invert {
+            (Rgb::ONE - c).map(|v| v.max(0.0))
+        } else {
+            c
+        }
+    }
+
+    /// The texture's mean value (used where a single reflectance is needed).
+    pub fn average(&self) -> Rgb {
+        self.finish(self.image.mean())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lookup_flips_v_and_repeats() {
+        let mut img = Image::new(2, 2);
+        img.set(0, 0, Rgb::new(1.0, 0.0, 0.0)); // top left
+        img.set(1, 1, Rgb::new(0.0, 0.0, 1.0)); // bottom right
+        let t = ImageTexture::new(Arc::new(img), "t.png".into());
+        // Texel centres: u = 0.25 is column 0, v = 0.75 is the top row.
+        assert_eq!(t.lookup(Vec2::new(0.25, 0.75)), Rgb::new(1.0, 0.0, 0.0));
+        assert_eq!(t.lookup(Vec2::new(0.75, 0.25)), Rgb::new(0.0, 0.0, 1.0));
+        assert_eq!(t.lookup(Vec2::new(1.25, -0.25)), Rgb::new(1.0, 0.0, 0.0));
+        assert_eq!(t.average(), Rgb::new(0.25, 0.0, 0.25));
+    }
+}

@@ -1,0 +1,329 @@
+//! pbrt-v4 input: orientation, transforms, instancing, includes, materials, lights, warnings
+//! and errors on malformed files.
+
+use fenestra_core::{Rgb, Vec2, Vec3};
+use fenestra_scene::light::{EnvironmentDesc, LightDesc};
+use fenestra_scene::pbrt::{self, Loaded};
+use fenestra_scene::{Backend, Material, Scene, ShapeKind};
+use std::path::{Path, PathBuf};
+
+fn load(text: &str) -> Result<Loaded, String> {
+    pbrt::load_bytes(text.as_bytes(), Path::new("test.pbrt"), false).map_err(|e| e.to_string())
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("fenestra-pbrt-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).expect("scratch dir");
+    d
+}
+
+/// Which shape the ray through film position (x, y) of a w x h image hits first.
+fn shape_at(scene: &Scene, x: f32, y: f32) -> Option<u32> {
+    let (w, h) = (scene.defaults.width, scene.defaults.height);
+    let ray = scene
+        .camera
+        .generate_ray(Vec2::new(x * w as f32, y * h as f32), w, h);
+    scene.intersect(&ray, f32::INFINITY).map(|hit| hit.shape)
+}
+
+#[test]
+fn left_handed_screen_space_matches_pbrt() {
+    // pbrt-v4 with LookAt 0 0 -5 -> origin, up +y: camera x = up x dir = +x is image right,
+    // so the sphere at world +x is on the right and the one at +y at the top. A right-handed
+    // reading (x = dir x up) would mirror the picture.
+    let s = load(
+        r#"LookAt 0 0 -5  0 0 0  0 1 0
+        Camera "perspective" "float fov" [ 60 ]
+        Film "rgb" "integer xresolution" [ 200 ] "integer yresolution" [ 100 ]
+        WorldBegin
+        AttributeBegin Translate 1.5 0 0  Shape "sphere" "float radius" 0.5 AttributeEnd
+        AttributeBegin Translate 0 1.2 0  Shape "sphere" "float radius" 0.3 AttributeEnd"#,
+    )
+    .expect("load");
+    let scene = Scene::build(s.desc, Backend::Obvhs).expect("build");
+    // The sphere centres subtend tan = 0.3 (x) and 0.24 (y); the film spans +-t vertically and
+    // +-2t horizontally (aspect 2) with t = tan(30 deg).
+    let t = 30f32.to_radians().tan();
+    let right = shape_at(&scene, 0.5 + 0.3 / (2.0 * 2.0 * t), 0.5);
+    assert_eq!(right, Some(0), "the +x sphere must be on the right");
+    assert_eq!(shape_at(&scene, 0.2, 0.5), None, "nothing on the left");
+    let top = 0.5 - 0.24 / (2.0 * t);
+    assert_eq!(
+        shape_at(&scene, 0.5, top),
+        Some(1),
+        "the +y sphere must be at the top"
+    );
+    // pbrt's fov spans the shorter (vertical) axis here: the +y sphere's top is in view.
+    assert_eq!(shape_at(&scene, 0.5, 0.01), None);
+}
+
+#[test]
+fn scale_minus_one_mirrors_like_pbrt() {
+    let s = load(
+        r#"Scale -1 1 1 LookAt 0 0 -5  0 0 0  0 1 0
+        Camera "perspective" "float fov" [ 60 ]
+        WorldBegin
+        AttributeBegin Translate 1.5 0 0  Shape "sphere" "float radius" 0.5 AttributeEnd"#,
+    )
+    .expect("load");
+    let scene = Scene::build(s.desc, Backend::Obvhs).expect("build");
+    let (w, h) = (scene.defaults.width as f32, scene.defaults.height as f32);
+    let t = 30f32.to_radians().tan();
+    let x = 0.5 - 0.3 / (2.0 * t * w / h);
+    assert_eq!(shape_at(&scene, x, 0.5), Some(0), "mirrored to the left");
+}
+
+#[test]
+fn transforms_attributes_and_coordinate_systems() {
+    let s = load(
+        r#"WorldBegin
+        CoordinateSystem "origin"
+        AttributeBegin
+          Translate 1 0 0 Rotate 90 0 0 1 Scale 2 2 2
+          Shape "trianglemesh" "point3 P" [0 0 0 1 0 0 0 1 0] "integer indices" [0 1 2]
+        AttributeEnd
+        TransformBegin Translate 5 5 5 TransformEnd
+        Translate 0 0 7
+        CoordSysTransform "origin"
+        ConcatTransform [1 0 0 0  0 1 0 0  0 0 1 0  0 0 3 1]
+        Shape "sphere" "float radius" 0.25
+        Transform [1 0 0 0  0 1 0 0  0 0 1 0  9 0 0 1]
+        Shape "disk" "float radius" 2 "float height" 1"#,
+    )
+    .expect("load");
+    let shapes = &s.desc.shapes;
+    let ShapeKind::Mesh(m) = &shapes[0].kind else {
+        panic!("mesh")
+    };
+    // p' = T(1,0,0) R_z(90) S(2) p: (1,0,0) -> (2,0,0) -> (0,2,0) -> (1,2,0).
+    assert!(
+        (m.positions[1] - Vec3::new(1.0, 2.0, 0.0)).length() < 1e-5,
+        "{:?}",
+        m.positions
+    );
+    assert!(
+        matches!(shapes[1].kind, ShapeKind::Sphere { center, .. } if (center - Vec3::new(0.0, 0.0, 3.0)).length() < 1e-6)
+    );
+    assert!(
+        matches!(shapes[2].kind, ShapeKind::Disk { center, normal, radius } if (center - Vec3::new(9.0, 0.0, 1.0)).length() < 1e-6 && normal == Vec3::Z && radius == 2.0)
+    );
+}
+
+#[test]
+fn instances_includes_and_named_materials() {
+    let dir = scratch("include");
+    std::fs::create_dir_all(dir.join("sub")).expect("sub");
+    std::fs::write(
+        dir.join("sub/geometry.pbrt"),
+        "ObjectBegin \"tri\"\n NamedMaterial \"red\"\n Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0]\nObjectEnd\n",
+    )
+    .expect("include");
+    std::fs::write(
+        dir.join("main.pbrt"),
+        "WorldBegin\nMakeNamedMaterial \"red\" \"string type\" \"diffuse\" \"rgb reflectance\" [0.8 0.1 0.1]\n\
+         Include \"sub/geometry.pbrt\"\nObjectInstance \"tri\"\nTranslate 0 0 2\nObjectInstance \"tri\"\n",
+    )
+    .expect("main");
+    let s = pbrt::load(&dir.join("main.pbrt"), true).expect("load");
+    assert_eq!(s.desc.shapes.len(), 2);
+    let ShapeKind::Mesh(m) = &s.desc.shapes[1].kind else {
+        panic!("mesh")
+    };
+    assert_eq!(m.positions[0], Vec3::new(0.0, 0.0, 2.0));
+    let mat = &s.desc.materials[s.desc.shapes[1].material];
+    assert!(
+        matches!(mat, Material::Diffuse { reflectance } if *reflectance == Rgb::new(0.8, 0.1, 0.1))
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn materials_lights_and_render_settings() {
+    let s = load(
+        r#"Film "rgb" "integer xresolution" 64 "integer yresolution" 32 "string filename" "x.exr"
+        Sampler "halton" "integer pixelsamples" 128
+        Integrator "volpath" "integer maxdepth" 3
+        Camera "perspective" "float fov" 45
+        WorldBegin
+        LightSource "point" "point3 from" [0 0 1] "blackbody I" 3000 "float power" 100
+        LightSource "spot" "rgb I" [1 1 1] "point3 from" [0 0 5] "point3 to" [0 0 0] "float coneangle" 20 "float conedelta" 5
+        LightSource "distant" "point3 from" [0 0 1] "point3 to" [0 0 0] "rgb L" [2 2 2]
+        LightSource "infinite" "rgb L" [0.1 0.2 0.3] "point3 portal" [0 0 1  1 0 1  1 1 1  0 1 1]
+        Material "conductor" "spectrum eta" "metal-Au-eta" "spectrum k" "metal-Au-k" "float roughness" 0.04
+        Shape "sphere"
+        Material "conductor" "rgb reflectance" [0.9 0.5 0.1]
+        Shape "sphere"
+        Material "dielectric" "spectrum eta" "glass-BK7"
+        Shape "sphere"
+        Material "thindielectric"
+        Shape "sphere"
+        Material "coateddiffuse" "rgb reflectance" [0.5 0.5 0.5] "float roughness" 0.01
+        Shape "sphere"
+        AttributeBegin
+          AreaLightSource "diffuse" "rgb L" [1 2 3] "float power" 10 "bool twosided" true
+          Shape "disk" "float radius" 2
+        AttributeEnd"#,
+    )
+    .expect("load");
+    assert!(
+        s.warnings.is_empty(),
+        "{:?}",
+        s.warnings
+            .iter()
+            .map(ToString::to_string)
+            .collect::<Vec<_>>()
+    );
+    let d = &s.desc;
+    assert_eq!(
+        (
+            d.defaults.width,
+            d.defaults.height,
+            d.defaults.spp,
+            d.defaults.max_depth
+        ),
+        (64, 32, 128, 4)
+    );
+    let LightDesc::Point { intensity, .. } = d.lights[0] else {
+        panic!("point")
+    };
+    assert!((intensity.luminance() - 100.0 / (4.0 * std::f32::consts::PI)).abs() < 1e-3);
+    assert!(intensity.r > intensity.b, "3000 K is warm");
+    assert!(
+        matches!(d.lights[1], LightDesc::Spot { direction, cone_angle, falloff_start, .. } if direction == -Vec3::Z && cone_angle == 20.0 && falloff_start == 15.0)
+    );
+    assert!(matches!(d.lights[2], LightDesc::Distant { direction, .. } if direction == -Vec3::Z));
+    assert!(
+        matches!(d.lights[3], LightDesc::Environment(EnvironmentDesc::Constant(l)) if l == Rgb::new(0.1, 0.2, 0.3))
+    );
+    assert_eq!(d.portals.len(), 1);
+    let mats: Vec<&Material> = d.shapes.iter().map(|s| &d.materials[s.material]).collect();
+    assert!(
+        matches!(mats[0], Material::RoughConductor { alpha_x, eta, .. } if (alpha_x - 0.2).abs() < 1e-6 && eta.b > eta.r)
+    );
+    assert!(
+        matches!(mats[1], Material::Mirror { reflectance } if (reflectance.r - 0.9).abs() < 1e-3 && (reflectance.b - 0.1).abs() < 1e-3)
+    );
+    assert!(matches!(mats[2], Material::Dielectric { eta } if (eta - 1.5168).abs() < 1e-4));
+    assert!(matches!(mats[3], Material::ThinDielectric { eta } if *eta == 1.5));
+    assert!(
+        matches!(mats[4], Material::Phong { specular, .. } if (specular.r - 0.04).abs() < 1e-6)
+    );
+    let e = d.shapes[5].emission.expect("emitter");
+    assert!(e.two_sided);
+    let power = e.radiance.luminance() * std::f32::consts::PI * 2.0 * d.shapes[5].area();
+    assert!((power - 10.0).abs() < 1e-3, "{power}");
+}
+
+#[test]
+fn image_textures_and_environments() {
+    let dir = scratch("images");
+    let mut tex = fenestra_core::image::Image::new(2, 1);
+    tex.set(0, 0, Rgb::new(1.0, 0.0, 0.0));
+    tex.set(1, 0, Rgb::new(0.0, 0.0, 1.0));
+    tex.write_exr(&dir.join("t.exr"), &Default::default())
+        .expect("tex");
+    let mut sky = fenestra_core::image::Image::new(8, 8);
+    for y in 0..8 {
+        for x in 0..8 {
+            sky.set(x, y, Rgb::splat(0.5));
+        }
+    }
+    sky.write_exr(&dir.join("sky.exr"), &Default::default())
+        .expect("sky");
+    std::fs::write(
+        dir.join("s.pbrt"),
+        r#"WorldBegin
+        LightSource "infinite" "string filename" "sky.exr" "float illuminance" 10
+        Texture "checks" "spectrum" "imagemap" "string filename" "t.exr"
+        Material "diffuse" "texture reflectance" "checks"
+        Shape "trianglemesh" "point3 P" [0 0 0 1 0 0 0 1 0] "point2 uv" [0 0 1 0 0 1]"#,
+    )
+    .expect("scene");
+    let s = pbrt::load(&dir.join("s.pbrt"), true).expect("load");
+    let Material::TexturedDiffuse { texture } = &s.desc.materials[0] else {
+        panic!("textured")
+    };
+    assert_eq!(
+        texture.lookup(Vec2::new(0.25, 0.5)),
+        Rgb::new(1.0, 0.0, 0.0)
+    );
+    let LightDesc::Environment(EnvironmentDesc::Image { image, scale, .. }) = &s.desc.lights[0]
+    else {
+        panic!("image environment")
+    };
+    assert_eq!((image.width, image.height), (16, 8));
+    // Illuminance pi * L * scale = 10 for a constant map.
+    assert!(
+        (std::f32::consts::PI * 0.5 * scale.r - 10.0).abs() < 1e-3,
+        "{scale:?}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn unsupported_input_is_counted_and_strict_refuses_it() {
+    let text = r#"WorldBegin
+    Shape "curve" "point3 P" [0 0 0 1 1 1 2 2 2 3 3 3]
+    Shape "curve" "point3 P" [0 0 0 1 1 1 2 2 2 3 3 3]
+    Shape "curve" "point3 P" [0 0 0 1 1 1 2 2 2 3 3 3]
+    Shape "sphere" "float radius" 1 "texture alpha" "cutout"
+    Material "hair""#;
+    let s = load(text).expect("load");
+    let w: Vec<String> = s.warnings.iter().map(ToString::to_string).collect();
+    assert_eq!(w.len(), 3, "{w:?}");
+    assert!(
+        w[0].starts_with("test.pbrt:2:5: unsupported: Shape \"curve\" (skipped) (3 times)"),
+        "{w:?}"
+    );
+    assert!(
+        w[1].contains("5:37: unsupported: parameter \"texture alpha\" of Shape \"sphere\""),
+        "{w:?}"
+    );
+    assert!(w[2].contains("Material \"hair\""), "{w:?}");
+    let e = pbrt::load_bytes(text.as_bytes(), Path::new("test.pbrt"), true)
+        .err()
+        .expect("strict")
+        .to_string();
+    assert!(
+        e.starts_with("test.pbrt:2:5: unsupported in strict mode: Shape \"curve\""),
+        "{e}"
+    );
+    assert!(e.contains("2 more kinds"), "{e}");
+}
+
+#[test]
+fn malformed_input_names_file_line_and_column() {
+    let dir = scratch("bad");
+    let cases: &[(&str, &[u8], &str)] = &[
+        ("unterminated.pbrt", b"WorldBegin\nShape \"sphere", "unterminated.pbrt:2:7: unterminated string"),
+        ("type.pbrt", b"Camera \"perspective\" \"float fov\" [ \"wide\" ]", "type.pbrt:1:22: parameter \"fov\" of type float expects numbers, found strings"),
+        ("include.pbrt", b"WorldBegin\n  Include \"missing.pbrt\"", "include.pbrt:2:3: cannot read included file"),
+        ("index.pbrt", b"Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0]\n  \"integer indices\" [0 1 3]", "index.pbrt:2:3: trianglemesh index 3 is out of range (3 vertices)"),
+        ("nan.pbrt", b"Translate 0 nan 0", "nan.pbrt:1:13: expected 3 numbers after Translate, found 'nan'"),
+        ("inf.pbrt", b"Scale 1 1e999 1", "inf.pbrt:1:9: '1e999' is not a finite number"),
+        ("empty.pbrt", b"# nothing here\n", "empty.pbrt:1:1: the scene file has no directives"),
+        ("garbage.pbrt", b"Shape \x00\xff\xfe\x01", "garbage.pbrt:1:8: not a text file: invalid UTF-8 byte 0xff"),
+        ("unknown.pbrt", b"WorldBegin\nSphere 1", "unknown.pbrt:2:1: unknown directive 'Sphere'"),
+        ("end.pbrt", b"AttributeEnd", "end.pbrt:1:1: AttributeEnd without a matching begin"),
+        ("open.pbrt", b"WorldBegin\nAttributeBegin\nShape \"sphere\"", "open.pbrt:2:1: this begin has no matching"),
+        ("named.pbrt", b"NamedMaterial \"gold\"", "named.pbrt:1:1: unknown named material \"gold\""),
+        ("ply.pbrt", b"Shape \"plymesh\" \"string filename\" \"nope.ply\"", "ply.pbrt:1:1: "),
+        ("singular.pbrt", b"Scale 1 0 1\nShape \"sphere\"", "singular.pbrt:2:1: the current transform is singular"),
+        ("lookat.pbrt", b"LookAt 0 0 0  0 0 1  0 0 1", "lookat.pbrt:1:1: LookAt: the eye equals the target, or the up vector is parallel"),
+        ("radius.pbrt", b"Shape \"sphere\" \"float radius\" -1", "radius.pbrt:1:1: sphere radius must be positive"),
+        ("cycle.pbrt", b"Include \"cycle.pbrt\"", "nests more than 32 files deep"),
+        ("rgb.pbrt", b"Material \"diffuse\" \"rgb reflectance\" [0.5 0.5]", "rgb.pbrt:1:20: parameter \"reflectance\" of type rgb needs a multiple of 3 numbers, found 2"),
+    ];
+    for (name, text, want) in cases {
+        let path = dir.join(name);
+        std::fs::write(&path, text).expect("write");
+        let e = match pbrt::load(&path, false) {
+            Ok(_) => panic!("{name} loaded"),
+            Err(e) => e.to_string(),
+        };
+        let shown = e.replace(&format!("{}/", dir.display()), "");
+        assert!(shown.contains(want), "{name}: got '{shown}', want '{want}'");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
