@@ -8,6 +8,7 @@ mod prt;
 mod raybench;
 mod render;
 mod scene_arg;
+mod scene_cmd;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -43,6 +44,8 @@ enum Command {
     Prt(prt::PrtArgs),
     /// Measure closest-hit and shadow-ray throughput of the ray-query backends.
     Raybench(raybench::RaybenchArgs),
+    /// Inspect a scene or export it as pbrt-v4.
+    Scene(scene_cmd::SceneArgs),
     /// List the built-in scenes and the integrators.
     List,
 }
@@ -72,6 +75,7 @@ fn main() -> ExitCode {
         Command::Btf(args) => lpca::btf(args),
         Command::Prt(args) => prt::run(args),
         Command::Raybench(args) => raybench::run(args),
+        Command::Scene(args) => scene_cmd::run(args),
         Command::List => {
             println!("built-in scenes (use as builtin:NAME):");
             for (name, what) in fenestra_scene::builtin::SCENES {

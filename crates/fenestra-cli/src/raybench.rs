@@ -12,8 +12,10 @@ use std::time::Instant;
 
 #[derive(Args)]
 pub struct RaybenchArgs {
-    /// builtin:NAME or a scene file.
+    /// builtin:NAME, a pbrt-v4 scene file, or an OBJ/PLY mesh.
     scene: String,
+    #[command(flatten)]
+    scene_options: scene_arg::SceneOptions,
     /// Number of rays of each kind.
     #[arg(long, default_value_t = 1_000_000)]
     rays: usize,
@@ -72,7 +74,7 @@ pub fn run(args: RaybenchArgs) -> Result<()> {
         bail!("--rays and --repeat must be at least 1");
     }
     let pool = crate::thread_pool(args.threads)?;
-    let desc = scene_arg::load(&args.scene)?;
+    let desc = scene_arg::load(&args.scene, args.scene_options)?;
     pool.install(|| -> Result<()> {
         let backends = if args.bvh.is_empty() { Backend::available() } else { args.bvh.clone() };
         for backend in backends {

@@ -26,8 +26,10 @@ enum Mis {
 /// What is rendered and how: shared by `render` and `reference`.
 #[derive(Args)]
 pub struct RenderOpts {
-    /// builtin:NAME (see `fenestra list`) or a scene file.
+    /// builtin:NAME (see `fenestra list`), a pbrt-v4 scene file, or an OBJ/PLY mesh.
     scene: String,
+    #[command(flatten)]
+    scene_options: scene_arg::SceneOptions,
     /// Integrator: hf (BSDF sampling) or af_hf (light and BSDF sampling with MIS).
     #[arg(long, default_value = "af_hf")]
     integrator: String,
@@ -159,7 +161,7 @@ impl RenderOpts {
             Mis::Balance => MisHeuristic::Balance,
             Mis::Power => MisHeuristic::Power { beta: self.beta },
         };
-        let desc = scene_arg::load(&self.scene)?;
+        let desc = scene_arg::load(&self.scene, self.scene_options)?;
         let (width, height) = resolution.unwrap_or((desc.defaults.width, desc.defaults.height));
         let options = IntegratorOptions {
             max_depth: self.max_depth.unwrap_or(desc.defaults.max_depth),

@@ -1,23 +1,58 @@
-//! Turning the SCENE argument into a scene description.
+//! Turning the SCENE argument into a scene description: `builtin:NAME`, a pbrt-v4 file, or an
+//! OBJ/PLY mesh staged for viewing.
 
-use anyhow::{bail, Context, Result};
-use fenestra_scene::{builtin, SceneDesc};
+use anyhow::{bail, Result};
+use fenestra_scene::{builtin, mesh, pbrt, SceneDesc};
 use std::path::Path;
+use std::time::Instant;
 
-/// `builtin:NAME` or a path to a scene file.
-pub fn load(arg: &str) -> Result<SceneDesc> {
-    if let Some(name) = arg.strip_prefix("builtin:") {
-        return builtin::load(name).map_err(anyhow::Error::msg);
+/// How scene files are read.
+#[derive(clap::Args, Clone, Copy, Debug, Default)]
+pub struct SceneOptions {
+    /// Refuse scene files that use anything fenestra does not support (instead of warning).
+    #[arg(long)]
+    pub strict: bool,
+}
+
+/// A loaded scene with its load time and what it could not represent.
+pub struct LoadedScene {
+    pub desc: SceneDesc,
+    pub warnings: Vec<String>,
+    pub seconds: f64,
+}
+
+/// Loads `arg`, printing warnings about unsupported input to stderr.
+pub fn load(arg: &str, opts: SceneOptions) -> Result<SceneDesc> {
+    let loaded = load_quietly(arg, opts)?;
+    for w in &loaded.warnings {
+        eprintln!("warning: {w}");
     }
-    let path = Path::new(arg);
-    std::fs::metadata(path).with_context(|| format!("cannot open scene file {arg}"))?;
-    let names: Vec<String> = builtin::SCENES
-        .iter()
-        .map(|s| format!("builtin:{}", s.0))
-        .collect();
-    bail!(
-        "{arg}: this build does not read scene files yet (pbrt-v4, OBJ and PLY input is planned); \
-         render a built-in scene instead: {}",
-        names.join(", ")
-    )
+    Ok(loaded.desc)
+}
+
+pub fn load_quietly(arg: &str, opts: SceneOptions) -> Result<LoadedScene> {
+    let start = Instant::now();
+    let (desc, warnings) = if let Some(name) = arg.strip_prefix("builtin:") {
+        (builtin::load(name).map_err(anyhow::Error::msg)?, Vec::new())
+    } else {
+        let path = Path::new(arg);
+        let ext = path
+            .extension()
+            .map(|e| e.to_string_lossy().to_ascii_lowercase());
+        match ext.as_deref() {
+            Some("pbrt") => {
+                let l = pbrt::load(path, opts.strict)?;
+                (l.desc, l.warnings.iter().map(ToString::to_string).collect())
+            }
+            Some("obj" | "ply") => mesh::viewer_scene(path)?,
+            _ => bail!(
+                "{arg}: unknown scene type (expected a .pbrt file, an .obj or .ply mesh, or builtin:NAME; `fenestra list` shows the built-in scenes)"
+            ),
+        }
+    };
+    Ok(LoadedScene {
+        desc,
+        warnings,
+        seconds: start.elapsed().as_secs_f64(),
+    })
 }

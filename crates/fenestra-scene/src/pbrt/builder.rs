@@ -332,13 +332,15 @@ impl Builder {
             }
             "NamedMaterial" => match self.named_materials.get(d.str(0)) {
                 Some(&i) => self.gs.material = i,
-                None => return Err(PbrtError::at(
-                    &d.loc,
-                    format!(
+                None => {
+                    return Err(PbrtError::at(
+                        &d.loc,
+                        format!(
                         "unknown named material \"{}\" (define it with MakeNamedMaterial first)",
                         d.str(0)
                     ),
-                )),
+                    ))
+                }
             },
             "Texture" => self.texture(d, dir)?,
             "LightSource" => self.light(d, dir)?,

@@ -1,0 +1,136 @@
+//! `fenestra scene`: inspect a scene (counts, bounds, load time, unsupported input) and export
+//! it as pbrt-v4.
+
+use crate::scene_arg::{self, SceneOptions};
+use anyhow::{bail, Result};
+use clap::{Args, Subcommand};
+use fenestra_scene::light::LightDesc;
+use fenestra_scene::{pbrt, ShapeKind};
+use std::path::PathBuf;
+
+#[derive(Args)]
+pub struct SceneArgs {
+    #[command(subcommand)]
+    command: SceneCommand,
+}
+
+#[derive(Subcommand)]
+enum SceneCommand {
+    /// Print what a scene holds, how long it took to load and what it could not represent.
+    Info {
+        /// builtin:NAME, a pbrt-v4 file, or an OBJ/PLY mesh.
+        scene: String,
+        #[command(flatten)]
+        options: SceneOptions,
+        /// Print as JSON.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Write a scene as a pbrt-v4 file (large meshes and images go to a folder beside it).
+    Export {
+        /// builtin:NAME, a pbrt-v4 file, or an OBJ/PLY mesh.
+        scene: String,
+        #[command(flatten)]
+        options: SceneOptions,
+        /// Output .pbrt file.
+        #[arg(short, long)]
+        output: PathBuf,
+    },
+}
+
+pub fn run(args: SceneArgs) -> Result<()> {
+    match args.command {
+        SceneCommand::Info {
+            scene,
+            options,
+            json,
+        } => info(&scene, options, json),
+        SceneCommand::Export {
+            scene,
+            options,
+            output,
+        } => {
+            if output.extension().is_none_or(|e| e != "pbrt") {
+                bail!("output {} must end in .pbrt", output.display());
+            }
+            let desc = scene_arg::load(&scene, options)?;
+            let written = pbrt::export::write(&desc, &output)?;
+            for f in written.files {
+                println!("wrote {}", f.display());
+            }
+            Ok(())
+        }
+    }
+}
+
+fn info(scene: &str, options: SceneOptions, json: bool) -> Result<()> {
+    let loaded = scene_arg::load_quietly(scene, options)?;
+    let d = &loaded.desc;
+    let triangles: usize = d
+        .shapes
+        .iter()
+        .map(|s| match &s.kind {
+            ShapeKind::Mesh(m) => m.indices.len(),
+            _ => 0,
+        })
+        .sum();
+    let count = |f: fn(&LightDesc) -> bool| d.lights.iter().filter(|l| f(l)).count();
+    let (points, spots, distant, env) = (
+        count(|l| matches!(l, LightDesc::Point { .. })),
+        count(|l| matches!(l, LightDesc::Spot { .. })),
+        count(|l| matches!(l, LightDesc::Distant { .. })),
+        count(|l| matches!(l, LightDesc::Environment(_))),
+    );
+    let emitters = d.shapes.iter().filter(|s| s.emission.is_some()).count();
+    let mut lo = fenestra_core::Vec3::splat(f32::INFINITY);
+    let mut hi = -lo;
+    for s in &d.shapes {
+        for p in 0..s.primitive_count() {
+            let (a, b) = s.primitive_bounds(p);
+            lo = lo.min(a);
+            hi = hi.max(b);
+        }
+    }
+    let v = serde_json::json!({
+        "scene": scene,
+        "name": d.name,
+        "load_seconds": loaded.seconds,
+        "shapes": d.shapes.len(),
+        "triangles": triangles,
+        "materials": d.materials.len(),
+        "area_lights": emitters,
+        "point_lights": points,
+        "spot_lights": spots,
+        "distant_lights": distant,
+        "environments": env,
+        "portals": d.portals.len(),
+        "bounds": [lo.to_array(), hi.to_array()],
+        "resolution": [d.defaults.width, d.defaults.height],
+        "spp": d.defaults.spp,
+        "max_depth": d.defaults.max_depth,
+        "warnings": loaded.warnings,
+    });
+    if json {
+        println!("{}", serde_json::to_string_pretty(&v)?);
+        return Ok(());
+    }
+    println!("{} ({scene}), loaded in {:.3} s", d.name, loaded.seconds);
+    println!(
+        "  {} shapes, {triangles} triangles, {} materials",
+        d.shapes.len(),
+        d.materials.len()
+    );
+    println!(
+        "  lights: {emitters} area, {points} point, {spots} spot, {distant} distant, {env} environment; {} portals",
+        d.portals.len()
+    );
+    println!("  bounds {lo} .. {hi}");
+    println!(
+        "  defaults: {}x{}, {} spp, path length {}",
+        d.defaults.width, d.defaults.height, d.defaults.spp, d.defaults.max_depth
+    );
+    for w in &loaded.warnings {
+        println!("  warning: {w}");
+    }
+    Ok(())
+}
