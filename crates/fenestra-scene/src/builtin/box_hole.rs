@@ -1,6 +1,7 @@
 //! The box scenes of seed 000 §5.2: a 1 m cube centred at the origin (Z up) with thin
 //! diffuse walls of albedo 0.75, light entering through square holes in the ceiling.
 
+use super::geometry::{grid, wall_with_openings, Rect};
 use crate::light::{Emission, EnvironmentDesc, LightDesc};
 use crate::{Camera, Material, RenderDefaults, SceneDesc, Shape, ShapeKind, TriangleMesh};
 use fenestra_core::{Rgb, Vec3, PI};
@@ -17,9 +18,6 @@ pub enum Variant {
 const WALL: usize = 0;
 const EMITTER: usize = 1;
 
-/// Axis-aligned squares in the ceiling plane: (min corner, max corner) in (x, y).
-type Rect = ([f32; 2], [f32; 2]);
-
 fn holes(v: &Variant) -> Vec<Rect> {
     match v {
         Variant::OneHole | Variant::Sky => vec![([-0.125, -0.125], [0.125, 0.125])],
@@ -35,38 +33,20 @@ fn holes(v: &Variant) -> Vec<Rect> {
     }
 }
 
-/// The ceiling (z = 0.5) minus the holes, as the cells of the grid through all hole edges.
+/// The ceiling (z = 0.5) minus the holes, facing into the box (-z).
 fn ceiling(holes: &[Rect]) -> TriangleMesh {
-    let mut xs = vec![-0.5f32, 0.5];
-    let mut ys = vec![-0.5f32, 0.5];
-    for (lo, hi) in holes {
-        xs.extend([lo[0], hi[0]]);
-        ys.extend([lo[1], hi[1]]);
-    }
-    for v in [&mut xs, &mut ys] {
-        v.sort_by(f32::total_cmp);
-        v.dedup();
-    }
-    let mut mesh = TriangleMesh::default();
-    for i in 0..xs.len() - 1 {
-        for j in 0..ys.len() - 1 {
-            let c = [(xs[i] + xs[i + 1]) * 0.5, (ys[j] + ys[j + 1]) * 0.5];
-            let in_hole = holes
-                .iter()
-                .any(|(lo, hi)| c[0] > lo[0] && c[0] < hi[0] && c[1] > lo[1] && c[1] < hi[1]);
-            if !in_hole {
-                let hx = (xs[i + 1] - xs[i]) * 0.5;
-                let hy = (ys[j + 1] - ys[j]) * 0.5;
-                // Normal -z: facing into the box.
-                mesh.append(&TriangleMesh::quad(
-                    Vec3::new(c[0], c[1], 0.5),
-                    Vec3::new(0.0, hy, 0.0),
-                    Vec3::new(hx, 0.0, 0.0),
-                ));
-            }
-        }
-    }
-    mesh
+    // Wall coordinates (s, t) = (y, x): the normal u x v = y x x = -z.
+    let swapped: Vec<Rect> = holes
+        .iter()
+        .map(|(lo, hi)| ([lo[1], lo[0]], [hi[1], hi[0]]))
+        .collect();
+    wall_with_openings(
+        Vec3::new(0.0, 0.0, 0.5),
+        Vec3::Y,
+        Vec3::X,
+        ([-0.5, -0.5], [0.5, 0.5]),
+        &swapped,
+    )
 }
 
 /// Floor and the four side walls, normals facing into the box.
@@ -151,29 +131,16 @@ pub fn box_blob() -> SceneDesc {
     let (nt, np) = (512usize, 1024usize);
     let centre = Vec3::new(0.0, 0.15, -0.28);
     let radius = 0.2;
-    let mut mesh = TriangleMesh::default();
-    for i in 0..=nt {
-        let theta = PI * i as f32 / nt as f32;
-        for j in 0..np {
-            let phi = 2.0 * PI * j as f32 / np as f32;
-            let r = radius * (1.0 + 0.06 * (12.0 * theta).sin() * (9.0 * phi).sin());
-            let d = Vec3::new(
-                theta.sin() * phi.cos(),
-                theta.sin() * phi.sin(),
-                theta.cos(),
-            );
-            mesh.positions.push(centre + d * r);
-        }
-    }
-    let idx = |i: usize, j: usize| (i * np + j % np) as u32;
-    for i in 0..nt {
-        for j in 0..np {
-            mesh.indices
-                .push([idx(i, j), idx(i + 1, j), idx(i + 1, j + 1)]);
-            mesh.indices
-                .push([idx(i, j), idx(i + 1, j + 1), idx(i, j + 1)]);
-        }
-    }
+    let mesh = grid(np, nt, true, |s, t| {
+        let (theta, phi) = (PI * t, 2.0 * PI * s);
+        let r = radius * (1.0 + 0.06 * (12.0 * theta).sin() * (9.0 * phi).sin());
+        let d = Vec3::new(
+            theta.sin() * phi.cos(),
+            theta.sin() * phi.sin(),
+            theta.cos(),
+        );
+        centre + d * r
+    });
     desc.shapes.push(Shape::new(ShapeKind::Mesh(mesh), WALL));
     desc
 }

@@ -74,6 +74,20 @@ pub fn write(desc: &SceneDesc, path: &Path) -> Result<Exported, ExportError> {
     camera(&mut s, &desc.camera, d.width, d.height);
     s.push_str("\nWorldBegin\n\n");
     for (i, m) in desc.materials.iter().enumerate() {
+        if let Material::TexturedDiffuse { texture } = m {
+            // The texel values as loaded (linear), whatever file they came from.
+            let file = data(format!("texture-{i}.exr"), &|tmp| {
+                texture
+                    .image
+                    .write_exr(tmp, &Default::default())
+                    .map_err(|e| e.to_string())
+            })?;
+            let _ = writeln!(
+                s,
+                "Texture \"t{i}\" \"spectrum\" \"imagemap\" \"string filename\" \"{file}\" \"float scale\" [ {} ] \"bool invert\" {} \"float uscale\" [ {} ] \"float vscale\" [ {} ] \"float udelta\" [ {} ] \"float vdelta\" [ {} ]",
+                texture.scale, texture.invert, texture.uscale, texture.vscale, texture.udelta, texture.vdelta
+            );
+        }
         material(&mut s, i, m);
     }
     let mut portals_written = desc.portals.is_empty();
@@ -331,20 +345,7 @@ fn material(s: &mut String, i: usize, m: &Material) {
                 rgb(*reflectance)
             );
         }
-        Material::TexturedDiffuse { texture } => {
-            // The texture is declared just before the material.
-            let decl = format!(
-                "Texture \"t{i}\" \"spectrum\" \"imagemap\" \"string filename\" \"{}\" \"float scale\" [ {} ] \"bool invert\" {} \"float uscale\" [ {} ] \"float vscale\" [ {} ] \"float udelta\" [ {} ] \"float vdelta\" [ {} ]\n",
-                texture.path.display(),
-                texture.scale,
-                texture.invert,
-                texture.uscale,
-                texture.vscale,
-                texture.udelta,
-                texture.vdelta
-            );
-            let at = s.rfind("MakeNamedMaterial").unwrap_or(s.len());
-            s.insert_str(at, &decl);
+        Material::TexturedDiffuse { .. } => {
             let _ = write!(
                 s,
                 "\"string type\" \"diffuse\" \"texture reflectance\" \"t{i}\""

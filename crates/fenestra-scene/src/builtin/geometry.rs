@@ -1,0 +1,249 @@
+//! Building blocks of the procedural scenes: boxes, walls with openings, parametric grids, a
+//! procedural sky, and a small scene assembler.
+
+use crate::light::{Emission, EnvironmentDesc, LightDesc};
+use crate::{Camera, Material, RenderDefaults, SceneDesc, Shape, ShapeKind, TriangleMesh};
+use fenestra_core::image::Image;
+use fenestra_core::{Rgb, Vec2, Vec3, PI};
+use std::sync::Arc;
+
+/// A rectangle (min corner, max corner) in a wall's own (u, v) coordinates.
+pub type Rect = ([f32; 2], [f32; 2]);
+
+/// Collects shapes and materials of a procedural scene.
+#[derive(Default)]
+pub struct Assembler {
+    pub shapes: Vec<Shape>,
+    pub materials: Vec<Material>,
+    pub lights: Vec<LightDesc>,
+}
+
+impl Assembler {
+    pub fn material(&mut self, m: Material) -> usize {
+        self.materials.push(m);
+        self.materials.len() - 1
+    }
+
+    pub fn mesh(&mut self, mesh: TriangleMesh, material: usize) {
+        if !mesh.indices.is_empty() {
+            self.shapes
+                .push(Shape::new(ShapeKind::Mesh(mesh), material));
+        }
+    }
+
+    /// A one-sided emitter radiating `radiance` along its normal.
+    pub fn emitter(&mut self, kind: ShapeKind, material: usize, radiance: Rgb) {
+        self.shapes
+            .push(Shape::new(kind, material).emitting(Emission::radiance(radiance)));
+    }
+
+    pub fn finish(self, name: &str, camera: Camera, defaults: RenderDefaults) -> SceneDesc {
+        SceneDesc {
+            name: name.into(),
+            shapes: self.shapes,
+            materials: self.materials,
+            lights: self.lights,
+            camera,
+            defaults,
+            portals: Vec::new(),
+        }
+    }
+}
+
+/// A camera from fixed, valid parameters (the built-in scenes' own).
+pub fn camera(eye: Vec3, target: Vec3, fov_y: f32) -> Camera {
+    Camera::look_at(eye, target, Vec3::Z, fov_y).unwrap_or_else(|e| unreachable!("{e}"))
+}
+
+/// An axis-aligned box with outward-facing triangles.
+pub fn cuboid(lo: Vec3, hi: Vec3) -> TriangleMesh {
+    let c = (lo + hi) * 0.5;
+    let h = (hi - lo) * 0.5;
+    let (x, y, z) = (Vec3::X * h.x, Vec3::Y * h.y, Vec3::Z * h.z);
+    let mut m = TriangleMesh::default();
+    for (centre, u, v) in [
+        (c + x, y, z),
+        (c - x, z, y),
+        (c + y, z, x),
+        (c - y, x, z),
+        (c + z, x, y),
+        (c - z, y, x),
+    ] {
+        m.append(&TriangleMesh::quad(centre, u, v));
+    }
+    m
+}
+
+/// A planar rectangle minus rectangular openings: the cells of the grid through all opening
+/// edges that lie outside every opening. The plane spans `origin + s u + t v` for (s, t) in
+/// `extent` = ([s0, t0], [s1, t1]); its normal is u x v.
+pub fn wall_with_openings(
+    origin: Vec3,
+    u: Vec3,
+    v: Vec3,
+    extent: Rect,
+    openings: &[Rect],
+) -> TriangleMesh {
+    let mut ss = vec![extent.0[0], extent.1[0]];
+    let mut ts = vec![extent.0[1], extent.1[1]];
+    for (lo, hi) in openings {
+        ss.extend([lo[0], hi[0]]);
+        ts.extend([lo[1], hi[1]]);
+    }
+    for w in [&mut ss, &mut ts] {
+        w.sort_by(f32::total_cmp);
+        w.dedup();
+    }
+    let inside = |x: f32, lo: f32, hi: f32| x > lo && x < hi;
+    let mut mesh = TriangleMesh::default();
+    for i in 0..ss.len() - 1 {
+        for j in 0..ts.len() - 1 {
+            let c = [(ss[i] + ss[i + 1]) * 0.5, (ts[j] + ts[j + 1]) * 0.5];
+            let in_extent =
+                inside(c[0], extent.0[0], extent.1[0]) && inside(c[1], extent.0[1], extent.1[1]);
+            let in_opening = openings
+                .iter()
+                .any(|(lo, hi)| inside(c[0], lo[0], hi[0]) && inside(c[1], lo[1], hi[1]));
+            if in_extent && !in_opening {
+                let hu = u * ((ss[i + 1] - ss[i]) * 0.5);
+                let hv = v * ((ts[j + 1] - ts[j]) * 0.5);
+                mesh.append(&TriangleMesh::quad(origin + u * c[0] + v * c[1], hu, hv));
+            }
+        }
+    }
+    mesh
+}
+
+/// A parametric surface `f(s, t)` over [0,1]^2 sampled on an (nu+1) x (nv+1) grid; with
+/// `wrap_u` the last column is the first (closed surfaces). Triangles are ordered so the
+/// normal is df/ds x df/dt.
+pub fn grid(nu: usize, nv: usize, wrap_u: bool, f: impl Fn(f32, f32) -> Vec3) -> TriangleMesh {
+    let cols = if wrap_u { nu } else { nu + 1 };
+    let mut mesh = TriangleMesh {
+        uvs: Some(Vec::with_capacity(cols * (nv + 1))),
+        ..TriangleMesh::default()
+    };
+    for j in 0..=nv {
+        for i in 0..cols {
+            let (s, t) = (i as f32 / nu as f32, j as f32 / nv as f32);
+            mesh.positions.push(f(s, t));
+            if let Some(uv) = mesh.uvs.as_mut() {
+                uv.push(Vec2::new(s, t));
+            }
+        }
+    }
+    let at = |i: usize, j: usize| (j * cols + i % cols) as u32;
+    for j in 0..nv {
+        for i in 0..nu {
+            mesh.indices
+                .push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
+            mesh.indices
+                .push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
+        }
+    }
+    mesh
+}
+
+/// A vertical cylinder (open ends) of `radius` from `base` up `height`, with `flutes` grooves
+/// of relative depth `depth` (0 for a plain column).
+pub fn column(
+    base: Vec3,
+    radius: f32,
+    height: f32,
+    segments: usize,
+    rings: usize,
+    flutes: f32,
+    depth: f32,
+) -> TriangleMesh {
+    grid(segments, rings, true, |s, t| {
+        let phi = 2.0 * PI * s;
+        let r = radius * (1.0 - depth * (0.5 - 0.5 * (flutes * phi).cos()));
+        base + Vec3::new(r * phi.cos(), r * phi.sin(), height * t)
+    })
+}
+
+/// A latitude-longitude procedural sky (row 0 at the zenith): a blue gradient brightening
+/// towards the horizon, a soft bright region around `sun` (unit), dark ground below.
+pub fn sky(width: usize, height: usize, sun: Vec3, strength: f32) -> EnvironmentDesc {
+    let mut img = Image::new(width, height);
+    for row in 0..height {
+        let theta = PI * (row as f32 + 0.5) / height as f32;
+        for col in 0..width {
+            let phi = 2.0 * PI * (col as f32 + 0.5) / width as f32;
+            let d = Vec3::new(
+                theta.sin() * phi.cos(),
+                theta.sin() * phi.sin(),
+                theta.cos(),
+            );
+            let c = if d.z < 0.0 {
+                Rgb::new(0.12, 0.11, 0.10)
+            } else {
+                let zenith = Rgb::new(0.25, 0.45, 1.0);
+                let horizon = Rgb::new(1.0, 0.95, 0.9);
+                let k = (1.0 - d.z).powi(3);
+                let glow = (d.dot(sun).max(0.0)).powi(64) * 40.0;
+                zenith * (1.0 - k) + horizon * k + Rgb::new(1.0, 0.9, 0.75) * glow
+            };
+            img.set(col, row, c * strength);
+        }
+    }
+    EnvironmentDesc::Image {
+        image: Arc::new(img),
+        scale: Rgb::ONE,
+        to_world: glam::Mat3::IDENTITY,
+    }
+}
+
+/// A square checkerboard image of `n` x `n` squares, `texels` per square.
+pub fn checker(n: usize, texels: usize, a: Rgb, b: Rgb) -> Image {
+    let size = n * texels;
+    let mut img = Image::new(size, size);
+    for y in 0..size {
+        for x in 0..size {
+            img.set(
+                x,
+                y,
+                if (x / texels + y / texels) % 2 == 0 {
+                    a
+                } else {
+                    b
+                },
+            );
+        }
+    }
+    img
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn area(m: &TriangleMesh) -> f32 {
+        (0..m.indices.len()).map(|i| m.triangle_area(i)).sum()
+    }
+
+    #[test]
+    fn cuboid_faces_outwards_and_walls_lose_their_openings() {
+        let b = cuboid(Vec3::ZERO, Vec3::new(1.0, 2.0, 3.0));
+        assert!((area(&b) - 2.0 * (2.0 + 3.0 + 6.0)).abs() < 1e-5);
+        let centre = Vec3::new(0.5, 1.0, 1.5);
+        for t in 0..b.indices.len() {
+            let [p, q, r] = b.triangle(t);
+            let n = (q - p).cross(r - p);
+            assert!(
+                n.dot((p + q + r) / 3.0 - centre) > 0.0,
+                "triangle {t} faces inwards"
+            );
+        }
+        let w = wall_with_openings(
+            Vec3::ZERO,
+            Vec3::X,
+            Vec3::Z,
+            ([0.0, 0.0], [4.0, 3.0]),
+            &[([1.0, 1.0], [2.0, 2.0]), ([3.0, 0.5], [3.5, 2.5])],
+        );
+        assert!((area(&w) - (12.0 - 1.0 - 1.0)).abs() < 1e-5);
+        let [p, q, r] = w.triangle(0);
+        assert!((q - p).cross(r - p).y < 0.0, "normal is u x v = x x z = -y");
+    }
+}
