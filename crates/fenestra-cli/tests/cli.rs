@@ -115,7 +115,7 @@ fn bad_input_gets_a_clear_error() {
     let o = out.to_str().expect("utf-8");
     assert_clear_error(
         &["render", "/no/such/scene.pbrt", "-o", o],
-        "cannot open scene file /no/such/scene.pbrt",
+        "/no/such/scene.pbrt:1:1: cannot read scene file",
     );
     assert_clear_error(
         &["render", "builtin:nope", "-o", o],
@@ -474,4 +474,45 @@ fn an_impossibly_large_film_is_refused_before_allocating() {
         ],
         "too large",
     );
+}
+
+#[test]
+fn scene_files_export_render_and_report_what_they_cannot_represent() {
+    let dir = tmp("scenes");
+    std::fs::create_dir_all(&dir).expect("dir");
+    let pbrt = dir.join("cornell.pbrt");
+    let p = pbrt.to_str().expect("utf-8");
+    let o = fenestra(&["scene", "export", "builtin:cornell-box", "-o", p]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    // The export renders like the built-in scene, pixel for pixel.
+    let (a, b) = (dir.join("a.exr"), dir.join("b.exr"));
+    for (scene, out) in [("builtin:cornell-box", &a), (p, &b)] {
+        let o = fenestra(&["render", scene, "--strict", "--spp", "2", "--resolution", "32x32", "-q", "-o", out.to_str().expect("utf-8")]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+    let (ia, ib) = (
+        fenestra_core::image::Image::read(&a).expect("a"),
+        fenestra_core::image::Image::read(&b).expect("b"),
+    );
+    assert_eq!(ia, ib);
+
+    let odd = dir.join("odd.pbrt");
+    std::fs::write(&odd, "WorldBegin\nLightSource \"infinite\"\nShape \"curve\"\nShape \"sphere\" \"float zmin\" 0\n").expect("write");
+    let odd = odd.to_str().expect("utf-8");
+    let out = dir.join("odd.exr");
+    let out = out.to_str().expect("utf-8");
+    let o = fenestra(&["render", odd, "--spp", "1", "--resolution", "8x8", "-q", "-o", out]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(err.contains("odd.pbrt:3:1: unsupported: Shape \"curve\""), "{err}");
+    assert!(err.contains("odd.pbrt:4:1: unsupported: partial sphere"), "{err}");
+    assert_clear_error(&["render", odd, "--strict", "-o", out], "odd.pbrt:3:1: unsupported in strict mode: Shape \"curve\"");
+
+    let o = fenestra(&["scene", "info", "builtin:terminal-832", "--json"]);
+    assert!(o.status.success());
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("json");
+    assert_eq!(v["point_lights"], 613);
+    assert_eq!(v["area_lights"], 219);
+    assert_clear_error(&["scene", "export", "builtin:tunnel", "-o", "x.txt"], "must end in .pbrt");
+    let _ = std::fs::remove_dir_all(&dir);
 }

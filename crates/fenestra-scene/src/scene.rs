@@ -219,7 +219,22 @@ fn validate(desc: &SceneDesc) -> Result<(), SceneError> {
                 what: what.into(),
             })
         };
+        let finite_rgb = |c: &fenestra_core::Rgb| c.is_finite() && c.r >= 0.0 && c.g >= 0.0 && c.b >= 0.0;
         match l {
+            LightDesc::Point {
+                position,
+                intensity,
+            }
+            | LightDesc::Spot {
+                position,
+                intensity,
+                ..
+            } if !(position.is_finite() && finite_rgb(intensity)) => {
+                return bad("position or intensity is not finite, or intensity is negative")
+            }
+            LightDesc::Distant { irradiance, .. } if !finite_rgb(irradiance) => {
+                return bad("irradiance is not finite or negative")
+            }
             LightDesc::Spot {
                 direction,
                 cone_angle,

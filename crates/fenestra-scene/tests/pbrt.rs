@@ -313,6 +313,7 @@ fn malformed_input_names_file_line_and_column() {
         ("lookat.pbrt", b"LookAt 0 0 0  0 0 1  0 0 1", "lookat.pbrt:1:1: LookAt: the eye equals the target, or the up vector is parallel"),
         ("radius.pbrt", b"Shape \"sphere\" \"float radius\" -1", "radius.pbrt:1:1: sphere radius must be positive"),
         ("cycle.pbrt", b"Include \"cycle.pbrt\"", "nests more than 32 files deep"),
+        ("device.pbrt", b"Include \"/dev/zero\"", "device.pbrt:1:1: cannot read included file /dev/zero: not a regular file"),
         ("rgb.pbrt", b"Material \"diffuse\" \"rgb reflectance\" [0.5 0.5]", "rgb.pbrt:1:20: parameter \"reflectance\" of type rgb needs a multiple of 3 numbers, found 2"),
     ];
     for (name, text, want) in cases {

@@ -210,12 +210,18 @@ impl Builder {
                 ),
             ));
         }
-        let bytes = std::fs::read(&path).map_err(|e| {
+        let cannot = |e: String| {
             PbrtError::at(
                 &d.loc,
                 format!("cannot read included file {}: {e}", path.display()),
             )
-        })?;
+        };
+        // Only regular files: a device such as /dev/zero would never end.
+        let meta = std::fs::metadata(&path).map_err(|e| cannot(e.to_string()))?;
+        if !meta.is_file() {
+            return Err(cannot("not a regular file".into()));
+        }
+        let bytes = std::fs::read(&path).map_err(|e| cannot(e.to_string()))?;
         self.depth += 1;
         let r = self.run_bytes(&bytes, &path, Some(&d.loc));
         self.depth -= 1;

@@ -114,7 +114,8 @@ pub fn tokenize(text: &str, file: &Arc<std::path::PathBuf>) -> Result<Vec<Token>
                     .is_some_and(|c| c.is_ascii_digit() || matches!(c, '-' | '+' | '.'));
                 let tok = if starts_numeric {
                     match word.parse::<f64>() {
-                        Ok(v) if v.is_finite() => Tok::Number(v),
+                        // Scene values end up in f32: larger magnitudes would become infinite.
+                        Ok(v) if v.abs() <= f32::MAX as f64 => Tok::Number(v),
                         _ => {
                             return Err(PbrtError::at(
                                 &loc,

@@ -23,6 +23,9 @@ impl Builder {
         let point = |v: Vec3| ctm.transform_point3(v.as_dvec3()).as_vec3();
         let vector = |v: Vec3| ctm.transform_vector3(v.as_dvec3()).as_vec3();
         let scale = p.float("scale", 1.0)?;
+        if !ctm.is_finite() {
+            return Err(PbrtError::at(&d.loc, "the current transform is not finite"));
+        }
         let light = match d.str(0) {
             "point" => {
                 let mut i = spectrum(p, "I", &d.loc)? * scale;
