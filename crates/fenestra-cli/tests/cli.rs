@@ -487,7 +487,18 @@ fn scene_files_export_render_and_report_what_they_cannot_represent() {
     // The export renders like the built-in scene, pixel for pixel.
     let (a, b) = (dir.join("a.exr"), dir.join("b.exr"));
     for (scene, out) in [("builtin:cornell-box", &a), (p, &b)] {
-        let o = fenestra(&["render", scene, "--strict", "--spp", "2", "--resolution", "32x32", "-q", "-o", out.to_str().expect("utf-8")]);
+        let o = fenestra(&[
+            "render",
+            scene,
+            "--strict",
+            "--spp",
+            "2",
+            "--resolution",
+            "32x32",
+            "-q",
+            "-o",
+            out.to_str().expect("utf-8"),
+        ]);
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     }
     let (ia, ib) = (
@@ -501,18 +512,40 @@ fn scene_files_export_render_and_report_what_they_cannot_represent() {
     let odd = odd.to_str().expect("utf-8");
     let out = dir.join("odd.exr");
     let out = out.to_str().expect("utf-8");
-    let o = fenestra(&["render", odd, "--spp", "1", "--resolution", "8x8", "-q", "-o", out]);
+    let o = fenestra(&[
+        "render",
+        odd,
+        "--spp",
+        "1",
+        "--resolution",
+        "8x8",
+        "-q",
+        "-o",
+        out,
+    ]);
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(o.status.success(), "{err}");
-    assert!(err.contains("odd.pbrt:3:1: unsupported: Shape \"curve\""), "{err}");
-    assert!(err.contains("odd.pbrt:4:1: unsupported: partial sphere"), "{err}");
-    assert_clear_error(&["render", odd, "--strict", "-o", out], "odd.pbrt:3:1: unsupported in strict mode: Shape \"curve\"");
+    assert!(
+        err.contains("odd.pbrt:3:1: unsupported: Shape \"curve\""),
+        "{err}"
+    );
+    assert!(
+        err.contains("odd.pbrt:4:1: unsupported: partial sphere"),
+        "{err}"
+    );
+    assert_clear_error(
+        &["render", odd, "--strict", "-o", out],
+        "odd.pbrt:3:1: unsupported in strict mode: Shape \"curve\"",
+    );
 
     let o = fenestra(&["scene", "info", "builtin:terminal-832", "--json"]);
     assert!(o.status.success());
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("json");
     assert_eq!(v["point_lights"], 613);
     assert_eq!(v["area_lights"], 219);
-    assert_clear_error(&["scene", "export", "builtin:tunnel", "-o", "x.txt"], "must end in .pbrt");
+    assert_clear_error(
+        &["scene", "export", "builtin:tunnel", "-o", "x.txt"],
+        "must end in .pbrt",
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -219,7 +219,8 @@ fn validate(desc: &SceneDesc) -> Result<(), SceneError> {
                 what: what.into(),
             })
         };
-        let finite_rgb = |c: &fenestra_core::Rgb| c.is_finite() && c.r >= 0.0 && c.g >= 0.0 && c.b >= 0.0;
+        let finite_rgb =
+            |c: &fenestra_core::Rgb| c.is_finite() && c.r >= 0.0 && c.g >= 0.0 && c.b >= 0.0;
         match l {
             LightDesc::Point {
                 position,

@@ -144,6 +144,31 @@ pub fn grid(nu: usize, nv: usize, wrap_u: bool, f: impl Fn(f32, f32) -> Vec3) ->
     mesh
 }
 
+/// Vertex normals from the area-weighted normals of the faces around each position
+/// (vertices at the same position, as on patch seams, share one normal).
+pub fn smooth_normals(mesh: &mut TriangleMesh) {
+    let key = |p: Vec3| p.to_array().map(f32::to_bits);
+    let mut sums: std::collections::HashMap<[u32; 3], Vec3> = std::collections::HashMap::new();
+    for t in 0..mesh.indices.len() {
+        let [a, b, c] = mesh.triangle(t);
+        let n = (b - a).cross(c - a);
+        for p in [a, b, c] {
+            *sums.entry(key(p)).or_insert(Vec3::ZERO) += n;
+        }
+    }
+    mesh.normals = Some(
+        mesh.positions
+            .iter()
+            .map(|&p| {
+                sums.get(&key(p))
+                    .copied()
+                    .unwrap_or(Vec3::Z)
+                    .normalize_or(Vec3::Z)
+            })
+            .collect(),
+    );
+}
+
 /// A vertical cylinder (open ends) of `radius` from `base` up `height`, with `flutes` grooves
 /// of relative depth `depth` (0 for a plain column).
 pub fn column(

@@ -2,7 +2,7 @@
 //! diffuse box with checker-textured walls lit by an area light: the kettle scene of seed 003
 //! (§2.6, Table 2.1) with anisotropic Ward (alpha_x 0.18, alpha_y 0.09).
 
-use super::geometry::{camera, checker, cuboid, Assembler};
+use super::geometry::{camera, checker, cuboid, smooth_normals, Assembler};
 use crate::texture::ImageTexture;
 use crate::{Material, RenderDefaults, SceneDesc, ShapeKind, TriangleMesh};
 use fenestra_core::{Rgb, Vec3};
@@ -41,8 +41,8 @@ fn bernstein(t: f32) -> [f32; 4] {
 }
 
 /// The teapot as `n` x `n` quads per patch (2 n^2 triangles each, 32 patches), scaled by
-/// `scale` and moved to `base`; vertex normals come from the mesh (degenerate patch corners
-/// at the lid and bottom poles are merged by averaging).
+/// `scale` and moved to `base`, with smooth vertex normals (averaged across patch seams and
+/// the degenerate corners at the lid and bottom poles).
 pub fn teapot_mesh(n: usize, scale: f32, base: Vec3) -> TriangleMesh {
     let (patches, cp) = patch_data();
     let mut mesh = TriangleMesh::default();
@@ -77,6 +77,7 @@ pub fn teapot_mesh(n: usize, scale: f32, base: Vec3) -> TriangleMesh {
             }
         }
     }
+    smooth_normals(&mut mesh);
     mesh
 }
 
@@ -139,5 +140,18 @@ mod tests {
             })
             .sum();
         assert!(vol > 10.0, "volume {vol}");
+        // Vertex normals agree with the outward faces around them.
+        let normals = m.normals.as_ref().expect("normals");
+        let agree = (0..m.indices.len())
+            .filter(|&t| {
+                let [a, b, c] = m.triangle(t);
+                normals[m.indices[t][0] as usize].dot((b - a).cross(c - a)) > 0.0
+            })
+            .count();
+        assert!(
+            agree as f64 > 0.99 * m.indices.len() as f64,
+            "{agree} of {}",
+            m.indices.len()
+        );
     }
 }
