@@ -168,8 +168,9 @@ impl RenderOpts {
             mis,
             rr_depth: self.rr_depth,
         };
-        let integrator =
-            integrator::by_name(&self.integrator, options.clone()).map_err(anyhow::Error::msg)?;
+        let portals = fenestra_render::portal::Portals::from_quads(&desc.portals);
+        let integrator = integrator::by_name(&self.integrator, options.clone(), portals)
+            .map_err(anyhow::Error::msg)?;
         let spp = match time {
             Some(_) => self.spp.unwrap_or(u32::MAX),
             None => self.spp.unwrap_or(desc.defaults.spp),

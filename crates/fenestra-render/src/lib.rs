@@ -7,6 +7,7 @@ pub mod film;
 pub mod integrator;
 pub mod light;
 pub mod output;
+pub mod portal;
 pub mod stats;
 
 pub use film::Film;

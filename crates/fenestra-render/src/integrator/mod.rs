@@ -3,9 +3,10 @@
 
 mod path;
 
-pub use path::PathTracer;
+pub use path::{NextEvent, PathTracer};
 
 use crate::film::Film;
+use crate::portal::Portals;
 use crate::stats::{RayCounters, RenderStats};
 use crate::RenderScene;
 use fenestra_core::mis::MisHeuristic;
@@ -92,12 +93,25 @@ pub const INTEGRATORS: &[(&str, &str)] = &[
         "af_hf",
         "next-event estimation on emitters and BSDF sampling combined by MIS",
     ),
+    (
+        "lp_hf",
+        "light-portal sampling and BSDF sampling combined by MIS (needs portals)",
+    ),
 ];
 
-pub fn by_name(name: &str, options: IntegratorOptions) -> Result<Box<dyn Integrator>, String> {
+/// The integrator called `name`; `portals` are used by lp_hf (which refuses an empty set).
+pub fn by_name(
+    name: &str,
+    options: IntegratorOptions,
+    portals: Portals,
+) -> Result<Box<dyn Integrator>, String> {
     match name {
         "hf" => Ok(Box::new(PathTracer::new(false, options))),
         "af_hf" => Ok(Box::new(PathTracer::new(true, options))),
+        "lp_hf" if portals.is_empty() => {
+            Err("lp_hf needs light portals and the scene has none".into())
+        }
+        "lp_hf" => Ok(Box::new(PathTracer::with_portals(portals, options))),
         _ => {
             let names: Vec<&str> = INTEGRATORS.iter().map(|i| i.0).collect();
             Err(format!(

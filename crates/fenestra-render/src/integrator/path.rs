@@ -1,32 +1,67 @@
-//! Unidirectional path tracing with Russian roulette (seed 000 §3.2.1), in two flavours:
+//! Unidirectional path tracing with Russian roulette (seed 000 §3.2.1), in three flavours:
 //! `hf` samples the BSDF only (seed 000's hemispherical formulation); `af_hf` adds next-event
-//! estimation on emitters and combines both techniques by MIS (seed 000 §4, §5.2).
+//! estimation on emitters and combines both techniques by MIS (seed 000 §4, §5.2); `lp_hf`
+//! samples directions through light portals instead (eq. 4.1) and finds what lies beyond
+//! (an emitter or the environment), combined with BSDF sampling by MIS; delta lights, which
+//! BSDF sampling cannot hit, keep their own next-event estimation.
 
 use super::{
     render_progressive, Integrator, IntegratorOptions, PathEstimator, RenderControl, RenderSettings,
 };
 use crate::film::Film;
 use crate::light::Light;
+use crate::portal::Portals;
 use crate::stats::{RayCounters, RenderStats};
 use crate::RenderScene;
 use fenestra_core::ray::offset_origin;
 use fenestra_core::{Ray, Rgb, Sampler, Vec3};
 use fenestra_scene::SurfaceInteraction;
 
+/// How directions towards light are chosen besides BSDF sampling.
+pub enum NextEvent {
+    /// None: BSDF sampling only (hf).
+    Off,
+    /// Emitters, picked by the scene's light sampler (af_hf).
+    Lights,
+    /// Light portals (lp_hf).
+    Portals(Portals),
+}
+
 pub struct PathTracer {
-    nee: bool,
+    next_event: NextEvent,
     options: IntegratorOptions,
 }
 
 impl PathTracer {
     pub fn new(nee: bool, options: IntegratorOptions) -> Self {
-        PathTracer { nee, options }
+        let next_event = if nee {
+            NextEvent::Lights
+        } else {
+            NextEvent::Off
+        };
+        PathTracer {
+            next_event,
+            options,
+        }
+    }
+
+    /// lp_hf: portal sampling and BSDF sampling combined by MIS.
+    pub fn with_portals(portals: Portals, options: IntegratorOptions) -> Self {
+        PathTracer {
+            next_event: NextEvent::Portals(portals),
+            options,
+        }
     }
 }
 
 impl Integrator for PathTracer {
     fn name(&self) -> String {
-        if self.nee { "af_hf" } else { "hf" }.to_string()
+        match self.next_event {
+            NextEvent::Off => "hf",
+            NextEvent::Lights => "af_hf",
+            NextEvent::Portals(_) => "lp_hf",
+        }
+        .to_string()
     }
 
     fn max_depth(&self) -> u32 {
@@ -67,21 +102,89 @@ struct Previous {
 }
 
 impl PathTracer {
-    /// MIS weight of the BSDF technique for an emitter found by a BSDF-sampled ray whose
-    /// light-sampling density (light pick probability times solid-angle density) is `light_pdf`.
-    fn bsdf_weight(&self, prev: &Previous, light_pdf: impl FnOnce() -> f32) -> f32 {
-        if !self.nee || prev.delta {
-            1.0
-        } else {
-            self.options.mis.weight(prev.bsdf_pdf, light_pdf())
+    /// MIS weight of the BSDF technique for light found by a BSDF-sampled ray leaving the
+    /// previous vertex along `d`; `light_pdf` is the emitter technique's density (light pick
+    /// probability times solid-angle density) for af_hf. For lp_hf the portal density of `d`
+    /// counts, whatever the ray found beyond.
+    fn bsdf_weight(&self, prev: &Previous, d: Vec3, light_pdf: impl FnOnce() -> f32) -> f32 {
+        if prev.delta {
+            return 1.0;
+        }
+        match &self.next_event {
+            NextEvent::Off => 1.0,
+            NextEvent::Lights => self.options.mis.weight(prev.bsdf_pdf, light_pdf()),
+            NextEvent::Portals(portals) => self
+                .options
+                .mis
+                .weight(prev.bsdf_pdf, portals.pdf(prev.p, d)),
         }
     }
 
+    /// Portal sampling at `si` (eq. 4.1): a direction through a portal, the radiance of
+    /// whatever the ray meets first (emitter or environment), weighted by MIS against the
+    /// BSDF.
+    #[allow(clippy::too_many_arguments)]
+    fn sample_portal(
+        &self,
+        scene: &RenderScene,
+        portals: &Portals,
+        si: &SurfaceInteraction,
+        bsdf: &crate::bsdf::Bsdf,
+        wo: Vec3,
+        wo_local: Vec3,
+        sampler: &mut Sampler,
+        rays: &mut RayCounters,
+    ) -> Rgb {
+        let u_pick = sampler.next_1d();
+        let u = sampler.next_2d();
+        let Some(ps) = portals.sample(si.p, u_pick, u) else {
+            return Rgb::ZERO;
+        };
+        let frame = si.shading_frame();
+        let wi_local = frame.to_local(ps.wi);
+        if !sides_agree(si, wo, ps.wi, wo_local.z, wi_local.z) {
+            return Rgb::ZERO;
+        }
+        let f = bsdf.eval(wo_local, wi_local);
+        if f.is_black() {
+            return Rgb::ZERO;
+        }
+        rays.shadow += 1;
+        let ray = Ray::new(offset_origin(si.p, si.ng, ps.wi), ps.wi);
+        let li = match scene.scene.intersect(&ray, f32::INFINITY) {
+            Some(hit) => {
+                let beyond = scene.scene.interaction(&ray, &hit);
+                scene
+                    .lights
+                    .le(&beyond, -ps.wi)
+                    .map_or(Rgb::ZERO, |(_, le)| le)
+            }
+            None => scene.lights.environments.iter().fold(Rgb::ZERO, |acc, &e| {
+                match &scene.lights.lights[e] {
+                    Light::Environment(env) => acc + env.le(ps.wi),
+                    _ => acc,
+                }
+            }),
+        };
+        if li.is_black() {
+            return Rgb::ZERO;
+        }
+        let weight = self
+            .options
+            .mis
+            .weight(ps.pdf, bsdf.pdf(wo_local, wi_local));
+        f * li * (wi_local.z.abs() * weight / ps.pdf)
+    }
+
     /// Next-event estimation at `si`: one light sample, weighted by MIS against the BSDF.
+    /// With `delta_only`, only Dirac lights contribute (lp_hf leaves the others to portals
+    /// and BSDF sampling); the light pick probability still divides, so the estimate of the
+    /// Dirac lights' share stays unbiased.
     #[allow(clippy::too_many_arguments)]
     fn sample_light(
         &self,
         scene: &RenderScene,
+        delta_only: bool,
         si: &SurfaceInteraction,
         bsdf: &crate::bsdf::Bsdf,
         wo: Vec3,
@@ -97,6 +200,9 @@ impl PathTracer {
         let Some(ls) = scene.lights.lights[index].sample_li(&scene.scene, si.p, u) else {
             return Rgb::ZERO;
         };
+        if delta_only && !ls.delta {
+            return Rgb::ZERO;
+        }
         let frame = si.shading_frame();
         let wi_local = frame.to_local(ls.wi);
         if !sides_agree(si, wo, ls.wi, wo_local.z, wi_local.z) {
@@ -153,7 +259,7 @@ impl PathEstimator for PathTracer {
                     let Light::Environment(env) = &scene.lights.lights[e] else {
                         continue;
                     };
-                    let w = self.bsdf_weight(&prev, || {
+                    let w = self.bsdf_weight(&prev, ray.d, || {
                         scene.light_sampler.pmf(prev.p, prev.n, e) * env.pdf_li(ray.d)
                     });
                     l += beta * env.le(ray.d) * w;
@@ -164,7 +270,7 @@ impl PathEstimator for PathTracer {
             let wo = -ray.d;
             if let Some((index, le)) = scene.lights.le(&si, wo) {
                 if !le.is_black() {
-                    let w = self.bsdf_weight(&prev, || {
+                    let w = self.bsdf_weight(&prev, ray.d, || {
                         let Light::Area(area) = &scene.lights.lights[index] else {
                             return 0.0;
                         };
@@ -181,8 +287,27 @@ impl PathEstimator for PathTracer {
             let bsdf = bsdf.as_ref();
             let frame = si.shading_frame();
             let wo_local = frame.to_local(wo);
-            if self.nee && !bsdf.is_delta() {
-                l += beta * self.sample_light(scene, &si, bsdf, wo, wo_local, sampler, rays);
+            if !bsdf.is_delta() {
+                match &self.next_event {
+                    NextEvent::Off => {}
+                    NextEvent::Lights => {
+                        l += beta
+                            * self
+                                .sample_light(scene, false, &si, bsdf, wo, wo_local, sampler, rays);
+                    }
+                    NextEvent::Portals(portals) => {
+                        l += beta
+                            * self.sample_portal(
+                                scene, portals, &si, bsdf, wo, wo_local, sampler, rays,
+                            );
+                        if scene.lights.has_delta {
+                            l += beta
+                                * self.sample_light(
+                                    scene, true, &si, bsdf, wo, wo_local, sampler, rays,
+                                );
+                        }
+                    }
+                }
             }
             let uc = sampler.next_1d();
             let u = sampler.next_2d();

@@ -79,6 +79,8 @@ pub struct Lights {
     pub area_of_shape: Vec<Option<usize>>,
     /// Indices of environment lights (seen by rays that escape).
     pub environments: Vec<usize>,
+    /// Whether any light is a Dirac one (point, spot, distant).
+    pub has_delta: bool,
 }
 
 impl Lights {
@@ -126,10 +128,14 @@ impl Lights {
                 })
             })
             .collect();
+        let has_delta = lights
+            .iter()
+            .any(|l| matches!(l, Light::Point(_) | Light::Spot(_) | Light::Distant(_)));
         Lights {
             lights,
             area_of_shape,
             environments,
+            has_delta,
         }
     }
 

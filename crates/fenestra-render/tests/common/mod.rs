@@ -2,6 +2,7 @@
 #![allow(dead_code)] // each test binary uses a subset
 
 use fenestra_render::integrator::{self, IntegratorOptions, NoProgress};
+use fenestra_render::portal::Portals;
 use fenestra_render::{
     Film, LightSelection, RenderControl, RenderScene, RenderSettings, RenderStats,
 };
@@ -16,11 +17,12 @@ pub fn render(
     spp: u32,
     seed: u64,
 ) -> (Film, RenderStats) {
+    let portals = Portals::from_quads(&desc.portals);
     let scene = RenderScene::new(
         Scene::build(desc, Backend::default()).expect("scene"),
         LightSelection::Power,
     );
-    let integrator = integrator::by_name(name, options).expect("integrator");
+    let integrator = integrator::by_name(name, options, portals).expect("integrator");
     let mut film = Film::new(size, size);
     let cancel = AtomicBool::new(false);
     let control = RenderControl::new(&cancel, &NoProgress);
