@@ -132,7 +132,7 @@ pub fn ponderosa() -> SceneDesc {
         .push(LightDesc::Environment(sky(512, 256, sun, 1.0)));
     a.finish(
         "ponderosa-138",
-        camera(Vec3::new(0.3, 3.7, 1.7), Vec3::new(6.0, 2.4, 1.0), 70.0),
+        camera(Vec3::new(0.3, 0.3, 2.0), Vec3::new(4.5, 2.3, 0.9), 75.0),
         RenderDefaults {
             width: 640,
             height: 480,
