@@ -228,7 +228,7 @@ pub fn checker(n: usize, texels: usize, a: Rgb, b: Rgb) -> Image {
             img.set(
                 x,
                 y,
-                if (x / texels + y / texels) % 2 == 0 {
+                if (x / texels + y / texels).is_multiple_of(2) {
                     a
                 } else {
                     b

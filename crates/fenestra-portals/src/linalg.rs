@@ -1,0 +1,80 @@
+//! Symmetric 3x3 eigendecomposition (through faer) and what is built on it: the
+//! pseudo-inverse and condition number that Alg. 4's fallback needs, and principal axes.
+
+use glam::{DMat3, DVec3};
+
+/// Eigenvalues (ascending) and unit eigenvectors (columns) of the symmetric matrix `m`.
+pub fn sym_eigen(m: &DMat3) -> ([f64; 3], [DVec3; 3]) {
+    let a = faer::Mat::<f64>::from_fn(3, 3, |r, c| m.col(c)[r]);
+    match a.self_adjoint_eigen(faer::Side::Lower) {
+        Ok(evd) => {
+            let (s, u) = (evd.S(), evd.U());
+            let vals = [s[0], s[1], s[2]];
+            let vecs = [0, 1, 2].map(|j| DVec3::new(u[(0, j)], u[(1, j)], u[(2, j)]));
+            (vals, vecs)
+        }
+        // faer reports no convergence only for non-finite input.
+        Err(_) => ([f64::NAN; 3], [DVec3::X, DVec3::Y, DVec3::Z]),
+    }
+}
+
+/// Ratio of the largest to the smallest eigenvalue magnitude (infinite when singular).
+pub fn condition(m: &DMat3) -> f64 {
+    let (v, _) = sym_eigen(m);
+    let (lo, hi) = v.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), x| {
+        (lo.min(x.abs()), hi.max(x.abs()))
+    });
+    if lo > 0.0 {
+        hi / lo
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// Moore-Penrose pseudo-inverse of a symmetric matrix: eigenvalues below `rel_tol` times the
+/// largest are treated as zero.
+pub fn pinv_sym(m: &DMat3, rel_tol: f64) -> DMat3 {
+    let (vals, vecs) = sym_eigen(m);
+    let max = vals.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    let mut out = DMat3::ZERO;
+    for (l, v) in vals.iter().zip(vecs) {
+        if l.abs() > rel_tol * max {
+            out += outer(v, v) * (1.0 / l);
+        }
+    }
+    out
+}
+
+pub fn outer(a: DVec3, b: DVec3) -> DMat3 {
+    DMat3::from_cols(a * b.x, a * b.y, a * b.z)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn eigen_and_pseudo_inverse() {
+        let m = DMat3::from_cols(
+            DVec3::new(4.0, 1.0, 0.0),
+            DVec3::new(1.0, 3.0, 0.0),
+            DVec3::new(0.0, 0.0, 2.0),
+        );
+        let (vals, vecs) = sym_eigen(&m);
+        for (l, v) in vals.iter().zip(vecs) {
+            assert!((m * v - v * *l).length() < 1e-12);
+        }
+        assert!((pinv_sym(&m, 1e-12) - m.inverse())
+            .to_cols_array()
+            .iter()
+            .all(|x| x.abs() < 1e-12));
+        // Rank one: the pseudo-inverse inverts the range and zeroes the rest.
+        let r = outer(DVec3::new(1.0, 2.0, 2.0), DVec3::new(1.0, 2.0, 2.0));
+        let p = pinv_sym(&r, 1e-9);
+        assert!(((r * p * r) - r)
+            .to_cols_array()
+            .iter()
+            .all(|x| x.abs() < 1e-9));
+        assert!(condition(&r) > 1e12);
+    }
+}
