@@ -1,7 +1,7 @@
 //! The box scenes of seed 000 §5.2: a 1 m cube centred at the origin (Z up) with thin
 //! diffuse walls of albedo 0.75, light entering through square holes in the ceiling.
 
-use super::geometry::{grid, wall_with_openings, Rect};
+use super::geometry::{grid, transposed, wall_with_openings, Rect};
 use crate::light::{Emission, EnvironmentDesc, LightDesc};
 use crate::{Camera, Material, RenderDefaults, SceneDesc, Shape, ShapeKind, TriangleMesh};
 use fenestra_core::{Rgb, Vec3, PI};
@@ -36,16 +36,12 @@ fn holes(v: &Variant) -> Vec<Rect> {
 /// The ceiling (z = 0.5) minus the holes, facing into the box (-z).
 fn ceiling(holes: &[Rect]) -> TriangleMesh {
     // Wall coordinates (s, t) = (y, x): the normal u x v = y x x = -z.
-    let swapped: Vec<Rect> = holes
-        .iter()
-        .map(|(lo, hi)| ([lo[1], lo[0]], [hi[1], hi[0]]))
-        .collect();
     wall_with_openings(
         Vec3::new(0.0, 0.0, 0.5),
         Vec3::Y,
         Vec3::X,
         ([-0.5, -0.5], [0.5, 0.5]),
-        &swapped,
+        &transposed(holes),
     )
 }
 

@@ -74,6 +74,14 @@ pub fn cuboid(lo: Vec3, hi: Vec3) -> TriangleMesh {
     m
 }
 
+/// Rectangles with their two coordinates exchanged (for walls spanned the other way round).
+pub fn transposed(rects: &[Rect]) -> Vec<Rect> {
+    rects
+        .iter()
+        .map(|(lo, hi)| ([lo[1], lo[0]], [hi[1], hi[0]]))
+        .collect()
+}
+
 /// A planar rectangle minus rectangular openings: the cells of the grid through all opening
 /// edges that lie outside every opening. The plane spans `origin + s u + t v` for (s, t) in
 /// `extent` = ([s0, t0], [s1, t1]); its normal is u x v.

@@ -2,7 +2,7 @@
 //! the +y wall with a large area light outside that side only, 7 unlit windows on the -y
 //! wall, two rows of pillars. Walls are thin; each window holds a thin glass pane.
 
-use super::geometry::{camera, cuboid, wall_with_openings, Assembler, Rect};
+use super::geometry::{camera, cuboid, transposed, wall_with_openings, Assembler, Rect};
 use crate::{Material, RenderDefaults, SceneDesc, ShapeKind, TriangleMesh};
 use fenestra_core::{Rgb, Vec3};
 
@@ -51,7 +51,7 @@ pub fn hall_windows() -> SceneDesc {
             Vec3::Z,
             Vec3::X,
             ([0.0, 0.0], [HEIGHT, LENGTH]),
-            &swap(&unlit),
+            &transposed(&unlit),
         ),
         stone,
     );
@@ -130,11 +130,4 @@ pub fn hall_windows() -> SceneDesc {
             max_depth: 8,
         },
     )
-}
-
-/// Rectangles with their coordinates exchanged (for walls spanned as (z, x)).
-fn swap(r: &[Rect]) -> Vec<Rect> {
-    r.iter()
-        .map(|(lo, hi)| ([lo[1], lo[0]], [hi[1], hi[0]]))
-        .collect()
 }

@@ -2,7 +2,7 @@
 //! cabinets, an island, a fridge and a range hood as occluders, a glossy floor. The windows
 //! are behind the camera; `kitchen-72-env` adds a sky seen through them (Kitchen 2).
 
-use super::geometry::{camera, cuboid, sky, wall_with_openings, Assembler};
+use super::geometry::{camera, cuboid, sky, transposed, wall_with_openings, Assembler, Rect};
 use super::teapot::teapot_mesh;
 use crate::light::LightDesc;
 use crate::{Material, RenderDefaults, SceneDesc, ShapeKind, TriangleMesh};
@@ -78,21 +78,17 @@ pub fn kitchen(with_sky: bool) -> SceneDesc {
         Vec3::X * (W / 2.0),
         Vec3::Z * (H / 2.0),
     ));
-    let windows: Vec<_> = [1.0f32, 3.0, 5.0]
+    let windows: Vec<Rect> = [1.0f32, 3.0, 5.0]
         .iter()
         .map(|&x| ([x - 0.6, 0.9], [x + 0.6, 2.1]))
-        .collect();
-    // (z, x) coordinates: normal z x x = +y.
-    let swapped: Vec<_> = windows
-        .iter()
-        .map(|(lo, hi)| ([lo[1], lo[0]], [hi[1], hi[0]]))
         .collect();
     shell.append(&wall_with_openings(
         Vec3::ZERO,
         Vec3::Z,
         Vec3::X,
         ([0.0, 0.0], [H, W]),
-        &swapped,
+        // (z, x) coordinates: normal z x x = +y.
+        &transposed(&windows),
     ));
     a.mesh(shell, paint);
 

@@ -4,6 +4,7 @@
 use super::builder::Builder;
 use super::parser::Directive;
 use super::{Loc, PbrtError};
+use crate::builtin::geometry::grid;
 use crate::light::Emission;
 use crate::{Shape, ShapeKind, TriangleMesh};
 use fenestra_core::{Vec2, Vec3, PI};
@@ -334,56 +335,37 @@ fn similarity_scale(l: &DMat3) -> Option<f64> {
 
 /// A sphere or disk as a triangle mesh with outward normals, for non-uniform transforms.
 fn tessellate(kind: &ShapeKind) -> TriangleMesh {
-    let mut mesh = TriangleMesh {
-        normals: Some(Vec::new()),
-        uvs: Some(Vec::new()),
-        ..TriangleMesh::default()
-    };
-    let (rings, segments) = (48usize, 96usize);
-    let frame_pt = |center: Vec3, normal: Vec3, radius: f32, r: f32, phi: f32| {
-        let f = fenestra_core::Frame::from_normal(normal);
-        center + (f.s * phi.cos() + f.t * phi.sin()) * (r * radius)
-    };
-    for i in 0..=rings {
-        let v = i as f32 / rings as f32;
-        for j in 0..=segments {
-            let u = j as f32 / segments as f32;
-            let phi = 2.0 * PI * u;
-            let (p, n) = match *kind {
-                ShapeKind::Sphere { center, radius } => {
-                    let theta = PI * v;
-                    let d = Vec3::new(
+    let (segments, rings) = (96, 48);
+    let (mut mesh, normal): (TriangleMesh, Box<dyn Fn(Vec3) -> Vec3>) = match *kind {
+        ShapeKind::Sphere { center, radius } => (
+            grid(segments, rings, true, |s, t| {
+                let (phi, theta) = (2.0 * PI * s, PI * t);
+                center
+                    + Vec3::new(
                         theta.sin() * phi.cos(),
                         theta.sin() * phi.sin(),
                         theta.cos(),
-                    );
-                    (center + d * radius, d)
-                }
-                ShapeKind::Disk {
-                    center,
-                    normal,
-                    radius,
-                } => (frame_pt(center, normal, radius, 1.0 - v, phi), normal),
-                ShapeKind::Mesh(_) => unreachable!("only quadrics are tessellated"),
-            };
-            mesh.positions.push(p);
-            if let Some(ns) = mesh.normals.as_mut() {
-                ns.push(n);
-            }
-            if let Some(t) = mesh.uvs.as_mut() {
-                t.push(Vec2::new(u, v));
-            }
+                    ) * radius
+            }),
+            Box::new(move |p: Vec3| (p - center).normalize_or(Vec3::Z)),
+        ),
+        ShapeKind::Disk {
+            center,
+            normal,
+            radius,
+        } => {
+            let f = fenestra_core::Frame::from_normal(normal);
+            (
+                grid(segments, rings, true, |s, t| {
+                    let phi = 2.0 * PI * s;
+                    center + (f.s * phi.cos() + f.t * phi.sin()) * ((1.0 - t) * radius)
+                }),
+                Box::new(move |_| normal),
+            )
         }
-    }
-    let at = |i: usize, j: usize| (i * (segments + 1) + j) as u32;
-    for i in 0..rings {
-        for j in 0..segments {
-            mesh.indices
-                .push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
-            mesh.indices
-                .push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
-        }
-    }
+        ShapeKind::Mesh(ref m) => return m.clone(),
+    };
+    mesh.normals = Some(mesh.positions.iter().map(|&p| normal(p)).collect());
     mesh
 }
 
