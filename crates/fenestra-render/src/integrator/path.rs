@@ -93,6 +93,23 @@ fn sides_agree(si: &SurfaceInteraction, wo: Vec3, wi: Vec3, wo_z: f32, wi_z: f32
     (wi.dot(si.ng) * wo.dot(si.ng) > 0.0) == (wi_z * wo_z > 0.0)
 }
 
+/// The BSDF at `si` for light arriving from `wi` (world): the local direction and f, or
+/// `None` when the sides disagree or f vanishes.
+fn bsdf_toward(
+    si: &SurfaceInteraction,
+    bsdf: &crate::bsdf::Bsdf,
+    wo: Vec3,
+    wo_local: Vec3,
+    wi: Vec3,
+) -> Option<(Vec3, Rgb)> {
+    let wi_local = si.shading_frame().to_local(wi);
+    if !sides_agree(si, wo, wi, wo_local.z, wi_local.z) {
+        return None;
+    }
+    let f = bsdf.eval(wo_local, wi_local);
+    (!f.is_black()).then_some((wi_local, f))
+}
+
 /// The state of the previous vertex that MIS needs when a BSDF-sampled ray finds an emitter.
 struct Previous {
     p: Vec3,
@@ -140,15 +157,9 @@ impl PathTracer {
         let Some(ps) = portals.sample(si.p, u_pick, u) else {
             return Rgb::ZERO;
         };
-        let frame = si.shading_frame();
-        let wi_local = frame.to_local(ps.wi);
-        if !sides_agree(si, wo, ps.wi, wo_local.z, wi_local.z) {
+        let Some((wi_local, f)) = bsdf_toward(si, bsdf, wo, wo_local, ps.wi) else {
             return Rgb::ZERO;
-        }
-        let f = bsdf.eval(wo_local, wi_local);
-        if f.is_black() {
-            return Rgb::ZERO;
-        }
+        };
         rays.shadow += 1;
         let ray = Ray::new(offset_origin(si.p, si.ng, ps.wi), ps.wi);
         let li = match scene.scene.intersect(&ray, f32::INFINITY) {
@@ -203,15 +214,9 @@ impl PathTracer {
         if delta_only && !ls.delta {
             return Rgb::ZERO;
         }
-        let frame = si.shading_frame();
-        let wi_local = frame.to_local(ls.wi);
-        if !sides_agree(si, wo, ls.wi, wo_local.z, wi_local.z) {
+        let Some((wi_local, f)) = bsdf_toward(si, bsdf, wo, wo_local, ls.wi) else {
             return Rgb::ZERO;
-        }
-        let f = bsdf.eval(wo_local, wi_local);
-        if f.is_black() {
-            return Rgb::ZERO;
-        }
+        };
         let origin = offset_origin(si.p, si.ng, ls.wi);
         let tmax = ls
             .point

@@ -233,6 +233,15 @@ pub(super) fn sphere_to_square(d: DVec3) -> (f64, f64) {
     ((u.copysign(d.x) + 1.0) * 0.5, (v.copysign(d.y) + 1.0) * 0.5)
 }
 
+/// The unit direction at polar angle `theta` from +z and azimuth `phi` from +x.
+fn spherical(theta: f64, phi: f64) -> DVec3 {
+    DVec3::new(
+        theta.sin() * phi.cos(),
+        theta.sin() * phi.sin(),
+        theta.cos(),
+    )
+}
+
 /// Resamples an equal-area square map (side N) to latitude-longitude (2N x N), bilinearly.
 fn equal_area_to_latlong(sq: &Image) -> Image {
     let n = sq.width;
@@ -242,12 +251,7 @@ fn equal_area_to_latlong(sq: &Image) -> Image {
         let theta = std::f64::consts::PI * (row as f64 + 0.5) / h as f64;
         for col in 0..w {
             let phi = 2.0 * std::f64::consts::PI * (col as f64 + 0.5) / w as f64;
-            let d = DVec3::new(
-                theta.sin() * phi.cos(),
-                theta.sin() * phi.sin(),
-                theta.cos(),
-            );
-            let (u, v) = sphere_to_square(d);
+            let (u, v) = sphere_to_square(spherical(theta, phi));
             let (x, y) = (u * n as f64 - 0.5, v * n as f64 - 0.5);
             let (x0, y0) = (x.floor(), y.floor());
             let (fx, fy) = ((x - x0) as f32, (y - y0) as f32);
@@ -301,12 +305,7 @@ mod tests {
             let theta = std::f64::consts::PI * (i as f64 + 0.5) / nt as f64;
             for j in 0..np {
                 let phi = 2.0 * std::f64::consts::PI * (j as f64 + 0.5) / np as f64;
-                let d = DVec3::new(
-                    theta.sin() * phi.cos(),
-                    theta.sin() * phi.sin(),
-                    theta.cos(),
-                );
-                let (u, v) = sphere_to_square(d);
+                let (u, v) = sphere_to_square(spherical(theta, phi));
                 assert!((0.0..=1.0).contains(&u) && (0.0..=1.0).contains(&v));
                 let c = ((u * 4.0).min(3.0) as usize) + 4 * ((v * 4.0).min(3.0) as usize);
                 cells[c] += theta.sin();
