@@ -8,6 +8,7 @@ use fenestra_core::mis::MisHeuristic;
 use fenestra_eval::hash::debug_hash;
 use fenestra_eval::metrics;
 use fenestra_render::integrator::{self, IntegratorOptions};
+use fenestra_render::portal::Portals;
 use fenestra_render::{
     output, Film, LightSelection, RenderControl, RenderScene, RenderSettings, RenderStats,
 };
@@ -30,9 +31,13 @@ pub struct RenderOpts {
     scene: String,
     #[command(flatten)]
     scene_options: scene_arg::SceneOptions,
-    /// Integrator: hf (BSDF sampling) or af_hf (light and BSDF sampling with MIS).
+    /// Integrator: hf (BSDF sampling), af_hf (light and BSDF sampling with MIS) or lp_hf
+    /// (light-portal and BSDF sampling with MIS).
     #[arg(long, default_value = "af_hf")]
     integrator: String,
+    /// Light portals for lp_hf from a portals.json file (default: the scene's own portals).
+    #[arg(long)]
+    portals: Option<PathBuf>,
     /// Samples per pixel (default: the scene's).
     #[arg(long)]
     spp: Option<u32>,
@@ -168,7 +173,10 @@ impl RenderOpts {
             mis,
             rr_depth: self.rr_depth,
         };
-        let portals = fenestra_render::portal::Portals::from_quads(&desc.portals);
+        let portals = match &self.portals {
+            Some(file) => Portals::read_json(file).map_err(anyhow::Error::msg)?,
+            None => Portals::from_quads(&desc.portals),
+        };
         let integrator = integrator::by_name(&self.integrator, options.clone(), portals)
             .map_err(anyhow::Error::msg)?;
         let spp = match time {

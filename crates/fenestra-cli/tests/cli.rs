@@ -549,3 +549,51 @@ fn scene_files_export_render_and_report_what_they_cannot_represent() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn lp_hf_takes_portals_from_the_scene_or_a_file() {
+    let dir = tmp("portals");
+    std::fs::create_dir_all(&dir).expect("dir");
+    let out = dir.join("lp.exr");
+    let o = out.to_str().expect("utf-8");
+    let args = [
+        "render",
+        "builtin:box-hole",
+        "--integrator",
+        "lp_hf",
+        "--spp",
+        "2",
+        "--resolution",
+        "16x16",
+        "-q",
+        "-o",
+        o,
+    ];
+    let r = fenestra(&args);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let json = dir.join("p.json");
+    std::fs::write(
+        &json,
+        r#"{"portals":[{"kind":"ellipse","center":[0,0,0.5],"normal":[0,0,1],"area":0.05,"axes":[[0.15,0,0],[0,0.15,0]]}]}"#,
+    )
+    .expect("json");
+    let j = json.to_str().expect("utf-8");
+    let mut with_file = args.to_vec();
+    with_file.extend(["--portals", j]);
+    let r = fenestra(&with_file);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    std::fs::write(&json, r#"{"portals":[{"kind":"ellipse"}]}"#).expect("json");
+    assert_clear_error(&with_file, "p.json: missing field");
+    assert_clear_error(
+        &[
+            "render",
+            "builtin:cornell-box",
+            "--integrator",
+            "lp_hf",
+            "-o",
+            o,
+        ],
+        "lp_hf needs light portals and the scene has none",
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
