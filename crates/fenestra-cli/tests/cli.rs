@@ -152,7 +152,7 @@ fn bad_input_gets_a_clear_error() {
             "-o",
             o,
         ],
-        "unknown integrator 'bdpt' (available: hf, af_hf)",
+        "unknown integrator 'bdpt' (available: hf, af_hf, lp_hf)",
     );
     assert_clear_error(
         &["render", "builtin:box-hole", "--spp", "0", "-o", o],
