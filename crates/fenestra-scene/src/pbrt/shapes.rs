@@ -220,34 +220,28 @@ fn bilinear_mesh(d: &Directive) -> Result<TriangleMesh, PbrtError> {
                 <= 1e-6 * scale
         };
         let k = if planar { 1 } else { BILINEAR_SPLITS };
-        let base = mesh.positions.len() as u32;
-        for j in 0..=k {
-            for i in 0..=k {
-                let (u, v) = (i as f32 / k as f32, j as f32 / k as f32);
-                let w = [(1.0 - u) * (1.0 - v), u * (1.0 - v), (1.0 - u) * v, u * v];
-                let mix3 = |x: &[Vec3]| x[a] * w[0] + x[b] * w[1] + x[c] * w[2] + x[e] * w[3];
-                mesh.positions.push(mix3(&positions));
-                if let (Some(out), Some(n)) = (mesh.normals.as_mut(), normals.as_ref()) {
-                    out.push(mix3(n).normalize_or_zero());
-                }
-                let uv = match &uvs {
-                    Some(t) => t[a] * w[0] + t[b] * w[1] + t[c] * w[2] + t[e] * w[3],
-                    None => Vec2::new(u, v),
-                };
-                if let Some(out) = mesh.uvs.as_mut() {
-                    out.push(uv);
-                }
-            }
-        }
-        let at = |i: usize, j: usize| base + (j * (k + 1) + i) as u32;
-        for j in 0..k {
-            for i in 0..k {
-                mesh.indices
-                    .push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
-                mesh.indices
-                    .push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
-            }
-        }
+        let weights = |u: f32, v: f32| [(1.0 - u) * (1.0 - v), u * (1.0 - v), (1.0 - u) * v, u * v];
+        let mix3 = |x: &[Vec3], w: [f32; 4]| x[a] * w[0] + x[b] * w[1] + x[c] * w[2] + x[e] * w[3];
+        // The grid's uv are the patch parameters (u, v); the patch's own attributes follow.
+        let mut patch = grid(k, k, false, |u, v| mix3(&positions, weights(u, v)));
+        let params = patch.uvs.take().unwrap_or_default();
+        patch.normals = normals.as_ref().map(|n| {
+            params
+                .iter()
+                .map(|p| mix3(n, weights(p.x, p.y)).normalize_or_zero())
+                .collect()
+        });
+        patch.uvs = Some(match &uvs {
+            Some(t) => params
+                .iter()
+                .map(|p| {
+                    let w = weights(p.x, p.y);
+                    t[a] * w[0] + t[b] * w[1] + t[c] * w[2] + t[e] * w[3]
+                })
+                .collect(),
+            None => params,
+        });
+        mesh.append(&patch);
     }
     Ok(mesh)
 }
