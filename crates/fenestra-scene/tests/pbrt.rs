@@ -337,14 +337,21 @@ fn bilinear_patches_become_triangles() {
         Shape "bilinearmesh" "point3 P" [0 0 0  1 0 0  0 1 0  1 1 1]"#,
     )
     .expect("load");
-    let ShapeKind::Mesh(flat) = &s.desc.shapes[0].kind else { panic!("mesh") };
+    let ShapeKind::Mesh(flat) = &s.desc.shapes[0].kind else {
+        panic!("mesh")
+    };
     assert_eq!(flat.indices.len(), 2, "a planar patch is two triangles");
     assert!(((0..2).map(|t| flat.triangle_area(t)).sum::<f32>() - 2.0).abs() < 1e-6);
     let uvs = flat.uvs.as_ref().expect("uv");
     assert_eq!(uvs[3], Vec2::new(1.0, 1.0));
-    let ShapeKind::Mesh(curved) = &s.desc.shapes[1].kind else { panic!("mesh") };
+    let ShapeKind::Mesh(curved) = &s.desc.shapes[1].kind else {
+        panic!("mesh")
+    };
     assert_eq!(curved.indices.len(), 2 * 8 * 8);
     // The centre of the hyperbolic patch z = u v is at height 1/4.
     let centre = curved.positions[4 * 9 + 4];
-    assert!((centre - Vec3::new(0.5, 0.5, 0.25)).length() < 1e-6, "{centre}");
+    assert!(
+        (centre - Vec3::new(0.5, 0.5, 0.25)).length() < 1e-6,
+        "{centre}"
+    );
 }
