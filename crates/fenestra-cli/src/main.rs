@@ -3,6 +3,7 @@
 mod bench;
 mod compare;
 mod lpca;
+mod portals_cmd;
 mod progress;
 mod prt;
 mod raybench;
@@ -44,6 +45,9 @@ enum Command {
     Prt(prt::PrtArgs),
     /// Measure closest-hit and shadow-ray throughput of the ray-query backends.
     Raybench(raybench::RaybenchArgs),
+    /// Estimate light portals (seed 000): photon cone-beams, DBSCAN, RANSAC planes, covering
+    /// ellipses or rectangles; writes portals.json and a picture of them.
+    Portals(portals_cmd::PortalsArgs),
     /// Inspect a scene or export it as pbrt-v4.
     Scene(scene_cmd::SceneArgs),
     /// List the built-in scenes and the integrators.
@@ -83,6 +87,7 @@ fn main() -> ExitCode {
         Command::Prt(args) => prt::run(args),
         Command::Raybench(args) => raybench::run(args),
         Command::Scene(args) => scene_cmd::run(args),
+        Command::Portals(args) => portals_cmd::run(args),
         Command::List => {
             println!("built-in scenes (use as builtin:NAME):");
             for (name, what) in fenestra_scene::builtin::SCENES {

@@ -35,9 +35,10 @@ pub struct RenderOpts {
     /// (light-portal and BSDF sampling with MIS).
     #[arg(long, default_value = "af_hf")]
     integrator: String,
-    /// Light portals for lp_hf from a portals.json file (default: the scene's own portals).
+    /// Light portals for lp_hf: a portals.json file, or "auto" to estimate them first with
+    /// the default parameters of `fenestra portals` (default: the scene's own portals).
     #[arg(long)]
-    portals: Option<PathBuf>,
+    portals: Option<String>,
     /// Samples per pixel (default: the scene's).
     #[arg(long)]
     spp: Option<u32>,
@@ -134,7 +135,9 @@ struct Job {
     desc: fenestra_scene::SceneDesc,
     width: u32,
     height: u32,
-    integrator: Box<dyn integrator::Integrator>,
+    /// `None` for lp_hf with `--portals auto`: made once the scene is built and its portals
+    /// estimated.
+    integrator: Option<Box<dyn integrator::Integrator>>,
     /// Kept for the reference cache key.
     options: IntegratorOptions,
     settings: RenderSettings,
@@ -173,12 +176,22 @@ impl RenderOpts {
             mis,
             rr_depth: self.rr_depth,
         };
-        let portals = match &self.portals {
-            Some(file) => Portals::read_json(file).map_err(anyhow::Error::msg)?,
-            None => Portals::from_quads(&desc.portals),
+        let integrator = match self.portals.as_deref() {
+            Some("auto") if self.integrator == "lp_hf" => None,
+            Some("auto") => bail!("--portals auto is for --integrator lp_hf"),
+            portals => {
+                let portals = match portals {
+                    Some(file) => {
+                        Portals::read_json(Path::new(file)).map_err(anyhow::Error::msg)?
+                    }
+                    None => Portals::from_quads(&desc.portals),
+                };
+                Some(
+                    integrator::by_name(&self.integrator, options.clone(), portals)
+                        .map_err(anyhow::Error::msg)?,
+                )
+            }
         };
-        let integrator = integrator::by_name(&self.integrator, options.clone(), portals)
-            .map_err(anyhow::Error::msg)?;
         let spp = match time {
             Some(_) => self.spp.unwrap_or(u32::MAX),
             None => self.spp.unwrap_or(desc.defaults.spp),
@@ -216,17 +229,28 @@ impl RenderOpts {
                 "\ninterrupted: writing the samples taken so far (Ctrl-C again to quit at once)"
             );
         });
+        let prepared = &job.integrator;
+        let desc = job.desc;
         pool.install(|| -> Result<_> {
             let scene =
-                Scene::build(job.desc, self.bvh.unwrap_or_default()).context("invalid scene")?;
+                Scene::build(desc, self.bvh.unwrap_or_default()).context("invalid scene")?;
             let render_scene = RenderScene::new(scene, self.light_selection);
+            let estimated;
+            let integrator = match prepared {
+                Some(i) => i.as_ref(),
+                None => {
+                    let quiet = self.quiet || self.json;
+                    let portals = crate::portals_cmd::auto(&render_scene, quiet, &cancel)?;
+                    estimated = integrator::by_name("lp_hf", job.options.clone(), portals)
+                        .map_err(anyhow::Error::msg)?;
+                    estimated.as_ref()
+                }
+            };
             let mut film = Film::new(job.width, job.height);
             let bar = Bar::new(self.quiet || self.json);
             let mut control = RenderControl::new(&cancel, &bar);
             control.on_pass = hook;
-            let stats = job
-                .integrator
-                .render(&render_scene, &mut film, &job.settings, &control);
+            let stats = integrator.render(&render_scene, &mut film, &job.settings, &control);
             bar.finish();
             Ok((stats, film))
         })

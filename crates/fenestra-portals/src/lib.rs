@@ -1,9 +1,15 @@
-//! Automatic light portals (seed 000 ch. 4-5): the fitting stages of the estimation pipeline.
-//! A cluster of photons gets a plane by RANSAC (Alg. 3) and, in that plane, the minimum-volume
-//! covering ellipse of its inliers by Khachiyan's conditional-gradient method (Alg. 4) or the
-//! PCA rectangle of §5.1.
+//! Automatic light portals (seed 000 ch. 4-5): photons traced from the lights with cone-beams
+//! (Alg. 1) are clustered by DBSCAN (Alg. 2); each cluster gets a plane by RANSAC (Alg. 3) and,
+//! in that plane, the minimum-volume covering ellipse of its inliers by Khachiyan's
+//! conditional-gradient method (Alg. 4) or the PCA rectangle of §5.1.
 
+pub mod cluster;
+pub mod estimate;
+pub mod export;
 pub mod linalg;
 pub mod mvce;
+pub mod photon;
+pub mod plot;
 pub mod ransac;
+pub mod rectangle;
 pub mod rng;

@@ -1,5 +1,5 @@
-//! RANSAC plane fitting (seed 000 §4.4.1, Alg. 3) and the PCA rectangle (§5.1): a cluster of
-//! photons gets a plane robust to outliers; its inliers are then covered in that plane.
+//! RANSAC plane fitting (seed 000 §4.4.1, Alg. 3): a cluster of photons gets a plane robust
+//! to outliers; its inliers are then covered in that plane.
 
 use crate::linalg::{outer, sym_eigen};
 use crate::rng::Rng;
@@ -55,7 +55,7 @@ pub fn fit_plane(points: &[DVec3]) -> Option<Plane> {
 
 /// RANSAC parameters, as named in the seed: inlier tolerance eps, inlier fraction tau that
 /// ends the search, at most N trials.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, serde::Serialize)]
 pub struct Ransac {
     pub eps: f64,
     pub tau: f64,
@@ -135,35 +135,6 @@ pub fn ransac_plane(points: &[DVec3], params: &Ransac) -> Option<PlaneFit> {
     })
 }
 
-/// The PCA rectangle of §5.1: oriented along the principal axes of the in-plane points,
-/// centred on their mean, reaching the farthest point along each axis. Returns the centre
-/// and the two half-edge vectors.
-pub fn pca_rectangle(p: &[DVec2]) -> Option<(DVec2, [DVec2; 2])> {
-    if p.len() < 3 {
-        return None;
-    }
-    let mean = p.iter().fold(DVec2::ZERO, |a, x| a + *x) / p.len() as f64;
-    let cov = p.iter().fold(DMat3::ZERO, |a, x| {
-        let d = (*x - mean).extend(0.0);
-        a + outer(d, d)
-    });
-    let (_, vecs) = sym_eigen(&cov);
-    let axes: Vec<DVec2> = vecs
-        .iter()
-        .filter(|v| v.z.abs() < 0.5)
-        .map(|v| v.truncate().normalize())
-        .collect();
-    if axes.len() != 2 {
-        return None;
-    }
-    let half = |a: DVec2| {
-        p.iter()
-            .map(|x| (*x - mean).dot(a).abs())
-            .fold(0.0f64, f64::max)
-    };
-    Some((mean, [axes[0] * half(axes[0]), axes[1] * half(axes[1])]))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -207,31 +178,6 @@ mod tests {
             fit.inliers.len() < 700,
             "outliers were taken in: {}",
             fit.inliers.len()
-        );
-    }
-
-    #[test]
-    fn pca_rectangle_spans_points_on_a_rectangle_edge() {
-        let mut p = Vec::new();
-        for k in 0..100 {
-            let t = k as f64 / 100.0;
-            p.extend([
-                DVec2::new(4.0 * t - 2.0, -1.0),
-                DVec2::new(4.0 * t - 2.0, 1.0),
-                DVec2::new(-2.0, 2.0 * t - 1.0),
-                DVec2::new(2.0, 2.0 * t - 1.0),
-            ]);
-        }
-        let (c, [a, b]) = pca_rectangle(&p).expect("rectangle");
-        assert!(c.length() < 0.05);
-        let (long, short) = if a.length() > b.length() {
-            (a, b)
-        } else {
-            (b, a)
-        };
-        assert!(
-            (long.length() - 2.0).abs() < 0.05 && (short.length() - 1.0).abs() < 0.05,
-            "{long} {short}"
         );
     }
 }

@@ -108,6 +108,29 @@ impl AreaLight {
         })
     }
 
+    /// A ray leaving the emitter: a point uniform by area, a cosine-weighted direction on its
+    /// emitting side (either side, chosen by `u_dir.x`, when it emits on both).
+    pub fn sample_ray(
+        &self,
+        scene: &Scene,
+        u_pos: Vec2,
+        mut u_dir: Vec2,
+    ) -> Option<super::EmittedRay> {
+        let shape = &scene.shapes[self.shape];
+        let (prim, point, b) = self.sample_area(&shape.kind, u_pos);
+        let si = SurfaceInteraction::on_surface(shape, self.shape, prim, point, b.x, b.y);
+        let mut n = si.ng;
+        if self.emission.two_sided {
+            u_dir.x *= 2.0;
+            if u_dir.x >= 1.0 {
+                u_dir.x -= 1.0;
+                n = -n;
+            }
+        }
+        let dir = Frame::from_normal(n).to_world(warp::square_to_cosine_hemisphere(u_dir));
+        (n != Vec3::ZERO).then_some(super::EmittedRay { origin: si.p, dir })
+    }
+
     /// Uniform point on the shape by area: (primitive, point, barycentrics).
     fn sample_area(&self, kind: &ShapeKind, u: Vec2) -> (usize, Vec3, Vec2) {
         match kind {

@@ -19,6 +19,11 @@ impl DistantLight {
         }
     }
 
+    /// The direction light travels.
+    pub fn direction(&self) -> Vec3 {
+        self.direction
+    }
+
     pub fn sample_li(&self) -> Option<LightSample> {
         Some(LightSample {
             wi: -self.direction,

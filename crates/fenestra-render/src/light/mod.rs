@@ -32,6 +32,25 @@ pub struct LightSample {
     pub delta: bool,
 }
 
+/// A ray leaving a light (for photon tracing): origin and unit direction.
+#[derive(Clone, Copy, Debug)]
+pub struct EmittedRay {
+    pub origin: Vec3,
+    pub dir: Vec3,
+}
+
+/// A ray from outside the scene's bounding sphere travelling along `dir` (lights at
+/// infinity): its origin is uniform on the disk of the sphere's radius facing `dir`.
+fn ray_from_infinity(scene: &Scene, dir: Vec3, u: Vec2) -> EmittedRay {
+    let (center, radius) = scene.bounding_sphere();
+    let d = fenestra_core::warp::square_to_disk_concentric(u) * radius;
+    let offset = fenestra_core::Frame::from_normal(dir).to_world(Vec3::new(d.x, d.y, 0.0));
+    EmittedRay {
+        origin: center - dir * radius + offset,
+        dir,
+    }
+}
+
 /// Unit direction from `p` to a point light at `position` and the squared distance, or
 /// `None` when they coincide.
 fn toward(position: Vec3, p: Vec3) -> Option<(Vec3, f32)> {
@@ -57,6 +76,25 @@ impl Light {
             Light::Distant(l) => l.sample_li(),
             Light::Area(l) => l.sample_li(scene, p, u),
             Light::Environment(l) => l.sample_li(u),
+        }
+    }
+
+    /// A ray leaving the light: a point on it from `u_pos`, a direction from `u_dir`
+    /// (uniform for point lights, within the cone for spots, cosine-weighted for area
+    /// emitters, importance-sampled for environments). Used by photon tracing.
+    pub fn sample_ray(&self, scene: &Scene, u_pos: Vec2, u_dir: Vec2) -> Option<EmittedRay> {
+        match self {
+            Light::Point(l) => Some(EmittedRay {
+                origin: l.position(),
+                dir: fenestra_core::warp::square_to_uniform_sphere(u_dir),
+            }),
+            Light::Spot(l) => Some(l.sample_ray(u_dir)),
+            Light::Distant(l) => Some(ray_from_infinity(scene, l.direction(), u_pos)),
+            Light::Area(l) => l.sample_ray(scene, u_pos, u_dir),
+            Light::Environment(l) => {
+                let wi = l.sample_li(u_dir)?.wi;
+                Some(ray_from_infinity(scene, -wi, u_pos))
+            }
         }
     }
 

@@ -17,6 +17,10 @@ impl PointLight {
         }
     }
 
+    pub fn position(&self) -> Vec3 {
+        self.position
+    }
+
     pub fn sample_li(&self, p: Vec3) -> Option<LightSample> {
         let (wi, d2) = super::toward(self.position, p)?;
         Some(LightSample {

@@ -1,7 +1,7 @@
 //! Spot light with pbrt-v4's smoothstep falloff between two cone angles.
 
 use super::LightSample;
-use fenestra_core::{Rgb, Vec3, PI};
+use fenestra_core::{warp, Frame, Rgb, Vec2, Vec3, PI};
 
 #[derive(Clone, Debug)]
 pub struct SpotLight {
@@ -35,6 +35,15 @@ impl SpotLight {
             intensity,
             cos_end: cone_angle.to_radians().cos(),
             cos_start: falloff_start.to_radians().cos(),
+        }
+    }
+
+    /// A ray leaving the spot in a direction uniform within its outer cone.
+    pub fn sample_ray(&self, u: Vec2) -> super::EmittedRay {
+        let local = warp::square_to_uniform_cone(u, self.cos_end);
+        super::EmittedRay {
+            origin: self.position,
+            dir: Frame::from_normal(self.direction).to_world(local),
         }
     }
 

@@ -25,14 +25,22 @@ enum Reflectance {
     Texture(Tex),
 }
 
+/// The material index of pbrt-v4's "interface": a boundary light passes unchanged (media
+/// boundaries, exported portals); shapes with it are left out of the scene.
+pub(super) const INTERFACE: usize = usize::MAX;
+
 impl Builder {
-    /// Creates the material and returns its index.
+    /// Creates the material and returns its index ([`INTERFACE`] for "interface").
     pub(super) fn material(
         &mut self,
         ty: &str,
         p: &ParamList,
         loc: &Loc,
     ) -> Result<usize, PbrtError> {
+        if ty == "interface" {
+            p.use_all();
+            return Ok(INTERFACE);
+        }
         let rgb = |name: &str, default: Rgb| -> Result<Rgb, PbrtError> {
             match p.spectrum(name)? {
                 Some((s, l)) => spectra::to_rgb(&s).map_err(|e| PbrtError::at(&l, e)),

@@ -17,6 +17,11 @@ const BILINEAR_SPLITS: usize = 8;
 impl Builder {
     pub(super) fn shape(&mut self, d: &Directive, dir: &Path) -> Result<(), PbrtError> {
         let p = &d.params;
+        if self.gs.material == super::materials::INTERFACE {
+            // Invisible to light in pbrt-v4 as well: nothing to render.
+            p.use_all();
+            return Ok(());
+        }
         let reverse = self.gs.reverse;
         let kind = match d.str(0) {
             "trianglemesh" => {

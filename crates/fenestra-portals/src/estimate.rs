@@ -1,0 +1,224 @@
+//! The estimation pipeline of seed 000 ch. 4: photons (Alg. 1) -> DBSCAN clusters (Alg. 2)
+//! -> RANSAC plane per cluster (Alg. 3) -> a covering shape of the inliers in that plane
+//! (MVCE by Alg. 4, the PCA rectangle of §5.1, or the minimum-area rectangle) -> portals.
+
+use crate::cluster::{dbscan, DbscanParams};
+use crate::mvce::mvce;
+use crate::photon::{trace, PhotonParams, Photons};
+use crate::ransac::{ransac_plane, Plane, Ransac};
+use crate::rectangle::{min_area_rectangle, pca_rectangle, Rectangle};
+use fenestra_core::Vec3;
+use fenestra_render::integrator::Progress;
+use fenestra_render::portal::{Portal, PortalRecord, Portals};
+use fenestra_render::RenderScene;
+use glam::{DVec2, DVec3};
+use std::sync::atomic::AtomicBool;
+use std::time::Instant;
+
+/// The shape fitted to a cluster's inliers.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+pub enum Model {
+    /// Minimum-volume covering ellipse (Alg. 4), the seed's choice.
+    Ellipse,
+    /// PCA rectangle (§5.1).
+    Pca,
+    /// Minimum-area enclosing rectangle.
+    Rectangle,
+    /// The smaller of the ellipse and the minimum-area rectangle (both cover every inlier).
+    Smallest,
+}
+
+impl std::str::FromStr for Model {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "ellipse" => Ok(Model::Ellipse),
+            "pca" => Ok(Model::Pca),
+            "rectangle" => Ok(Model::Rectangle),
+            "smallest" => Ok(Model::Smallest),
+            _ => Err(format!(
+                "unknown portal model '{s}' (expected ellipse, pca, rectangle or smallest)"
+            )),
+        }
+    }
+}
+
+/// PT(theta, n, r), DBSCAN(eps, m), RANSAC(Plane, eps, tau, N), MVCE(eps) and the model.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct EstimateParams {
+    pub photons: PhotonParams,
+    pub dbscan: DbscanParams,
+    pub ransac: Ransac,
+    /// Khachiyan's stopping tolerance (seed §5.2: 0.001).
+    pub mvce_eps: f64,
+    pub model: Model,
+}
+
+impl Default for EstimateParams {
+    fn default() -> Self {
+        EstimateParams {
+            photons: PhotonParams::default(),
+            dbscan: DbscanParams::default(),
+            ransac: Ransac::default(),
+            mvce_eps: 1e-3,
+            model: Model::Smallest,
+        }
+    }
+}
+
+/// One fitted portal and what it came from.
+#[derive(Clone, Debug)]
+pub struct Estimated {
+    pub portal: Portal,
+    /// Index of its cluster (clusters are ordered largest first).
+    pub cluster: usize,
+    /// Photons in the cluster and RANSAC inliers among them.
+    pub photons: usize,
+    pub inliers: usize,
+    /// Khachiyan iterations (0 when a rectangle was chosen without an ellipse).
+    pub mvce_iterations: usize,
+}
+
+impl Estimated {
+    pub fn record(&self) -> PortalRecord {
+        let mut r = PortalRecord::new(&self.portal);
+        r.photons = Some(self.photons);
+        r.cluster = Some(self.cluster);
+        r
+    }
+}
+
+/// Seconds spent in each stage.
+#[derive(Clone, Copy, Debug, Default, serde::Serialize)]
+pub struct Timings {
+    pub photons: f64,
+    pub clustering: f64,
+    pub fitting: f64,
+}
+
+impl Timings {
+    pub fn total(&self) -> f64 {
+        self.photons + self.clustering + self.fitting
+    }
+}
+
+pub struct Estimate {
+    pub photons: Photons,
+    /// Photon indices of each cluster, largest first.
+    pub clusters: Vec<Vec<usize>>,
+    pub portals: Vec<Estimated>,
+    pub timings: Timings,
+}
+
+impl Estimate {
+    pub fn portals(&self) -> Portals {
+        Portals::new(self.portals.iter().map(|e| e.portal.clone()).collect())
+    }
+}
+
+/// Runs the whole pipeline on `scene`. Ctrl-C (`cancel`) ends photon tracing early; the
+/// portals are then fitted to the photons gathered so far.
+pub fn estimate(
+    scene: &RenderScene,
+    params: &EstimateParams,
+    cancel: &AtomicBool,
+    progress: &dyn Progress,
+) -> Result<Estimate, String> {
+    let t0 = Instant::now();
+    let photons = trace(scene, params.photons_checked()?, cancel, progress)?;
+    let t1 = Instant::now();
+    let clusters = dbscan(&photons.points, params.dbscan);
+    let t2 = Instant::now();
+    let portals = clusters
+        .iter()
+        .enumerate()
+        .filter_map(|(k, c)| {
+            let points: Vec<Vec3> = c.iter().map(|&i| photons.points[i]).collect();
+            fit_cluster(&points, params).map(|mut e| {
+                e.cluster = k;
+                e
+            })
+        })
+        .collect();
+    let t3 = Instant::now();
+    Ok(Estimate {
+        photons,
+        clusters,
+        portals,
+        timings: Timings {
+            photons: (t1 - t0).as_secs_f64(),
+            clustering: (t2 - t1).as_secs_f64(),
+            fitting: (t3 - t2).as_secs_f64(),
+        },
+    })
+}
+
+impl EstimateParams {
+    fn photons_checked(&self) -> Result<&PhotonParams, String> {
+        if !(self.dbscan.eps > 0.0) || self.dbscan.min_points == 0 {
+            return Err("DBSCAN needs eps > 0 and m >= 1".into());
+        }
+        if !(self.ransac.eps > 0.0) || !(0.0..=1.0).contains(&self.ransac.tau) {
+            return Err("RANSAC needs eps > 0 and tau in [0, 1]".into());
+        }
+        Ok(&self.photons)
+    }
+}
+
+/// Maximum Khachiyan iterations (the tolerance ends it long before on photon clusters).
+const MVCE_MAX_ITERATIONS: usize = 100_000;
+
+/// RANSAC plane, then the chosen covering shape of the inliers in that plane.
+pub fn fit_cluster(points: &[Vec3], params: &EstimateParams) -> Option<Estimated> {
+    let pts: Vec<DVec3> = points.iter().map(|p| p.as_dvec3()).collect();
+    let fit = ransac_plane(&pts, &params.ransac)?;
+    let plane = fit.plane;
+    let flat: Vec<DVec2> = fit
+        .inliers
+        .iter()
+        .map(|&i| plane.to_plane(pts[i]))
+        .collect();
+    let ellipse = || mvce(&flat, params.mvce_eps, MVCE_MAX_ITERATIONS);
+    let quad = |r: Rectangle| quad_portal(&plane, r);
+    let (portal, iterations) = match params.model {
+        Model::Ellipse => {
+            let e = ellipse()?;
+            (ellipse_portal(&plane, &e), e.iterations)
+        }
+        Model::Pca => (quad(pca_rectangle(&flat)?), 0),
+        Model::Rectangle => (quad(min_area_rectangle(&flat)?), 0),
+        Model::Smallest => {
+            let e = ellipse()?;
+            match min_area_rectangle(&flat) {
+                Some(r) if r.area() < e.area() => (quad(r), e.iterations),
+                _ => (ellipse_portal(&plane, &e), e.iterations),
+            }
+        }
+    };
+    Some(Estimated {
+        portal,
+        cluster: 0,
+        photons: points.len(),
+        inliers: fit.inliers.len(),
+        mvce_iterations: iterations,
+    })
+}
+
+fn ellipse_portal(plane: &Plane, e: &crate::mvce::Ellipse) -> Portal {
+    let to3 = |v: DVec2| (plane.from_plane(v) - plane.point).as_vec3();
+    Portal::Ellipse {
+        center: plane.from_plane(e.center).as_vec3(),
+        a: to3(e.axes[0]),
+        b: to3(e.axes[1]),
+    }
+}
+
+fn quad_portal(plane: &Plane, r: Rectangle) -> Portal {
+    let to3 = |v: DVec2| (plane.from_plane(v) - plane.point).as_vec3();
+    let (a, b) = (to3(r.half[0]), to3(r.half[1]));
+    Portal::Quad {
+        corner: plane.from_plane(r.center).as_vec3() - a - b,
+        e1: a * 2.0,
+        e2: b * 2.0,
+    }
+}
