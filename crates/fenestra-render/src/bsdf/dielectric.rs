@@ -42,12 +42,19 @@ pub struct ThinDielectric {
 }
 
 impl ThinDielectric {
-    pub fn sample(&self, wo: Vec3, uc: f32) -> Option<BsdfSample> {
-        let mut r = fresnel::dielectric(wo.z.abs(), self.eta);
+    /// The pane's reflectance R' at incidence cosine `cos` (either side).
+    pub fn reflectance(&self, cos: f32) -> f32 {
+        let r = fresnel::dielectric(cos.abs(), self.eta);
         if r < 1.0 {
             let t = 1.0 - r;
-            r += t * t * r / (1.0 - r * r);
+            r + t * t * r / (1.0 - r * r)
+        } else {
+            r
         }
+    }
+
+    pub fn sample(&self, wo: Vec3, uc: f32) -> Option<BsdfSample> {
+        let r = self.reflectance(wo.z);
         let (wi, pdf) = if uc < r {
             (reflect_z(wo), r)
         } else {

@@ -8,6 +8,7 @@
 use super::{
     render_progressive, Integrator, IntegratorOptions, PathEstimator, RenderControl, RenderSettings,
 };
+use crate::bsdf::Bsdf;
 use crate::film::Film;
 use crate::light::Light;
 use crate::portal::Portals;
@@ -16,6 +17,9 @@ use crate::RenderScene;
 use fenestra_core::ray::offset_origin;
 use fenestra_core::{Ray, Rgb, Sampler, Vec3};
 use fenestra_scene::SurfaceInteraction;
+
+/// Consecutive panes a path may pass straight through (as for shadow rays).
+const MAX_PANES: u32 = 16;
 
 /// How directions towards light are chosen besides BSDF sampling.
 pub enum NextEvent {
@@ -162,20 +166,22 @@ impl PathTracer {
         };
         rays.shadow += 1;
         let ray = Ray::new(offset_origin(si.p, si.ng, ps.wi), ps.wi);
-        let li = match scene.scene.intersect(&ray, f32::INFINITY) {
-            Some(hit) => {
+        let li = match scene.through_glass(ray, f32::INFINITY) {
+            (tr, Some(hit)) => {
                 let beyond = scene.scene.interaction(&ray, &hit);
-                scene
+                tr * scene
                     .lights
                     .le(&beyond, -ps.wi)
                     .map_or(Rgb::ZERO, |(_, le)| le)
             }
-            None => scene.lights.environments.iter().fold(Rgb::ZERO, |acc, &e| {
-                match &scene.lights.lights[e] {
-                    Light::Environment(env) => acc + env.le(ps.wi),
-                    _ => acc,
-                }
-            }),
+            (tr, None) => {
+                tr * scene.lights.environments.iter().fold(Rgb::ZERO, |acc, &e| {
+                    match &scene.lights.lights[e] {
+                        Light::Environment(env) => acc + env.le(ps.wi),
+                        _ => acc,
+                    }
+                })
+            }
         };
         if li.is_black() {
             return Rgb::ZERO;
@@ -222,7 +228,8 @@ impl PathTracer {
             .point
             .map_or(f32::INFINITY, |q| (q - origin).length() * (1.0 - 1e-4));
         rays.shadow += 1;
-        if scene.scene.occluded(&Ray::new(origin, ls.wi), tmax) {
+        let tr = scene.transmittance(Ray::new(origin, ls.wi), tmax);
+        if tr.is_black() {
             return Rgb::ZERO;
         }
         let light_pdf = pick * ls.pdf;
@@ -233,7 +240,7 @@ impl PathTracer {
                 .mis
                 .weight(light_pdf, bsdf.pdf(wo_local, wi_local))
         };
-        f * ls.li * (wi_local.z.abs() * weight / light_pdf)
+        f * ls.li * tr * (wi_local.z.abs() * weight / light_pdf)
     }
 }
 
@@ -254,11 +261,17 @@ impl PathEstimator for PathTracer {
             bsdf_pdf: 0.0,
             delta: true,
         };
-        // `segments` counts the path's segments up to the vertex being shaded.
-        for segments in 1.. {
-            if segments > 1 {
+        // `segments` counts the path's segments up to the vertex being shaded; passing
+        // straight through a thin pane adds none (shadow and portal rays pass panes too).
+        let mut segments = 0;
+        let mut panes = 0;
+        let mut first = true;
+        loop {
+            segments += 1;
+            if !first {
                 rays.bounce += 1;
             }
+            first = false;
             let Some(hit) = scene.scene.intersect(&ray, f32::INFINITY) else {
                 for &e in &scene.lights.environments {
                     let Light::Environment(env) = &scene.lights.lights[e] else {
@@ -285,11 +298,14 @@ impl PathEstimator for PathTracer {
                     l += beta * le * w;
                 }
             }
-            if segments >= max_depth {
-                break;
-            }
             let bsdf = scene.bsdf_at(&si);
             let bsdf = bsdf.as_ref();
+            let pane = matches!(bsdf, Bsdf::ThinDielectric(_));
+            // At the last vertex only a pane's straight-through part may continue the path.
+            let at_limit = segments >= max_depth;
+            if at_limit && !pane {
+                break;
+            }
             let frame = si.shading_frame();
             let wo_local = frame.to_local(wo);
             if !bsdf.is_delta() {
@@ -324,6 +340,20 @@ impl PathEstimator for PathTracer {
                 break;
             }
             beta *= bs.weight;
+            if pane && bs.wi.z * wo_local.z < 0.0 {
+                // Straight through a pane: the same line, so MIS keeps the previous vertex.
+                panes += 1;
+                if panes > MAX_PANES {
+                    break;
+                }
+                segments -= 1;
+                ray = Ray::new(offset_origin(si.p, si.ng, wi), wi);
+                continue;
+            }
+            if at_limit {
+                break;
+            }
+            panes = 0;
             prev = Previous {
                 p: si.p,
                 n: si.ns,

@@ -4,7 +4,7 @@
 mod box_hole;
 mod cornell;
 pub mod geometry;
-mod hall;
+pub mod hall;
 mod kitchen;
 mod ponderosa;
 mod teapot;
