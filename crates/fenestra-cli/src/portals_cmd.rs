@@ -295,10 +295,19 @@ pub fn run(args: PortalsArgs) -> Result<()> {
     Ok(())
 }
 
-/// Portals for `render --portals auto`: estimated with the default parameters, reported on
-/// stderr.
-pub fn auto(scene: &RenderScene, quiet: bool, cancel: &AtomicBool) -> Result<Portals> {
-    let e = estimate_on(scene, &EstimateOpts::default(), quiet, cancel)?;
+/// Portals for `render --portals auto`: estimated with the default parameters and the
+/// shape `model`, reported on stderr.
+pub fn auto(
+    scene: &RenderScene,
+    model: Model,
+    quiet: bool,
+    cancel: &AtomicBool,
+) -> Result<Portals> {
+    let opts = EstimateOpts {
+        model,
+        ..EstimateOpts::default()
+    };
+    let e = estimate_on(scene, &opts, quiet, cancel)?;
     if !quiet {
         eprintln!("portals: {}", summary(&e));
     }

@@ -8,7 +8,7 @@ use fenestra_core::mis::MisHeuristic;
 use fenestra_eval::hash::debug_hash;
 use fenestra_eval::metrics;
 use fenestra_render::integrator::{self, IntegratorOptions};
-use fenestra_render::portal::Portals;
+use fenestra_render::portal::{PortalChoice, PortalSampling, Portals};
 use fenestra_render::{
     output, Film, LightSelection, RenderControl, RenderScene, RenderSettings, RenderStats,
 };
@@ -39,6 +39,18 @@ pub struct RenderOpts {
     /// the default parameters of `fenestra portals` (default: the scene's own portals).
     #[arg(long)]
     portals: Option<String>,
+    /// lp_hf: how a point is chosen on a portal: solid-angle (rectangles by the solid angle
+    /// they subtend, Urena et al. 2013) or area (seed 000 eq. 4.1).
+    #[arg(long, default_value = "solid-angle")]
+    portal_sampling: PortalSampling,
+    /// lp_hf: how a portal is picked: contribution (solid angle times cosine at the point),
+    /// facing (uniform among those not behind the surface, as Cycles) or uniform (the seed's).
+    #[arg(long, default_value = "contribution")]
+    portal_choice: PortalChoice,
+    /// With --portals auto: the shape fitted to each cluster (smallest, ellipse, rectangle
+    /// or pca; see `fenestra portals --model`).
+    #[arg(long, default_value = "smallest")]
+    portal_model: fenestra_portals::estimate::Model,
     /// Samples per pixel (default: the scene's).
     #[arg(long)]
     spp: Option<u32>,
@@ -240,7 +252,9 @@ impl RenderOpts {
                 Some(i) => i.as_ref(),
                 None => {
                     let quiet = self.quiet || self.json;
-                    let portals = crate::portals_cmd::auto(&render_scene, quiet, &cancel)?;
+                    let portals =
+                        crate::portals_cmd::auto(&render_scene, self.portal_model, quiet, &cancel)?
+                            .with_strategy(self.portal_sampling, self.portal_choice);
                     estimated = integrator::by_name("lp_hf", job.options.clone(), portals)
                         .map_err(anyhow::Error::msg)?;
                     estimated.as_ref()

@@ -4,9 +4,10 @@
 
 use crate::cluster::{dbscan, DbscanParams};
 use crate::mvce::mvce;
+use crate::photon::Deposit;
 use crate::photon::{trace, PhotonParams, Photons};
 use crate::ransac::{ransac_plane, Plane, Ransac};
-use crate::rectangle::{min_area_rectangle, pca_rectangle, Rectangle};
+use crate::rectangle::{inner_rectangle, min_area_rectangle, pca_rectangle, Rectangle};
 use fenestra_core::Vec3;
 use fenestra_render::integrator::Progress;
 use fenestra_render::portal::{Portal, PortalRecord, Portals};
@@ -22,7 +23,8 @@ pub enum Model {
     Ellipse,
     /// PCA rectangle (§5.1).
     Pca,
-    /// Minimum-area enclosing rectangle.
+    /// Minimum-area enclosing rectangle; around an opening (photons by depth), shrunk to the
+    /// photon ring's inner edges when the opening is rectangular.
     Rectangle,
     /// The smaller of the ellipse and the minimum-area rectangle (both cover every inlier).
     Smallest,
@@ -134,7 +136,7 @@ pub fn estimate(
         .enumerate()
         .filter_map(|(k, c)| {
             let points: Vec<Vec3> = c.iter().map(|&i| photons.points[i]).collect();
-            fit_cluster(&points, params).map(|mut e| {
+            fit_cluster(&points, params, photons.deposit == Deposit::Depth).map(|mut e| {
                 e.cluster = k;
                 e
             })
@@ -168,8 +170,10 @@ impl EstimateParams {
 /// Maximum Khachiyan iterations (the tolerance ends it long before on photon clusters).
 const MVCE_MAX_ITERATIONS: usize = 100_000;
 
-/// RANSAC plane, then the chosen covering shape of the inliers in that plane.
-pub fn fit_cluster(points: &[Vec3], params: &EstimateParams) -> Option<Estimated> {
+/// RANSAC plane, then the chosen covering shape of the inliers in that plane. With `ring`
+/// (photons deposited by depth, which lie around an opening rather than on it) rectangles
+/// shrink to the ring's inner edges when the opening is rectangular.
+pub fn fit_cluster(points: &[Vec3], params: &EstimateParams, ring: bool) -> Option<Estimated> {
     let pts: Vec<DVec3> = points.iter().map(|p| p.as_dvec3()).collect();
     let fit = ransac_plane(&pts, &params.ransac)?;
     let plane = fit.plane;
@@ -180,16 +184,23 @@ pub fn fit_cluster(points: &[Vec3], params: &EstimateParams) -> Option<Estimated
         .collect();
     let ellipse = || mvce(&flat, params.mvce_eps, MVCE_MAX_ITERATIONS);
     let quad = |r: Rectangle| quad_portal(&plane, r);
+    let opening = |r: Rectangle| {
+        if ring {
+            inner_rectangle(&r, &flat).unwrap_or(r)
+        } else {
+            r
+        }
+    };
     let (portal, iterations) = match params.model {
         Model::Ellipse => {
             let e = ellipse()?;
             (ellipse_portal(&plane, &e), e.iterations)
         }
         Model::Pca => (quad(pca_rectangle(&flat)?), 0),
-        Model::Rectangle => (quad(min_area_rectangle(&flat)?), 0),
+        Model::Rectangle => (quad(opening(min_area_rectangle(&flat)?)), 0),
         Model::Smallest => {
             let e = ellipse()?;
-            match min_area_rectangle(&flat) {
+            match min_area_rectangle(&flat).map(opening) {
                 Some(r) if r.area() < e.area() => (quad(r), e.iterations),
                 _ => (ellipse_portal(&plane, &e), e.iterations),
             }

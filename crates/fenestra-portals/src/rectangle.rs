@@ -123,6 +123,74 @@ pub fn min_area_rectangle(p: &[DVec2]) -> Option<Rectangle> {
     best.filter(|(a, _)| *a > 0.0).map(|(_, r)| r)
 }
 
+/// The opening inside a ring of points around it: photons deposited by depth lie on the
+/// occluder around an opening, so the opening's edges are the ring's inner edges, not its
+/// outer ones. In a frame turned by up to 5 degrees from `r`'s (the enclosing rectangle
+/// follows the ring's noisy outer edge), each side moves inwards to a low quantile of the
+/// distances of the points in the middle half of that side (corners are left out: there the
+/// sides' strips meet); the largest such rectangle that holds (almost) no point wins. `None`
+/// when there is none, i.e. the opening is not rectangular (a round one leaves points in the
+/// corners).
+pub fn inner_rectangle(r: &Rectangle, p: &[DVec2]) -> Option<Rectangle> {
+    let mut best: Option<Rectangle> = None;
+    for step in -20..=20 {
+        let turn = DVec2::from_angle((step as f64 * 0.25).to_radians());
+        let u = turn.rotate(r.half[0].normalize());
+        if let Some(c) = inner_in_frame(r.center, u, p) {
+            if best.is_none_or(|b| c.area() > b.area()) {
+                best = Some(c);
+            }
+        }
+    }
+    best
+}
+
+/// The inner rectangle with axes u, u-perp about `center`, if nearly empty.
+fn inner_in_frame(center: DVec2, u: DVec2, p: &[DVec2]) -> Option<Rectangle> {
+    let v = u.perp();
+    let (mut a, mut b) = (0.0f64, 0.0f64);
+    for q in p {
+        let d = *q - center;
+        a = a.max(d.dot(u).abs());
+        b = b.max(d.dot(v).abs());
+    }
+    // Distances from the centre of the points in each side's middle strip: +u, -u, +v, -v.
+    let mut sides: [Vec<f64>; 4] = Default::default();
+    for q in p {
+        let d = *q - center;
+        let (s, t) = (d.dot(u), d.dot(v));
+        if t.abs() < 0.5 * b {
+            sides[if s > 0.0 { 0 } else { 1 }].push(s.abs());
+        }
+        if s.abs() < 0.5 * a {
+            sides[if t > 0.0 { 2 } else { 3 }].push(t.abs());
+        }
+    }
+    // The inner edge of a side: a low quantile of its distances, so that a few stray points
+    // inside the opening do not shrink it; the outer edge if the side has no points.
+    let mut edge = |k: usize, outer: f64| {
+        let d = &mut sides[k];
+        if d.is_empty() {
+            return outer;
+        }
+        d.sort_by(f64::total_cmp);
+        d[d.len() / INNER_QUANTILE]
+    };
+    let (hx, lx, hy, ly) = (edge(0, a), -edge(1, a), edge(2, b), -edge(3, b));
+    if !(hx > lx && hy > ly) {
+        return None;
+    }
+    let inner = Rectangle {
+        center: center + u * ((lx + hx) * 0.5) + v * ((ly + hy) * 0.5),
+        half: [u * ((hx - lx) * 0.5), v * ((hy - ly) * 0.5)],
+    };
+    let inside = p.iter().filter(|q| inner.contains(**q, -1e-6)).count();
+    (inside <= p.len() / 50).then_some(inner)
+}
+
+/// The inner edge is the 1/INNER_QUANTILE quantile of a side's distances (1%).
+const INNER_QUANTILE: usize = 100;
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -152,6 +220,57 @@ mod tests {
             (long.length() - 2.0).abs() < 0.05 && (short.length() - 1.0).abs() < 0.05,
             "{long} {short}"
         );
+    }
+
+    /// Points in the ring between a centred rectangle of half-sizes `inner` and one of
+    /// `outer`, or in the ring between circles of those radii.
+    fn ring(round: bool, inner: DVec2, outer: DVec2, n: usize) -> Vec<DVec2> {
+        let mut rng = Rng::new(11);
+        let mut p = Vec::new();
+        while p.len() < n {
+            let q = DVec2::new(rng.next_f64() * 2.0 - 1.0, rng.next_f64() * 2.0 - 1.0) * outer;
+            let keep = if round {
+                (q / outer).length() <= 1.0 && (q / inner).length() > 1.0
+            } else {
+                q.x.abs() > inner.x || q.y.abs() > inner.y
+            };
+            if keep {
+                p.push(q.rotate(DVec2::from_angle(0.3)));
+            }
+        }
+        p
+    }
+
+    #[test]
+    fn inner_rectangle_finds_a_rectangular_opening_and_refuses_a_round_one() {
+        let (hole, outer) = (DVec2::new(0.125, 0.08), DVec2::new(0.131, 0.086));
+        let p = ring(false, hole, outer, 3000);
+        let r = min_area_rectangle(&p).expect("outer");
+        let inner = inner_rectangle(&r, &p).expect("inner");
+        let true_area = 4.0 * hole.x * hole.y;
+        assert!(
+            inner.area() >= true_area * 0.999,
+            "{} < {true_area}",
+            inner.area()
+        );
+        assert!(
+            inner.area() < true_area * 1.02,
+            "{} vs {true_area}",
+            inner.area()
+        );
+        assert!(r.area() > true_area * 1.1);
+        // The hole's corners are inside: it is covered.
+        for c in [
+            hole,
+            -hole,
+            DVec2::new(hole.x, -hole.y),
+            DVec2::new(-hole.x, hole.y),
+        ] {
+            assert!(inner.contains(c.rotate(DVec2::from_angle(0.3)) * 0.999, 0.0));
+        }
+        let round = ring(true, DVec2::splat(0.1), DVec2::splat(0.106), 3000);
+        let r = min_area_rectangle(&round).expect("outer");
+        assert!(inner_rectangle(&r, &round).is_none());
     }
 
     #[test]

@@ -11,7 +11,7 @@ use super::{
 use crate::bsdf::Bsdf;
 use crate::film::Film;
 use crate::light::Light;
-use crate::portal::Portals;
+use crate::portal::{Portals, Side};
 use crate::stats::{RayCounters, RenderStats};
 use crate::RenderScene;
 use fenestra_core::ray::offset_origin;
@@ -114,10 +114,18 @@ fn bsdf_toward(
     (!f.is_black()).then_some((wi_local, f))
 }
 
+/// Light reaches an opaque surface from the side `wo` leaves on; a transmissive one from
+/// both.
+fn side(si: &SurfaceInteraction, bsdf: &Bsdf, wo: Vec3) -> Side {
+    (!bsdf.is_transmissive()).then(|| si.ng * si.ng.dot(wo).signum())
+}
+
 /// The state of the previous vertex that MIS needs when a BSDF-sampled ray finds an emitter.
 struct Previous {
     p: Vec3,
     n: Vec3,
+    /// Which way light may arrive (for choosing portals).
+    side: Side,
     bsdf_pdf: f32,
     delta: bool,
 }
@@ -137,7 +145,7 @@ impl PathTracer {
             NextEvent::Portals(portals) => self
                 .options
                 .mis
-                .weight(prev.bsdf_pdf, portals.pdf(prev.p, d)),
+                .weight(prev.bsdf_pdf, portals.pdf(prev.p, prev.side, d)),
         }
     }
 
@@ -158,7 +166,7 @@ impl PathTracer {
     ) -> Rgb {
         let u_pick = sampler.next_1d();
         let u = sampler.next_2d();
-        let Some(ps) = portals.sample(si.p, u_pick, u) else {
+        let Some(ps) = portals.sample(si.p, side(si, bsdf, wo), u_pick, u) else {
             return Rgb::ZERO;
         };
         let Some((wi_local, f)) = bsdf_toward(si, bsdf, wo, wo_local, ps.wi) else {
@@ -258,6 +266,7 @@ impl PathEstimator for PathTracer {
         let mut prev = Previous {
             p: ray.o,
             n: ray.d,
+            side: None,
             bsdf_pdf: 0.0,
             delta: true,
         };
@@ -357,6 +366,7 @@ impl PathEstimator for PathTracer {
             prev = Previous {
                 p: si.p,
                 n: si.ns,
+                side: side(&si, bsdf, wo),
                 bsdf_pdf: bs.pdf,
                 delta: bs.delta,
             };

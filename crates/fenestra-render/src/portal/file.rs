@@ -1,0 +1,192 @@
+//! portals.json (schema in docs/portals.md): reading with validation, writing.
+
+use super::{Portal, Portals};
+use fenestra_core::Vec3;
+
+/// One portal in a portals.json file (schema in docs/portals.md): `kind` "ellipse" with
+/// `axes` (two semi-axis vectors), or "quad"/"triangle" with `vertices`; `center`, `normal`
+/// and `area` describe it for people and other tools; `photons` and `cluster` say what it
+/// was estimated from.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+pub struct PortalRecord {
+    pub kind: String,
+    pub center: [f32; 3],
+    pub normal: [f32; 3],
+    pub area: f32,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub axes: Option<[[f32; 3]; 2]>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub vertices: Option<Vec<[f32; 3]>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub photons: Option<usize>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cluster: Option<usize>,
+}
+
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+pub struct PortalFile {
+    pub portals: Vec<PortalRecord>,
+}
+
+impl PortalRecord {
+    pub fn new(p: &Portal) -> Self {
+        let (kind, axes, vertices) = match p {
+            Portal::Ellipse { a, b, .. } => ("ellipse", Some([a.to_array(), b.to_array()]), None),
+            Portal::Quad { corner, e1, e2 } => (
+                "quad",
+                None,
+                Some(vec![
+                    corner.to_array(),
+                    (*corner + *e1).to_array(),
+                    (*corner + *e1 + *e2).to_array(),
+                    (*corner + *e2).to_array(),
+                ]),
+            ),
+            Portal::Triangle { vertices } => (
+                "triangle",
+                None,
+                Some(vertices.map(|v| v.to_array()).to_vec()),
+            ),
+        };
+        PortalRecord {
+            kind: kind.into(),
+            center: p.center().to_array(),
+            normal: p.normal().to_array(),
+            area: p.area(),
+            axes,
+            vertices,
+            photons: None,
+            cluster: None,
+        }
+    }
+
+    /// The portal this record describes, or what is wrong with it.
+    pub fn portal(&self) -> Result<Portal, String> {
+        let v = |a: [f32; 3]| Vec3::from(a);
+        let portal = match (self.kind.as_str(), &self.axes, &self.vertices) {
+            ("ellipse", Some([a, b]), _) => Portal::Ellipse {
+                center: v(self.center),
+                a: v(*a),
+                b: v(*b),
+            },
+            ("quad", _, Some(c)) if c.len() == 4 => {
+                Portal::quad([v(c[0]), v(c[1]), v(c[2]), v(c[3])])
+            }
+            ("triangle", _, Some(c)) if c.len() == 3 => Portal::Triangle {
+                vertices: [v(c[0]), v(c[1]), v(c[2])],
+            },
+            ("ellipse", ..) => {
+                return Err("an ellipse needs \"axes\": two semi-axis vectors".into())
+            }
+            ("quad" | "triangle", ..) => {
+                return Err(format!(
+                    "a {} needs \"vertices\" ({} points)",
+                    self.kind,
+                    if self.kind == "quad" { 4 } else { 3 }
+                ))
+            }
+            (other, ..) => {
+                return Err(format!(
+                    "unknown portal kind \"{other}\" (expected ellipse, quad or triangle)"
+                ))
+            }
+        };
+        let finite = match &portal {
+            Portal::Quad { corner, e1, e2 } => {
+                corner.is_finite() && e1.is_finite() && e2.is_finite()
+            }
+            Portal::Triangle { vertices } => vertices.iter().all(|p| p.is_finite()),
+            Portal::Ellipse { center, a, b } => {
+                if a.normalize_or_zero().dot(b.normalize_or_zero()).abs() > 1e-3 {
+                    return Err("ellipse axes must be perpendicular".into());
+                }
+                center.is_finite() && a.is_finite() && b.is_finite()
+            }
+        };
+        if !finite || !(portal.area() > 0.0) {
+            return Err("a portal needs finite coordinates and a positive area".into());
+        }
+        Ok(portal)
+    }
+}
+
+impl Portals {
+    /// Reads a portals.json file.
+    pub fn read_json(path: &std::path::Path) -> Result<Portals, String> {
+        let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+        let file: PortalFile =
+            serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+        let portals = file
+            .portals
+            .iter()
+            .enumerate()
+            .map(|(i, r)| {
+                r.portal()
+                    .map_err(|e| format!("{}: portal {i}: {e}", path.display()))
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(Portals::new(portals))
+    }
+
+    pub fn to_json(&self) -> PortalFile {
+        PortalFile {
+            portals: self.portals.iter().map(PortalRecord::new).collect(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn portal_files_round_trip_and_bad_ones_are_refused() {
+        let portals = Portals::new(vec![
+            Portal::Ellipse {
+                center: Vec3::new(0.0, 0.0, 0.5),
+                a: Vec3::X * 0.2,
+                b: Vec3::Y * 0.1,
+            },
+            Portal::quad([Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0), Vec3::Y]),
+            Portal::Triangle {
+                vertices: [Vec3::ZERO, Vec3::X, Vec3::Z],
+            },
+        ]);
+        let dir = std::env::temp_dir().join(format!("fenestra-portals-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("dir");
+        let path = dir.join("p.json");
+        std::fs::write(
+            &path,
+            serde_json::to_string(&portals.to_json()).expect("json"),
+        )
+        .expect("write");
+        assert_eq!(
+            Portals::read_json(&path).expect("read").portals,
+            portals.portals
+        );
+        for (bad, why) in [
+            (
+                r#"{"portals":[{"kind":"disc","center":[0,0,0],"normal":[0,0,1],"area":1}]}"#,
+                "unknown portal kind",
+            ),
+            (
+                r#"{"portals":[{"kind":"ellipse","center":[0,0,0],"normal":[0,0,1],"area":1}]}"#,
+                "needs \"axes\"",
+            ),
+            (
+                r#"{"portals":[{"kind":"ellipse","center":[0,0,0],"normal":[0,0,1],"area":1,"axes":[[1,0,0],[1,1,0]]}]}"#,
+                "perpendicular",
+            ),
+            (
+                r#"{"portals":[{"kind":"quad","center":[0,0,0],"normal":[0,0,1],"area":1,"vertices":[[0,0,0],[1,0,0],[2,0,0],[3,0,0]]}]}"#,
+                "positive area",
+            ),
+            (r#"{"portal":[]}"#, "missing field"),
+        ] {
+            std::fs::write(&path, bad).expect("write");
+            let e = Portals::read_json(&path).expect_err(why);
+            assert!(e.contains(why), "{e}");
+        }
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}

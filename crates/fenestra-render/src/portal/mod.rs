@@ -1,0 +1,461 @@
+//! Light portals (seed 000 ch. 4): planar quads, triangles and ellipses through which light
+//! enters a scene. The seed samples them as in eq. 4.1, p(l) = 1/N * 1/A_l, with the density
+//! of a direction in solid angle for MIS (p(Psi) = p(l) r^2 / cos, zero where cos is zero);
+//! beyond the seed, rectangles are sampled by solid angle and portals are picked by their
+//! estimated contribution at the shading point. Both the seed's and Cycles' rules remain
+//! available for comparison.
+
+mod file;
+mod spherical_rectangle;
+
+pub use file::{PortalFile, PortalRecord};
+pub use spherical_rectangle::SphericalRectangle;
+
+use fenestra_core::{Frame, Vec2, Vec3, PI};
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum Portal {
+    /// The parallelogram corner + s e1 + t e2, (s, t) in [0, 1]^2.
+    Quad {
+        corner: Vec3,
+        e1: Vec3,
+        e2: Vec3,
+    },
+    Triangle {
+        vertices: [Vec3; 3],
+    },
+    /// The ellipse centre + x a + y b with x^2 + y^2 <= 1 (a, b perpendicular semi-axes).
+    Ellipse {
+        center: Vec3,
+        a: Vec3,
+        b: Vec3,
+    },
+}
+
+impl Portal {
+    /// A quad from four corners in order (the fourth is implied by the first three).
+    pub fn quad(corners: [Vec3; 4]) -> Portal {
+        Portal::Quad {
+            corner: corners[0],
+            e1: corners[1] - corners[0],
+            e2: corners[3] - corners[0],
+        }
+    }
+
+    /// Unit normal (the sign does not matter: portals pass light both ways).
+    pub fn normal(&self) -> Vec3 {
+        match self {
+            Portal::Quad { e1, e2, .. } => e1.cross(*e2).normalize_or_zero(),
+            Portal::Triangle {
+                vertices: [p, q, r],
+            } => (*q - *p).cross(*r - *p).normalize_or_zero(),
+            Portal::Ellipse { a, b, .. } => a.cross(*b).normalize_or_zero(),
+        }
+    }
+
+    pub fn area(&self) -> f32 {
+        match self {
+            Portal::Quad { e1, e2, .. } => e1.cross(*e2).length(),
+            Portal::Triangle {
+                vertices: [p, q, r],
+            } => 0.5 * (*q - *p).cross(*r - *p).length(),
+            Portal::Ellipse { a, b, .. } => PI * a.length() * b.length(),
+        }
+    }
+
+    pub fn center(&self) -> Vec3 {
+        match self {
+            Portal::Quad { corner, e1, e2 } => *corner + (*e1 + *e2) * 0.5,
+            Portal::Triangle {
+                vertices: [p, q, r],
+            } => (*p + *q + *r) / 3.0,
+            Portal::Ellipse { center, .. } => *center,
+        }
+    }
+
+    /// A point uniformly distributed over the portal's area.
+    pub fn sample_area(&self, u: Vec2) -> Vec3 {
+        match self {
+            Portal::Quad { corner, e1, e2 } => *corner + *e1 * u.x + *e2 * u.y,
+            Portal::Triangle {
+                vertices: [p, q, r],
+            } => {
+                let b = fenestra_core::warp::square_to_triangle(u);
+                *p * (1.0 - b.x - b.y) + *q * b.x + *r * b.y
+            }
+            Portal::Ellipse { center, a, b } => {
+                // Uniform on the unit disk, stretched: the Jacobian is constant.
+                let d = fenestra_core::warp::square_to_disk_concentric(u);
+                *center + *a * d.x + *b * d.y
+            }
+        }
+    }
+
+    /// Distance along the unit direction `d` from `o` to the portal, if the ray crosses it.
+    pub fn intersect(&self, o: Vec3, d: Vec3) -> Option<f32> {
+        let n = self.normal();
+        let denom = n.dot(d);
+        if denom.abs() < 1e-12 || n == Vec3::ZERO {
+            return None;
+        }
+        let t = n.dot(self.center() - o) / denom;
+        if !(t > 0.0 && t.is_finite()) {
+            return None;
+        }
+        let p = o + d * t;
+        let inside = match self {
+            Portal::Quad { corner, e1, e2 } => {
+                let (s, t) = plane_coordinates(p - *corner, *e1, *e2);
+                (-EDGE..=1.0 + EDGE).contains(&s) && (-EDGE..=1.0 + EDGE).contains(&t)
+            }
+            Portal::Triangle {
+                vertices: [a, b, c],
+            } => {
+                let (s, t) = plane_coordinates(p - *a, *b - *a, *c - *a);
+                s >= -EDGE && t >= -EDGE && s + t <= 1.0 + EDGE
+            }
+            Portal::Ellipse { center, a, b } => {
+                let x = (p - *center).dot(*a) / a.length_squared();
+                let y = (p - *center).dot(*b) / b.length_squared();
+                x * x + y * y <= 1.0 + EDGE
+            }
+        };
+        inside.then_some(t)
+    }
+
+    /// The portal's local frame (for plots and exports): normal and in-plane axes.
+    pub fn frame(&self) -> Frame {
+        Frame::from_normal(self.normal())
+    }
+}
+
+/// Relative tolerance of the inside tests: points sampled exactly on an edge must count as
+/// inside despite rounding.
+const EDGE: f32 = 1e-5;
+
+/// Coordinates (s, t) of `v` in the (not necessarily orthogonal) basis e1, e2 of a plane.
+fn plane_coordinates(v: Vec3, e1: Vec3, e2: Vec3) -> (f32, f32) {
+    let (a, b, c) = (e1.dot(e1), e1.dot(e2), e2.dot(e2));
+    let (d, e) = (v.dot(e1), v.dot(e2));
+    let det = a * c - b * b;
+    ((c * d - b * e) / det, (a * e - b * d) / det)
+}
+
+/// How a point is chosen on the picked portal.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PortalSampling {
+    /// Uniform by area (seed 000 eq. 4.1).
+    Area,
+    /// Uniform in solid angle for rectangles (Urena et al. 2013); other shapes by area.
+    SolidAngle,
+}
+
+/// How one of several portals is picked at a shading point.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PortalChoice {
+    /// 1/N each (seed 000 eq. 4.1).
+    Uniform,
+    /// Uniform among the portals not wholly behind the surface (what Cycles does).
+    Facing,
+    /// In proportion to an estimate of each portal's contribution: the solid angle it
+    /// subtends times the cosine towards its centre (at least 0.1 so no visible part is
+    /// left out), zero when wholly behind the surface.
+    Contribution,
+}
+
+impl std::str::FromStr for PortalSampling {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "area" => Ok(PortalSampling::Area),
+            "solid-angle" => Ok(PortalSampling::SolidAngle),
+            _ => Err(format!(
+                "unknown portal sampling '{s}' (expected area or solid-angle)"
+            )),
+        }
+    }
+}
+
+impl std::str::FromStr for PortalChoice {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "uniform" => Ok(PortalChoice::Uniform),
+            "facing" => Ok(PortalChoice::Facing),
+            "contribution" => Ok(PortalChoice::Contribution),
+            _ => Err(format!(
+                "unknown portal choice '{s}' (expected uniform, facing or contribution)"
+            )),
+        }
+    }
+}
+
+/// A set of portals and how they are sampled.
+#[derive(Clone, Debug)]
+pub struct Portals {
+    pub portals: Vec<Portal>,
+    pub sampling: PortalSampling,
+    pub choice: PortalChoice,
+}
+
+impl Default for Portals {
+    fn default() -> Self {
+        Portals::new(Vec::new())
+    }
+}
+
+/// A direction through a portal from a shading point.
+#[derive(Clone, Copy, Debug)]
+pub struct PortalSample {
+    pub wi: Vec3,
+    /// Solid-angle density of `wi` over all portals (every portal the ray crosses counts).
+    pub pdf: f32,
+}
+
+/// Below this solid angle (sr) a rectangle is sampled by area: Urena's mapping loses
+/// precision in f32 for far, tiny rectangles, and area sampling is then as good.
+const MIN_SOLID_ANGLE: f32 = 1e-4;
+
+impl Portal {
+    /// The spherical rectangle of a rectangular quad seen from `x`, if worth sampling so.
+    fn spherical(&self, x: Vec3) -> Option<SphericalRectangle> {
+        let Portal::Quad { corner, e1, e2 } = self else {
+            return None;
+        };
+        if e1.dot(*e2).abs() > 1e-4 * e1.length() * e2.length() {
+            return None;
+        }
+        SphericalRectangle::new(x, *corner, *e1, *e2).filter(|s| s.solid_angle > MIN_SOLID_ANGLE)
+    }
+
+    /// Corners of the portal's bounding parallelogram (for the behind-the-surface test).
+    fn corners(&self) -> [Vec3; 4] {
+        match self {
+            Portal::Quad { corner, e1, e2 } => {
+                [*corner, *corner + *e1, *corner + *e1 + *e2, *corner + *e2]
+            }
+            Portal::Triangle {
+                vertices: [p, q, r],
+            } => [*p, *q, *r, *r],
+            Portal::Ellipse { center, a, b } => [
+                *center - *a - *b,
+                *center + *a - *b,
+                *center + *a + *b,
+                *center - *a + *b,
+            ],
+        }
+    }
+}
+
+/// The surface at a shading point, for choosing portals: its normal when light can only
+/// arrive from the front (opaque surfaces), `None` when it transmits.
+pub type Side = Option<Vec3>;
+
+impl Portals {
+    pub fn new(portals: Vec<Portal>) -> Self {
+        Portals {
+            portals,
+            sampling: PortalSampling::SolidAngle,
+            choice: PortalChoice::Contribution,
+        }
+    }
+
+    pub fn with_strategy(mut self, sampling: PortalSampling, choice: PortalChoice) -> Self {
+        self.sampling = sampling;
+        self.choice = choice;
+        self
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.portals.is_empty()
+    }
+
+    /// Portals from quads given by their corners (a scene's `portals`: pbrt-v4 "point3
+    /// portal" quads, the built-in scenes' openings).
+    pub fn from_quads(quads: &[[Vec3; 4]]) -> Self {
+        Portals::new(quads.iter().map(|&c| Portal::quad(c)).collect())
+    }
+
+    /// The unnormalised probability of picking portal `p` at `x`.
+    fn weight(&self, p: &Portal, x: Vec3, side: Side) -> f32 {
+        let behind = |n: Vec3| p.corners().iter().all(|&c| (c - x).dot(n) <= 0.0);
+        match self.choice {
+            PortalChoice::Uniform => 1.0,
+            PortalChoice::Facing => match side {
+                Some(n) if behind(n) => 0.0,
+                _ => 1.0,
+            },
+            PortalChoice::Contribution => {
+                if side.is_some_and(behind) {
+                    return 0.0;
+                }
+                let to_center = p.center() - x;
+                let d2 = to_center.length_squared();
+                let omega = match p.spherical(x) {
+                    Some(s) => s.solid_angle,
+                    None => (p.area() * p.normal().dot(to_center).abs() / (d2 * d2.sqrt()))
+                        .min(2.0 * PI),
+                };
+                let cos = side.map_or(1.0, |n| n.dot(to_center) / d2.sqrt()).max(0.1);
+                omega * cos
+            }
+        }
+    }
+
+    /// Picks a portal (by the choice rule) and a point on it (by the sampling rule); `None`
+    /// when no portal can be seen or the direction is degenerate.
+    pub fn sample(&self, x: Vec3, side: Side, u_pick: f32, u: Vec2) -> Option<PortalSample> {
+        let total: f32 = self.portals.iter().map(|p| self.weight(p, x, side)).sum();
+        if !(total > 0.0) {
+            return None;
+        }
+        // Walk the weights to the picked one (no allocation per sample).
+        let target = u_pick * total;
+        let mut acc = 0.0;
+        let mut picked = None;
+        for p in &self.portals {
+            let w = self.weight(p, x, side);
+            acc += w;
+            if w > 0.0 {
+                picked = Some(p);
+                if target < acc {
+                    break;
+                }
+            }
+        }
+        let portal = picked?;
+        let y = match (self.sampling, portal.spherical(x)) {
+            (PortalSampling::SolidAngle, Some(s)) => s.sample(u),
+            _ => portal.sample_area(u),
+        };
+        let wi = (y - x).normalize_or_zero();
+        if wi == Vec3::ZERO {
+            return None;
+        }
+        let pdf = self.pdf_with_total(x, side, wi, total);
+        (pdf > 0.0 && pdf.is_finite()).then_some(PortalSample { wi, pdf })
+    }
+
+    /// Solid-angle density of sampling direction `wi` at `x`: the sum over the portals the
+    /// ray crosses of the pick probability times that portal's density (area sampling:
+    /// (1/A) t^2 / |cos|, seed 000 ch. 4, p(Psi); solid-angle sampling: 1/S).
+    pub fn pdf(&self, x: Vec3, side: Side, wi: Vec3) -> f32 {
+        let total: f32 = self.portals.iter().map(|p| self.weight(p, x, side)).sum();
+        if !(total > 0.0) {
+            return 0.0;
+        }
+        self.pdf_with_total(x, side, wi, total)
+    }
+
+    fn pdf_with_total(&self, x: Vec3, side: Side, wi: Vec3, total: f32) -> f32 {
+        self.portals
+            .iter()
+            .filter_map(|p| {
+                let t = p.intersect(x, wi)?;
+                let pick = self.weight(p, x, side) / total;
+                if pick == 0.0 {
+                    return Some(0.0);
+                }
+                if self.sampling == PortalSampling::SolidAngle {
+                    if let Some(s) = p.spherical(x) {
+                        return Some(pick / s.solid_angle);
+                    }
+                }
+                let cos = p.normal().dot(wi).abs();
+                (cos > 0.0).then(|| pick * t * t / (cos * p.area()))
+            })
+            .sum()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shapes_have_their_areas_and_are_hit_inside_only() {
+        let q = Portal::quad([
+            Vec3::new(0.0, 0.0, 1.0),
+            Vec3::new(2.0, 0.0, 1.0),
+            Vec3::new(2.0, 1.0, 1.0),
+            Vec3::new(0.0, 1.0, 1.0),
+        ]);
+        assert!((q.area() - 2.0).abs() < 1e-6);
+        assert!(q.intersect(Vec3::new(1.0, 0.5, 0.0), Vec3::Z).is_some());
+        assert!(q.intersect(Vec3::new(2.5, 0.5, 0.0), Vec3::Z).is_none());
+        assert!(
+            q.intersect(Vec3::new(1.0, 0.5, 2.0), Vec3::Z).is_none(),
+            "behind the origin"
+        );
+        let e = Portal::Ellipse {
+            center: Vec3::ZERO,
+            a: Vec3::X * 2.0,
+            b: Vec3::Y,
+        };
+        assert!((e.area() - 2.0 * PI).abs() < 1e-5);
+        assert!(e.intersect(Vec3::new(1.9, 0.0, -1.0), Vec3::Z).is_some());
+        assert!(e.intersect(Vec3::new(1.5, 0.8, -1.0), Vec3::Z).is_none());
+    }
+
+    #[test]
+    fn pdf_integrates_to_one_over_the_directions_through_the_portals() {
+        // Monte Carlo over the sphere: the integral of the density is 1 when every sampled
+        // direction can be produced (x sees all portals from the front).
+        let portals = Portals::new(vec![
+            Portal::quad([
+                Vec3::new(-0.5, -0.5, 1.0),
+                Vec3::new(0.5, -0.5, 1.0),
+                Vec3::new(0.5, 0.5, 1.0),
+                Vec3::new(-0.5, 0.5, 1.0),
+            ]),
+            Portal::Ellipse {
+                center: Vec3::new(1.5, 0.0, 1.5),
+                a: Vec3::X * 0.4,
+                b: Vec3::Y * 0.2,
+            },
+            Portal::Triangle {
+                vertices: [
+                    Vec3::new(-2.0, 0.0, 0.5),
+                    Vec3::new(-1.0, 0.0, 0.5),
+                    Vec3::new(-1.5, 1.0, 0.8),
+                ],
+            },
+        ]);
+        let x = Vec3::new(0.1, -0.2, 0.0);
+        let uniform =
+            |i: u32, salt: u32| fenestra_core::sampler::hash_u32(i ^ salt) as f32 / 4_294_967_296.0;
+        for sampling in [PortalSampling::Area, PortalSampling::SolidAngle] {
+            for choice in [
+                PortalChoice::Uniform,
+                PortalChoice::Facing,
+                PortalChoice::Contribution,
+            ] {
+                // A surface tilted so that the triangle portal lies wholly behind it.
+                for side in [None, Some(Vec3::new(0.6, 0.0, 0.8))] {
+                    let portals = portals.clone().with_strategy(sampling, choice);
+                    let n = 400_000u32;
+                    let mut sum = 0.0f64;
+                    for i in 0..n {
+                        let d = fenestra_core::warp::square_to_uniform_sphere(Vec2::new(
+                            uniform(i, 0),
+                            uniform(i, 0x9e37_79b9),
+                        ));
+                        sum += portals.pdf(x, side, d) as f64 * 4.0 * std::f64::consts::PI;
+                    }
+                    let integral = sum / n as f64;
+                    let what = format!("{sampling:?}, {choice:?}, side {side:?}");
+                    assert!((integral - 1.0).abs() < 0.02, "{what}: {integral}");
+                    // Sampled directions carry the density pdf() gives them.
+                    for i in 0..200 {
+                        let u = Vec2::new(uniform(i, 7), uniform(i, 8));
+                        let Some(s) = portals.sample(x, side, uniform(i, 9), u) else {
+                            panic!("{what}: no sample for {u} {}", uniform(i, 9));
+                        };
+                        let p = portals.pdf(x, side, s.wi);
+                        assert!((s.pdf / p - 1.0).abs() < 1e-4, "{what}: {} vs {p}", s.pdf);
+                    }
+                }
+            }
+        }
+    }
+}
