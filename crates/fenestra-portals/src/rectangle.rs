@@ -125,7 +125,7 @@ pub fn min_area_rectangle(p: &[DVec2]) -> Option<Rectangle> {
 
 /// The opening inside a ring of points around it: photons deposited by depth lie on the
 /// occluder around an opening, so the opening's edges are the ring's inner edges, not its
-/// outer ones. In a frame turned by up to 5 degrees from `r`'s (the enclosing rectangle
+/// outer ones. In a frame turned by up to 3 degrees from `r`'s (the enclosing rectangle
 /// follows the ring's noisy outer edge), each side moves inwards to a low quantile of the
 /// distances of the points in the middle half of that side (corners are left out: there the
 /// sides' strips meet); the largest such rectangle that holds (almost) no point wins. `None`
@@ -133,8 +133,8 @@ pub fn min_area_rectangle(p: &[DVec2]) -> Option<Rectangle> {
 /// corners).
 pub fn inner_rectangle(r: &Rectangle, p: &[DVec2]) -> Option<Rectangle> {
     let mut best: Option<Rectangle> = None;
-    for step in -20..=20 {
-        let turn = DVec2::from_angle((step as f64 * 0.25).to_radians());
+    for step in -30..=30 {
+        let turn = DVec2::from_angle((step as f64 * 0.1).to_radians());
         let u = turn.rotate(r.half[0].normalize());
         if let Some(c) = inner_in_frame(r.center, u, p) {
             if best.is_none_or(|b| c.area() > b.area()) {
@@ -142,8 +142,16 @@ pub fn inner_rectangle(r: &Rectangle, p: &[DVec2]) -> Option<Rectangle> {
             }
         }
     }
-    best
+    // A margin for the residual error of the orientation (up to about 0.1 degree) and of
+    // the quantile edges, so that the opening is covered to its corners.
+    best.map(|b| Rectangle {
+        center: b.center,
+        half: b.half.map(|h| h * (1.0 + INNER_MARGIN)),
+    })
 }
+
+/// Relative growth of each side of an inner rectangle.
+const INNER_MARGIN: f64 = 0.005;
 
 /// The inner rectangle with axes u, u-perp about `center`, if nearly empty.
 fn inner_in_frame(center: DVec2, u: DVec2, p: &[DVec2]) -> Option<Rectangle> {
