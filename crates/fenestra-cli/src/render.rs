@@ -47,6 +47,10 @@ pub struct RenderOpts {
     /// facing (uniform among those not behind the surface, as Cycles) or uniform (the seed's).
     #[arg(long, default_value = "contribution")]
     portal_choice: PortalChoice,
+    /// lp_hf: probability that a sample comes from light sampling instead of the portals
+    /// (Cycles mixes its portals with environment sampling; 0 uses the portals only).
+    #[arg(long, default_value_t = 0.0)]
+    portal_light_mix: f32,
     /// With --portals auto: the shape fitted to each cluster (smallest, ellipse, rectangle
     /// or pca; see `fenestra portals --model`).
     #[arg(long, default_value = "smallest")]
@@ -174,6 +178,12 @@ impl RenderOpts {
         if self.max_depth == Some(0) {
             bail!("--max-depth must be at least 1 (1 = emitters seen directly, 2 = direct light)");
         }
+        if !(0.0..=1.0).contains(&self.portal_light_mix) {
+            bail!(
+                "--portal-light-mix must lie in [0, 1], got {}",
+                self.portal_light_mix
+            );
+        }
         if !(self.beta.is_finite() && self.beta > 0.0) {
             bail!("--beta must be positive, got {}", self.beta);
         }
@@ -199,8 +209,13 @@ impl RenderOpts {
                     None => Portals::from_quads(&desc.portals),
                 };
                 Some(
-                    integrator::by_name(&self.integrator, options.clone(), portals)
-                        .map_err(anyhow::Error::msg)?,
+                    integrator::by_name(
+                        &self.integrator,
+                        options.clone(),
+                        portals,
+                        self.portal_light_mix,
+                    )
+                    .map_err(anyhow::Error::msg)?,
                 )
             }
         };
@@ -255,8 +270,13 @@ impl RenderOpts {
                     let portals =
                         crate::portals_cmd::auto(&render_scene, self.portal_model, quiet, &cancel)?
                             .with_strategy(self.portal_sampling, self.portal_choice);
-                    estimated = integrator::by_name("lp_hf", job.options.clone(), portals)
-                        .map_err(anyhow::Error::msg)?;
+                    estimated = integrator::by_name(
+                        "lp_hf",
+                        job.options.clone(),
+                        portals,
+                        self.portal_light_mix,
+                    )
+                    .map_err(anyhow::Error::msg)?;
                     estimated.as_ref()
                 }
             };

@@ -597,3 +597,135 @@ fn lp_hf_takes_portals_from_the_scene_or_a_file() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn portals_command_writes_json_picture_and_exports_that_render_reads_back() {
+    let dir = tmp("estimate");
+    std::fs::create_dir_all(&dir).expect("dir");
+    let (json, pbrt, obj) = (dir.join("p.json"), dir.join("p.pbrt"), dir.join("p.obj"));
+    let p = |x: &Path| x.to_str().expect("utf-8").to_string();
+    let r = fenestra(&[
+        "portals",
+        "builtin:box-4holes",
+        "-o",
+        &p(&json),
+        "--export",
+        &p(&pbrt),
+        "--export",
+        &p(&obj),
+        "-q",
+    ]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let out = String::from_utf8_lossy(&r.stdout);
+    assert!(out.contains("portal 3: quad"), "{out}");
+    let doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).expect("json")).expect("parse");
+    assert_eq!(doc["portals"].as_array().map(Vec::len), Some(4));
+    assert_eq!(doc["estimation"]["clusters"], 4);
+    assert!(image_size(&dir.join("p.png")).0 > 0, "picture");
+    let obj_text = std::fs::read_to_string(&obj).expect("obj");
+    assert_eq!(obj_text.matches("\nf ").count(), 4);
+    // The pbrt export is invisible to light: the scene with it included renders the same.
+    let pbrt_text = std::fs::read_to_string(&pbrt).expect("pbrt");
+    assert_eq!(pbrt_text.matches("Material \"interface\"").count(), 4);
+    let (scene, with) = (dir.join("s.pbrt"), dir.join("with.pbrt"));
+    let e = fenestra(&["scene", "export", "builtin:box-4holes", "-o", &p(&scene)]);
+    assert!(e.status.success(), "{}", String::from_utf8_lossy(&e.stderr));
+    let text = std::fs::read_to_string(&scene).expect("scene");
+    std::fs::write(&with, format!("{text}\nInclude \"p.pbrt\"\n")).expect("write");
+    let pixels = |s: &Path, name: &str| {
+        let o = dir.join(name);
+        let r = fenestra(&[
+            "render",
+            &p(s),
+            "--spp",
+            "2",
+            "--resolution",
+            "16x16",
+            "-q",
+            "-o",
+            &p(&o),
+        ]);
+        assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+        Image::read(&o).expect("exr").data
+    };
+    assert_eq!(pixels(&scene, "a.exr"), pixels(&with, "b.exr"));
+    // The estimated portals feed lp_hf, from the file or estimated on the fly.
+    for portals in [p(&json), "auto".to_string()] {
+        let o = dir.join("lp.exr");
+        let r = fenestra(&[
+            "render",
+            "builtin:box-4holes",
+            "--integrator",
+            "lp_hf",
+            "--portals",
+            &portals,
+            "--spp",
+            "2",
+            "--resolution",
+            "16x16",
+            "-q",
+            "-o",
+            &p(&o),
+        ]);
+        assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    }
+    assert_clear_error(
+        &[
+            "render",
+            "builtin:box-hole",
+            "--portals",
+            "auto",
+            "-o",
+            &p(&dir.join("x.exr")),
+        ],
+        "--portals auto is for --integrator lp_hf",
+    );
+    assert_clear_error(
+        &["portals", "builtin:box-hole", "-o", &p(&dir.join("x.txt"))],
+        "must end in .json",
+    );
+    assert_clear_error(
+        &[
+            "portals",
+            "builtin:box-hole",
+            "-o",
+            &p(&json),
+            "--export",
+            &p(&dir.join("x.stl")),
+        ],
+        "expected a .pbrt or .obj file",
+    );
+    assert_clear_error(
+        &[
+            "portals",
+            "builtin:box-hole",
+            "-o",
+            &p(&json),
+            "--theta",
+            "95",
+        ],
+        "cone angle theta must lie in (0, 90) degrees",
+    );
+    assert_clear_error(
+        &[
+            "portals",
+            "builtin:cornell-box",
+            "-o",
+            &p(&json),
+            "--deposit",
+            "glass",
+        ],
+        "unknown deposit rule 'glass'",
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+fn image_size(path: &Path) -> (u32, u32) {
+    let bytes = std::fs::read(path).expect("png");
+    // PNG: width and height are big-endian u32 at bytes 16..24.
+    (
+        u32::from_be_bytes([bytes[16], bytes[17], bytes[18], bytes[19]]),
+        u32::from_be_bytes([bytes[20], bytes[21], bytes[22], bytes[23]]),
+    )
+}

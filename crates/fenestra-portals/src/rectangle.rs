@@ -125,25 +125,38 @@ pub fn min_area_rectangle(p: &[DVec2]) -> Option<Rectangle> {
 
 /// The opening inside a ring of points around it: photons deposited by depth lie on the
 /// occluder around an opening, so the opening's edges are the ring's inner edges, not its
-/// outer ones. In a frame turned by up to 3 degrees from `r`'s (the enclosing rectangle
+/// outer ones. In a frame turned by up to 3 degrees from `r`'s (searched to 0.01 degree) (the enclosing rectangle
 /// follows the ring's noisy outer edge), each side moves inwards to a low quantile of the
 /// distances of the points in the middle half of that side (corners are left out: there the
-/// sides' strips meet); the largest such rectangle that holds (almost) no point wins. `None`
+/// sides' strips meet); the one holding fewest points wins, the largest among equals. `None`
 /// when there is none, i.e. the opening is not rectangular (a round one leaves points in the
 /// corners).
 pub fn inner_rectangle(r: &Rectangle, p: &[DVec2]) -> Option<Rectangle> {
-    let mut best: Option<Rectangle> = None;
-    for step in -30..=30 {
-        let turn = DVec2::from_angle((step as f64 * 0.1).to_radians());
-        let u = turn.rotate(r.half[0].normalize());
-        if let Some(c) = inner_in_frame(r.center, u, p) {
-            if best.is_none_or(|b| c.area() > b.area()) {
-                best = Some(c);
+    // Orientations within 3 degrees in 0.1-degree steps, then within 0.1 degree of the best
+    // in 0.01-degree steps.
+    let axis = r.half[0].normalize();
+    let mut best: Option<(f64, Rectangle, usize)> = None;
+    for (centre, step, steps) in [(0.0, 0.1, 30), (f64::NAN, 0.01, 10)] {
+        let centre = if centre.is_nan() {
+            best.map_or(0.0, |(a, ..)| a)
+        } else {
+            centre
+        };
+        for k in -steps..=steps {
+            let angle = centre + k as f64 * step;
+            let u = DVec2::from_angle(angle.to_radians()).rotate(axis);
+            // Fewest points inside first (a turned rectangle cuts into the ring at its
+            // corners), then the largest.
+            if let Some((c, inside)) = inner_in_frame(r.center, u, p) {
+                if best.is_none_or(|(_, b, n)| (inside, -c.area()) < (n, -b.area())) {
+                    best = Some((angle, c, inside));
+                }
             }
         }
     }
-    // A margin for the residual error of the orientation (up to about 0.1 degree) and of
-    // the quantile edges, so that the opening is covered to its corners.
+    let best = best.map(|(_, b, _)| b);
+    // A margin for the residual error of the orientation and of the quantile edges, so that
+    // the opening is covered to its corners.
     best.map(|b| Rectangle {
         center: b.center,
         half: b.half.map(|h| h * (1.0 + INNER_MARGIN)),
@@ -151,10 +164,11 @@ pub fn inner_rectangle(r: &Rectangle, p: &[DVec2]) -> Option<Rectangle> {
 }
 
 /// Relative growth of each side of an inner rectangle.
-const INNER_MARGIN: f64 = 0.005;
+const INNER_MARGIN: f64 = 0.001;
 
-/// The inner rectangle with axes u, u-perp about `center`, if nearly empty.
-fn inner_in_frame(center: DVec2, u: DVec2, p: &[DVec2]) -> Option<Rectangle> {
+/// The inner rectangle with axes u, u-perp about `center` and the number of points inside
+/// it, if nearly empty.
+fn inner_in_frame(center: DVec2, u: DVec2, p: &[DVec2]) -> Option<(Rectangle, usize)> {
     let v = u.perp();
     let (mut a, mut b) = (0.0f64, 0.0f64);
     for q in p {
@@ -193,7 +207,7 @@ fn inner_in_frame(center: DVec2, u: DVec2, p: &[DVec2]) -> Option<Rectangle> {
         half: [u * ((hx - lx) * 0.5), v * ((hy - ly) * 0.5)],
     };
     let inside = p.iter().filter(|q| inner.contains(**q, -1e-6)).count();
-    (inside <= p.len() / 50).then_some(inner)
+    (inside <= p.len() / 50).then_some((inner, inside))
 }
 
 /// The inner edge is the 1/INNER_QUANTILE quantile of a side's distances (1%).

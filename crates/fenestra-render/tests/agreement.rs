@@ -148,6 +148,14 @@ fn lp_hf_agrees_with_af_hf_with_exact_small_and_large_portals() {
                 &af,
                 &large,
             );
+            // Half the samples from the light sampler, with half-size portals: the mixture
+            // density must count both techniques.
+            let mixed = render_scene(shrunk(load(), 0.5), "lp_hf_mix", power, depth, 512);
+            assert_agree(
+                &format!("{scene}: af_hf vs lp_hf mixed with light sampling, depth {depth}"),
+                &af,
+                &mixed,
+            );
         }
     }
 }

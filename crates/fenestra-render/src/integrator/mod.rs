@@ -99,11 +99,13 @@ pub const INTEGRATORS: &[(&str, &str)] = &[
     ),
 ];
 
-/// The integrator called `name`; `portals` are used by lp_hf (which refuses an empty set).
+/// The integrator called `name`; `portals` are used by lp_hf (which refuses an empty set),
+/// mixed with light sampling with probability `light_mix`.
 pub fn by_name(
     name: &str,
     options: IntegratorOptions,
     portals: Portals,
+    light_mix: f32,
 ) -> Result<Box<dyn Integrator>, String> {
     match name {
         "hf" => Ok(Box::new(PathTracer::new(false, options))),
@@ -111,7 +113,9 @@ pub fn by_name(
         "lp_hf" if portals.is_empty() => {
             Err("lp_hf needs light portals and the scene has none".into())
         }
-        "lp_hf" => Ok(Box::new(PathTracer::with_portals(portals, options))),
+        "lp_hf" => Ok(Box::new(PathTracer::with_portals(
+            portals, light_mix, options,
+        ))),
         _ => {
             let names: Vec<&str> = INTEGRATORS.iter().map(|i| i.0).collect();
             Err(format!(

@@ -27,8 +27,10 @@ pub enum NextEvent {
     Off,
     /// Emitters, picked by the scene's light sampler (af_hf).
     Lights,
-    /// Light portals (lp_hf).
-    Portals(Portals),
+    /// Light portals (lp_hf); with probability `light_mix` a sample comes from the light
+    /// sampler instead (one-sample mixture, as Cycles mixes portals with environment
+    /// sampling).
+    Portals { portals: Portals, light_mix: f32 },
 }
 
 pub struct PathTracer {
@@ -49,10 +51,14 @@ impl PathTracer {
         }
     }
 
-    /// lp_hf: portal sampling and BSDF sampling combined by MIS.
-    pub fn with_portals(portals: Portals, options: IntegratorOptions) -> Self {
+    /// lp_hf: portal sampling (mixed with light sampling with probability `light_mix`) and
+    /// BSDF sampling combined by MIS.
+    pub fn with_portals(portals: Portals, light_mix: f32, options: IntegratorOptions) -> Self {
         PathTracer {
-            next_event: NextEvent::Portals(portals),
+            next_event: NextEvent::Portals {
+                portals,
+                light_mix: light_mix.clamp(0.0, 1.0),
+            },
             options,
         }
     }
@@ -63,7 +69,7 @@ impl Integrator for PathTracer {
         match self.next_event {
             NextEvent::Off => "hf",
             NextEvent::Lights => "af_hf",
-            NextEvent::Portals(_) => "lp_hf",
+            NextEvent::Portals { .. } => "lp_hf",
         }
         .to_string()
     }
@@ -124,8 +130,9 @@ fn side(si: &SurfaceInteraction, bsdf: &Bsdf, wo: Vec3) -> Side {
 struct Previous {
     p: Vec3,
     n: Vec3,
-    /// Which way light may arrive (for choosing portals).
+    /// Which way light may arrive, and the portals' total pick weight there (lp_hf).
     side: Side,
+    portal_total: f32,
     bsdf_pdf: f32,
     delta: bool,
 }
@@ -134,7 +141,7 @@ impl PathTracer {
     /// MIS weight of the BSDF technique for light found by a BSDF-sampled ray leaving the
     /// previous vertex along `d`; `light_pdf` is the emitter technique's density (light pick
     /// probability times solid-angle density) for af_hf. For lp_hf the portal density of `d`
-    /// counts, whatever the ray found beyond.
+    /// counts, whatever the ray found beyond, mixed with `light_pdf` by `light_mix`.
     fn bsdf_weight(&self, prev: &Previous, d: Vec3, light_pdf: impl FnOnce() -> f32) -> f32 {
         if prev.delta {
             return 1.0;
@@ -142,21 +149,27 @@ impl PathTracer {
         match &self.next_event {
             NextEvent::Off => 1.0,
             NextEvent::Lights => self.options.mis.weight(prev.bsdf_pdf, light_pdf()),
-            NextEvent::Portals(portals) => self
-                .options
-                .mis
-                .weight(prev.bsdf_pdf, portals.pdf(prev.p, prev.side, d)),
+            NextEvent::Portals { portals, light_mix } => {
+                let mut p =
+                    (1.0 - light_mix) * portals.pdf(prev.p, prev.side, prev.portal_total, d);
+                if *light_mix > 0.0 {
+                    p += light_mix * light_pdf();
+                }
+                self.options.mis.weight(prev.bsdf_pdf, p)
+            }
         }
     }
 
-    /// Portal sampling at `si` (eq. 4.1): a direction through a portal, the radiance of
-    /// whatever the ray meets first (emitter or environment), weighted by MIS against the
-    /// BSDF.
+    /// Portal sampling at `si` (eq. 4.1), or with probability `light_mix` light sampling: a
+    /// direction, the radiance of whatever the ray meets first beyond thin glass (emitter or
+    /// environment), weighted by MIS against the BSDF with the mixture's density.
     #[allow(clippy::too_many_arguments)]
     fn sample_portal(
         &self,
         scene: &RenderScene,
         portals: &Portals,
+        light_mix: f32,
+        portal_total: f32,
         si: &SurfaceInteraction,
         bsdf: &crate::bsdf::Bsdf,
         wo: Vec3,
@@ -164,41 +177,77 @@ impl PathTracer {
         sampler: &mut Sampler,
         rays: &mut RayCounters,
     ) -> Rgb {
+        let by_light = light_mix > 0.0 && sampler.next_1d() < light_mix;
         let u_pick = sampler.next_1d();
         let u = sampler.next_2d();
-        let Some(ps) = portals.sample(si.p, side(si, bsdf, wo), u_pick, u) else {
-            return Rgb::ZERO;
+        let side = side(si, bsdf, wo);
+        // The light sampled in light mode: only it may be found along the ray (as a shadow
+        // ray would have it), so the mixture density counts that light's density alone.
+        let (wi, sampled) = if by_light {
+            let Some((index, _)) = scene.light_sampler.sample(si.p, si.ns, u_pick) else {
+                return Rgb::ZERO;
+            };
+            match scene.lights.lights[index].sample_li(&scene.scene, si.p, u) {
+                // Dirac lights have their own estimator.
+                Some(ls) if !ls.delta => (ls.wi, Some(index)),
+                _ => return Rgb::ZERO,
+            }
+        } else {
+            let Some(ps) = portals.sample(si.p, side, portal_total, u_pick, u) else {
+                return Rgb::ZERO;
+            };
+            (ps.wi, None)
         };
-        let Some((wi_local, f)) = bsdf_toward(si, bsdf, wo, wo_local, ps.wi) else {
+        let seen = |index: usize| sampled.is_none_or(|s| s == index);
+        let Some((wi_local, f)) = bsdf_toward(si, bsdf, wo, wo_local, wi) else {
             return Rgb::ZERO;
         };
         rays.shadow += 1;
-        let ray = Ray::new(offset_origin(si.p, si.ng, ps.wi), ps.wi);
-        let li = match scene.through_glass(ray, f32::INFINITY) {
+        let ray = Ray::new(offset_origin(si.p, si.ng, wi), wi);
+        // Radiance found beyond and the light sampler's density of that direction.
+        let (li, light_pdf) = match scene.through_glass(ray, f32::INFINITY) {
             (tr, Some(hit)) => {
                 let beyond = scene.scene.interaction(&ray, &hit);
-                tr * scene
-                    .lights
-                    .le(&beyond, -ps.wi)
-                    .map_or(Rgb::ZERO, |(_, le)| le)
+                match scene.lights.le(&beyond, -wi) {
+                    Some((index, le)) if seen(index) => {
+                        let pdf = match &scene.lights.lights[index] {
+                            Light::Area(a) if light_mix > 0.0 => {
+                                scene.light_sampler.pmf(si.p, si.ns, index)
+                                    * a.pdf_li(&scene.scene, si.p, &beyond)
+                            }
+                            _ => 0.0,
+                        };
+                        (tr * le, pdf)
+                    }
+                    _ => (Rgb::ZERO, 0.0),
+                }
             }
             (tr, None) => {
-                tr * scene.lights.environments.iter().fold(Rgb::ZERO, |acc, &e| {
-                    match &scene.lights.lights[e] {
-                        Light::Environment(env) => acc + env.le(ps.wi),
-                        _ => acc,
-                    }
-                })
+                scene
+                    .lights
+                    .environments
+                    .iter()
+                    .fold((Rgb::ZERO, 0.0), |(l, pdf), &e| {
+                        match &scene.lights.lights[e] {
+                            Light::Environment(env) if seen(e) => (
+                                l + tr * env.le(wi),
+                                pdf + scene.light_sampler.pmf(si.p, si.ns, e) * env.pdf_li(wi),
+                            ),
+                            _ => (l, pdf),
+                        }
+                    })
             }
         };
         if li.is_black() {
             return Rgb::ZERO;
         }
-        let weight = self
-            .options
-            .mis
-            .weight(ps.pdf, bsdf.pdf(wo_local, wi_local));
-        f * li * (wi_local.z.abs() * weight / ps.pdf)
+        let pdf =
+            (1.0 - light_mix) * portals.pdf(si.p, side, portal_total, wi) + light_mix * light_pdf;
+        if !(pdf > 0.0) {
+            return Rgb::ZERO;
+        }
+        let weight = self.options.mis.weight(pdf, bsdf.pdf(wo_local, wi_local));
+        f * li * (wi_local.z.abs() * weight / pdf)
     }
 
     /// Next-event estimation at `si`: one light sample, weighted by MIS against the BSDF.
@@ -267,6 +316,7 @@ impl PathEstimator for PathTracer {
             p: ray.o,
             n: ray.d,
             side: None,
+            portal_total: 0.0,
             bsdf_pdf: 0.0,
             delta: true,
         };
@@ -317,6 +367,13 @@ impl PathEstimator for PathTracer {
             }
             let frame = si.shading_frame();
             let wo_local = frame.to_local(wo);
+            let side = side(&si, bsdf, wo);
+            let portal_total = match &self.next_event {
+                NextEvent::Portals { portals, .. } if !bsdf.is_delta() => {
+                    portals.total_weight(si.p, side)
+                }
+                _ => 0.0,
+            };
             if !bsdf.is_delta() {
                 match &self.next_event {
                     NextEvent::Off => {}
@@ -325,10 +382,19 @@ impl PathEstimator for PathTracer {
                             * self
                                 .sample_light(scene, false, &si, bsdf, wo, wo_local, sampler, rays);
                     }
-                    NextEvent::Portals(portals) => {
+                    NextEvent::Portals { portals, light_mix } => {
                         l += beta
                             * self.sample_portal(
-                                scene, portals, &si, bsdf, wo, wo_local, sampler, rays,
+                                scene,
+                                portals,
+                                *light_mix,
+                                portal_total,
+                                &si,
+                                bsdf,
+                                wo,
+                                wo_local,
+                                sampler,
+                                rays,
                             );
                         if scene.lights.has_delta {
                             l += beta
@@ -366,7 +432,8 @@ impl PathEstimator for PathTracer {
             prev = Previous {
                 p: si.p,
                 n: si.ns,
-                side: side(&si, bsdf, wo),
+                side,
+                portal_total,
                 bsdf_pdf: bs.pdf,
                 delta: bs.delta,
             };

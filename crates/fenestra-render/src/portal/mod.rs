@@ -158,8 +158,8 @@ pub enum PortalChoice {
     /// Uniform among the portals not wholly behind the surface (what Cycles does).
     Facing,
     /// In proportion to an estimate of each portal's contribution: the solid angle it
-    /// subtends times the cosine towards its centre (at least 0.1 so no visible part is
-    /// left out), zero when wholly behind the surface.
+    /// subtends (small-portal approximation) times the cosine towards its centre (at least
+    /// 0.1 so no visible part is left out), zero when wholly behind the surface.
     Contribution,
 }
 
@@ -276,7 +276,9 @@ impl Portals {
         Portals::new(quads.iter().map(|&c| Portal::quad(c)).collect())
     }
 
-    /// The unnormalised probability of picking portal `p` at `x`.
+    /// The unnormalised probability of picking portal `p` at `x`. The contribution estimate
+    /// uses the small-portal solid angle A |cos| / d^2 (capped at 2 pi): it only steers the
+    /// choice, and is cheap enough to evaluate for every portal at every vertex.
     fn weight(&self, p: &Portal, x: Vec3, side: Side) -> f32 {
         let behind = |n: Vec3| p.corners().iter().all(|&c| (c - x).dot(n) <= 0.0);
         match self.choice {
@@ -291,21 +293,31 @@ impl Portals {
                 }
                 let to_center = p.center() - x;
                 let d2 = to_center.length_squared();
-                let omega = match p.spherical(x) {
-                    Some(s) => s.solid_angle,
-                    None => (p.area() * p.normal().dot(to_center).abs() / (d2 * d2.sqrt()))
-                        .min(2.0 * PI),
-                };
-                let cos = side.map_or(1.0, |n| n.dot(to_center) / d2.sqrt()).max(0.1);
+                let d = d2.sqrt();
+                let omega = (p.area() * p.normal().dot(to_center).abs() / (d2 * d)).min(2.0 * PI);
+                let cos = side.map_or(1.0, |n| n.dot(to_center) / d).max(0.1);
                 omega * cos
             }
         }
     }
 
+    /// The sum of the pick weights at `x` (computed once per shading point and passed to
+    /// [`Portals::sample`] and [`Portals::pdf`]).
+    pub fn total_weight(&self, x: Vec3, side: Side) -> f32 {
+        self.portals.iter().map(|p| self.weight(p, x, side)).sum()
+    }
+
     /// Picks a portal (by the choice rule) and a point on it (by the sampling rule); `None`
-    /// when no portal can be seen or the direction is degenerate.
-    pub fn sample(&self, x: Vec3, side: Side, u_pick: f32, u: Vec2) -> Option<PortalSample> {
-        let total: f32 = self.portals.iter().map(|p| self.weight(p, x, side)).sum();
+    /// when no portal can be seen or the direction is degenerate. `total` is
+    /// [`Portals::total_weight`] at `x`.
+    pub fn sample(
+        &self,
+        x: Vec3,
+        side: Side,
+        total: f32,
+        u_pick: f32,
+        u: Vec2,
+    ) -> Option<PortalSample> {
         if !(total > 0.0) {
             return None;
         }
@@ -332,22 +344,18 @@ impl Portals {
         if wi == Vec3::ZERO {
             return None;
         }
-        let pdf = self.pdf_with_total(x, side, wi, total);
+        let pdf = self.pdf(x, side, total, wi);
         (pdf > 0.0 && pdf.is_finite()).then_some(PortalSample { wi, pdf })
     }
 
     /// Solid-angle density of sampling direction `wi` at `x`: the sum over the portals the
     /// ray crosses of the pick probability times that portal's density (area sampling:
-    /// (1/A) t^2 / |cos|, seed 000 ch. 4, p(Psi); solid-angle sampling: 1/S).
-    pub fn pdf(&self, x: Vec3, side: Side, wi: Vec3) -> f32 {
-        let total: f32 = self.portals.iter().map(|p| self.weight(p, x, side)).sum();
+    /// (1/A) t^2 / |cos|, seed 000 ch. 4, p(Psi); solid-angle sampling: 1/S). `total` is
+    /// [`Portals::total_weight`] at `x`.
+    pub fn pdf(&self, x: Vec3, side: Side, total: f32, wi: Vec3) -> f32 {
         if !(total > 0.0) {
             return 0.0;
         }
-        self.pdf_with_total(x, side, wi, total)
-    }
-
-    fn pdf_with_total(&self, x: Vec3, side: Side, wi: Vec3, total: f32) -> f32 {
         self.portals
             .iter()
             .filter_map(|p| {
@@ -440,7 +448,8 @@ mod tests {
                             uniform(i, 0),
                             uniform(i, 0x9e37_79b9),
                         ));
-                        sum += portals.pdf(x, side, d) as f64 * 4.0 * std::f64::consts::PI;
+                        let total = portals.total_weight(x, side);
+                        sum += portals.pdf(x, side, total, d) as f64 * 4.0 * std::f64::consts::PI;
                     }
                     let integral = sum / n as f64;
                     let what = format!("{sampling:?}, {choice:?}, side {side:?}");
@@ -448,10 +457,11 @@ mod tests {
                     // Sampled directions carry the density pdf() gives them.
                     for i in 0..200 {
                         let u = Vec2::new(uniform(i, 7), uniform(i, 8));
-                        let Some(s) = portals.sample(x, side, uniform(i, 9), u) else {
+                        let total = portals.total_weight(x, side);
+                        let Some(s) = portals.sample(x, side, total, uniform(i, 9), u) else {
                             panic!("{what}: no sample for {u} {}", uniform(i, 9));
                         };
-                        let p = portals.pdf(x, side, s.wi);
+                        let p = portals.pdf(x, side, total, s.wi);
                         assert!((s.pdf / p - 1.0).abs() < 1e-4, "{what}: {} vs {p}", s.pdf);
                     }
                 }

@@ -22,7 +22,12 @@ pub fn render(
         Scene::build(desc, Backend::default()).expect("scene"),
         LightSelection::Power,
     );
-    let integrator = integrator::by_name(name, options, portals).expect("integrator");
+    // "lp_hf_mix": lp_hf with half of its samples from the light sampler (Cycles' mixture).
+    let (name, light_mix) = match name {
+        "lp_hf_mix" => ("lp_hf", 0.5),
+        other => (other, 0.0),
+    };
+    let integrator = integrator::by_name(name, options, portals, light_mix).expect("integrator");
     let mut film = Film::new(size, size);
     let cancel = AtomicBool::new(false);
     let control = RenderControl::new(&cancel, &NoProgress);
