@@ -1,6 +1,7 @@
 //! The estimation pipeline of seed 000 ch. 4: photons (Alg. 1) -> DBSCAN clusters (Alg. 2)
 //! -> RANSAC plane per cluster (Alg. 3) -> a covering shape of the inliers in that plane
-//! (MVCE by Alg. 4, the PCA rectangle of §5.1, or the minimum-area rectangle) -> portals.
+//! (MVCE by Alg. 4, the PCA rectangle of §5.1, or the minimum-area rectangle) -> portals;
+//! rectangles around openings in planar occluders are then snapped onto the openings' edges.
 
 use crate::cluster::{dbscan, DbscanParams};
 use crate::mvce::mvce;
@@ -8,6 +9,7 @@ use crate::photon::Deposit;
 use crate::photon::{trace, PhotonParams, Photons};
 use crate::ransac::{ransac_plane, Plane, Ransac};
 use crate::rectangle::{inner_rectangle, min_area_rectangle, pca_rectangle, Rectangle};
+use crate::snap::snap_to_opening;
 use fenestra_core::Vec3;
 use fenestra_render::integrator::Progress;
 use fenestra_render::portal::{Portal, PortalRecord, Portals};
@@ -136,8 +138,12 @@ pub fn estimate(
         .enumerate()
         .filter_map(|(k, c)| {
             let points: Vec<Vec3> = c.iter().map(|&i| photons.points[i]).collect();
-            fit_cluster(&points, params, photons.deposit == Deposit::Depth).map(|mut e| {
+            let ring = photons.deposit == Deposit::Depth;
+            fit_cluster(&points, params, ring).map(|mut e| {
                 e.cluster = k;
+                if ring {
+                    e.portal = snap_to_opening(&scene.scene, &e.portal);
+                }
                 e
             })
         })

@@ -13,3 +13,4 @@ pub mod plot;
 pub mod ransac;
 pub mod rectangle;
 pub mod rng;
+pub mod snap;
