@@ -25,39 +25,37 @@ fn blocked(scene: &Scene, q: Vec3, n: Vec3, size: f32) -> bool {
         .is_some_and(|h| (h.t - lift).abs() < ON_PLANE * size)
 }
 
-/// The quad with each side moved onto the occluder's edge, or the quad unchanged when the
-/// occluder is not where the photons say (the opening is not cut in a plane there).
-pub fn snap_to_opening(scene: &Scene, portal: &Portal) -> Portal {
-    let Portal::Quad { corner, e1, e2 } = portal else {
-        return portal.clone();
-    };
-    let n = e1.cross(*e2).normalize_or_zero();
-    let (l1, l2) = (e1.length(), e2.length());
-    if n == Vec3::ZERO || l1 == 0.0 || l2 == 0.0 {
-        return portal.clone();
-    }
-    let size = l1.max(l2);
-    let c = *corner + (*e1 + *e2) * 0.5;
-    let (u, v) = (*e1 / l1, *e2 / l2);
-    // Half-extents along +u, -u, +v, -v.
-    let mut half = [l1 * 0.5, l1 * 0.5, l2 * 0.5, l2 * 0.5];
+/// One pass over the four sides of the rectangle (centre `c`, unit axes `u`, `v`, normal
+/// `n`, half-extents along +u, -u, +v, -v): each side's edge where probes at a quarter, half
+/// and three quarters of it turn from passing to blocked (the outermost of the three keeps
+/// the opening covered), and the turn in the plane that aligns the rectangle with the
+/// edges the probes found (mean over the sides). `None` when the occluder is not where the
+/// photons say on some side.
+fn snap_pass(
+    scene: &Scene,
+    c: Vec3,
+    (u, v, n): (Vec3, Vec3, Vec3),
+    mut half: [f32; 4],
+) -> Option<([f32; 4], f32)> {
+    let (width, height) = (half[0] + half[1], half[2] + half[3]);
+    let size = width.max(height);
+    let mut turn = 0.0;
     for (k, h) in half.iter_mut().enumerate() {
-        let (dir, along, other) = match k {
-            0 => (u, v, l2),
-            1 => (-u, v, l2),
-            2 => (v, u, l1),
-            _ => (-v, u, l1),
+        // Outward direction, the direction along the side, its length, and how a tilt of
+        // the edge towards `dir` turns the rectangle (counter-clockwise from u to v).
+        let (dir, along, other, sign) = match k {
+            0 => (u, v, height, -1.0),
+            1 => (-u, v, height, 1.0),
+            2 => (v, u, width, 1.0),
+            _ => (-v, u, width, -1.0),
         };
-        // The side's edge is where probes at a quarter, half and three quarters of it turn
-        // from passing to blocked; the outermost of the three keeps the opening covered.
-        let mut edge: Option<f32> = Some(0.0);
-        for f in [-0.25f32, 0.0, 0.25] {
+        let mut edges = [0.0f32; 3];
+        for (edge, f) in edges.iter_mut().zip([-0.25f32, 0.0, 0.25]) {
             let base = c + along * (f * other);
             let at = |s: f32| blocked(scene, base + dir * s, n, size);
             let (mut open, mut shut) = (0.5 * *h, 1.02 * *h);
             if at(open) || !at(shut) {
-                edge = None;
-                break;
+                return None;
             }
             for _ in 0..STEPS {
                 let mid = 0.5 * (open + shut);
@@ -67,19 +65,50 @@ pub fn snap_to_opening(scene: &Scene, portal: &Portal) -> Portal {
                     open = mid;
                 }
             }
-            edge = edge.map(|e| e.max(shut));
+            *edge = shut;
         }
-        if let Some(e) = edge {
-            *h = e;
+        *h = edges.iter().fold(0.0f32, |m, &e| m.max(e));
+        turn += sign * ((edges[2] - edges[0]) / (0.5 * other)).atan() / 4.0;
+    }
+    Some((half, turn))
+}
+
+/// The quad with each side moved onto the occluder's edge, in the orientation of those
+/// edges, or the quad unchanged when the occluder is not where the photons say (the opening
+/// is not cut in a plane there).
+pub fn snap_to_opening(scene: &Scene, portal: &Portal) -> Portal {
+    let Portal::Quad { corner, e1, e2 } = portal else {
+        return portal.clone();
+    };
+    let n = e1.cross(*e2).normalize_or_zero();
+    let (l1, l2) = (e1.length(), e2.length());
+    if n == Vec3::ZERO || l1 == 0.0 || l2 == 0.0 {
+        return portal.clone();
+    }
+    let (mut u, mut v) = (*e1 / l1, *e2 / l2);
+    let mut c = *corner + (*e1 + *e2) * 0.5;
+    let mut half = [l1 * 0.5, l1 * 0.5, l2 * 0.5, l2 * 0.5];
+    // First pass: edges and the orientation's error; second: the edges in the corrected
+    // orientation.
+    for pass in 0..2 {
+        let Some((h, turn)) = snap_pass(scene, c, (u, v, n), half) else {
+            if pass == 0 {
+                return portal.clone();
+            }
+            break;
+        };
+        c += u * (0.5 * (h[0] - h[1])) + v * (0.5 * (h[2] - h[3]));
+        let (a, b) = (0.5 * (h[0] + h[1]), 0.5 * (h[2] + h[3]));
+        half = [a, a, b, b];
+        if pass == 0 {
+            let (sin, cos) = turn.sin_cos();
+            u = u * cos + v * sin;
+            v = n.cross(u);
         }
     }
-    let centre = c + u * (0.5 * (half[0] - half[1])) + v * (0.5 * (half[2] - half[3]));
-    let (a, b) = (
-        u * (0.5 * (half[0] + half[1])),
-        v * (0.5 * (half[2] + half[3])),
-    );
+    let (a, b) = (u * half[0], v * half[2]);
     Portal::Quad {
-        corner: centre - a - b,
+        corner: c - a - b,
         e1: a * 2.0,
         e2: b * 2.0,
     }
