@@ -647,7 +647,7 @@ fn portals_command_writes_json_picture_and_exports_that_render_reads_back() {
             &p(&o),
         ]);
         assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
-        Image::read(&o).expect("exr").data
+        Image::read(&o).expect("exr").pixels
     };
     assert_eq!(pixels(&scene, "a.exr"), pixels(&with, "b.exr"));
     // The estimated portals feed lp_hf, from the file or estimated on the fly.
