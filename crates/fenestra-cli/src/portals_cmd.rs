@@ -192,7 +192,7 @@ pub fn summary(e: &Estimate) -> String {
         if ph.interrupted {
             ", interrupted".to_string()
         } else if ph.points.len() < ph.target {
-            format!(", fewer than the {} aimed at", ph.target)
+            format!(" (the beam limit came before the {} aimed at)", ph.target)
         } else {
             String::new()
         },
