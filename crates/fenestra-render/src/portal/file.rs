@@ -130,7 +130,7 @@ impl Portals {
 
     pub fn to_json(&self) -> PortalFile {
         PortalFile {
-            portals: self.portals.iter().map(PortalRecord::new).collect(),
+            portals: self.portals().iter().map(PortalRecord::new).collect(),
         }
     }
 }
@@ -161,8 +161,8 @@ mod tests {
         )
         .expect("write");
         assert_eq!(
-            Portals::read_json(&path).expect("read").portals,
-            portals.portals
+            Portals::read_json(&path).expect("read").portals(),
+            portals.portals()
         );
         for (bad, why) in [
             (

@@ -93,12 +93,16 @@ impl Portal {
 
     /// Distance along the unit direction `d` from `o` to the portal, if the ray crosses it.
     pub fn intersect(&self, o: Vec3, d: Vec3) -> Option<f32> {
-        let n = self.normal();
+        self.intersect_plane(o, d, self.normal(), self.center())
+    }
+
+    /// [`Portal::intersect`] with the portal's normal `n` and centre `c` given.
+    fn intersect_plane(&self, o: Vec3, d: Vec3, n: Vec3, c: Vec3) -> Option<f32> {
         let denom = n.dot(d);
         if denom.abs() < 1e-12 || n == Vec3::ZERO {
             return None;
         }
-        let t = n.dot(self.center() - o) / denom;
+        let t = n.dot(c - o) / denom;
         if !(t > 0.0 && t.is_finite()) {
             return None;
         }
@@ -193,9 +197,20 @@ impl std::str::FromStr for PortalChoice {
 /// A set of portals and how they are sampled.
 #[derive(Clone, Debug)]
 pub struct Portals {
-    pub portals: Vec<Portal>,
+    portals: Vec<Portal>,
+    /// Each portal's geometry, computed once: it is needed for every portal at every vertex.
+    geometry: Vec<Geometry>,
     pub sampling: PortalSampling,
     pub choice: PortalChoice,
+}
+
+#[derive(Clone, Copy, Debug)]
+struct Geometry {
+    normal: Vec3,
+    center: Vec3,
+    area: f32,
+    corners: [Vec3; 4],
+    rectangle: bool,
 }
 
 impl Default for Portals {
@@ -217,14 +232,16 @@ pub struct PortalSample {
 const MIN_SOLID_ANGLE: f32 = 1e-4;
 
 impl Portal {
+    /// Whether the portal is a quad with perpendicular edges.
+    fn is_rectangle(&self) -> bool {
+        matches!(self, Portal::Quad { e1, e2, .. } if e1.dot(*e2).abs() <= 1e-4 * e1.length() * e2.length())
+    }
+
     /// The spherical rectangle of a rectangular quad seen from `x`, if worth sampling so.
     fn spherical(&self, x: Vec3) -> Option<SphericalRectangle> {
         let Portal::Quad { corner, e1, e2 } = self else {
             return None;
         };
-        if e1.dot(*e2).abs() > 1e-4 * e1.length() * e2.length() {
-            return None;
-        }
         SphericalRectangle::new(x, *corner, *e1, *e2).filter(|s| s.solid_angle > MIN_SOLID_ANGLE)
     }
 
@@ -253,8 +270,19 @@ pub type Side = Option<Vec3>;
 
 impl Portals {
     pub fn new(portals: Vec<Portal>) -> Self {
+        let geometry = portals
+            .iter()
+            .map(|p| Geometry {
+                normal: p.normal(),
+                center: p.center(),
+                area: p.area(),
+                corners: p.corners(),
+                rectangle: p.is_rectangle(),
+            })
+            .collect();
         Portals {
             portals,
+            geometry,
             sampling: PortalSampling::SolidAngle,
             choice: PortalChoice::Contribution,
         }
@@ -270,6 +298,10 @@ impl Portals {
         self.portals.is_empty()
     }
 
+    pub fn portals(&self) -> &[Portal] {
+        &self.portals
+    }
+
     /// Portals from quads given by their corners (a scene's `portals`: pbrt-v4 "point3
     /// portal" quads, the built-in scenes' openings).
     pub fn from_quads(quads: &[[Vec3; 4]]) -> Self {
@@ -279,8 +311,8 @@ impl Portals {
     /// The unnormalised probability of picking portal `p` at `x`. The contribution estimate
     /// uses the small-portal solid angle A |cos| / d^2 (capped at 2 pi): it only steers the
     /// choice, and is cheap enough to evaluate for every portal at every vertex.
-    fn weight(&self, p: &Portal, x: Vec3, side: Side) -> f32 {
-        let behind = |n: Vec3| p.corners().iter().all(|&c| (c - x).dot(n) <= 0.0);
+    fn weight(&self, g: &Geometry, x: Vec3, side: Side) -> f32 {
+        let behind = |n: Vec3| g.corners.iter().all(|&c| (c - x).dot(n) <= 0.0);
         match self.choice {
             PortalChoice::Uniform => 1.0,
             PortalChoice::Facing => match side {
@@ -291,10 +323,10 @@ impl Portals {
                 if side.is_some_and(behind) {
                     return 0.0;
                 }
-                let to_center = p.center() - x;
+                let to_center = g.center - x;
                 let d2 = to_center.length_squared();
                 let d = d2.sqrt();
-                let omega = (p.area() * p.normal().dot(to_center).abs() / (d2 * d)).min(2.0 * PI);
+                let omega = (g.area * g.normal.dot(to_center).abs() / (d2 * d)).min(2.0 * PI);
                 let cos = side.map_or(1.0, |n| n.dot(to_center) / d).max(0.1);
                 omega * cos
             }
@@ -304,7 +336,7 @@ impl Portals {
     /// The sum of the pick weights at `x` (computed once per shading point and passed to
     /// [`Portals::sample`] and [`Portals::pdf`]).
     pub fn total_weight(&self, x: Vec3, side: Side) -> f32 {
-        self.portals.iter().map(|p| self.weight(p, x, side)).sum()
+        self.geometry.iter().map(|g| self.weight(g, x, side)).sum()
     }
 
     /// Picks a portal (by the choice rule) and a point on it (by the sampling rule); `None`
@@ -325,20 +357,23 @@ impl Portals {
         let target = u_pick * total;
         let mut acc = 0.0;
         let mut picked = None;
-        for p in &self.portals {
-            let w = self.weight(p, x, side);
+        for (p, g) in self.portals.iter().zip(&self.geometry) {
+            let w = self.weight(g, x, side);
             acc += w;
             if w > 0.0 {
-                picked = Some(p);
+                picked = Some((p, g));
                 if target < acc {
                     break;
                 }
             }
         }
-        let portal = picked?;
-        let y = match (self.sampling, portal.spherical(x)) {
-            (PortalSampling::SolidAngle, Some(s)) => s.sample(u),
-            _ => portal.sample_area(u),
+        let (portal, g) = picked?;
+        let spherical = (self.sampling == PortalSampling::SolidAngle && g.rectangle)
+            .then(|| portal.spherical(x))
+            .flatten();
+        let y = match spherical {
+            Some(s) => s.sample(u),
+            None => portal.sample_area(u),
         };
         let wi = (y - x).normalize_or_zero();
         if wi == Vec3::ZERO {
@@ -358,19 +393,20 @@ impl Portals {
         }
         self.portals
             .iter()
-            .filter_map(|p| {
-                let t = p.intersect(x, wi)?;
-                let pick = self.weight(p, x, side) / total;
+            .zip(&self.geometry)
+            .filter_map(|(p, g)| {
+                let t = p.intersect_plane(x, wi, g.normal, g.center)?;
+                let pick = self.weight(g, x, side) / total;
                 if pick == 0.0 {
                     return Some(0.0);
                 }
-                if self.sampling == PortalSampling::SolidAngle {
+                if self.sampling == PortalSampling::SolidAngle && g.rectangle {
                     if let Some(s) = p.spherical(x) {
                         return Some(pick / s.solid_angle);
                     }
                 }
-                let cos = p.normal().dot(wi).abs();
-                (cos > 0.0).then(|| pick * t * t / (cos * p.area()))
+                let cos = g.normal.dot(wi).abs();
+                (cos > 0.0).then(|| pick * t * t / (cos * g.area))
             })
             .sum()
     }
