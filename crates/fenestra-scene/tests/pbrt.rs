@@ -355,3 +355,30 @@ fn bilinear_patches_become_triangles() {
         "{centre}"
     );
 }
+
+#[test]
+fn interface_shapes_are_invisible_and_interface_quads_are_portals() {
+    let l = load(
+        r#"WorldBegin
+Shape "sphere" "float radius" 1
+AttributeBegin
+  Translate 0 0 2
+  Material "interface"
+  Shape "trianglemesh" "point3 P" [ -1 -1 0  1 -1 0  1 1 0  -1 1 0 ] "integer indices" [ 0 1 2  0 2 3 ]
+  Shape "trianglemesh" "point3 P" [ 0 0 0  1 0 0  0 1 0 ] "integer indices" [ 0 1 2 ]
+  Shape "trianglemesh" "point3 P" [ 0 0 0  1 0 0  3 1 0  0 1 0 ] "integer indices" [ 0 1 2  0 2 3 ]
+  Shape "sphere" "float radius" 0.5
+AttributeEnd
+"#,
+    )
+    .expect("scene");
+    assert!(l.warnings.is_empty(), "{:?}", l.warnings);
+    // Only the first sphere is geometry.
+    assert_eq!(l.desc.shapes.len(), 1);
+    // The parallelogram is a portal, moved by the transform; the triangle and the
+    // non-parallelogram quad are not.
+    assert_eq!(l.desc.portals.len(), 1);
+    let p = l.desc.portals[0];
+    assert!((p[0] - Vec3::new(-1.0, -1.0, 2.0)).length() < 1e-6, "{p:?}");
+    assert!((p[2] - Vec3::new(1.0, 1.0, 2.0)).length() < 1e-6, "{p:?}");
+}

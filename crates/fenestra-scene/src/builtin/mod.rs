@@ -150,6 +150,13 @@ mod tests {
                 format!("{:?}", b.defaults),
                 "{name}"
             );
+            assert_eq!(a.portals.len(), b.portals.len(), "{name}: portals");
+            for (p, q) in a.portals.iter().zip(&b.portals) {
+                assert!(
+                    p.iter().zip(q).all(|(x, y)| (*x - *y).length() < 1e-5),
+                    "{name}: portal {p:?} read back as {q:?}"
+                );
+            }
             assert_eq!(a.materials.len(), b.materials.len(), "{name}");
             for (m, n) in a.materials.iter().zip(&b.materials) {
                 assert_eq!(material_key(m), material_key(n), "{name}");

@@ -192,18 +192,18 @@ pub fn write(desc: &SceneDesc, path: &Path) -> Result<Exported, ExportError> {
             }
         }
     }
-    if !portals_written {
-        let _ = writeln!(s, "# portals (no infinite light to attach them to):");
-        for c in &desc.portals {
-            let _ = writeln!(
-                s,
-                "#   {} | {} | {} | {}",
-                v3(c[0]),
-                v3(c[1]),
-                v3(c[2]),
-                v3(c[3])
-            );
-        }
+    // Portals not attached to an infinite light (pbrt-v4 takes one per light): quads with
+    // the "interface" material, invisible to pbrt-v4 and read back as portals.
+    let first = usize::from(!desc.portals.is_empty() && portals_written);
+    for c in &desc.portals[first..] {
+        let _ = writeln!(
+            s,
+            "\nAttributeBegin  # light portal\n  Material \"interface\"\n  Shape \"trianglemesh\" \"point3 P\" [ {} {} {} {} ] \"integer indices\" [ 0 1 2  0 2 3 ]\nAttributeEnd",
+            v3(c[0]),
+            v3(c[1]),
+            v3(c[2]),
+            v3(c[3])
+        );
     }
     for (i, shape) in desc.shapes.iter().enumerate() {
         let _ = writeln!(s, "\nAttributeBegin");

@@ -18,7 +18,21 @@ impl Builder {
     pub(super) fn shape(&mut self, d: &Directive, dir: &Path) -> Result<(), PbrtError> {
         let p = &d.params;
         if self.gs.material == super::materials::INTERFACE {
-            // Invisible to light in pbrt-v4 as well: nothing to render.
+            // Invisible to light in pbrt-v4 as well: nothing to render. A four-vertex
+            // trianglemesh forming a parallelogram marks a light portal (what
+            // `fenestra portals --export F.pbrt` writes for rectangles).
+            if d.str(0) == "trianglemesh" && self.object.is_none() {
+                let mesh = triangle_mesh(d)?;
+                let shape = transform(&Shape::new(ShapeKind::Mesh(mesh), 0), &self.gs.ctm, &d.loc)?;
+                if let ShapeKind::Mesh(m) = &shape.kind {
+                    if let [a, b, c, e] = m.positions[..] {
+                        let size = (b - a).length() + (e - a).length();
+                        if (a + c - b - e).length() <= 1e-4 * size && size > 0.0 {
+                            self.portals.push([a, b, c, e]);
+                        }
+                    }
+                }
+            }
             p.use_all();
             return Ok(());
         }
