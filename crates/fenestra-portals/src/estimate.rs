@@ -129,7 +129,10 @@ pub fn estimate(
     progress: &dyn Progress,
 ) -> Result<Estimate, String> {
     let t0 = Instant::now();
-    let photons = trace(scene, params.photons_checked()?, cancel, progress)?;
+    let photons = {
+        params.validate()?;
+        trace(scene, &params.photons, cancel, progress)?
+    };
     let t1 = Instant::now();
     let clusters = dbscan(&photons.points, params.dbscan);
     let t2 = Instant::now();
@@ -162,14 +165,15 @@ pub fn estimate(
 }
 
 impl EstimateParams {
-    fn photons_checked(&self) -> Result<&PhotonParams, String> {
+    /// Checks the clustering and fitting parameters (photon tracing checks its own).
+    fn validate(&self) -> Result<(), String> {
         if !(self.dbscan.eps > 0.0) || self.dbscan.min_points == 0 {
             return Err("DBSCAN needs eps > 0 and m >= 1".into());
         }
         if !(self.ransac.eps > 0.0) || !(0.0..=1.0).contains(&self.ransac.tau) {
             return Err("RANSAC needs eps > 0 and tau in [0, 1]".into());
         }
-        Ok(&self.photons)
+        Ok(())
     }
 }
 

@@ -118,6 +118,14 @@ pub fn trace(
             params.theta_deg
         ));
     }
+    if params.max_beams > u32::MAX as u64 {
+        // Beam indices address the beams' sample streams as u32.
+        return Err(format!(
+            "at most {} beams, not {}",
+            u32::MAX,
+            params.max_beams
+        ));
+    }
     if params.rays_per_beam == 0 || !(params.reject_radius >= 0.0) {
         return Err("a beam needs at least one ray and a non-negative rejection radius".into());
     }

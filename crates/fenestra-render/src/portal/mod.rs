@@ -417,6 +417,42 @@ mod tests {
     use super::*;
 
     #[test]
+    fn ellipse_samples_are_uniform_over_the_area() {
+        // Chi-square over 5 rings x 8 sectors of equal area in the ellipse's own coordinates
+        // (x^2 + y^2 uniform in [0, 1] and the angle uniform for a uniform density).
+        use statrs::distribution::{ChiSquared, ContinuousCDF};
+        let (c, a) = (Vec3::new(0.2, -0.1, 0.5), Vec3::new(0.6, 0.3, 0.0));
+        // A tilted second semi-axis, made perpendicular to a.
+        let b = Vec3::new(-0.1, 0.2, 0.4);
+        let b = b - a * (a.dot(b) / a.length_squared());
+        let e = Portal::Ellipse { center: c, a, b };
+        let (rings, sectors, n) = (5usize, 8usize, 80_000u32);
+        let mut counts = vec![0f64; rings * sectors];
+        for i in 0..n {
+            let u = Vec2::new(
+                fenestra_core::sampler::hash_u32(i) as f32 / 4_294_967_296.0,
+                fenestra_core::sampler::hash_u32(i ^ 0x2545_f491) as f32 / 4_294_967_296.0,
+            );
+            let d = e.sample_area(u) - c;
+            let (x, y) = (d.dot(a) / a.length_squared(), d.dot(b) / b.length_squared());
+            let r2 = x * x + y * y;
+            assert!(r2 <= 1.0 + 1e-4, "outside: {r2}");
+            let ring = ((r2 * rings as f32) as usize).min(rings - 1);
+            let angle = y.atan2(x).rem_euclid(2.0 * PI);
+            let sector = ((angle / (2.0 * PI) * sectors as f32) as usize).min(sectors - 1);
+            counts[ring * sectors + sector] += 1.0;
+        }
+        let expected = n as f64 / (rings * sectors) as f64;
+        let chi2: f64 = counts
+            .iter()
+            .map(|k| (k - expected).powi(2) / expected)
+            .sum();
+        let dof = (rings * sectors - 1) as f64;
+        let p = 1.0 - ChiSquared::new(dof).expect("dof").cdf(chi2);
+        assert!(p > 1e-3, "chi2 {chi2:.1} with {dof} dof, p = {p:.2e}");
+    }
+
+    #[test]
     fn shapes_have_their_areas_and_are_hit_inside_only() {
         let q = Portal::quad([
             Vec3::new(0.0, 0.0, 1.0),
