@@ -4,6 +4,7 @@
 use anyhow::{Context, Result};
 use clap::Args;
 use fenestra_core::image::Image;
+use fenestra_core::stats::RenderStats;
 use fenestra_eval::metrics;
 use serde_json::{json, Value};
 use std::path::PathBuf;
@@ -29,15 +30,15 @@ pub fn run(args: CompareArgs) -> Result<()> {
         let m = metrics::compare(&img, &reference)
             .with_context(|| format!("comparing {}", path.display()))?;
         // The sidecar is optional: images from other renderers have none.
-        let sidecar: Option<Value> = std::fs::read_to_string(path.with_extension("json"))
+        let sidecar: Option<RenderStats> = std::fs::read_to_string(path.with_extension("json"))
             .ok()
             .and_then(|t| serde_json::from_str(&t).ok());
-        let time_s = sidecar.as_ref().and_then(|s| s["time_s"].as_f64());
+        let time_s = sidecar.as_ref().map(|s| s.time_s);
         rows.push(json!({
             "image": path, "mse": m.mse, "rel_mse": m.rel_mse, "mae": m.mae, "mean": m.mean,
             "ref_mean": m.ref_mean, "time_s": time_s, "efficiency": time_s.map(|t| metrics::efficiency(m.mse, t)),
-            "shadow_rays_per_pixel": sidecar.as_ref().and_then(|s| s["shadow_rays_per_pixel"].as_f64()),
-            "spp": sidecar.as_ref().and_then(|s| s["spp"].as_u64()),
+            "shadow_rays_per_pixel": sidecar.as_ref().map(|s| s.shadow_rays_per_pixel),
+            "spp": sidecar.as_ref().map(|s| s.spp),
         }));
     }
     if args.json {

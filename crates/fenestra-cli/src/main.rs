@@ -2,6 +2,8 @@
 
 mod bench;
 mod compare;
+mod integrators;
+mod interrupt;
 mod lpca;
 mod portals_cmd;
 mod progress;
@@ -94,8 +96,8 @@ fn main() -> ExitCode {
                 println!("  {name:<14} {what}");
             }
             println!("integrators (--integrator NAME):");
-            for (name, what) in fenestra_render::integrator::INTEGRATORS {
-                println!("  {name:<14} {what}");
+            for e in integrators::registry().entries() {
+                println!("  {:<14} {}", e.name, e.about);
             }
             Ok(())
         }

@@ -1,19 +1,15 @@
 //! `fenestra portals`: estimate light portals (seed 000 ch. 4) and write portals.json, a
 //! picture of the photons and portals, and optional pbrt/OBJ exports.
 
-use crate::{progress::Bar, scene_arg};
+use crate::{interrupt, progress::Bar, scene_arg};
 use anyhow::{bail, Context, Result};
 use clap::Args;
-use fenestra_portals::estimate::{estimate, Estimate, EstimateParams, Model};
+use fenestra_portals::estimate::{estimate, EstimateParams, Model};
 use fenestra_portals::photon::Deposit;
-use fenestra_portals::{export, plot};
-use fenestra_render::portal::{Portal, PortalFile, Portals};
-use fenestra_render::{LightSelection, RenderScene};
+use fenestra_portals::{export, plot, Portal};
+use fenestra_render::RenderScene;
 use fenestra_scene::{Backend, Scene};
-use serde_json::json;
-use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
+use std::path::PathBuf;
 
 /// The pipeline's parameters, named as in seed 000 §5.2: PT(theta, n, r), DBSCAN(eps, m),
 /// RANSAC(eps, tau, N), MVCE(eps).
@@ -78,6 +74,16 @@ impl Default for EstimateOpts {
 }
 
 impl EstimateOpts {
+    /// The default parameters with the portal shape `model` (for `render --portals auto`).
+    pub fn defaults_with(model: Model) -> EstimateParams {
+        EstimateOpts {
+            model,
+            ..EstimateOpts::default()
+        }
+        .params()
+    }
+
+    /// The parameters as the pipeline takes them.
     pub fn params(&self) -> EstimateParams {
         let mut p = EstimateParams::default();
         p.photons.theta_deg = self.theta;
@@ -132,93 +138,6 @@ pub struct PortalsArgs {
     quiet: bool,
 }
 
-/// Estimates portals on a built scene with a progress bar; `cancel` ends photon tracing
-/// early (the photons gathered so far are used).
-pub fn estimate_on(
-    scene: &RenderScene,
-    opts: &EstimateOpts,
-    quiet: bool,
-    cancel: &AtomicBool,
-) -> Result<Estimate> {
-    let bar = Bar::new(quiet);
-    let e = estimate(scene, &opts.params(), cancel, &bar).map_err(anyhow::Error::msg)?;
-    bar.finish();
-    Ok(e)
-}
-
-pub fn build_scene(
-    arg: &str,
-    options: scene_arg::SceneOptions,
-    bvh: Option<Backend>,
-) -> Result<RenderScene> {
-    let desc = scene_arg::load(arg, options)?;
-    let scene = Scene::build(desc, bvh.unwrap_or_default()).context("invalid scene")?;
-    Ok(RenderScene::new(scene, LightSelection::Power))
-}
-
-fn kind(p: &Portal) -> &'static str {
-    match p {
-        Portal::Quad { .. } => "quad",
-        Portal::Triangle { .. } => "triangle",
-        Portal::Ellipse { .. } => "ellipse",
-    }
-}
-
-/// Size in words: semi-axes of an ellipse, edge lengths of a quad.
-fn size(p: &Portal) -> String {
-    match p {
-        Portal::Quad { e1, e2, .. } => format!("{:.4} x {:.4} m", e1.length(), e2.length()),
-        Portal::Ellipse { a, b, .. } => {
-            format!("semi-axes {:.4}, {:.4} m", a.length(), b.length())
-        }
-        Portal::Triangle { .. } => "triangle".into(),
-    }
-}
-
-fn v3(v: fenestra_core::Vec3) -> String {
-    format!("({:.3}, {:.3}, {:.3})", v.x, v.y, v.z)
-}
-
-/// A one-paragraph account of an estimate (stderr for `render --portals auto`).
-pub fn summary(e: &Estimate) -> String {
-    let ph = &e.photons;
-    let noise = ph.points.len() - e.clusters.iter().map(Vec::len).sum::<usize>();
-    let mut s = format!(
-        "{} photons ({:?} deposits) from {} beams, {} rays{}; {} clusters, {} noise photons; {} portals in {:.2} s (photons {:.2} s, DBSCAN {:.2} s, fitting {:.2} s)",
-        ph.points.len(),
-        ph.deposit,
-        ph.beams,
-        ph.rays,
-        if ph.interrupted {
-            ", interrupted".to_string()
-        } else if ph.points.len() < ph.target {
-            format!(" (the beam limit came before the {} aimed at)", ph.target)
-        } else {
-            String::new()
-        },
-        e.clusters.len(),
-        noise,
-        e.portals.len(),
-        e.timings.total(),
-        e.timings.photons,
-        e.timings.clustering,
-        e.timings.fitting,
-    );
-    for (k, p) in e.portals.iter().enumerate() {
-        s.push_str(&format!(
-            "\n  portal {k}: {} centre {} normal {} {}, area {:.5} m^2, {} photons ({} inliers)",
-            kind(&p.portal),
-            v3(p.portal.center()),
-            v3(p.portal.normal()),
-            size(&p.portal),
-            p.portal.area(),
-            p.photons,
-            p.inliers
-        ));
-    }
-    s
-}
-
 pub fn run(args: PortalsArgs) -> Result<()> {
     if args.output.extension().and_then(|e| e.to_str()) != Some("json") {
         bail!("output {} must end in .json", args.output.display());
@@ -234,21 +153,17 @@ pub fn run(args: PortalsArgs) -> Result<()> {
             .with_context(|| format!("cannot create output folder {}", dir.display()))?;
     }
     let pool = crate::thread_pool(args.threads)?;
-    let cancel = Arc::new(AtomicBool::new(false));
-    let flag = cancel.clone();
-    // First Ctrl-C: stop tracing photons and fit what is gathered; second: quit at once.
-    let _ = ctrlc::set_handler(move || {
-        if flag.swap(true, Ordering::SeqCst) {
-            std::process::exit(130);
-        }
-        eprintln!("\ninterrupted: fitting portals to the photons gathered so far");
-    });
+    let cancel = interrupt::on_ctrl_c("fitting portals to the photons gathered so far");
+    let params = args.estimate.params();
     let (e, bounds) = pool.install(|| -> Result<_> {
-        let scene = build_scene(&args.scene, args.scene_options, args.bvh)?;
-        let e = estimate_on(&scene, &args.estimate, args.quiet || args.json, &cancel)?;
+        let desc = scene_arg::load(&args.scene, args.scene_options)?;
+        let scene = Scene::build(desc, args.bvh.unwrap_or_default()).context("invalid scene")?;
+        let scene = RenderScene::new(scene);
+        let bar = Bar::new(args.quiet || args.json);
+        let e = estimate(&scene, &params, &cancel, &bar)?;
+        bar.finish();
         Ok((e, scene.scene.bounds()))
     })?;
-    let params = args.estimate.params();
     if e.portals.is_empty() {
         eprintln!(
             "warning: no portal found ({} photons, {} clusters); try more --photons, a larger --theta or a smaller --radius",
@@ -256,35 +171,21 @@ pub fn run(args: PortalsArgs) -> Result<()> {
             e.clusters.len()
         );
     }
-    let file = PortalFile {
-        portals: e.portals.iter().map(|p| p.record()).collect(),
-    };
-    let mut doc = serde_json::to_value(&file)?;
-    doc["estimation"] = json!({
-        "scene": args.scene,
-        "parameters": params,
-        "photons": e.photons.points.len(),
-        "beams": e.photons.beams,
-        "rays": e.photons.rays,
-        "deposit": e.photons.deposit,
-        "interrupted": e.photons.interrupted,
-        "clusters": e.clusters.len(),
-        "time_s": e.timings,
-    });
-    write_atomically(&args.output, &serde_json::to_string_pretty(&doc)?)?;
+    let file = e.file(&args.scene, &params);
+    file.write(&args.output)?;
     let portals: Vec<Portal> = e.portals.iter().map(|p| p.portal.clone()).collect();
     for path in &args.export {
-        export::write(&portals, path).map_err(anyhow::Error::msg)?;
+        export::write(&portals, path)?;
     }
     let plot_path = args
         .plot
         .clone()
         .unwrap_or_else(|| args.output.with_extension("png"));
-    plot::write_projections(&e, bounds, &plot_path).map_err(anyhow::Error::msg)?;
+    plot::write_projections(&e, bounds, &plot_path)?;
     if args.json {
-        println!("{doc}");
+        println!("{}", serde_json::to_string(&file)?);
     } else {
-        println!("{}", summary(&e));
+        println!("{}", e.summary());
         let mut wrote = vec![
             args.output.display().to_string(),
             plot_path.display().to_string(),
@@ -293,33 +194,4 @@ pub fn run(args: PortalsArgs) -> Result<()> {
         println!("wrote {}", wrote.join(", "));
     }
     Ok(())
-}
-
-/// Portals for `render --portals auto`: estimated with the default parameters and the
-/// shape `model`, reported on stderr.
-pub fn auto(
-    scene: &RenderScene,
-    model: Model,
-    quiet: bool,
-    cancel: &AtomicBool,
-) -> Result<Portals> {
-    let opts = EstimateOpts {
-        model,
-        ..EstimateOpts::default()
-    };
-    let e = estimate_on(scene, &opts, quiet, cancel)?;
-    if !quiet {
-        eprintln!("portals: {}", summary(&e));
-    }
-    if e.portals.is_empty() {
-        bail!("--portals auto found no portal in this scene; see `fenestra portals` to tune the estimation");
-    }
-    Ok(e.portals())
-}
-
-fn write_atomically(path: &Path, text: &str) -> Result<()> {
-    let tmp = path.with_extension("json.partial");
-    std::fs::write(&tmp, text)
-        .and_then(|_| std::fs::rename(&tmp, path))
-        .with_context(|| format!("cannot write {}", path.display()))
 }

@@ -1,38 +1,46 @@
-//! Terminal progress bar for renders (quiet when stderr is not a terminal).
+//! The terminal progress bar of every long command (hidden when stderr is not a terminal);
+//! notes are printed unless the command is quiet.
 
-use fenestra_render::integrator::Progress;
+use fenestra_render::Progress;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal;
 
-pub struct Bar(ProgressBar);
+/// A progress bar on stderr.
+pub struct Bar {
+    bar: ProgressBar,
+    quiet: bool,
+}
 
 impl Bar {
+    /// A bar drawn on a terminal unless `quiet`.
     pub fn new(quiet: bool) -> Self {
         let bar = ProgressBar::hidden();
         if !quiet && std::io::stderr().is_terminal() {
             bar.set_draw_target(ProgressDrawTarget::stderr());
         }
-        Bar(bar)
+        Bar { bar, quiet }
     }
 
+    /// Clears the bar from the terminal.
     pub fn finish(&self) {
-        self.0.finish_and_clear();
+        self.bar.finish_and_clear();
     }
 }
 
 impl Progress for Bar {
     fn start(&self, total: Option<u64>) {
+        self.bar.reset();
         match total {
             Some(t) => {
-                self.0.set_length(t);
-                self.0.set_style(
+                self.bar.set_length(t);
+                self.bar.set_style(
                     ProgressStyle::with_template(
                         "{spinner} [{elapsed_precise}] {wide_bar} {percent}% ({eta} left)",
                     )
                     .unwrap_or_else(|_| ProgressStyle::default_bar()),
                 );
             }
-            None => self.0.set_style(
+            None => self.bar.set_style(
                 ProgressStyle::with_template(
                     "{spinner} [{elapsed_precise}] {human_pos} samples ({per_sec})",
                 )
@@ -41,7 +49,13 @@ impl Progress for Bar {
         }
     }
 
-    fn advance(&self, samples: u64) {
-        self.0.inc(samples);
+    fn advance(&self, units: u64) {
+        self.bar.inc(units);
+    }
+
+    fn note(&self, text: &str) {
+        if !self.quiet {
+            self.bar.suspend(|| eprintln!("{text}"));
+        }
     }
 }

@@ -3,15 +3,15 @@
 //! pixel lights: visibility (self-shadowing) x cosine x glossy Phong towards a fixed view,
 //! integrated over each cubemap pixel with S x S supersampling.
 
+use crate::progress::Bar;
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use fenestra_core::{Frame, Ray, Vec3, PI};
+use fenestra_render::Progress;
 use fenestra_scene::{
     Backend, Camera, Material, RenderDefaults, Scene, SceneDesc, Shape, ShapeKind, TriangleMesh,
 };
-use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
-use std::io::IsTerminal;
 use std::path::PathBuf;
 
 #[derive(Args)]
@@ -146,17 +146,8 @@ pub fn run(args: PrtArgs) -> Result<()> {
     let view = Vec3::new(0.0, -1.0, 0.3).normalize();
     let (kd, ks, n) = (0.2f32, 0.8f32, args.exponent);
     let pool = crate::thread_pool(args.threads)?;
-    let bar = if std::io::stderr().is_terminal() {
-        ProgressBar::new(positions.len() as u64)
-    } else {
-        ProgressBar::hidden()
-    };
-    bar.set_style(
-        ProgressStyle::with_template(
-            "{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} vertices ({eta} left)",
-        )
-        .unwrap_or_else(|_| ProgressStyle::default_bar()),
-    );
+    let bar = Bar::new(false);
+    bar.start(Some(positions.len() as u64));
     let mut out = vec![0.0f32; positions.len() * columns];
     pool.install(|| {
         out.par_chunks_mut(columns)
@@ -197,10 +188,10 @@ pub fn run(args: PrtArgs) -> Result<()> {
                         }
                     }
                 }
-                bar.inc(1);
+                bar.advance(1);
             })
     });
-    bar.finish_and_clear();
+    bar.finish();
     fenestra_lpca::io::write_npy(&args.output, &[positions.len() as u64, columns as u64], out)?;
     println!(
         "wrote {} ({} vertices x {} cubemap pixels)",

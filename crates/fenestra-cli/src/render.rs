@@ -1,28 +1,21 @@
 //! `fenestra render` and `fenestra reference`.
 
-use crate::{progress::Bar, scene_arg};
+use crate::integrators::{self, Config, IntegratorArgs};
+use crate::{interrupt, progress::Bar, scene_arg};
 use anyhow::{bail, Context, Result};
-use clap::{Args, ValueEnum};
+use clap::Args;
 use fenestra_core::image::Image;
-use fenestra_core::mis::MisHeuristic;
+use fenestra_core::stats::ConvergencePoint;
 use fenestra_eval::hash::debug_hash;
 use fenestra_eval::metrics;
-use fenestra_render::integrator::{self, IntegratorOptions};
-use fenestra_render::portal::{PortalChoice, PortalSampling, Portals};
+use fenestra_eval::run::ReferenceSummary;
+use fenestra_render::control::PassHook;
 use fenestra_render::{
-    output, Film, LightSelection, RenderControl, RenderScene, RenderSettings, RenderStats,
+    output, Film, Integrator, RenderControl, RenderScene, RenderSettings, RenderStats,
 };
 use fenestra_scene::{Backend, Scene};
-use serde_json::json;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::{Arc, Mutex};
-
-#[derive(Clone, Copy, ValueEnum, Debug)]
-enum Mis {
-    Balance,
-    Power,
-}
+use std::sync::Mutex;
 
 /// What is rendered and how: shared by `render` and `reference`.
 #[derive(Args)]
@@ -31,36 +24,9 @@ pub struct RenderOpts {
     scene: String,
     #[command(flatten)]
     scene_options: scene_arg::SceneOptions,
-    /// Integrator: hf (BSDF sampling), af_hf (light and BSDF sampling with MIS) or lp_hf
-    /// (light-portal and BSDF sampling with MIS).
-    #[arg(long, default_value = "af_hf")]
-    integrator: String,
-    /// Light portals for lp_hf: a portals.json file, or "auto" to estimate them first with
-    /// the default parameters of `fenestra portals` (default: the scene's own portals).
-    #[arg(long)]
-    portals: Option<String>,
-    /// lp_hf: how a point is chosen on a portal: solid-angle (rectangles by the solid angle
-    /// they subtend, Urena et al. 2013) or area (seed 000 eq. 4.1).
-    #[arg(long, default_value = "solid-angle")]
-    portal_sampling: PortalSampling,
-    /// lp_hf: how a portal is picked: contribution (solid angle times cosine at the point),
-    /// facing (uniform among those not behind the surface, as Cycles) or uniform (the seed's).
-    #[arg(long, default_value = "contribution")]
-    portal_choice: PortalChoice,
-    /// lp_hf: probability that a sample comes from light sampling instead of the portals
-    /// (Cycles mixes its portals with environment sampling; 0 uses the portals only).
-    #[arg(long, default_value_t = 0.0)]
-    portal_light_mix: f32,
-    /// With --portals auto: the shape fitted to each cluster (smallest, ellipse, rectangle
-    /// or pca; see `fenestra portals --model`).
-    #[arg(long, default_value = "smallest")]
-    portal_model: fenestra_portals::estimate::Model,
     /// Samples per pixel (default: the scene's).
     #[arg(long)]
     spp: Option<u32>,
-    /// Maximum path length in segments from the camera to the emitter (2 = direct light only).
-    #[arg(long)]
-    max_depth: Option<u32>,
     #[arg(long, default_value_t = 0)]
     seed: u64,
     /// Worker threads (default: all cores).
@@ -69,18 +35,6 @@ pub struct RenderOpts {
     /// Image size as WxH (default: the scene's).
     #[arg(long)]
     resolution: Option<String>,
-    /// MIS heuristic for af_hf.
-    #[arg(long, value_enum, default_value = "power")]
-    mis: Mis,
-    /// Exponent of the power heuristic.
-    #[arg(long, default_value_t = 2.0)]
-    beta: f32,
-    /// Path length from which Russian roulette may end paths.
-    #[arg(long, default_value_t = 3)]
-    rr_depth: u32,
-    /// How next-event estimation picks a light.
-    #[arg(long, default_value = "power")]
-    light_selection: LightSelection,
     /// Ray-query backend: embree or obvhs.
     #[arg(long)]
     bvh: Option<Backend>,
@@ -93,14 +47,15 @@ pub struct RenderOpts {
     /// No progress bar.
     #[arg(short, long)]
     quiet: bool,
+    // Last: its option groups come under their own headings in --help.
+    #[command(flatten)]
+    integrator: IntegratorArgs,
 }
 
 #[derive(Args)]
 pub struct RenderArgs {
-    #[command(flatten)]
-    opts: RenderOpts,
     /// Render for this many seconds instead of a fixed sample count (with --spp: whichever
-    /// comes first).
+    /// comes first); preparation (such as --portals auto) counts in it.
     #[arg(long, allow_negative_numbers = true)]
     time: Option<f64>,
     /// A reference image: the sidecar then records MSE and relative MSE after every pass
@@ -116,15 +71,17 @@ pub struct RenderArgs {
     /// Output EXR; the PNG and JSON sidecar are written beside it.
     #[arg(short, long)]
     output: PathBuf,
+    #[command(flatten)]
+    opts: RenderOpts,
 }
 
 #[derive(Args)]
 pub struct ReferenceArgs {
-    #[command(flatten)]
-    opts: RenderOpts,
     /// Folder of cached references, keyed by scene content, settings and resolution.
     #[arg(long, default_value = "refs")]
     cache: PathBuf,
+    #[command(flatten)]
+    opts: RenderOpts,
 }
 
 fn parse_resolution(s: &str) -> Result<(u32, u32)> {
@@ -151,16 +108,30 @@ struct Job {
     desc: fenestra_scene::SceneDesc,
     width: u32,
     height: u32,
-    /// `None` for lp_hf with `--portals auto`: made once the scene is built and its portals
-    /// estimated.
-    integrator: Option<Box<dyn integrator::Integrator>>,
-    /// Kept for the reference cache key.
-    options: IntegratorOptions,
+    integrator: Box<dyn Integrator>,
     settings: RenderSettings,
 }
 
+impl Job {
+    /// Everything that changes the picture: the reference cache key.
+    fn key(&self, backend: Backend) -> u64 {
+        debug_hash(&(
+            &self.desc,
+            self.integrator.name(),
+            self.integrator.settings().to_string(),
+            self.width,
+            self.height,
+            self.settings.spp,
+            self.settings.seed,
+            backend.name(),
+            env!("CARGO_PKG_VERSION"),
+        ))
+    }
+}
+
 impl RenderOpts {
-    /// Checks every argument before the (possibly long) scene build.
+    /// Checks every argument and builds the integrator before the (possibly long) scene
+    /// build.
     fn job(&self, time: Option<f64>) -> Result<Job> {
         let resolution = self
             .resolution
@@ -175,50 +146,14 @@ impl RenderOpts {
         if self.spp == Some(0) {
             bail!("--spp must be at least 1");
         }
-        if self.max_depth == Some(0) {
-            bail!("--max-depth must be at least 1 (1 = emitters seen directly, 2 = direct light)");
-        }
-        if !(0.0..=1.0).contains(&self.portal_light_mix) {
-            bail!(
-                "--portal-light-mix must lie in [0, 1], got {}",
-                self.portal_light_mix
-            );
-        }
-        if !(self.beta.is_finite() && self.beta > 0.0) {
-            bail!("--beta must be positive, got {}", self.beta);
-        }
-        let mis = match self.mis {
-            Mis::Balance => MisHeuristic::Balance,
-            Mis::Power => MisHeuristic::Power { beta: self.beta },
-        };
+        self.integrator.check()?;
         let desc = scene_arg::load(&self.scene, self.scene_options)?;
         let (width, height) = resolution.unwrap_or((desc.defaults.width, desc.defaults.height));
-        let options = IntegratorOptions {
-            max_depth: self.max_depth.unwrap_or(desc.defaults.max_depth),
-            mis,
-            rr_depth: self.rr_depth,
+        let config = Config {
+            path: self.integrator.path.options(desc.defaults.max_depth)?,
+            args: &self.integrator,
         };
-        let integrator = match self.portals.as_deref() {
-            Some("auto") if self.integrator == "lp_hf" => None,
-            Some("auto") => bail!("--portals auto is for --integrator lp_hf"),
-            portals => {
-                let portals = match portals {
-                    Some(file) => {
-                        Portals::read_json(Path::new(file)).map_err(anyhow::Error::msg)?
-                    }
-                    None => Portals::from_quads(&desc.portals),
-                };
-                Some(
-                    integrator::by_name(
-                        &self.integrator,
-                        options.clone(),
-                        portals,
-                        self.portal_light_mix,
-                    )
-                    .map_err(anyhow::Error::msg)?,
-                )
-            }
-        };
+        let integrator = integrators::registry().build(&self.integrator.integrator, &config)?;
         let spp = match time {
             Some(_) => self.spp.unwrap_or(u32::MAX),
             None => self.spp.unwrap_or(desc.defaults.spp),
@@ -233,71 +168,45 @@ impl RenderOpts {
             width,
             height,
             integrator,
-            options,
             settings,
         })
     }
 
-    /// Runs the job on a pool of --threads workers, with Ctrl-C stopping it cleanly.
-    fn run(
-        &self,
-        job: Job,
-        hook: Option<fenestra_render::integrator::PassHook>,
-    ) -> Result<(RenderStats, Film)> {
+    /// Builds the scene, prepares the integrator and renders, on a pool of --threads workers,
+    /// with Ctrl-C stopping it cleanly.
+    fn run(&self, job: Job, hook: Option<PassHook>) -> Result<(RenderStats, Film)> {
         let pool = crate::thread_pool(self.threads)?;
-        let cancel = Arc::new(AtomicBool::new(false));
-        let flag = cancel.clone();
-        // First Ctrl-C: finish the rows in flight and write what is done; second: quit at once.
-        let _ = ctrlc::set_handler(move || {
-            if flag.swap(true, Ordering::SeqCst) {
-                std::process::exit(130);
-            }
-            eprintln!(
-                "\ninterrupted: writing the samples taken so far (Ctrl-C again to quit at once)"
-            );
-        });
-        let prepared = &job.integrator;
-        let desc = job.desc;
+        let cancel = interrupt::on_ctrl_c("writing the samples taken so far");
+        let Job {
+            desc,
+            width,
+            height,
+            mut integrator,
+            settings,
+        } = job;
         pool.install(|| -> Result<_> {
             let scene =
                 Scene::build(desc, self.bvh.unwrap_or_default()).context("invalid scene")?;
-            let render_scene = RenderScene::new(scene, self.light_selection);
-            let estimated;
-            let integrator = match prepared {
-                Some(i) => i.as_ref(),
-                None => {
-                    let quiet = self.quiet || self.json;
-                    let portals =
-                        crate::portals_cmd::auto(&render_scene, self.portal_model, quiet, &cancel)?
-                            .with_strategy(self.portal_sampling, self.portal_choice);
-                    estimated = integrator::by_name(
-                        "lp_hf",
-                        job.options.clone(),
-                        portals,
-                        self.portal_light_mix,
-                    )
-                    .map_err(anyhow::Error::msg)?;
-                    estimated.as_ref()
-                }
-            };
-            let mut film = Film::new(job.width, job.height);
+            let scene = RenderScene::new(scene);
+            let mut film = Film::new(width, height);
             let bar = Bar::new(self.quiet || self.json);
             let mut control = RenderControl::new(&cancel, &bar);
             control.on_pass = hook;
-            let stats = integrator.render(&render_scene, &mut film, &job.settings, &control);
+            let stats = fenestra_render::render(
+                integrator.as_mut(),
+                &scene,
+                &mut film,
+                &settings,
+                &control,
+            );
             bar.finish();
-            Ok((stats, film))
+            Ok((stats?, film))
         })
     }
 
-    fn report(
-        &self,
-        output: &Path,
-        stats: &RenderStats,
-        sidecar: &serde_json::Value,
-    ) -> Result<()> {
+    fn report(&self, output: &Path, stats: &RenderStats) -> Result<()> {
         if self.json {
-            println!("{}", serde_json::to_string(sidecar)?);
+            println!("{}", serde_json::to_string(stats)?);
         } else {
             println!("{}", stats.summary());
             let (png, json) = output::companion_paths(output);
@@ -365,77 +274,61 @@ pub fn run(args: RenderArgs) -> Result<bool> {
         let Ok(m) = metrics::compare(&film.image(), r) else {
             return true;
         };
-        let spp = film.sample_count_range().0;
         if let Ok(mut c) = curve.lock() {
-            c.push(json!({ "spp": spp, "time_s": time_s, "mse": m.mse, "rel_mse": m.rel_mse }));
+            c.push(ConvergencePoint {
+                spp: film.sample_count_range().0,
+                time_s,
+                mse: m.mse,
+                rel_mse: m.rel_mse,
+            });
         }
         args.target_rel_mse.is_none_or(|t| m.rel_mse > t)
     };
-    let (stats, film) = args.opts.run(job, Some(&hook))?;
-    let mut sidecar = serde_json::to_value(&stats)?;
-    if reference.is_some() {
-        sidecar["convergence"] = json!(curve.into_inner().unwrap_or_default());
-    }
+    let (mut stats, film) = args.opts.run(job, Some(&hook))?;
+    stats.convergence = curve.into_inner().unwrap_or_default();
     output::write_render(
         &args.output,
         &film,
         &stats,
-        &sidecar,
         args.opts.exposure,
         args.variance,
     )?;
-    args.opts.report(&args.output, &stats, &sidecar)?;
+    args.opts.report(&args.output, &stats)?;
     Ok(stats.interrupted)
 }
 
 /// Renders a reference into the cache, or finds it there; prints where it is.
 pub fn reference(args: ReferenceArgs) -> Result<()> {
     let job = args.opts.job(None)?;
-    // Everything that changes the picture goes into the key.
-    let key = debug_hash(&(
-        &job.desc,
-        &args.opts.integrator,
-        format!("{:?}", job.options),
-        job.width,
-        job.height,
-        job.settings.spp,
-        job.settings.seed,
-        format!("{:?}", args.opts.light_selection),
-        env!("CARGO_PKG_VERSION"),
-    ));
+    let key = job.key(args.opts.bvh.unwrap_or_default());
     let path = args.cache.join(format!(
         "{}-{key:016x}.exr",
         fenestra_eval::suite::slug(&job.desc.name)
     ));
-    let sidecar_path = output::companion_paths(&path).1;
-    if path.exists() && sidecar_path.exists() && output::variance_path(&path).exists() {
-        let summary = json!({ "path": path, "cached": true, "sidecar": sidecar_path });
-        if args.opts.json {
-            println!("{summary}");
-        } else {
-            println!("reference {} (cached)", path.display());
+    let sidecar = output::companion_paths(&path).1;
+    let mut summary = ReferenceSummary {
+        path: path.clone(),
+        cached: true,
+        sidecar: sidecar.clone(),
+    };
+    if !(path.exists() && sidecar.exists() && output::variance_path(&path).exists()) {
+        check_exr(&path)?;
+        let (mut stats, film) = args.opts.run(job, None)?;
+        if stats.interrupted {
+            bail!("reference interrupted: nothing cached");
         }
-        return Ok(());
+        stats.reference_key = Some(format!("{key:016x}"));
+        output::write_render(&path, &film, &stats, args.opts.exposure, true)?;
+        if !args.opts.json {
+            println!("{}", stats.summary());
+        }
+        summary.cached = false;
     }
-    check_exr(&path)?;
-    let (stats, film) = args.opts.run(job, None)?;
-    if stats.interrupted {
-        bail!("reference interrupted: nothing cached");
-    }
-    let mut sidecar = serde_json::to_value(&stats)?;
-    sidecar["reference_key"] = json!(format!("{key:016x}"));
-    output::write_render(&path, &film, &stats, &sidecar, args.opts.exposure, true)?;
     if args.opts.json {
-        println!(
-            "{}",
-            json!({ "path": path, "cached": false, "sidecar": sidecar_path, "time_s": stats.time_s })
-        );
+        println!("{}", serde_json::to_string(&summary)?);
     } else {
-        println!(
-            "{}\nreference {} (rendered)",
-            stats.summary(),
-            path.display()
-        );
+        let how = if summary.cached { "cached" } else { "rendered" };
+        println!("reference {} ({how})", path.display());
     }
     Ok(())
 }

@@ -1,6 +1,7 @@
 //! Linear RGB images with OpenEXR, Radiance HDR and PNG input, EXR output with metadata, and
 //! tone-mapped PNG output for looking. Files are written to a temporary name and renamed.
 
+use crate::fs::{write_atomically, WriteError};
 use crate::Rgb;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -9,8 +10,8 @@ use std::path::{Path, PathBuf};
 pub enum ImageError {
     #[error("cannot read image {path}: {reason}")]
     Read { path: PathBuf, reason: String },
-    #[error("cannot write image {path}: {reason}")]
-    Write { path: PathBuf, reason: String },
+    #[error(transparent)]
+    Write(#[from] WriteError),
     #[error("image {path}: unsupported extension (expected .exr, .hdr, .png or .jpg)")]
     Extension { path: PathBuf },
 }
@@ -156,9 +157,7 @@ impl Image {
             };
             image.attributes.other.insert(k, AttributeValue::Text(v));
         }
-        write_atomically(path, |tmp| {
-            image.write().to_file(tmp).map_err(|e| e.to_string())
-        })
+        Ok(write_atomically(path, |tmp| image.write().to_file(tmp))?)
     }
 
     /// Writes an 8-bit sRGB PNG after scaling by 2^stops; `None` picks the exposure that
@@ -176,14 +175,10 @@ impl Image {
             }
         }
         let buf = image::RgbImage::from_raw(self.width as u32, self.height as u32, bytes)
-            .ok_or_else(|| ImageError::Write {
-                path: path.to_path_buf(),
-                reason: "pixel buffer size mismatch".into(),
-            })?;
-        write_atomically(path, |tmp| {
+            .ok_or_else(|| WriteError::new(path, "pixel buffer size mismatch"))?;
+        Ok(write_atomically(path, |tmp| {
             buf.save_with_format(tmp, image::ImageFormat::Png)
-                .map_err(|e| e.to_string())
-        })
+        })?)
     }
 
     /// The scale that maps the log-average luminance to middle grey (0.18).
@@ -223,34 +218,6 @@ pub fn read_exr_metadata(path: &Path) -> Result<BTreeMap<String, String>, ImageE
         }
     }
     Ok(out)
-}
-
-/// Runs `write` on a temporary file beside `path`, then renames it into place, so that an
-/// interrupted write never leaves a truncated file under the final name.
-pub fn write_atomically(
-    path: &Path,
-    write: impl FnOnce(&Path) -> Result<(), String>,
-) -> Result<(), ImageError> {
-    let err = |reason: String| ImageError::Write {
-        path: path.to_path_buf(),
-        reason,
-    };
-    let name = path
-        .file_name()
-        .ok_or_else(|| err("not a file name".into()))?
-        .to_string_lossy()
-        .into_owned();
-    let ext = extension(path).unwrap_or_default();
-    // Keep the real extension last: image writers pick the format from it.
-    let tmp = path.with_file_name(format!(".{name}.{}.tmp.{ext}", std::process::id()));
-    if let Err(e) = write(&tmp) {
-        let _ = std::fs::remove_file(&tmp);
-        return Err(err(e));
-    }
-    std::fs::rename(&tmp, path).map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        err(e.to_string())
-    })
 }
 
 fn extension(path: &Path) -> Option<String> {

@@ -1,20 +1,27 @@
 //! Core types of fenestra: colours, rays, frames, sampling warps, deterministic sample
-//! streams, MIS heuristics, running statistics, piecewise-constant distributions and images.
+//! streams, MIS heuristics, piecewise-constant distributions, images, atomic file writing, a
+//! small seeded random stream, and the render statistics every tool reads.
+#![warn(missing_docs)]
 
 pub mod distribution;
 pub mod frame;
+pub mod fs;
 pub mod image;
 pub mod mis;
+pub mod name;
 pub mod ray;
 pub mod rgb;
+pub mod rng;
 pub mod sampler;
 pub mod stats;
 pub mod warp;
 
 pub use frame::Frame;
 pub use glam::{Mat4, UVec2, Vec2, Vec3};
+pub use name::UnknownName;
 pub use ray::Ray;
 pub use rgb::Rgb;
+pub use rng::Rng;
 pub use sampler::Sampler;
 
 pub const PI: f32 = std::f32::consts::PI;

@@ -1,6 +1,6 @@
 //! Warps from the unit square to shapes and directions, with their densities.
 
-use crate::{INV_2PI, INV_4PI, INV_PI, PI};
+use crate::{INV_4PI, INV_PI, PI};
 use glam::{Vec2, Vec3};
 
 /// Concentric (Shirley-Chiu) map of the square onto the unit disk.
@@ -40,15 +40,6 @@ pub fn square_to_uniform_sphere(u: Vec2) -> Vec3 {
 }
 
 pub const UNIFORM_SPHERE_PDF: f32 = INV_4PI;
-
-pub fn square_to_uniform_hemisphere(u: Vec2) -> Vec3 {
-    let z = u.x;
-    let r = (1.0 - z * z).max(0.0).sqrt();
-    let phi = 2.0 * PI * u.y;
-    Vec3::new(r * phi.cos(), r * phi.sin(), z)
-}
-
-pub const UNIFORM_HEMISPHERE_PDF: f32 = INV_2PI;
 
 /// Uniform directions in the cone of half-angle acos(cos_max) around +z.
 pub fn square_to_uniform_cone(u: Vec2, cos_max: f32) -> Vec3 {

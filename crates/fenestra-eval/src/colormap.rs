@@ -1,7 +1,8 @@
 //! False-colour error maps (seed 000 Fig. 5.4 style) written as PNG.
 
 use crate::EvalError;
-use fenestra_core::image::{write_atomically, Image};
+use fenestra_core::fs::write_atomically;
+use fenestra_core::image::Image;
 use std::path::Path;
 
 /// Samples of matplotlib's "inferno" colour map at 0, 1/6, ..., 1 (sRGB bytes): perceptually
@@ -55,7 +56,6 @@ pub fn write_error_map(img: &Image, reference: &Image, path: &Path) -> Result<()
         })?;
     Ok(write_atomically(path, |tmp| {
         buf.save_with_format(tmp, image::ImageFormat::Png)
-            .map_err(|e| e.to_string())
     })?)
 }
 

@@ -12,14 +12,43 @@ pub mod suite;
 pub mod ztest;
 
 pub use metrics::{efficiency, Metrics};
-pub use ztest::{z_test, ZTest};
+pub use ztest::{agreement, z_test, Agreement, ZTest};
 
+/// What can go wrong while measuring.
 #[derive(Debug, thiserror::Error)]
 pub enum EvalError {
+    /// An image and its reference differ in size: (width, height, reference width, height).
     #[error("image sizes differ: {0}x{1} against reference {2}x{3}")]
     SizeMismatch(usize, usize, usize, usize),
+    /// An image could not be read or written.
     #[error(transparent)]
     Image(#[from] fenestra_core::image::ImageError),
+    /// A file could not be written.
+    #[error(transparent)]
+    Write(#[from] fenestra_core::fs::WriteError),
+    /// A file could not be read or created.
     #[error("{path}: {reason}")]
-    File { path: String, reason: String },
+    File {
+        /// The file.
+        path: String,
+        /// What went wrong.
+        reason: String,
+    },
+    /// A suite file is unreadable or inconsistent (the reason names line and column where
+    /// it can).
+    #[error("{path}: {reason}")]
+    Suite {
+        /// The suite file.
+        path: String,
+        /// What is wrong with it.
+        reason: String,
+    },
+    /// A renderer process failed or printed something unreadable.
+    #[error("{command} failed: {reason}")]
+    Run {
+        /// The command, as run.
+        command: String,
+        /// Its status and error output, or what was wrong with its output.
+        reason: String,
+    },
 }

@@ -6,7 +6,8 @@ use crate::plot::{loglog, Series};
 use crate::run::{ReferenceRecord, RunRecord};
 use crate::suite::{slug, Suite};
 use crate::EvalError;
-use fenestra_core::image::{write_atomically, Image};
+use fenestra_core::fs::write_text_atomically;
+use fenestra_core::image::Image;
 use serde::Serialize;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -58,10 +59,6 @@ pub struct Group {
     pub rows: Vec<Row>,
 }
 
-fn stat(r: &RunRecord, key: &str) -> f64 {
-    r.stats[key].as_f64().unwrap_or(f64::NAN)
-}
-
 /// Whether a run met its relative-MSE target (runs of other budgets always do).
 fn reached(r: &RunRecord, suite: &Suite) -> bool {
     suite.budgets[r.spec.budget]
@@ -92,22 +89,20 @@ pub fn aggregate(suite: &Suite, records: &[RunRecord]) -> Vec<Group> {
                     let col = |f: &dyn Fn(&RunRecord) -> f64| {
                         runs.iter().map(|r| f(r)).collect::<Vec<_>>()
                     };
-                    let times = col(&|r| stat(r, "time_s"));
+                    let times = col(&|r| r.stats.time_s);
                     let mses = col(&|r| r.metrics.mse);
-                    let eff = col(&|r| crate::efficiency(r.metrics.mse, stat(r, "time_s")));
+                    let eff = col(&|r| crate::efficiency(r.metrics.mse, r.stats.time_s));
                     rows.push(Row {
                         technique: tech.label.clone(),
                         runs: runs.len(),
-                        spp: Spread::of(&col(&|r| stat(r, "spp"))).mean,
+                        spp: Spread::of(&col(&|r| r.stats.spp as f64)).mean,
                         time_s: Spread::of(&times),
                         mse: Spread::of(&mses),
                         rel_mse: Spread::of(&col(&|r| r.metrics.rel_mse)),
                         efficiency: Spread::of(&eff).mean,
                         speedup: None,
-                        shadow_rays_per_pixel: Spread::of(&col(&|r| {
-                            stat(r, "shadow_rays_per_pixel")
-                        }))
-                        .mean,
+                        shadow_rays_per_pixel: Spread::of(&col(&|r| r.stats.shadow_rays_per_pixel))
+                            .mean,
                         reached: runs.iter().all(|r| reached(r, suite)),
                     });
                 }
@@ -181,26 +176,15 @@ pub fn markdown_table(groups: &[Group]) -> String {
 
 /// (spp, time, mse) points of a run's convergence record.
 fn convergence(r: &RunRecord) -> Vec<(f64, f64, f64)> {
-    r.stats["convergence"]
-        .as_array()
-        .map(|a| {
-            a.iter()
-                .map(|p| {
-                    (
-                        p["spp"].as_f64().unwrap_or(0.0),
-                        p["time_s"].as_f64().unwrap_or(0.0),
-                        p["mse"].as_f64().unwrap_or(0.0),
-                    )
-                })
-                .collect()
-        })
-        .unwrap_or_default()
+    r.stats
+        .convergence
+        .iter()
+        .map(|p| (p.spp as f64, p.time_s, p.mse))
+        .collect()
 }
 
 fn write_text(path: &Path, text: &str) -> Result<(), EvalError> {
-    Ok(write_atomically(path, |tmp| {
-        std::fs::write(tmp, text).map_err(|e| e.to_string())
-    })?)
+    Ok(write_text_atomically(path, text)?)
 }
 
 fn esc(s: &str) -> String {
@@ -299,7 +283,7 @@ pub fn write_report(
                         && r.spec.technique == t
                         && r.spec.repetition == 0
                 })
-                .max_by(|a, b| stat(a, "time_s").total_cmp(&stat(b, "time_s")));
+                .max_by(|a, b| a.stats.time_s.total_cmp(&b.stats.time_s));
             if let Some(r) = longest {
                 let c = convergence(r);
                 by_time.push(Series {

@@ -4,9 +4,11 @@
 
 use crate::metrics::{self, Metrics};
 use crate::suite::{slug, RunSpec, Suite};
+use crate::EvalError;
 use fenestra_core::image::Image;
+use fenestra_core::stats::RenderStats;
+use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
-use serde_json::Value;
 use std::collections::HashMap;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -19,8 +21,8 @@ pub struct RunRecord {
     /// Path of the EXR relative to the report folder.
     pub image: String,
     pub reference: String,
-    /// The render's JSON sidecar (time_s, spp, rays, convergence, ...).
-    pub stats: Value,
+    /// The render's statistics (its JSON sidecar: time, samples, rays, convergence).
+    pub stats: RenderStats,
     pub metrics: Metrics,
 }
 
@@ -32,6 +34,13 @@ pub struct ReferenceRecord {
     /// Path relative to the report folder.
     pub image: String,
     pub cached: bool,
+}
+
+fn file_error(path: &Path, e: impl std::fmt::Display) -> EvalError {
+    EvalError::File {
+        path: path.display().to_string(),
+        reason: e.to_string(),
+    }
 }
 
 /// Added to the suite's seed for its references.
@@ -49,16 +58,30 @@ pub struct Runner<'a> {
     pub threads: Option<usize>,
 }
 
-fn run_json(mut cmd: Command) -> Result<Value, String> {
-    let shown = format!("{cmd:?}");
-    let out = cmd
-        .output()
-        .map_err(|e| format!("cannot run {shown}: {e}"))?;
+/// What `fenestra reference --json` prints.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct ReferenceSummary {
+    /// The cached reference image.
+    pub path: PathBuf,
+    /// Whether it was found in the cache (false: rendered now).
+    pub cached: bool,
+    /// Its statistics (JSON sidecar).
+    pub sidecar: PathBuf,
+}
+
+/// Runs `cmd` and reads what it prints on stdout as JSON.
+fn run_json<T: DeserializeOwned>(mut cmd: Command) -> Result<T, EvalError> {
+    let command = format!("{cmd:?}");
+    let failed = |reason: String| EvalError::Run {
+        command: command.clone(),
+        reason,
+    };
+    let out = cmd.output().map_err(|e| failed(e.to_string()))?;
     if !out.status.success() {
         let err = String::from_utf8_lossy(&out.stderr);
-        return Err(format!("{shown} failed ({}): {}", out.status, err.trim()));
+        return Err(failed(format!("{}: {}", out.status, err.trim())));
     }
-    serde_json::from_slice(&out.stdout).map_err(|e| format!("{shown}: unreadable summary: {e}"))
+    serde_json::from_slice(&out.stdout).map_err(|e| failed(format!("unreadable summary: {e}")))
 }
 
 impl Runner<'_> {
@@ -92,7 +115,7 @@ impl Runner<'_> {
     /// Renders (or finds in the cache) the reference of (scene, depth). Its seed is far from
     /// the runs' (seed, seed + 1, ...): a run sharing the reference's random numbers would
     /// look converged.
-    pub fn reference(&self, scene: &str, depth: u32) -> Result<ReferenceRecord, String> {
+    pub fn reference(&self, scene: &str, depth: u32) -> Result<ReferenceRecord, EvalError> {
         let r = &self.suite.reference;
         let mut cmd = self.base("reference", scene, depth);
         let seed = self.suite.seed.wrapping_add(REFERENCE_SEED_OFFSET);
@@ -106,22 +129,22 @@ impl Runner<'_> {
         ]);
         cmd.args(["--cache", &self.cache.display().to_string()]);
         cmd.args(&r.args);
-        let v = run_json(cmd)?;
-        let cached_path = v["path"].as_str().ok_or("reference summary has no path")?;
+        let summary: ReferenceSummary = run_json(cmd)?;
         // Copy it into the report folder so the report stands alone.
         let rel = format!("refs/{}-d{depth}.exr", slug(scene));
-        std::fs::create_dir_all(self.out.join("refs")).map_err(|e| e.to_string())?;
-        std::fs::copy(cached_path, self.out.join(&rel))
-            .map_err(|e| format!("copying {cached_path}: {e}"))?;
+        let refs = self.out.join("refs");
+        std::fs::create_dir_all(&refs).map_err(|e| file_error(&refs, e))?;
+        std::fs::copy(&summary.path, self.out.join(&rel))
+            .map_err(|e| file_error(&summary.path, e))?;
         Ok(ReferenceRecord {
             scene: scene.into(),
             max_depth: depth,
             image: rel,
-            cached: v["cached"].as_bool().unwrap_or(false),
+            cached: summary.cached,
         })
     }
 
-    pub fn run(&self, spec: &RunSpec, reference: &ReferenceRecord) -> Result<RunRecord, String> {
+    pub fn run(&self, spec: &RunSpec, reference: &ReferenceRecord) -> Result<RunRecord, EvalError> {
         let tech = &self.suite.techniques[spec.technique];
         let rel = format!("runs/{}.exr", spec.id);
         let mut cmd = self.base("render", &spec.scene, spec.max_depth);
@@ -139,10 +162,9 @@ impl Runner<'_> {
         ]);
         cmd.args(["-o", &self.out.join(&rel).display().to_string()]);
         let stats = run_json(cmd)?;
-        let img = Image::read(&self.out.join(&rel)).map_err(|e| e.to_string())?;
-        let reference_img =
-            Image::read(&self.out.join(&reference.image)).map_err(|e| e.to_string())?;
-        let metrics = metrics::compare(&img, &reference_img).map_err(|e| e.to_string())?;
+        let img = Image::read(&self.out.join(&rel))?;
+        let reference_img = Image::read(&self.out.join(&reference.image))?;
+        let metrics = metrics::compare(&img, &reference_img)?;
         Ok(RunRecord {
             spec: spec.clone(),
             image: rel,
@@ -156,16 +178,16 @@ impl Runner<'_> {
     pub fn run_all(
         &self,
         mut report: impl FnMut(&str),
-    ) -> Result<(Vec<ReferenceRecord>, Vec<RunRecord>), String> {
-        std::fs::create_dir_all(self.out.join("runs"))
-            .map_err(|e| format!("cannot create {}: {e}", self.out.display()))?;
+    ) -> Result<(Vec<ReferenceRecord>, Vec<RunRecord>), EvalError> {
+        let runs_dir = self.out.join("runs");
+        std::fs::create_dir_all(&runs_dir).map_err(|e| file_error(&runs_dir, e))?;
         let results_path = self.out.join("results.jsonl");
         let mut done = read_results(&results_path)?;
         let mut file = std::fs::OpenOptions::new()
             .create(true)
             .append(true)
             .open(&results_path)
-            .map_err(|e| format!("cannot write {}: {e}", results_path.display()))?;
+            .map_err(|e| file_error(&results_path, e))?;
         let mut references: HashMap<(String, u32), ReferenceRecord> = HashMap::new();
         let runs = self.suite.runs();
         let mut failures = 0;
@@ -184,10 +206,11 @@ impl Runner<'_> {
             report(&format!("[{}/{}] {}", i + 1, runs.len(), spec.id));
             match self.run(spec, &references[&key]) {
                 Ok(record) => {
-                    let line = serde_json::to_string(&record).map_err(|e| e.to_string())?;
+                    let line =
+                        serde_json::to_string(&record).map_err(|e| file_error(&results_path, e))?;
                     writeln!(file, "{line}")
                         .and_then(|_| file.flush())
-                        .map_err(|e| e.to_string())?;
+                        .map_err(|e| file_error(&results_path, e))?;
                     done.push(record);
                 }
                 Err(e) => {
@@ -223,13 +246,13 @@ impl Runner<'_> {
 }
 
 /// The runs recorded so far (a truncated last line, from an interrupted write, is ignored).
-pub fn read_results(path: &Path) -> Result<Vec<RunRecord>, String> {
+pub fn read_results(path: &Path) -> Result<Vec<RunRecord>, EvalError> {
     match std::fs::read_to_string(path) {
         Ok(text) => Ok(text
             .lines()
             .filter_map(|l| serde_json::from_str(l).ok())
             .collect()),
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(Vec::new()),
-        Err(e) => Err(format!("cannot read {}: {e}", path.display())),
+        Err(e) => Err(file_error(path, e)),
     }
 }

@@ -1,5 +1,6 @@
 //! Bench suites: which scenes, techniques and budgets to compare, read from TOML.
 
+use crate::EvalError;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -113,16 +114,20 @@ pub struct RunSpec {
 
 impl Suite {
     /// Reads and checks a suite file; errors name the file, line and column.
-    pub fn load(path: &Path) -> Result<Suite, String> {
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| format!("cannot read suite {}: {e}", path.display()))?;
+    pub fn load(path: &Path) -> Result<Suite, EvalError> {
+        let bad = |reason: String| EvalError::Suite {
+            path: path.display().to_string(),
+            reason,
+        };
+        let text = std::fs::read_to_string(path).map_err(|e| bad(format!("cannot read: {e}")))?;
         let suite: Suite = toml::from_str(&text).map_err(|e| {
             let (line, col) = e.span().map_or((0, 0), |s| line_col(&text, s.start));
-            format!("{}:{line}:{col}: {}", path.display(), e.message())
+            EvalError::Suite {
+                path: format!("{}:{line}:{col}", path.display()),
+                reason: e.message().to_string(),
+            }
         })?;
-        suite
-            .check()
-            .map_err(|e| format!("{}: {e}", path.display()))?;
+        suite.check().map_err(bad)?;
         Ok(suite)
     }
 
@@ -272,19 +277,24 @@ max_time = 5
 
     #[test]
     fn bad_suites_are_explained() {
-        let e =
-            Suite::load(&write("typo", &SUITE.replace("repetitions", "repetitons"))).unwrap_err();
+        let e = Suite::load(&write("typo", &SUITE.replace("repetitions", "repetitons")))
+            .unwrap_err()
+            .to_string();
         assert!(e.contains(":4:1:") && e.contains("repetitons"), "{e}");
         let e = Suite::load(&write(
             "two",
             &SUITE.replace("spp = 4\n", "spp = 4\ntime = 2\n"),
         ))
-        .unwrap_err();
+        .unwrap_err()
+        .to_string();
         assert!(e.contains("budget 1: give exactly one"), "{e}");
-        let e = Suite::load(&write("depth", &SUITE.replace("[2, 4]", "[]"))).unwrap_err();
-        assert!(e.contains("max_depth"), "{e}");
-        assert!(Suite::load(Path::new("/no/suite.toml"))
+        let e = Suite::load(&write("depth", &SUITE.replace("[2, 4]", "[]")))
             .unwrap_err()
-            .contains("cannot read suite"));
+            .to_string();
+        assert!(e.contains("max_depth"), "{e}");
+        let e = Suite::load(Path::new("/no/suite.toml"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("/no/suite.toml: cannot read"), "{e}");
     }
 }

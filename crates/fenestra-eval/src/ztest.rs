@@ -101,6 +101,39 @@ pub fn z_test(
     Ok(out)
 }
 
+/// Two estimates of the same image compared over the whole image and over square regions.
+#[derive(Clone, Debug, Serialize)]
+pub struct Agreement {
+    /// The z-test of blocks as large as the image's shorter side (the whole image when square).
+    pub whole: ZTest,
+    /// The z-test of `region` x `region` blocks.
+    pub regions: ZTest,
+}
+
+impl Agreement {
+    /// Whether both tests pass.
+    pub fn passed(&self) -> bool {
+        self.whole.passed && self.regions.passed
+    }
+}
+
+/// Whether two estimators of the same image agree within their standard errors: `a` and `b`
+/// are mean images with the per-pixel variances of their means, compared by the z-test at
+/// significance `alpha` over the whole image and over `region` x `region` blocks (block
+/// means are close to normal even for heavy-tailed estimators).
+pub fn agreement(
+    a: (&Image, &Image),
+    b: (&Image, &Image),
+    alpha: f64,
+    region: usize,
+) -> Result<Agreement, EvalError> {
+    let whole = a.0.width.min(a.0.height);
+    Ok(Agreement {
+        whole: z_test(a.0, a.1, b.0, Some(b.1), alpha, whole)?,
+        regions: z_test(a.0, a.1, b.0, Some(b.1), alpha, region)?,
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -151,5 +184,19 @@ mod tests {
                 .expect("sizes")
                 .passed
         );
+    }
+
+    #[test]
+    fn agreement_needs_both_estimates_to_match_everywhere() {
+        let (a, a_var) = noisy(1.0, 0.1, 4);
+        let (b, b_var) = noisy(1.0, 0.1, 5);
+        let t = agreement((&a, &a_var), (&b, &b_var), 0.01, 8).expect("sizes");
+        assert!(t.passed(), "{t:?}");
+        assert_eq!((t.whole.tests, t.regions.tests), (3, 16 * 3));
+        // A 2% shift is 1.1 standard errors of an 8x8 region's difference, within chance, but
+        // 4.5 of the whole image's.
+        let (c, c_var) = noisy(1.02, 0.1, 6);
+        let t = agreement((&a, &a_var), (&c, &c_var), 0.01, 8).expect("sizes");
+        assert!(t.regions.passed && !t.whole.passed, "{t:?}");
     }
 }

@@ -3,8 +3,8 @@
 //! exactly what k-means++ returns for the same random stream.
 
 use crate::data::Dataset;
-use crate::rng::Rng;
 use crate::subspace::Subspace;
+use fenestra_core::Rng;
 use rayon::prelude::*;
 use std::time::Instant;
 
@@ -17,14 +17,18 @@ pub enum Init {
 }
 
 impl std::str::FromStr for Init {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
+    type Err = fenestra_core::UnknownName;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
         match s {
             "random" => Ok(Init::Random),
             "distance-sum" => Ok(Init::DistanceSum),
             "kmeans++" => Ok(Init::KmeansPlusPlus),
             "sortmeans++" => Ok(Init::SortMeansPlusPlus),
-            _ => Err(format!("unknown initialisation '{s}' (expected random, distance-sum, kmeans++ or sortmeans++)")),
+            _ => Err(fenestra_core::UnknownName::new(
+                "initialisation",
+                s,
+                "random, distance-sum, kmeans++ or sortmeans++",
+            )),
         }
     }
 }

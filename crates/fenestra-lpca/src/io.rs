@@ -15,6 +15,7 @@
 use crate::data::Dataset;
 use crate::lpca::Outcome;
 use crate::LpcaError;
+use fenestra_core::fs::{write_atomically, write_text_atomically};
 use npyz::WriterBuilder;
 use std::io::{BufReader, BufWriter};
 use std::path::Path;
@@ -77,9 +78,8 @@ pub fn write_npy<T: npyz::AutoSerialize>(
     shape: &[u64],
     data: impl IntoIterator<Item = T>,
 ) -> Result<(), LpcaError> {
-    let tmp = path.with_extension("npy.tmp");
-    let write = || -> std::io::Result<()> {
-        let file = BufWriter::new(std::fs::File::create(&tmp)?);
+    let write = |tmp: &Path| -> std::io::Result<()> {
+        let file = BufWriter::new(std::fs::File::create(tmp)?);
         let mut w = npyz::WriteOptions::new()
             .default_dtype()
             .shape(shape)
@@ -88,8 +88,7 @@ pub fn write_npy<T: npyz::AutoSerialize>(
         w.extend(data)?;
         w.finish()
     };
-    write().map_err(|e| err(path, e))?;
-    std::fs::rename(&tmp, path).map_err(|e| err(path, e))
+    write_atomically(path, write).map_err(|e| err(path, e.reason))
 }
 
 /// Writes the compressed model and statistics into `dir`.
@@ -134,5 +133,6 @@ pub fn write_model(
     }
     write_npy(&dir.join("coefficients.npy"), &[n, l as u64], coeffs)?;
     let text = serde_json::to_string_pretty(stats).map_err(|e| err(dir, e))?;
-    std::fs::write(dir.join("stats.json"), text + "\n").map_err(|e| err(dir, e))
+    let stats_path = dir.join("stats.json");
+    write_text_atomically(&stats_path, &(text + "\n")).map_err(|e| err(&stats_path, e.reason))
 }

@@ -12,7 +12,6 @@ pub mod init;
 pub mod io;
 pub mod kernels;
 pub mod lpca;
-pub mod rng;
 pub mod schedule;
 pub mod subspace;
 pub mod synthetic;

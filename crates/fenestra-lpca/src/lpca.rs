@@ -22,13 +22,15 @@ pub enum Algorithm {
 }
 
 impl std::str::FromStr for Algorithm {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
+    type Err = fenestra_core::UnknownName;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
         match s {
             "lpca" => Ok(Algorithm::Lpca),
             "sc-lpca" => Ok(Algorithm::ScLpca),
-            _ => Err(format!(
-                "unknown algorithm '{s}' (expected lpca or sc-lpca)"
+            _ => Err(fenestra_core::UnknownName::new(
+                "algorithm",
+                s,
+                "lpca or sc-lpca",
             )),
         }
     }

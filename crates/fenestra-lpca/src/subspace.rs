@@ -209,7 +209,7 @@ mod tests {
     #[test]
     fn generalised_triangle_inequality_holds() {
         // eq. 3.4 on random subspaces and points.
-        let mut rng = crate::rng::Rng::new(3);
+        let mut rng = fenestra_core::Rng::new(3);
         let mut s = vec![0.0; 6];
         for _ in 0..200 {
             let mut sub = |dim: usize| {

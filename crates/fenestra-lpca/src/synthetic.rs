@@ -2,7 +2,7 @@
 //! §3.6.2 when no measured BTF is at hand.
 
 use crate::data::Dataset;
-use crate::rng::Rng;
+use fenestra_core::Rng;
 
 /// A standard normal number (Box-Muller).
 fn normal(rng: &mut Rng) -> f64 {

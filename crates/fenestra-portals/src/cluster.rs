@@ -6,7 +6,7 @@ use fenestra_core::Vec3;
 use petal_clustering::{Dbscan, Fit};
 use petal_neighbors::distance::Euclidean;
 
-#[derive(Clone, Copy, Debug, serde::Serialize)]
+#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
 pub struct DbscanParams {
     /// Neighbourhood radius eps in metres (seed §5.2: 0.125).
     pub eps: f32,
@@ -46,7 +46,7 @@ pub fn dbscan(points: &[Vec3], params: DbscanParams) -> Vec<Vec<usize>> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::rng::Rng;
+    use fenestra_core::Rng;
 
     #[test]
     fn separated_blobs_are_found_and_scattered_points_are_noise() {

@@ -4,22 +4,22 @@
 //! rectangles around openings in planar occluders are then snapped onto the openings' edges.
 
 use crate::cluster::{dbscan, DbscanParams};
+use crate::error::PortalError;
 use crate::mvce::mvce;
 use crate::photon::Deposit;
 use crate::photon::{trace, PhotonParams, Photons};
+use crate::portal::{EstimationRecord, Portal, PortalFile, PortalRecord, Portals};
 use crate::ransac::{ransac_plane, Plane, Ransac};
 use crate::rectangle::{inner_rectangle, min_area_rectangle, pca_rectangle, Rectangle};
 use crate::snap::snap_to_opening;
-use fenestra_core::Vec3;
-use fenestra_render::integrator::Progress;
-use fenestra_render::portal::{Portal, PortalRecord, Portals};
-use fenestra_render::RenderScene;
+use fenestra_core::{UnknownName, Vec3};
+use fenestra_render::{Progress, RenderScene};
 use glam::{DVec2, DVec3};
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 /// The shape fitted to a cluster's inliers.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum Model {
     /// Minimum-volume covering ellipse (Alg. 4), the seed's choice.
     Ellipse,
@@ -33,22 +33,24 @@ pub enum Model {
 }
 
 impl std::str::FromStr for Model {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
+    type Err = UnknownName;
+    fn from_str(s: &str) -> Result<Self, UnknownName> {
         match s {
             "ellipse" => Ok(Model::Ellipse),
             "pca" => Ok(Model::Pca),
             "rectangle" => Ok(Model::Rectangle),
             "smallest" => Ok(Model::Smallest),
-            _ => Err(format!(
-                "unknown portal model '{s}' (expected ellipse, pca, rectangle or smallest)"
+            _ => Err(UnknownName::new(
+                "portal model",
+                s,
+                "ellipse, pca, rectangle or smallest",
             )),
         }
     }
 }
 
 /// PT(theta, n, r), DBSCAN(eps, m), RANSAC(Plane, eps, tau, N), MVCE(eps) and the model.
-#[derive(Clone, Debug, serde::Serialize)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct EstimateParams {
     pub photons: PhotonParams,
     pub dbscan: DbscanParams,
@@ -93,7 +95,7 @@ impl Estimated {
 }
 
 /// Seconds spent in each stage.
-#[derive(Clone, Copy, Debug, Default, serde::Serialize)]
+#[derive(Clone, Copy, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct Timings {
     pub photons: f64,
     pub clustering: f64,
@@ -115,8 +117,74 @@ pub struct Estimate {
 }
 
 impl Estimate {
+    /// The fitted portals, sampled by the default strategy.
     pub fn portals(&self) -> Portals {
         Portals::new(self.portals.iter().map(|e| e.portal.clone()).collect())
+    }
+
+    /// The portals.json document of this estimate of `scene` made with `params`.
+    pub fn file(&self, scene: &str, params: &EstimateParams) -> PortalFile {
+        PortalFile {
+            portals: self.portals.iter().map(Estimated::record).collect(),
+            estimation: Some(EstimationRecord {
+                scene: scene.to_string(),
+                parameters: params.clone(),
+                photons: self.photons.points.len(),
+                beams: self.photons.beams,
+                rays: self.photons.rays,
+                deposit: self.photons.deposit,
+                interrupted: self.photons.interrupted,
+                clusters: self.clusters.len(),
+                time_s: self.timings,
+            }),
+        }
+    }
+
+    /// A paragraph on the estimate: photons, clusters, time per stage, and a line per portal.
+    pub fn summary(&self) -> String {
+        let ph = &self.photons;
+        let noise = ph.points.len() - self.clusters.iter().map(Vec::len).sum::<usize>();
+        let mut s = format!(
+            "{} photons ({:?} deposits) from {} beams, {} rays{}; {} clusters, {} noise photons; {} portals in {:.2} s (photons {:.2} s, DBSCAN {:.2} s, fitting {:.2} s)",
+            ph.points.len(),
+            ph.deposit,
+            ph.beams,
+            ph.rays,
+            if ph.interrupted {
+                ", interrupted".to_string()
+            } else if ph.points.len() < ph.target {
+                format!(" (the beam limit came before the {} aimed at)", ph.target)
+            } else {
+                String::new()
+            },
+            self.clusters.len(),
+            noise,
+            self.portals.len(),
+            self.timings.total(),
+            self.timings.photons,
+            self.timings.clustering,
+            self.timings.fitting,
+        );
+        for (k, p) in self.portals.iter().enumerate() {
+            let portal = &p.portal;
+            let c = portal.center();
+            let n = portal.normal();
+            s.push_str(&format!(
+                "\n  portal {k}: {} centre ({:.3}, {:.3}, {:.3}) normal ({:.3}, {:.3}, {:.3}) {}, area {:.5} m^2, {} photons ({} inliers)",
+                portal.kind(),
+                c.x,
+                c.y,
+                c.z,
+                n.x,
+                n.y,
+                n.z,
+                portal.size(),
+                portal.area(),
+                p.photons,
+                p.inliers
+            ));
+        }
+        s
     }
 }
 
@@ -127,7 +195,7 @@ pub fn estimate(
     params: &EstimateParams,
     cancel: &AtomicBool,
     progress: &dyn Progress,
-) -> Result<Estimate, String> {
+) -> Result<Estimate, PortalError> {
     let t0 = Instant::now();
     let photons = {
         params.validate()?;
@@ -166,12 +234,16 @@ pub fn estimate(
 
 impl EstimateParams {
     /// Checks the clustering and fitting parameters (photon tracing checks its own).
-    fn validate(&self) -> Result<(), String> {
+    fn validate(&self) -> Result<(), PortalError> {
         if !(self.dbscan.eps > 0.0) || self.dbscan.min_points == 0 {
-            return Err("DBSCAN needs eps > 0 and m >= 1".into());
+            return Err(PortalError::Parameters(
+                "DBSCAN needs eps > 0 and m >= 1".into(),
+            ));
         }
         if !(self.ransac.eps > 0.0) || !(0.0..=1.0).contains(&self.ransac.tau) {
-            return Err("RANSAC needs eps > 0 and tau in [0, 1]".into());
+            return Err(PortalError::Parameters(
+                "RANSAC needs eps > 0 and tau in [0, 1]".into(),
+            ));
         }
         Ok(())
     }

@@ -2,17 +2,12 @@
 //! (invisible to light, so including the file changes no picture), plus the "point3 portal"
 //! parameter of an infinite light for each quad.
 
+use crate::error::PortalError;
 use crate::plot::outline;
-use fenestra_render::portal::Portal;
+use crate::portal::Portal;
+use fenestra_core::fs::{write_text_atomically, WriteError};
 use std::fmt::Write as _;
 use std::path::Path;
-
-fn write_atomically(path: &Path, text: &str) -> Result<(), String> {
-    let tmp = path.with_extension("partial");
-    std::fs::write(&tmp, text)
-        .and_then(|_| std::fs::rename(&tmp, path))
-        .map_err(|e| format!("{}: {e}", path.display()))
-}
 
 /// One object per portal, a single polygon each (ellipses as 128-gons).
 pub fn obj(portals: &[Portal]) -> String {
@@ -69,7 +64,7 @@ pub fn pbrt(portals: &[Portal]) -> String {
 }
 
 /// Writes `portals` to `path` as OBJ or pbrt by its extension.
-pub fn write(portals: &[Portal], path: &Path) -> Result<(), String> {
+pub fn write(portals: &[Portal], path: &Path) -> Result<(), PortalError> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
@@ -77,12 +72,7 @@ pub fn write(portals: &[Portal], path: &Path) -> Result<(), String> {
     let text = match ext.as_deref() {
         Some("obj") => obj(portals),
         Some("pbrt") => pbrt(portals),
-        _ => {
-            return Err(format!(
-                "{}: portals export as .pbrt or .obj",
-                path.display()
-            ))
-        }
+        _ => return Err(WriteError::new(path, "portals export as .pbrt or .obj").into()),
     };
-    write_atomically(path, &text)
+    Ok(write_text_atomically(path, &text)?)
 }

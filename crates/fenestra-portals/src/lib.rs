@@ -1,16 +1,25 @@
 //! Automatic light portals (seed 000 ch. 4-5): photons traced from the lights with cone-beams
 //! (Alg. 1) are clustered by DBSCAN (Alg. 2); each cluster gets a plane by RANSAC (Alg. 3) and,
 //! in that plane, the minimum-volume covering ellipse of its inliers by Khachiyan's
-//! conditional-gradient method (Alg. 4) or the PCA rectangle of §5.1.
+//! conditional-gradient method (Alg. 4) or the PCA rectangle of §5.1. The portal model, its
+//! file format and the lp_hf integrator that samples portals are here too.
+
+#![warn(missing_docs)]
 
 pub mod cluster;
+pub mod error;
 pub mod estimate;
 pub mod export;
 pub mod linalg;
+pub mod lp_hf;
 pub mod mvce;
 pub mod photon;
 pub mod plot;
+pub mod portal;
 pub mod ransac;
 pub mod rectangle;
-pub mod rng;
 pub mod snap;
+
+pub use error::PortalError;
+pub use lp_hf::{lp_hf, PortalNextEvent, PortalOptions, PortalSource};
+pub use portal::{Portal, PortalChoice, PortalFile, PortalSampling, Portals};

@@ -118,7 +118,7 @@ pub fn mvce(p: &[DVec2], eps: f64, max_iterations: usize) -> Option<Ellipse> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::rng::Rng;
+    use fenestra_core::Rng;
 
     #[test]
     fn points_on_an_ellipse_give_that_ellipse() {

@@ -12,16 +12,16 @@
 //! failing ray would reject every beam that crosses an opening's edge, since its central ray
 //! passes the opening; the figure deposits exactly those, so the test is per ray.
 
+use crate::error::PortalError;
 use fenestra_core::distribution::Distribution1D;
 use fenestra_core::ray::offset_origin;
-use fenestra_core::{warp, Frame, Ray, Sampler, Vec3};
-use fenestra_render::integrator::Progress;
-use fenestra_render::RenderScene;
+use fenestra_core::{warp, Frame, Ray, Sampler, UnknownName, Vec3};
+use fenestra_render::{Progress, RenderScene};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Which hits of a beam become photons.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum Deposit {
     /// Depth discontinuities only (Alg. 1).
     Depth,
@@ -30,20 +30,18 @@ pub enum Deposit {
 }
 
 impl std::str::FromStr for Deposit {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
+    type Err = UnknownName;
+    fn from_str(s: &str) -> Result<Self, UnknownName> {
         match s {
             "depth" => Ok(Deposit::Depth),
             "material" => Ok(Deposit::Material),
-            _ => Err(format!(
-                "unknown deposit rule '{s}' (expected depth or material)"
-            )),
+            _ => Err(UnknownName::new("deposit rule", s, "depth or material")),
         }
     }
 }
 
 /// PT(theta, n, r) and when to stop.
-#[derive(Clone, Debug, serde::Serialize)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct PhotonParams {
     /// Cone half-angle theta in degrees (seed §5.2: 3).
     pub theta_deg: f32,
@@ -106,28 +104,30 @@ pub fn trace(
     params: &PhotonParams,
     cancel: &AtomicBool,
     progress: &dyn Progress,
-) -> Result<Photons, String> {
+) -> Result<Photons, PortalError> {
     let lights = &scene.lights.lights;
     let powers: Vec<f32> = lights.iter().map(|l| l.power(&scene.scene)).collect();
     if powers.iter().all(|&p| !(p > 0.0)) {
-        return Err("the scene has no light to trace photons from".into());
+        return Err(PortalError::NoLight);
     }
     if !(params.theta_deg > 0.0 && params.theta_deg < 90.0) {
-        return Err(format!(
+        return Err(PortalError::Parameters(format!(
             "cone angle theta must lie in (0, 90) degrees, not {}",
             params.theta_deg
-        ));
+        )));
     }
     if params.max_beams > u32::MAX as u64 {
         // Beam indices address the beams' sample streams as u32.
-        return Err(format!(
+        return Err(PortalError::Parameters(format!(
             "at most {} beams, not {}",
             u32::MAX,
             params.max_beams
-        ));
+        )));
     }
     if params.rays_per_beam == 0 || !(params.reject_radius >= 0.0) {
-        return Err("a beam needs at least one ray and a non-negative rejection radius".into());
+        return Err(PortalError::Parameters(
+            "a beam needs at least one ray and a non-negative rejection radius".into(),
+        ));
     }
     let glass: Vec<bool> = scene
         .scene

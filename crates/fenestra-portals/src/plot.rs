@@ -1,9 +1,11 @@
 //! A picture of an estimate (seed 000 Fig. 5.6): the fitted portals' outlines in black under
 //! the photons coloured by cluster (noise in grey), projected on the XY, XZ and YZ planes side by side.
 
+use crate::error::PortalError;
 use crate::estimate::Estimate;
+use crate::portal::Portal;
+use fenestra_core::fs::write_atomically;
 use fenestra_core::Vec3;
-use fenestra_render::portal::Portal;
 use image::{Rgb, RgbImage};
 use std::path::Path;
 
@@ -46,7 +48,7 @@ pub fn write_projections(
     estimate: &Estimate,
     bounds: (Vec3, Vec3),
     path: &Path,
-) -> Result<(), String> {
+) -> Result<(), PortalError> {
     let (lo3, hi3) = bounds;
     let corners: Vec<Vec3> = (0..8)
         .map(|k| {
@@ -121,10 +123,9 @@ pub fn write_projections(
             dot(&mut img, x, y, *c);
         }
     }
-    let tmp = path.with_extension("png.partial");
-    img.save_with_format(&tmp, image::ImageFormat::Png)
-        .and_then(|_| std::fs::rename(&tmp, path).map_err(image::ImageError::IoError))
-        .map_err(|e| format!("{}: {e}", path.display()))
+    Ok(write_atomically(path, |tmp| {
+        img.save_with_format(tmp, image::ImageFormat::Png)
+    })?)
 }
 
 fn put(img: &mut RgbImage, x: i64, y: i64, c: [u8; 3]) {

@@ -2,7 +2,7 @@
 //! to outliers; its inliers are then covered in that plane.
 
 use crate::linalg::{outer, sym_eigen};
-use crate::rng::Rng;
+use fenestra_core::Rng;
 use glam::{DMat3, DVec2, DVec3};
 
 #[derive(Clone, Copy, Debug)]
@@ -55,7 +55,7 @@ pub fn fit_plane(points: &[DVec3]) -> Option<Plane> {
 
 /// RANSAC parameters, as named in the seed: inlier tolerance eps, inlier fraction tau that
 /// ends the search, at most N trials.
-#[derive(Clone, Copy, Debug, serde::Serialize)]
+#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Ransac {
     pub eps: f64,
     pub tau: f64,

@@ -216,7 +216,7 @@ const INNER_QUANTILE: usize = 100;
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::rng::Rng;
+    use fenestra_core::Rng;
 
     #[test]
     fn pca_rectangle_spans_points_on_a_rectangle_edge() {

@@ -5,8 +5,8 @@
 //! rays along the portal's normal: inside the opening they pass, on the occluder they stop
 //! in the portal's plane.
 
+use crate::portal::Portal;
 use fenestra_core::{Ray, Vec3};
-use fenestra_render::portal::Portal;
 use fenestra_scene::Scene;
 
 /// Rays start this far (relative to the portal's size) from the plane.

@@ -3,18 +3,14 @@
 
 use fenestra_core::Vec3;
 use fenestra_portals::estimate::{estimate, Estimate, EstimateParams};
-use fenestra_render::integrator::NoProgress;
-use fenestra_render::portal::Portal;
-use fenestra_render::{LightSelection, RenderScene};
+use fenestra_portals::Portal;
+use fenestra_render::{NoProgress, RenderScene};
 use fenestra_scene::{builtin, Backend, Scene};
 use std::sync::atomic::AtomicBool;
 
 fn run(name: &str) -> (RenderScene, Estimate) {
     let desc = builtin::load(name).expect("builtin");
-    let scene = RenderScene::new(
-        Scene::build(desc, Backend::Obvhs).expect("scene"),
-        LightSelection::Power,
-    );
+    let scene = RenderScene::new(Scene::build(desc, Backend::Obvhs).expect("scene"));
     let e = estimate(
         &scene,
         &EstimateParams::default(),
@@ -109,10 +105,7 @@ fn hall_windows_yields_portals_on_the_lit_windows_only() {
 fn photons_do_not_depend_on_the_thread_count() {
     use fenestra_portals::photon::{trace, PhotonParams};
     let desc = builtin::load("box-4holes").expect("builtin");
-    let scene = RenderScene::new(
-        Scene::build(desc, Backend::Obvhs).expect("scene"),
-        LightSelection::Power,
-    );
+    let scene = RenderScene::new(Scene::build(desc, Backend::Obvhs).expect("scene"));
     let params = PhotonParams {
         target: Some(3000),
         ..PhotonParams::default()

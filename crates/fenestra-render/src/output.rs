@@ -1,8 +1,9 @@
 //! Writing a render: linear EXR with metadata, tone-mapped PNG beside it, JSON sidecar.
 
 use crate::film::Film;
-use crate::stats::RenderStats;
-use fenestra_core::image::{write_atomically, ImageError};
+use fenestra_core::fs::write_text_atomically;
+use fenestra_core::image::ImageError;
+use fenestra_core::stats::RenderStats;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -24,7 +25,9 @@ pub fn exr_metadata(stats: &RenderStats) -> BTreeMap<String, String> {
     put("integrator", stats.integrator.clone());
     put("spp", stats.spp.to_string());
     put("seed", stats.seed.to_string());
-    put("max_depth", stats.max_depth.to_string());
+    if let Some(depth) = stats.max_depth {
+        put("max_depth", depth.to_string());
+    }
     put("render_time_s", format!("{:.6}", stats.time_s));
     put("camera_rays", stats.rays.camera.to_string());
     put("bounce_rays", stats.rays.bounce.to_string());
@@ -40,14 +43,12 @@ pub fn variance_path(exr_path: &Path) -> PathBuf {
     exr_path.with_extension("var.exr")
 }
 
-/// Writes OUT.exr, OUT.png and the JSON sidecar OUT.json (`sidecar`: the statistics plus
-/// whatever the caller measured), each atomically; with `variance`, also OUT.var.exr, the
-/// per-pixel variance of the mean.
+/// Writes OUT.exr, OUT.png and the JSON sidecar OUT.json (the statistics), each atomically;
+/// with `variance`, also OUT.var.exr, the per-pixel variance of the mean.
 pub fn write_render(
     exr_path: &Path,
     film: &Film,
     stats: &RenderStats,
-    sidecar: &serde_json::Value,
     exposure: Option<f32>,
     variance: bool,
 ) -> Result<(), ImageError> {
@@ -59,11 +60,7 @@ pub fn write_render(
     }
     let (png, json) = companion_paths(exr_path);
     image.write_png(&png, exposure)?;
-    let text = serde_json::to_string_pretty(sidecar).map_err(|e| ImageError::Write {
-        path: json.clone(),
-        reason: e.to_string(),
-    })?;
-    write_atomically(&json, |tmp| {
-        std::fs::write(tmp, text + "\n").map_err(|e| e.to_string())
-    })
+    let text = serde_json::to_string_pretty(stats)
+        .map_err(|e| fenestra_core::fs::WriteError::new(&json, e))?;
+    Ok(write_text_atomically(&json, &(text + "\n"))?)
 }

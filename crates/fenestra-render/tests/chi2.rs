@@ -4,9 +4,10 @@
 //! fails below a Sidak-corrected significance of 1%.
 
 use fenestra_core::image::Image;
+use fenestra_core::Rng;
 use fenestra_core::{warp, Frame, Ray, Rgb, Vec2, Vec3, PI};
 use fenestra_render::bsdf::Bsdf;
-use fenestra_render::light::{Light, Lights};
+use fenestra_render::light::{LightHit, Lights};
 use fenestra_scene::light::Emission;
 use fenestra_scene::{
     Backend, Camera, EnvironmentDesc, LightDesc, Material, RenderDefaults, Scene, SceneDesc, Shape,
@@ -14,21 +15,6 @@ use fenestra_scene::{
 };
 use statrs::distribution::{ChiSquared, ContinuousCDF};
 use std::sync::Arc;
-
-/// Independent uniform numbers (SplitMix64): chi-square assumes independent samples.
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f32 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        ((z ^ (z >> 31)) >> 40) as f32 / (1u64 << 24) as f32
-    }
-    fn next_2d(&mut self) -> Vec2 {
-        Vec2::new(self.next(), self.next())
-    }
-}
 
 const THETA_BINS: usize = 20;
 const PHI_BINS: usize = 40;
@@ -71,7 +57,7 @@ fn chi2_test(
     mut sample: impl FnMut(&mut Rng) -> Option<Vec3>,
     pdf: impl Fn(Vec3) -> f32,
 ) {
-    let mut rng = Rng(0x5eed ^ name.len() as u64);
+    let mut rng = Rng::new(0x5eed ^ name.len() as u64);
     let mut observed = vec![0.0f64; THETA_BINS * PHI_BINS];
     for _ in 0..SAMPLES {
         if let Some(w) = sample(&mut rng) {
@@ -164,7 +150,7 @@ fn check_bsdf(name: &str, bsdf: &Bsdf, wo: Vec3) {
     chi2_test(
         &label,
         |rng| {
-            let uc = rng.next();
+            let uc = rng.next_f32();
             let s = bsdf.sample(wo, uc, rng.next_2d())?;
             // The returned pdf and weight must agree with pdf() and eval().
             let pdf = bsdf.pdf(wo, s.wi);
@@ -291,12 +277,12 @@ fn smooth_dielectric_splits_by_fresnel() {
         .chain(incident_directions().into_iter().map(|w| -w))
     {
         let f = fenestra_render::bsdf::fresnel::dielectric(wo.z, 1.5);
-        let mut rng = Rng(7);
+        let mut rng = Rng::new(7);
         let n = 100_000;
         let mut reflected = 0;
         for _ in 0..n {
             let s = bsdf
-                .sample(wo, rng.next(), rng.next_2d())
+                .sample(wo, rng.next_f32(), rng.next_2d())
                 .expect("a delta lobe always samples");
             assert!(s.delta);
             if s.wi.z * wo.z > 0.0 {
@@ -380,23 +366,17 @@ fn check_light(name: &str, scene: &Scene, p: Vec3) {
     chi2_test(
         name,
         |rng| light.sample_li(scene, p, rng.next_2d()).map(|s| s.wi),
-        |wi| match light {
-            Light::Area(a) => {
-                let ray = Ray::new(p, wi);
-                match scene.intersect(&ray, f32::INFINITY) {
-                    Some(hit) => {
-                        let si = scene.interaction(&ray, &hit);
-                        if a.le(&si, -wi).is_black() {
-                            0.0
-                        } else {
-                            a.pdf_li(scene, p, &si)
-                        }
-                    }
-                    None => 0.0,
-                }
+        |wi| {
+            let ray = Ray::new(p, wi);
+            let si = scene
+                .intersect(&ray, f32::INFINITY)
+                .map(|hit| scene.interaction(&ray, &hit));
+            let hit = si.as_ref().map_or(LightHit::Escaped, LightHit::Surface);
+            if light.le(hit, wi).is_black() {
+                0.0
+            } else {
+                light.pdf_li(scene, p, wi, hit)
             }
-            Light::Environment(e) => e.pdf_li(wi),
-            _ => unreachable!("delta lights have no density"),
         },
     );
 }

@@ -3,8 +3,9 @@
 
 mod common;
 
+use common::integrator;
 use fenestra_core::{Rgb, Vec3};
-use fenestra_render::integrator::IntegratorOptions;
+use fenestra_render::integrator::PathOptions;
 use fenestra_scene::light::Emission;
 use fenestra_scene::{Camera, Material, RenderDefaults, SceneDesc, Shape, ShapeKind};
 
@@ -40,11 +41,12 @@ fn furnace_radiance_matches_the_analytic_value() {
     for albedo in [0.5f32, 0.8] {
         let expect = 1.0 / (1.0 - albedo as f64);
         for name in ["hf", "af_hf"] {
-            let options = IntegratorOptions {
+            let options = PathOptions {
                 max_depth: 200,
                 ..Default::default()
             };
-            let (film, stats) = common::render(furnace(albedo, 1.0), name, options, 16, 256, 1);
+            let mut i = integrator(name, options);
+            let (film, stats) = common::render(furnace(albedo, 1.0), i.as_mut(), 16, 256, 1);
             let (mean, se) = common::region_mean(&film, 0, 16, 0, 16);
             assert_eq!(stats.rays.dropped, 0);
             assert!(
@@ -68,11 +70,12 @@ fn truncated_furnace_sums_the_first_bounces() {
     for depth in [1u32, 2, 4] {
         let expect: f64 = (0..depth).map(|k| a.powi(k as i32)).sum();
         for name in ["hf", "af_hf"] {
-            let options = IntegratorOptions {
+            let options = PathOptions {
                 max_depth: depth,
                 ..Default::default()
             };
-            let (film, _) = common::render(furnace(a as f32, 1.0), name, options, 16, 128, 2);
+            let mut i = integrator(name, options);
+            let (film, _) = common::render(furnace(a as f32, 1.0), i.as_mut(), 16, 128, 2);
             let (mean, se) = common::region_mean(&film, 0, 16, 0, 16);
             assert!(
                 (mean - expect).abs() < 4.0 * se + 1e-4,

@@ -7,7 +7,7 @@ mod common;
 use fenestra_core::image::Image;
 use fenestra_core::mis::MisHeuristic;
 use fenestra_eval::z_test;
-use fenestra_render::integrator::IntegratorOptions;
+use fenestra_render::integrator::PathOptions;
 use fenestra_scene::builtin;
 
 const SIZE: u32 = 16;
@@ -16,15 +16,14 @@ const SIZE: u32 = 16;
 const BLOCK: usize = 2;
 
 fn render(name: &str, mis: MisHeuristic, depth: u32, spp: u32, seed: u64) -> (Image, Image) {
-    let options = IntegratorOptions {
+    let options = PathOptions {
         max_depth: depth,
         mis,
         rr_depth: 3,
     };
     let (film, _) = common::render(
         builtin::load("box-hole").expect("builtin"),
-        name,
-        options,
+        common::integrator(name, options).as_mut(),
         SIZE,
         spp,
         seed,

@@ -23,16 +23,30 @@ pub struct Camera {
     pub screen_window: Option<[f32; 4]>,
 }
 
+/// A camera that cannot be built.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum CameraError {
+    /// The field of view is not an angle in (0, 180) degrees.
+    #[error("field of view {0} must be in (0, 180) degrees")]
+    FieldOfView(f32),
+    /// The camera's position or axes are not finite, or its axes are parallel or zero.
+    #[error("degenerate camera: {0}")]
+    Degenerate(String),
+    /// pbrt's screen window is empty or not finite.
+    #[error("screen window {0:?} must be finite with x0 < x1 and y0 < y1")]
+    ScreenWindow([f32; 4]),
+}
+
 impl Camera {
     /// A camera at `eye` looking at `target`, with `up` giving the image's vertical and a
     /// vertical field of view of `fov_y` degrees. Errors on degenerate input.
-    pub fn look_at(eye: Vec3, target: Vec3, up: Vec3, fov_y: f32) -> Result<Self, String> {
+    pub fn look_at(eye: Vec3, target: Vec3, up: Vec3, fov_y: f32) -> Result<Self, CameraError> {
         let forward = (target - eye).normalize_or_zero();
         let right = forward.cross(up).normalize_or_zero();
         if forward == Vec3::ZERO || right == Vec3::ZERO || !eye.is_finite() {
-            return Err(format!(
-                "degenerate camera: eye {eye}, target {target}, up {up}"
-            ));
+            return Err(CameraError::Degenerate(format!(
+                "eye {eye}, target {target}, up {up}"
+            )));
         }
         Self::from_basis(
             eye,
@@ -54,22 +68,20 @@ impl Camera {
         up: Vec3,
         fov: FieldOfView,
         screen_window: Option<[f32; 4]>,
-    ) -> Result<Self, String> {
+    ) -> Result<Self, CameraError> {
         let (FieldOfView::Vertical(angle) | FieldOfView::ShorterAxis(angle)) = fov;
         if !(angle > 0.0 && angle < 180.0) {
-            return Err(format!("field of view {angle} must be in (0, 180) degrees"));
+            return Err(CameraError::FieldOfView(angle));
         }
         let finite = [position, forward, right, up].iter().all(|v| v.is_finite());
         if !finite || forward.cross(right).length() < 1e-12 || up.length() < 1e-12 {
-            return Err(format!(
-                "degenerate camera: position {position}, forward {forward}, right {right}, up {up}"
-            ));
+            return Err(CameraError::Degenerate(format!(
+                "position {position}, forward {forward}, right {right}, up {up}"
+            )));
         }
         if let Some(w) = screen_window {
             if !w.iter().all(|v| v.is_finite()) || w[0] >= w[1] || w[2] >= w[3] {
-                return Err(format!(
-                    "screen window {w:?} must be finite with x0 < x1 and y0 < y1"
-                ));
+                return Err(CameraError::ScreenWindow(w));
             }
         }
         Ok(Camera {

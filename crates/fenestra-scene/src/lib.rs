@@ -15,7 +15,7 @@ pub mod shape;
 pub mod texture;
 
 pub use accel::{Backend, Hit, RayQuery};
-pub use camera::{Camera, FieldOfView};
+pub use camera::{Camera, CameraError, FieldOfView};
 pub use interaction::SurfaceInteraction;
 pub use light::{Emission, EnvironmentDesc, LightDesc};
 pub use material::Material;

@@ -11,7 +11,9 @@ pub use area::AreaLight;
 pub use distant::DistantLight;
 pub use environment::Environment;
 pub use point::PointLight;
-pub use sampler::{LightSampler, PowerLightSampler, UniformLightSampler};
+pub use sampler::{
+    LightContext, LightSampler, LightSelection, PowerLightSampler, UniformLightSampler,
+};
 pub use spot::SpotLight;
 
 use fenestra_core::{Rgb, Vec2, Vec3};
@@ -59,6 +61,17 @@ fn toward(position: Vec3, p: Vec3) -> Option<(Vec3, f32)> {
     (d2 > 0.0).then(|| (d / d2.sqrt(), d2))
 }
 
+/// Where a ray met a light: on an emitting surface, or nowhere (it escaped to the
+/// environment).
+#[derive(Clone, Copy, Debug)]
+pub enum LightHit<'a> {
+    /// The ray hit an emitting surface here.
+    Surface(&'a SurfaceInteraction),
+    /// The ray left the scene.
+    Escaped,
+}
+
+/// A light of any kind.
 #[derive(Clone, Debug)]
 pub enum Light {
     Point(PointLight),
@@ -69,6 +82,7 @@ pub enum Light {
 }
 
 impl Light {
+    /// Samples a direction from `p` towards the light: incident radiance, density, point.
     pub fn sample_li(&self, scene: &Scene, p: Vec3, u: Vec2) -> Option<LightSample> {
         match self {
             Light::Point(l) => l.sample_li(p),
@@ -76,6 +90,27 @@ impl Light {
             Light::Distant(l) => l.sample_li(),
             Light::Area(l) => l.sample_li(scene, p, u),
             Light::Environment(l) => l.sample_li(u),
+        }
+    }
+
+    /// Radiance arriving along the direction `wi` (pointing from the receiver towards the
+    /// light) from this light, met at `hit`; zero where the light is not (and always for
+    /// Dirac lights, which no ray meets).
+    pub fn le(&self, hit: LightHit, wi: Vec3) -> Rgb {
+        match (self, hit) {
+            (Light::Area(a), LightHit::Surface(si)) => a.le(si, -wi),
+            (Light::Environment(e), LightHit::Escaped) => e.le(wi),
+            _ => Rgb::ZERO,
+        }
+    }
+
+    /// Solid-angle density with which [`Light::sample_li`] at `p` gives the direction `wi`
+    /// that meets the light at `hit` (zero for Dirac lights and where the light is not).
+    pub fn pdf_li(&self, scene: &Scene, p: Vec3, wi: Vec3, hit: LightHit) -> f32 {
+        match (self, hit) {
+            (Light::Area(a), LightHit::Surface(si)) => a.pdf_li(scene, p, si),
+            (Light::Environment(e), LightHit::Escaped) => e.pdf_li(wi),
+            _ => 0.0,
         }
     }
 
@@ -177,12 +212,10 @@ impl Lights {
         }
     }
 
-    /// Radiance leaving an emitter hit at `si` towards `wo` (zero on its back side).
-    pub fn le(&self, si: &SurfaceInteraction, wo: Vec3) -> Option<(usize, Rgb)> {
+    /// The area light of the surface hit at `si`, if it emits, and its radiance arriving
+    /// along `wi` (zero on its back side).
+    pub fn surface_emission(&self, si: &SurfaceInteraction, wi: Vec3) -> Option<(usize, Rgb)> {
         let i = self.area_of_shape[si.shape]?;
-        let Light::Area(a) = &self.lights[i] else {
-            return None;
-        };
-        Some((i, a.le(si, wo)))
+        Some((i, self.lights[i].le(LightHit::Surface(si), wi)))
     }
 }

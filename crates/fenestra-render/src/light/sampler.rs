@@ -1,16 +1,61 @@
-//! Choosing which light to sample at a shading point. Later samplers (irradiance-based,
-//! light BVH, seed 004's adaptive cuts) implement the same trait.
+//! Choosing which light to sample at a shading point. An integrator owns its light sampler;
+//! learned samplers (seed 004's adaptive cuts, light trees) implement the same trait and see
+//! the shading point's pixel, block and pass through [`LightContext`].
 
 use super::Lights;
+use crate::driver::SampleContext;
+use crate::render_scene::RenderScene;
 use fenestra_core::distribution::Distribution1D;
-use fenestra_core::Vec3;
+use fenestra_core::{UnknownName, Vec3};
 use fenestra_scene::Scene;
 
+/// What a light sampler sees of a shading point.
+#[derive(Clone, Copy, Debug)]
+pub struct LightContext<'a> {
+    /// The point.
+    pub p: Vec3,
+    /// Its shading normal.
+    pub n: Vec3,
+    /// The sample being taken: pixel, 8x8 block, pass.
+    pub sample: &'a SampleContext,
+}
+
+/// Picks lights for next-event estimation.
 pub trait LightSampler: Send + Sync {
-    /// Picks a light for point `p` with shading normal `n`: (light index, probability).
-    fn sample(&self, p: Vec3, n: Vec3, u: f32) -> Option<(usize, f32)>;
-    /// Probability that `sample` picks `light` at `p`.
-    fn pmf(&self, p: Vec3, n: Vec3, light: usize) -> f32;
+    /// Picks a light at `ctx`: (light index, probability).
+    fn sample(&self, ctx: &LightContext, u: f32) -> Option<(usize, f32)>;
+    /// Probability that `sample` picks `light` at `ctx`.
+    fn pmf(&self, ctx: &LightContext, light: usize) -> f32;
+}
+
+/// The fixed light samplers, by name.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+pub enum LightSelection {
+    /// Every light with the same probability.
+    Uniform,
+    /// In proportion to emitted power.
+    Power,
+}
+
+impl std::str::FromStr for LightSelection {
+    type Err = UnknownName;
+    fn from_str(s: &str) -> Result<Self, UnknownName> {
+        match s {
+            "uniform" => Ok(LightSelection::Uniform),
+            "power" => Ok(LightSelection::Power),
+            _ => Err(UnknownName::new("light selection", s, "uniform or power")),
+        }
+    }
+}
+
+impl LightSelection {
+    /// The sampler for the lights of `scene`.
+    pub fn build(self, scene: &RenderScene) -> Box<dyn LightSampler> {
+        match self {
+            LightSelection::Uniform => Box::new(UniformLightSampler::new(&scene.lights)),
+            LightSelection::Power => Box::new(PowerLightSampler::new(&scene.scene, &scene.lights)),
+        }
+    }
 }
 
 /// Every light with the same probability.
@@ -19,6 +64,7 @@ pub struct UniformLightSampler {
 }
 
 impl UniformLightSampler {
+    /// A sampler over `lights`.
     pub fn new(lights: &Lights) -> Self {
         UniformLightSampler {
             count: lights.lights.len(),
@@ -27,14 +73,14 @@ impl UniformLightSampler {
 }
 
 impl LightSampler for UniformLightSampler {
-    fn sample(&self, _p: Vec3, _n: Vec3, u: f32) -> Option<(usize, f32)> {
+    fn sample(&self, _: &LightContext, u: f32) -> Option<(usize, f32)> {
         if self.count == 0 {
             return None;
         }
         let i = ((u * self.count as f32) as usize).min(self.count - 1);
         Some((i, 1.0 / self.count as f32))
     }
-    fn pmf(&self, _p: Vec3, _n: Vec3, light: usize) -> f32 {
+    fn pmf(&self, _: &LightContext, light: usize) -> f32 {
         if light < self.count {
             1.0 / self.count as f32
         } else {
@@ -49,6 +95,7 @@ pub struct PowerLightSampler {
 }
 
 impl PowerLightSampler {
+    /// A sampler over `lights` of `scene`.
     pub fn new(scene: &Scene, lights: &Lights) -> Self {
         let powers: Vec<f32> = lights.lights.iter().map(|l| l.power(scene)).collect();
         PowerLightSampler {
@@ -58,12 +105,12 @@ impl PowerLightSampler {
 }
 
 impl LightSampler for PowerLightSampler {
-    fn sample(&self, _p: Vec3, _n: Vec3, u: f32) -> Option<(usize, f32)> {
+    fn sample(&self, _: &LightContext, u: f32) -> Option<(usize, f32)> {
         let d = self.distribution.as_ref()?;
         let (i, pmf, _) = d.sample_discrete(u);
         (pmf > 0.0).then_some((i, pmf))
     }
-    fn pmf(&self, _p: Vec3, _n: Vec3, light: usize) -> f32 {
+    fn pmf(&self, _: &LightContext, light: usize) -> f32 {
         self.distribution
             .as_ref()
             .map_or(0.0, |d| d.discrete_pmf(light))

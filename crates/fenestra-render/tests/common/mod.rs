@@ -1,47 +1,35 @@
 //! Helpers shared by the render integration tests.
 #![allow(dead_code)] // each test binary uses a subset
 
-use fenestra_render::integrator::{self, IntegratorOptions, NoProgress};
-use fenestra_render::portal::Portals;
-use fenestra_render::{
-    Film, LightSelection, RenderControl, RenderScene, RenderSettings, RenderStats,
-};
+use fenestra_render::integrator::{af_hf, hf, PathOptions};
+use fenestra_render::light::LightSelection;
+use fenestra_render::{render_image, Film, Integrator, RenderScene, RenderSettings, RenderStats};
 use fenestra_scene::{Backend, Scene, SceneDesc};
-use std::sync::atomic::AtomicBool;
 
+/// `hf` or `af_hf` (with power light selection) by name.
+pub fn integrator(name: &str, options: PathOptions) -> Box<dyn Integrator> {
+    match name {
+        "hf" => Box::new(hf(options)),
+        "af_hf" => Box::new(af_hf(options, LightSelection::Power)),
+        _ => panic!("no integrator {name} in these tests"),
+    }
+}
+
+/// Renders `desc` with `integrator` at `size` x `size`.
 pub fn render(
     desc: SceneDesc,
-    name: &str,
-    options: IntegratorOptions,
+    integrator: &mut dyn Integrator,
     size: u32,
     spp: u32,
     seed: u64,
 ) -> (Film, RenderStats) {
-    let portals = Portals::from_quads(&desc.portals);
-    let scene = RenderScene::new(
-        Scene::build(desc, Backend::default()).expect("scene"),
-        LightSelection::Power,
-    );
-    // "lp_hf_mix": lp_hf with half of its samples from the light sampler (Cycles' mixture).
-    let (name, light_mix) = match name {
-        "lp_hf_mix" => ("lp_hf", 0.5),
-        other => (other, 0.0),
+    let scene = RenderScene::new(Scene::build(desc, Backend::default()).expect("scene"));
+    let settings = RenderSettings {
+        spp,
+        time_limit: None,
+        seed,
     };
-    let integrator = integrator::by_name(name, options, portals, light_mix).expect("integrator");
-    let mut film = Film::new(size, size);
-    let cancel = AtomicBool::new(false);
-    let control = RenderControl::new(&cancel, &NoProgress);
-    let stats = integrator.render(
-        &scene,
-        &mut film,
-        &RenderSettings {
-            spp,
-            time_limit: None,
-            seed,
-        },
-        &control,
-    );
-    (film, stats)
+    render_image(integrator, &scene, size, size, &settings).expect("render")
 }
 
 /// Mean and standard error of the red channel over the pixels in [x0, x1) x [y0, y1).
@@ -57,4 +45,17 @@ pub fn region_mean(film: &Film, x0: u32, x1: u32, y0: u32, y1: u32) -> (f64, f64
         }
     }
     (sum / n, var.sqrt() / n)
+}
+
+/// Fails unless `a` and `b` agree within their standard errors over the whole image and
+/// over every 8x8 region (z-test at 1%).
+pub fn assert_agree(label: &str, a: &Film, b: &Film) {
+    let t = fenestra_eval::agreement(
+        (&a.image(), &a.variance_image()),
+        (&b.image(), &b.variance_image()),
+        0.01,
+        8,
+    )
+    .expect("sizes");
+    assert!(t.passed(), "{label}: {t:?}");
 }

@@ -45,20 +45,29 @@ impl Default for Backend {
     }
 }
 
+/// A `--bvh` name this build cannot use.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum BackendError {
+    /// Not a backend's name.
+    #[error(transparent)]
+    Unknown(#[from] fenestra_core::UnknownName),
+    /// Embree asked for in a build without it.
+    #[error("this build has no Embree support (built without the `embree` feature)")]
+    NotBuilt,
+}
+
 impl std::str::FromStr for Backend {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
+    type Err = BackendError;
+    fn from_str(s: &str) -> Result<Self, BackendError> {
         match s {
             #[cfg(feature = "embree")]
             "embree" => Ok(Backend::Embree),
             #[cfg(not(feature = "embree"))]
-            "embree" => {
-                Err("this build has no Embree support (built without the `embree` feature)".into())
-            }
+            "embree" => Err(BackendError::NotBuilt),
             "obvhs" => Ok(Backend::Obvhs),
-            _ => Err(format!(
-                "unknown ray-query backend '{s}' (expected embree or obvhs)"
-            )),
+            _ => Err(
+                fenestra_core::UnknownName::new("ray-query backend", s, "embree or obvhs").into(),
+            ),
         }
     }
 }

@@ -11,7 +11,7 @@ mod teapot;
 mod terminal;
 mod tunnel;
 
-use crate::SceneDesc;
+use crate::{Material, SceneDesc, Shape, ShapeKind, TriangleMesh};
 
 /// (name, description) of every built-in scene.
 pub const SCENES: &[(&str, &str)] = &[
@@ -65,8 +65,13 @@ pub const SCENES: &[(&str, &str)] = &[
     ),
 ];
 
+/// A name that is not one of the built-in scenes.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("unknown built-in scene '{0}' (available: {names})", names = SCENES.iter().map(|s| s.0).collect::<Vec<_>>().join(", "))]
+pub struct UnknownScene(pub String);
+
 /// The scene called `name` (without the `builtin:` prefix).
-pub fn load(name: &str) -> Result<SceneDesc, String> {
+pub fn load(name: &str) -> Result<SceneDesc, UnknownScene> {
     match name {
         "box-hole" => Ok(box_hole::box_scene(box_hole::Variant::OneHole)),
         "box-4holes" => Ok(box_hole::box_scene(box_hole::Variant::FourHoles)),
@@ -80,14 +85,21 @@ pub fn load(name: &str) -> Result<SceneDesc, String> {
         "kitchen-72-env" => Ok(kitchen::kitchen(true)),
         "ponderosa-138" => Ok(ponderosa::ponderosa()),
         "terminal-832" => Ok(terminal::terminal()),
-        _ => {
-            let names: Vec<&str> = SCENES.iter().map(|s| s.0).collect();
-            Err(format!(
-                "unknown built-in scene '{name}' (available: {})",
-                names.join(", ")
-            ))
-        }
+        _ => Err(UnknownScene(name.to_string())),
     }
+}
+
+/// `desc` with a thin glass pane (eta 1.5, pbrt's "thindielectric") filling each of its
+/// openings, the quads listed as its portals: the box scenes with glazed holes.
+pub fn glazed(mut desc: SceneDesc) -> SceneDesc {
+    let glass = desc.materials.len();
+    desc.materials.push(Material::ThinDielectric { eta: 1.5 });
+    for q in desc.portals.clone() {
+        let c = (q[0] + q[1] + q[2] + q[3]) / 4.0;
+        let pane = TriangleMesh::quad(c, (q[1] - q[0]) * 0.5, (q[3] - q[0]) * 0.5);
+        desc.shapes.push(Shape::new(ShapeKind::Mesh(pane), glass));
+    }
+    desc
 }
 
 #[cfg(test)]

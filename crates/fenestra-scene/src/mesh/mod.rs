@@ -77,9 +77,9 @@ pub fn viewer_scene(path: &Path) -> Result<(SceneDesc, Vec<String>), MeshError> 
     let fov = 40.0f32;
     let distance = radius / (0.5 * fov.to_radians()).sin();
     let eye = centre + Vec3::new(0.35, 0.3, 1.0).normalize() * distance;
-    let camera = Camera::look_at(eye, centre, Vec3::Y, fov).map_err(|reason| MeshError {
+    let camera = Camera::look_at(eye, centre, Vec3::Y, fov).map_err(|e| MeshError {
         path: path.to_path_buf(),
-        reason,
+        reason: e.to_string(),
     })?;
     let mut lights = Vec::new();
     if shapes.iter().all(|s| s.emission.is_none()) {

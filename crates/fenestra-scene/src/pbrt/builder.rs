@@ -561,7 +561,7 @@ impl Builder {
                         line: 1,
                         col: 1,
                     },
-                    e,
+                    e.to_string(),
                 )
             })?,
         };
@@ -632,5 +632,5 @@ fn make_camera(c: &CameraSpec) -> Result<Camera, PbrtError> {
         FieldOfView::ShorterAxis(c.fov),
         c.screen_window,
     )
-    .map_err(|e| PbrtError::at(&c.loc, e))
+    .map_err(|e| PbrtError::at(&c.loc, e.to_string()))
 }

@@ -5,6 +5,7 @@
 
 use crate::light::{EnvironmentDesc, LightDesc};
 use crate::{Camera, FieldOfView, Material, SceneDesc, ShapeKind, TriangleMesh};
+use fenestra_core::fs::{write_atomically, write_text_atomically};
 use fenestra_core::image::Image;
 use fenestra_core::{Rgb, Vec3};
 use std::fmt::Write as _;
@@ -42,7 +43,7 @@ pub fn write(desc: &SceneDesc, path: &Path) -> Result<Exported, ExportError> {
     let mut data = |name: String, write: &dyn Fn(&Path) -> Result<(), String>| {
         std::fs::create_dir_all(&data_dir).map_err(|e| err(e.to_string()))?;
         let file = data_dir.join(&name);
-        fenestra_core::image::write_atomically(&file, write).map_err(|e| err(e.to_string()))?;
+        write_atomically(&file, write).map_err(|e| err(e.to_string()))?;
         files.push(file);
         Ok::<String, ExportError>(format!("{data_name}/{name}"))
     };
@@ -268,10 +269,7 @@ pub fn write(desc: &SceneDesc, path: &Path) -> Result<Exported, ExportError> {
         }
         let _ = writeln!(s, "AttributeEnd");
     }
-    fenestra_core::image::write_atomically(path, |tmp| {
-        std::fs::write(tmp, &s).map_err(|e| e.to_string())
-    })
-    .map_err(|e| err(e.to_string()))?;
+    write_text_atomically(path, &s).map_err(|e| err(e.reason))?;
     files.insert(0, path.to_path_buf());
     Ok(Exported { files })
 }

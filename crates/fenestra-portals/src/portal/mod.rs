@@ -8,10 +8,10 @@
 mod file;
 mod spherical_rectangle;
 
-pub use file::{PortalFile, PortalRecord};
+pub use file::{EstimationRecord, PortalFile, PortalRecord};
 pub use spherical_rectangle::SphericalRectangle;
 
-use fenestra_core::{Frame, Vec2, Vec3, PI};
+use fenestra_core::{Frame, UnknownName, Vec2, Vec3, PI};
 
 #[derive(Clone, Debug, PartialEq)]
 pub enum Portal {
@@ -39,6 +39,26 @@ impl Portal {
             corner: corners[0],
             e1: corners[1] - corners[0],
             e2: corners[3] - corners[0],
+        }
+    }
+
+    /// "quad", "triangle" or "ellipse" (as in portals.json).
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Portal::Quad { .. } => "quad",
+            Portal::Triangle { .. } => "triangle",
+            Portal::Ellipse { .. } => "ellipse",
+        }
+    }
+
+    /// Size in words: edge lengths of a quad, semi-axes of an ellipse.
+    pub fn size(&self) -> String {
+        match self {
+            Portal::Quad { e1, e2, .. } => format!("{:.4} x {:.4} m", e1.length(), e2.length()),
+            Portal::Ellipse { a, b, .. } => {
+                format!("semi-axes {:.4}, {:.4} m", a.length(), b.length())
+            }
+            Portal::Triangle { .. } => "triangle".into(),
         }
     }
 
@@ -146,7 +166,7 @@ fn plane_coordinates(v: Vec3, e1: Vec3, e2: Vec3) -> (f32, f32) {
 }
 
 /// How a point is chosen on the picked portal.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 pub enum PortalSampling {
     /// Uniform by area (seed 000 eq. 4.1).
     Area,
@@ -155,7 +175,7 @@ pub enum PortalSampling {
 }
 
 /// How one of several portals is picked at a shading point.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 pub enum PortalChoice {
     /// 1/N each (seed 000 eq. 4.1).
     Uniform,
@@ -168,27 +188,31 @@ pub enum PortalChoice {
 }
 
 impl std::str::FromStr for PortalSampling {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
+    type Err = UnknownName;
+    fn from_str(s: &str) -> Result<Self, UnknownName> {
         match s {
             "area" => Ok(PortalSampling::Area),
             "solid-angle" => Ok(PortalSampling::SolidAngle),
-            _ => Err(format!(
-                "unknown portal sampling '{s}' (expected area or solid-angle)"
+            _ => Err(UnknownName::new(
+                "portal sampling",
+                s,
+                "area or solid-angle",
             )),
         }
     }
 }
 
 impl std::str::FromStr for PortalChoice {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
+    type Err = UnknownName;
+    fn from_str(s: &str) -> Result<Self, UnknownName> {
         match s {
             "uniform" => Ok(PortalChoice::Uniform),
             "facing" => Ok(PortalChoice::Facing),
             "contribution" => Ok(PortalChoice::Contribution),
-            _ => Err(format!(
-                "unknown portal choice '{s}' (expected uniform, facing or contribution)"
+            _ => Err(UnknownName::new(
+                "portal choice",
+                s,
+                "uniform, facing or contribution",
             )),
         }
     }

@@ -1,7 +1,12 @@
 //! portals.json (schema in docs/portals.md): reading with validation, writing.
 
 use super::{Portal, Portals};
+use crate::error::PortalError;
+use crate::estimate::{EstimateParams, Timings};
+use crate::photon::Deposit;
+use fenestra_core::fs::write_text_atomically;
 use fenestra_core::Vec3;
+use std::path::Path;
 
 /// One portal in a portals.json file (schema in docs/portals.md): `kind` "ellipse" with
 /// `axes` (two semi-axis vectors), or "quad"/"triangle" with `vertices`; `center`, `normal`
@@ -23,17 +28,45 @@ pub struct PortalRecord {
     pub cluster: Option<usize>,
 }
 
+/// A portals.json document: the portals, and how they were estimated when they were.
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct PortalFile {
+    /// The portals.
     pub portals: Vec<PortalRecord>,
+    /// How the portals were estimated (written by `fenestra portals`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub estimation: Option<EstimationRecord>,
+}
+
+/// How an estimate was made and what it took.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+pub struct EstimationRecord {
+    /// The scene estimated from, as given on the command line.
+    pub scene: String,
+    /// The pipeline's parameters.
+    pub parameters: EstimateParams,
+    /// Photons gathered.
+    pub photons: usize,
+    /// Beams traced.
+    pub beams: u64,
+    /// Rays traced.
+    pub rays: u64,
+    /// Where photons were deposited.
+    pub deposit: Deposit,
+    /// Whether photon tracing was stopped by the user.
+    pub interrupted: bool,
+    /// Clusters found.
+    pub clusters: usize,
+    /// Seconds per stage.
+    pub time_s: Timings,
 }
 
 impl PortalRecord {
+    /// The record of `p`.
     pub fn new(p: &Portal) -> Self {
-        let (kind, axes, vertices) = match p {
-            Portal::Ellipse { a, b, .. } => ("ellipse", Some([a.to_array(), b.to_array()]), None),
+        let (axes, vertices) = match p {
+            Portal::Ellipse { a, b, .. } => (Some([a.to_array(), b.to_array()]), None),
             Portal::Quad { corner, e1, e2 } => (
-                "quad",
                 None,
                 Some(vec![
                     corner.to_array(),
@@ -42,14 +75,10 @@ impl PortalRecord {
                     (*corner + *e2).to_array(),
                 ]),
             ),
-            Portal::Triangle { vertices } => (
-                "triangle",
-                None,
-                Some(vertices.map(|v| v.to_array()).to_vec()),
-            ),
+            Portal::Triangle { vertices } => (None, Some(vertices.map(|v| v.to_array()).to_vec())),
         };
         PortalRecord {
-            kind: kind.into(),
+            kind: p.kind().into(),
             center: p.center().to_array(),
             normal: p.normal().to_array(),
             area: p.area(),
@@ -61,7 +90,7 @@ impl PortalRecord {
     }
 
     /// The portal this record describes, or what is wrong with it.
-    pub fn portal(&self) -> Result<Portal, String> {
+    fn portal(&self) -> Result<Portal, String> {
         let v = |a: [f32; 3]| Vec3::from(a);
         let portal = match (self.kind.as_str(), &self.axes, &self.vertices) {
             ("ellipse", Some([a, b]), _) => Portal::Ellipse {
@@ -110,27 +139,52 @@ impl PortalRecord {
     }
 }
 
-impl Portals {
-    /// Reads a portals.json file.
-    pub fn read_json(path: &std::path::Path) -> Result<Portals, String> {
-        let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-        let file: PortalFile =
-            serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
-        let portals = file
+impl PortalFile {
+    /// Reads a portals.json file (the portals are checked by [`PortalFile::portals`]).
+    pub fn read(path: &Path) -> Result<PortalFile, PortalError> {
+        let bad = |reason: String| PortalError::File {
+            path: path.to_path_buf(),
+            reason,
+        };
+        let text = std::fs::read_to_string(path).map_err(|e| bad(e.to_string()))?;
+        serde_json::from_str(&text).map_err(|e| bad(e.to_string()))
+    }
+
+    /// Writes the document as pretty JSON, atomically.
+    pub fn write(&self, path: &Path) -> Result<(), PortalError> {
+        let text = serde_json::to_string_pretty(self)
+            .map_err(|e| fenestra_core::fs::WriteError::new(path, e))?;
+        Ok(write_text_atomically(path, &(text + "\n"))?)
+    }
+
+    /// The portals the records describe; `path` names the file in errors.
+    pub fn portals(&self, path: &Path) -> Result<Portals, PortalError> {
+        let portals = self
             .portals
             .iter()
             .enumerate()
             .map(|(i, r)| {
-                r.portal()
-                    .map_err(|e| format!("{}: portal {i}: {e}", path.display()))
+                r.portal().map_err(|e| PortalError::File {
+                    path: path.to_path_buf(),
+                    reason: format!("portal {i}: {e}"),
+                })
             })
             .collect::<Result<Vec<_>, _>>()?;
         Ok(Portals::new(portals))
     }
+}
 
-    pub fn to_json(&self) -> PortalFile {
+impl Portals {
+    /// Reads the portals of a portals.json file.
+    pub fn read_json(path: &Path) -> Result<Portals, PortalError> {
+        PortalFile::read(path)?.portals(path)
+    }
+
+    /// The portals.json document of these portals.
+    pub fn to_file(&self) -> PortalFile {
         PortalFile {
             portals: self.portals().iter().map(PortalRecord::new).collect(),
+            estimation: None,
         }
     }
 }
@@ -155,11 +209,7 @@ mod tests {
         let dir = std::env::temp_dir().join(format!("fenestra-portals-{}", std::process::id()));
         std::fs::create_dir_all(&dir).expect("dir");
         let path = dir.join("p.json");
-        std::fs::write(
-            &path,
-            serde_json::to_string(&portals.to_json()).expect("json"),
-        )
-        .expect("write");
+        portals.to_file().write(&path).expect("write");
         assert_eq!(
             Portals::read_json(&path).expect("read").portals(),
             portals.portals()
@@ -184,7 +234,7 @@ mod tests {
             (r#"{"portal":[]}"#, "missing field"),
         ] {
             std::fs::write(&path, bad).expect("write");
-            let e = Portals::read_json(&path).expect_err(why);
+            let e = Portals::read_json(&path).expect_err(why).to_string();
             assert!(e.contains(why), "{e}");
         }
         let _ = std::fs::remove_dir_all(&dir);

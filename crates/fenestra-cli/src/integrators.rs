@@ -1,0 +1,167 @@
+//! The integrators this binary offers, each built from its own option group: the path
+//! tracers of fenestra-render and the research crates' integrators (lp_hf from
+//! fenestra-portals). A new integrator is one `register` call and, if it has options, one
+//! option group here.
+
+use crate::portals_cmd::EstimateOpts;
+use anyhow::{bail, Result};
+use clap::{Args, ValueEnum};
+use fenestra_core::mis::MisHeuristic;
+use fenestra_portals::estimate::Model;
+use fenestra_portals::{PortalChoice, PortalOptions, PortalSampling, PortalSource, Portals};
+use fenestra_render::integrator::{af_hf, hf, IntegratorError, PathOptions};
+use fenestra_render::light::LightSelection;
+use fenestra_render::Registry;
+use std::path::Path;
+
+/// Which integrator, and every integrator's options.
+#[derive(Args, Clone, Debug)]
+pub struct IntegratorArgs {
+    /// Integrator (`fenestra list` shows them): hf (BSDF sampling), af_hf (light and BSDF
+    /// sampling with MIS) or lp_hf (light-portal and BSDF sampling with MIS).
+    #[arg(long, default_value = "af_hf")]
+    pub integrator: String,
+    #[command(flatten, next_help_heading = "Path tracing (hf, af_hf, lp_hf)")]
+    pub path: PathArgs,
+    #[command(flatten, next_help_heading = "Light sampling (af_hf, lp_hf)")]
+    pub lights: LightArgs,
+    #[command(flatten, next_help_heading = "Light portals (lp_hf)")]
+    pub portals: PortalArgs,
+}
+
+#[derive(Clone, Copy, ValueEnum, Debug)]
+enum Mis {
+    Balance,
+    Power,
+}
+
+/// Options of the path tracers.
+#[derive(Args, Clone, Debug)]
+pub struct PathArgs {
+    /// Maximum path length in segments from the camera to the emitter (2 = direct light only;
+    /// default: the scene's).
+    #[arg(long)]
+    pub max_depth: Option<u32>,
+    /// MIS heuristic combining BSDF sampling with the next-event strategy.
+    #[arg(long, value_enum, default_value = "power")]
+    mis: Mis,
+    /// Exponent of the power heuristic.
+    #[arg(long, default_value_t = 2.0)]
+    beta: f32,
+    /// Path length from which Russian roulette may end paths.
+    #[arg(long, default_value_t = 3)]
+    rr_depth: u32,
+}
+
+/// Options of light sampling.
+#[derive(Args, Clone, Debug)]
+pub struct LightArgs {
+    /// How next-event estimation picks a light: power or uniform.
+    #[arg(long, default_value = "power")]
+    light_selection: LightSelection,
+}
+
+/// Options of lp_hf.
+#[derive(Args, Clone, Debug)]
+pub struct PortalArgs {
+    /// Light portals: a portals.json file, or "auto" to estimate them first with the default
+    /// parameters of `fenestra portals` (default: the scene's own portals).
+    #[arg(long)]
+    pub portals: Option<String>,
+    /// How a point is chosen on a portal: solid-angle (rectangles by the solid angle they
+    /// subtend, Urena et al. 2013) or area (seed 000 eq. 4.1).
+    #[arg(long, default_value = "solid-angle")]
+    portal_sampling: PortalSampling,
+    /// How a portal is picked: contribution (solid angle times cosine at the point), facing
+    /// (uniform among those not behind the surface, as Cycles) or uniform (the seed's).
+    #[arg(long, default_value = "contribution")]
+    portal_choice: PortalChoice,
+    /// Probability that a sample comes from light sampling instead of the portals (Cycles
+    /// mixes its portals with environment sampling; 0 uses the portals only).
+    #[arg(long, default_value_t = 0.0)]
+    portal_light_mix: f32,
+    /// With --portals auto: the shape fitted to each cluster (smallest, ellipse, rectangle or
+    /// pca; see `fenestra portals --model`).
+    #[arg(long, default_value = "smallest")]
+    portal_model: Model,
+}
+
+impl PathArgs {
+    /// The path tracers' options, with the scene's path length unless one is given.
+    pub fn options(&self, scene_max_depth: u32) -> Result<PathOptions> {
+        if self.max_depth == Some(0) {
+            bail!("--max-depth must be at least 1 (1 = emitters seen directly, 2 = direct light)");
+        }
+        if !(self.beta.is_finite() && self.beta > 0.0) {
+            bail!("--beta must be positive, got {}", self.beta);
+        }
+        Ok(PathOptions {
+            max_depth: self.max_depth.unwrap_or(scene_max_depth),
+            mis: match self.mis {
+                Mis::Balance => MisHeuristic::Balance,
+                Mis::Power => MisHeuristic::Power { beta: self.beta },
+            },
+            rr_depth: self.rr_depth,
+        })
+    }
+}
+
+impl PortalArgs {
+    /// lp_hf's options: the portals file is read here, before the scene is built.
+    fn options(&self, light_selection: LightSelection) -> Result<PortalOptions, IntegratorError> {
+        let source = match self.portals.as_deref() {
+            None => PortalSource::Scene,
+            Some("auto") => PortalSource::Estimated(EstimateOpts::defaults_with(self.portal_model)),
+            Some(file) => PortalSource::Given(Portals::read_json(Path::new(file))?),
+        };
+        Ok(PortalOptions {
+            source,
+            sampling: self.portal_sampling,
+            choice: self.portal_choice,
+            light_mix: self.portal_light_mix,
+            light_selection,
+        })
+    }
+}
+
+/// What an integrator is built from: the path tracers' options (resolved against the
+/// scene) and every option group as given.
+pub struct Config<'a> {
+    /// Path tracing options.
+    pub path: PathOptions,
+    /// Everything from the command line.
+    pub args: &'a IntegratorArgs,
+}
+
+/// Every integrator of this binary.
+pub fn registry<'a>() -> Registry<Config<'a>> {
+    Registry::new()
+        .register(
+            "hf",
+            "BSDF sampling only (hemispherical formulation)",
+            |c: &Config| Ok(Box::new(hf(c.path))),
+        )
+        .register(
+            "af_hf",
+            "next-event estimation on emitters and BSDF sampling combined by MIS",
+            |c: &Config| Ok(Box::new(af_hf(c.path, c.args.lights.light_selection))),
+        )
+        .register(
+            "lp_hf",
+            "light-portal sampling and BSDF sampling combined by MIS (needs portals)",
+            |c: &Config| {
+                let options = c.args.portals.options(c.args.lights.light_selection)?;
+                Ok(Box::new(fenestra_portals::lp_hf(c.path, options)?))
+            },
+        )
+}
+
+impl IntegratorArgs {
+    /// Refuses options that belong to an integrator other than the one chosen.
+    pub fn check(&self) -> Result<()> {
+        if let (Some(p), false) = (&self.portals.portals, self.integrator == "lp_hf") {
+            bail!("--portals {p} is for --integrator lp_hf");
+        }
+        Ok(())
+    }
+}

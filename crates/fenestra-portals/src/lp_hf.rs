@@ -1,0 +1,314 @@
+//! `lp_hf` (seed 000 ch. 4): next-event estimation through light portals. A portal is picked
+//! and a direction through it sampled (eq. 4.1, or by solid angle); the ray finds whatever
+//! lies beyond (an emitter, or the environment for sky-lit interiors, which the seed does not
+//! treat) and is combined with BSDF sampling by MIS. Dirac lights, which no ray finds, keep
+//! their own light sampling; optionally a share of the samples comes from light sampling
+//! (a one-sample mixture, as Cycles mixes its portals with environment sampling).
+//!
+//! The portals come from the scene, a portals.json file, or an estimate made while the
+//! integrator is prepared (so its time counts in the render's).
+
+use crate::error::PortalError;
+use crate::estimate::{estimate, EstimateParams};
+use crate::portal::{PortalChoice, PortalRecord, PortalSampling, Portals, Side};
+use fenestra_core::mis::MisHeuristic;
+use fenestra_core::ray::offset_origin;
+use fenestra_core::stats::{RayCounters, RenderStats};
+use fenestra_core::{Ray, Rgb, Sampler, Vec3};
+use fenestra_render::driver::SampleContext;
+use fenestra_render::integrator::{
+    Found, LightNextEvent, NextEvent, PathOptions, PathTracer, Scattered, Shading,
+};
+use fenestra_render::light::{LightHit, LightSelection};
+use fenestra_render::{IntegratorError, RenderControl, RenderScene};
+use serde_json::json;
+
+/// Where lp_hf's portals come from.
+#[derive(Clone, Debug)]
+pub enum PortalSource {
+    /// The scene's own: pbrt-v4 "point3 portal" quads, interface-material quads, the
+    /// built-in scenes' openings.
+    Scene,
+    /// Given, for example read from a portals.json file.
+    Given(Portals),
+    /// Estimated from the scene (seed 000 ch. 4) with these parameters when prepared.
+    Estimated(EstimateParams),
+}
+
+/// lp_hf's own options.
+#[derive(Clone, Debug)]
+pub struct PortalOptions {
+    /// Where the portals come from.
+    pub source: PortalSource,
+    /// How a point is chosen on a portal.
+    pub sampling: PortalSampling,
+    /// How a portal is picked.
+    pub choice: PortalChoice,
+    /// Probability that a sample comes from light sampling instead (0: portals only).
+    pub light_mix: f32,
+    /// The light sampler for that mixture and for Dirac lights.
+    pub light_selection: LightSelection,
+}
+
+impl Default for PortalOptions {
+    fn default() -> Self {
+        PortalOptions {
+            source: PortalSource::Scene,
+            sampling: PortalSampling::SolidAngle,
+            choice: PortalChoice::Contribution,
+            light_mix: 0.0,
+            light_selection: LightSelection::Power,
+        }
+    }
+}
+
+/// The lp_hf integrator: the shared path loop with portal sampling as its next event.
+pub fn lp_hf(
+    path: PathOptions,
+    options: PortalOptions,
+) -> Result<PathTracer<PortalNextEvent>, PortalError> {
+    if !(0.0..=1.0).contains(&options.light_mix) {
+        return Err(PortalError::Parameters(format!(
+            "the share of light sampling mixed with portal sampling must lie in [0, 1], got {}",
+            options.light_mix
+        )));
+    }
+    let lights = LightNextEvent::new(options.light_selection);
+    Ok(PathTracer::new(
+        "lp_hf",
+        PortalNextEvent {
+            options,
+            portals: Portals::default(),
+            lights,
+            estimated: None,
+        },
+        path,
+    ))
+}
+
+/// Portal sampling, mixed with light sampling, as a next-event strategy.
+pub struct PortalNextEvent {
+    options: PortalOptions,
+    /// The portals, with the sampling and choice rules (set when prepared).
+    portals: Portals,
+    lights: LightNextEvent,
+    /// Photons and seconds of the estimate, when the portals were estimated.
+    estimated: Option<(usize, f64)>,
+}
+
+/// What lp_hf keeps of a shading vertex: which side light may arrive from, and the portals'
+/// total pick weight there (computed once per vertex, used by the sample and by the MIS
+/// weight of the next BSDF-sampled ray).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct PortalVertex {
+    side: Side,
+    total: f32,
+}
+
+impl PortalNextEvent {
+    /// The portals in use (empty before preparation).
+    pub fn portals(&self) -> &Portals {
+        &self.portals
+    }
+
+    /// Portal sampling at `s` (eq. 4.1), or with probability `light_mix` light sampling: a
+    /// direction, the radiance of whatever the ray meets first beyond thin glass (emitter or
+    /// environment), weighted by MIS against the BSDF with the mixture's density.
+    fn sample_portal(
+        &self,
+        scene: &RenderScene,
+        s: &Shading,
+        v: &PortalVertex,
+        mis: MisHeuristic,
+        sampler: &mut Sampler,
+        rays: &mut RayCounters,
+    ) -> Rgb {
+        let light_mix = self.options.light_mix;
+        let by_light = light_mix > 0.0 && sampler.next_1d() < light_mix;
+        let u_pick = sampler.next_1d();
+        let u = sampler.next_2d();
+        let si = s.si;
+        let ctx = s.light_context();
+        let light_sampler = self.lights.sampler();
+        // The light sampled in light mode: only it may be found along the ray (as a shadow
+        // ray would have it), so the mixture density counts that light's density alone.
+        let (wi, sampled) = if by_light {
+            let Some((index, _)) = light_sampler.sample(&ctx, u_pick) else {
+                return Rgb::ZERO;
+            };
+            match scene.lights.lights[index].sample_li(&scene.scene, si.p, u) {
+                // Dirac lights have their own estimator.
+                Some(ls) if !ls.delta => (ls.wi, Some(index)),
+                _ => return Rgb::ZERO,
+            }
+        } else {
+            let Some(ps) = self.portals.sample(si.p, v.side, v.total, u_pick, u) else {
+                return Rgb::ZERO;
+            };
+            (ps.wi, None)
+        };
+        let seen = |index: usize| sampled.is_none_or(|s| s == index);
+        let Some((wi_local, f)) = s.bsdf_toward(wi) else {
+            return Rgb::ZERO;
+        };
+        rays.shadow += 1;
+        let ray = Ray::new(offset_origin(si.p, si.ng, wi), wi);
+        // Radiance found beyond and the light sampler's density of that direction.
+        let (li, light_pdf) = match scene.through_glass(ray, f32::INFINITY) {
+            (tr, Some(hit)) => {
+                let beyond = scene.scene.interaction(&ray, &hit);
+                match scene.lights.surface_emission(&beyond, wi) {
+                    Some((index, le)) if seen(index) => {
+                        let pdf = if light_mix > 0.0 {
+                            light_sampler.pmf(&ctx, index)
+                                * scene.lights.lights[index].pdf_li(
+                                    &scene.scene,
+                                    si.p,
+                                    wi,
+                                    LightHit::Surface(&beyond),
+                                )
+                        } else {
+                            0.0
+                        };
+                        (tr * le, pdf)
+                    }
+                    _ => (Rgb::ZERO, 0.0),
+                }
+            }
+            (tr, None) => scene.lights.environments.iter().filter(|&&e| seen(e)).fold(
+                (Rgb::ZERO, 0.0),
+                |(l, pdf), &e| {
+                    let light = &scene.lights.lights[e];
+                    (
+                        l + tr * light.le(LightHit::Escaped, wi),
+                        pdf + light_sampler.pmf(&ctx, e)
+                            * light.pdf_li(&scene.scene, si.p, wi, LightHit::Escaped),
+                    )
+                },
+            ),
+        };
+        if li.is_black() {
+            return Rgb::ZERO;
+        }
+        let pdf =
+            (1.0 - light_mix) * self.portals.pdf(si.p, v.side, v.total, wi) + light_mix * light_pdf;
+        if !(pdf > 0.0) {
+            return Rgb::ZERO;
+        }
+        let weight = mis.weight(pdf, s.bsdf.pdf(s.wo_local, wi_local));
+        f * li * (wi_local.z.abs() * weight / pdf)
+    }
+}
+
+impl NextEvent for PortalNextEvent {
+    type Vertex = PortalVertex;
+
+    fn settings(&self) -> serde_json::Value {
+        let o = &self.options;
+        let portals = match &o.source {
+            PortalSource::Scene => json!("scene"),
+            PortalSource::Given(p) => json!(p
+                .portals()
+                .iter()
+                .map(PortalRecord::new)
+                .collect::<Vec<_>>()),
+            PortalSource::Estimated(params) => json!({ "estimated": params }),
+        };
+        let mut s = json!({
+            "portals": portals,
+            "portal_sampling": o.sampling,
+            "portal_choice": o.choice,
+            "portal_light_mix": o.light_mix,
+        });
+        if let (Some(all), serde_json::Value::Object(lights)) =
+            (s.as_object_mut(), self.lights.settings())
+        {
+            all.extend(lights);
+        }
+        s
+    }
+
+    fn prepare(
+        &mut self,
+        scene: &RenderScene,
+        control: &RenderControl,
+    ) -> Result<(), IntegratorError> {
+        self.lights.prepare(scene, control)?;
+        let portals = match &self.options.source {
+            PortalSource::Scene => Portals::from_quads(&scene.scene.portals),
+            PortalSource::Given(p) => p.clone(),
+            PortalSource::Estimated(params) => {
+                let e = estimate(scene, params, control.cancel, control.progress)?;
+                control.progress.note(&format!("portals: {}", e.summary()));
+                if e.portals.is_empty() {
+                    return Err(PortalError::NoneFound.into());
+                }
+                self.estimated = Some((e.photons.points.len(), e.timings.total()));
+                e.portals()
+            }
+        };
+        if portals.is_empty() {
+            return Err(PortalError::NoPortals.into());
+        }
+        self.portals = portals.with_strategy(self.options.sampling, self.options.choice);
+        Ok(())
+    }
+
+    fn vertex(&self, _: &RenderScene, s: &Shading) -> PortalVertex {
+        // Light reaches an opaque surface from the side `wo` leaves on; a transmissive one
+        // from both.
+        let side = (!s.bsdf.is_transmissive()).then(|| s.si.ng * s.si.ng.dot(s.wo).signum());
+        PortalVertex {
+            side,
+            total: self.portals.total_weight(s.si.p, side),
+        }
+    }
+
+    fn sample(
+        &self,
+        scene: &RenderScene,
+        s: &Shading,
+        v: &PortalVertex,
+        mis: MisHeuristic,
+        sampler: &mut Sampler,
+        rays: &mut RayCounters,
+    ) -> Rgb {
+        let mut l = self.sample_portal(scene, s, v, mis, sampler, rays);
+        if scene.lights.has_delta {
+            l += self.lights.sample_light(scene, s, true, mis, sampler, rays);
+        }
+        l
+    }
+
+    /// The portal density of `wi`, whatever the ray found beyond, mixed with the light
+    /// sampler's density by `light_mix`.
+    fn pdf(
+        &self,
+        scene: &RenderScene,
+        from: &Scattered<PortalVertex>,
+        wi: Vec3,
+        found: Found,
+        sample: &SampleContext,
+    ) -> f32 {
+        let v = &from.vertex;
+        let light_mix = self.options.light_mix;
+        let mut p = (1.0 - light_mix) * self.portals.pdf(from.p, v.side, v.total, wi);
+        if light_mix > 0.0 {
+            p += light_mix
+                * self
+                    .lights
+                    .light_pdf(scene, &from.light_context(sample), wi, found);
+        }
+        p
+    }
+
+    fn report(&self, stats: &mut RenderStats) {
+        stats
+            .extra
+            .insert("portals".into(), self.portals.portals().len() as f64);
+        if let Some((photons, seconds)) = self.estimated {
+            stats.extra.insert("portal_photons".into(), photons as f64);
+            stats.extra.insert("portal_estimation_s".into(), seconds);
+        }
+    }
+}

@@ -1,0 +1,176 @@
+//! lp_hf must agree with af_hf within their standard errors, whatever the portals: exact,
+//! half-size (BSDF sampling covers the rest), four times too large (a wrong MIS weight on
+//! either technique would show), mixed with light sampling, and behind thin glass.
+
+use fenestra_core::mis::MisHeuristic;
+use fenestra_core::Vec3;
+use fenestra_portals::{lp_hf, PortalChoice, PortalOptions, PortalSampling};
+use fenestra_render::integrator::{af_hf, hf, PathOptions};
+use fenestra_render::light::LightSelection;
+use fenestra_render::{render_image, Film, Integrator, RenderScene, RenderSettings};
+use fenestra_scene::{builtin, Backend, Scene, SceneDesc};
+
+const SIZE: u32 = 32;
+
+fn render(desc: SceneDesc, integrator: &mut dyn Integrator, spp: u32) -> Film {
+    let scene = RenderScene::new(Scene::build(desc, Backend::default()).expect("scene"));
+    let settings = RenderSettings {
+        spp,
+        time_limit: None,
+        seed: 11,
+    };
+    render_image(integrator, &scene, SIZE, SIZE, &settings)
+        .expect("render")
+        .0
+}
+
+fn path(mis: MisHeuristic, depth: u32) -> PathOptions {
+    PathOptions {
+        max_depth: depth,
+        mis,
+        rr_depth: 3,
+    }
+}
+
+fn portals(options: PortalOptions, mis: MisHeuristic, depth: u32) -> impl Integrator {
+    lp_hf(path(mis, depth), options).expect("lp_hf")
+}
+
+fn assert_agree(label: &str, a: &Film, b: &Film) {
+    let t = fenestra_eval::agreement(
+        (&a.image(), &a.variance_image()),
+        (&b.image(), &b.variance_image()),
+        0.01,
+        8,
+    )
+    .expect("sizes");
+    assert!(t.passed(), "{label}: {t:?}");
+}
+
+/// `desc` with each portal scaled about its centre by `scale` along both edges.
+fn scaled(mut desc: SceneDesc, scale: f32) -> SceneDesc {
+    for quad in &mut desc.portals {
+        let c = quad.iter().fold(Vec3::ZERO, |a, &p| a + p) / 4.0;
+        quad.iter_mut().for_each(|p| *p = c + (*p - c) * scale);
+    }
+    desc
+}
+
+#[test]
+fn lp_hf_agrees_with_af_hf_with_exact_small_and_large_portals() {
+    let power = MisHeuristic::Power { beta: 2.0 };
+    let balance = MisHeuristic::Balance;
+    for scene in ["box-hole", "box-hole-sky"] {
+        for depth in [2, 4] {
+            let load = || builtin::load(scene).expect("builtin");
+            let af = render(
+                load(),
+                &mut af_hf(path(power, depth), LightSelection::Power),
+                512,
+            );
+            let cases = [
+                ("exact portals", 1.0, PortalOptions::default(), power, 256),
+                (
+                    "half-size portals",
+                    0.5,
+                    PortalOptions::default(),
+                    balance,
+                    512,
+                ),
+                ("4x portals", 4.0, PortalOptions::default(), balance, 512),
+                // The seed's rules: area sampling, uniform choice.
+                (
+                    "half-size portals by area",
+                    0.5,
+                    PortalOptions {
+                        sampling: PortalSampling::Area,
+                        choice: PortalChoice::Uniform,
+                        ..Default::default()
+                    },
+                    power,
+                    512,
+                ),
+                // Half the samples from the light sampler: the mixture density must count
+                // both techniques.
+                (
+                    "half-size portals mixed with light sampling",
+                    0.5,
+                    PortalOptions {
+                        light_mix: 0.5,
+                        choice: PortalChoice::Facing,
+                        ..Default::default()
+                    },
+                    power,
+                    512,
+                ),
+            ];
+            for (what, scale, options, mis, spp) in cases {
+                let lp = render(
+                    scaled(load(), scale),
+                    &mut portals(options, mis, depth),
+                    spp,
+                );
+                assert_agree(
+                    &format!("{scene}: af_hf vs lp_hf with {what}, depth {depth}"),
+                    &af,
+                    &lp,
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn light_through_thin_glass_agrees_between_bsdf_and_portal_sampling() {
+    // Portal rays pass the pane with its transmittance; BSDF sampling passes it by sampling
+    // transmission.
+    let power = MisHeuristic::Power { beta: 2.0 };
+    for scene in ["box-hole", "box-hole-sky"] {
+        for depth in [2, 4] {
+            let load = || builtin::glazed(builtin::load(scene).expect("builtin"));
+            let hf = render(load(), &mut hf(path(power, depth)), 2048);
+            let lp = render(
+                load(),
+                &mut portals(PortalOptions::default(), power, depth),
+                256,
+            );
+            assert_agree(
+                &format!("glazed {scene}: hf vs lp_hf, depth {depth}"),
+                &hf,
+                &lp,
+            );
+        }
+    }
+}
+
+#[test]
+fn lp_hf_refuses_a_scene_without_portals_and_a_bad_mixture() {
+    let scene = RenderScene::new(
+        Scene::build(
+            builtin::load("cornell-box").expect("builtin"),
+            Backend::default(),
+        )
+        .expect("scene"),
+    );
+    let settings = RenderSettings {
+        spp: 1,
+        time_limit: None,
+        seed: 0,
+    };
+    let mut lp = portals(PortalOptions::default(), MisHeuristic::Balance, 2);
+    let Err(e) = render_image(&mut lp, &scene, 4, 4, &settings) else {
+        panic!("rendered without portals");
+    };
+    assert_eq!(
+        e.to_string(),
+        "lp_hf needs light portals and the scene has none"
+    );
+    let bad = PortalOptions {
+        light_mix: 1.5,
+        ..Default::default()
+    };
+    let Err(e) = lp_hf(PathOptions::default(), bad) else {
+        panic!("a mixture of 1.5 was accepted");
+    };
+    assert!(e.to_string().contains("must lie in [0, 1], got 1.5"), "{e}");
+}

@@ -1,0 +1,70 @@
+//! What the caller of a render controls while it runs: cancellation (Ctrl-C), progress
+//! reports, and a hook after every pass (convergence curves, stopping at a target error).
+
+use crate::film::Film;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Instant;
+
+/// Receives progress: `start` once per stage with its total work (samples, photons, if
+/// known), then `advance`; `note` for a line of information (what a preparation found).
+pub trait Progress: Sync {
+    /// A new stage begins, with `total` units of work if known.
+    fn start(&self, _total: Option<u64>) {}
+    /// `units` more units of work are done.
+    fn advance(&self, _units: u64) {}
+    /// A line of information for the user.
+    fn note(&self, _text: &str) {}
+}
+
+/// Progress that goes nowhere.
+pub struct NoProgress;
+impl Progress for NoProgress {}
+
+/// Called after every completed pass with the film and the seconds since the render began;
+/// returns whether to go on (a measurement can stop a render once it reaches a target error).
+pub type PassHook<'a> = &'a (dyn Fn(&Film, f64) -> bool + Sync);
+
+/// Progress reporting, cancellation and a per-pass hook for one render, and its clock: the
+/// render's time runs from the control's creation, so preparation counts in it.
+pub struct RenderControl<'a> {
+    /// Set (by a Ctrl-C handler) to stop: the work done so far is kept.
+    pub cancel: &'a AtomicBool,
+    /// Where progress goes.
+    pub progress: &'a dyn Progress,
+    /// Called after every pass.
+    pub on_pass: Option<PassHook<'a>>,
+    started: Instant,
+}
+
+/// Never set: the cancel flag of unattended renders.
+static NEVER: AtomicBool = AtomicBool::new(false);
+
+impl RenderControl<'static> {
+    /// A control for renders nobody watches (tests, scripts): no cancellation, no
+    /// progress, no hook.
+    pub fn unattended() -> Self {
+        RenderControl::new(&NEVER, &NoProgress)
+    }
+}
+
+impl<'a> RenderControl<'a> {
+    /// A control whose clock starts now.
+    pub fn new(cancel: &'a AtomicBool, progress: &'a dyn Progress) -> Self {
+        RenderControl {
+            cancel,
+            progress,
+            on_pass: None,
+            started: Instant::now(),
+        }
+    }
+
+    /// Whether the render was asked to stop.
+    pub fn cancelled(&self) -> bool {
+        self.cancel.load(Ordering::Relaxed)
+    }
+
+    /// Seconds since the control was made.
+    pub fn elapsed(&self) -> f64 {
+        self.started.elapsed().as_secs_f64()
+    }
+}

@@ -1,0 +1,97 @@
+//! The render drivers: they turn an estimator into a parallel, interruptible render whose
+//! pixels do not depend on the number of threads. Sample `i` of pixel `p` always uses the
+//! stream (seed, p, i) and a pixel's samples are added in index order, whatever the pass
+//! schedule.
+//!
+//! - [`passes`]: the block/pass driver. The image is cut into 8x8 pixel blocks (seed 004
+//!   §3.3.2) and rendered in passes; the estimator says how many samples each pixel takes
+//!   in a pass, gathers statistics per block, and sees them all between passes.
+//! - [`progressive`]: the per-path driver, for estimators that only map a camera ray to
+//!   radiance: passes of 1, 2, 4, ... 32 samples per pixel until the sample count or the
+//!   time limit is reached. It runs on the block/pass driver.
+
+pub mod passes;
+pub mod progressive;
+
+pub use passes::{render_passes, PassEstimator, PassInfo, PixelState};
+pub use progressive::{render_progressive, PathEstimator};
+
+use crate::render_scene::RenderScene;
+use fenestra_core::stats::RayCounters;
+use fenestra_core::{Ray, Sampler, Vec2};
+
+/// Side of the square pixel blocks that block/pass estimators gather statistics over.
+pub const BLOCK_SIZE: u32 = 8;
+
+/// Which sample is being taken: its pixel, the pixel's 8x8 block, the pass and the sample's
+/// index within the pixel.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SampleContext {
+    /// Pixel column.
+    pub x: u32,
+    /// Pixel row (0 at the top).
+    pub y: u32,
+    /// Image width in pixels.
+    pub width: u32,
+    /// Image height in pixels.
+    pub height: u32,
+    /// Index of the pixel's block, row-major over blocks.
+    pub block: u32,
+    /// The pass, from 0.
+    pub pass: u32,
+    /// The sample's index within its pixel.
+    pub index: u32,
+}
+
+impl SampleContext {
+    /// Row-major index of the pixel.
+    pub fn pixel(&self) -> u64 {
+        self.y as u64 * self.width as u64 + self.x as u64
+    }
+
+    /// The camera ray through a uniformly chosen point of the pixel (box filter); the film
+    /// position takes the sample's first two dimensions.
+    pub fn camera_ray(
+        &self,
+        scene: &RenderScene,
+        sampler: &mut Sampler,
+        rays: &mut RayCounters,
+    ) -> Ray {
+        let film_pos = Vec2::new(self.x as f32, self.y as f32) + sampler.next_2d();
+        rays.camera += 1;
+        scene
+            .scene
+            .camera
+            .generate_ray(film_pos, self.width, self.height)
+    }
+}
+
+/// The 8x8 block grid over a `width` x `height` image (blocks at the right and bottom edges
+/// may be partial).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Blocks {
+    /// Blocks per row.
+    pub columns: u32,
+    /// Rows of blocks.
+    pub rows: u32,
+}
+
+impl Blocks {
+    /// The grid over an image of the given size.
+    pub fn new(width: u32, height: u32) -> Self {
+        Blocks {
+            columns: width.div_ceil(BLOCK_SIZE),
+            rows: height.div_ceil(BLOCK_SIZE),
+        }
+    }
+
+    /// Number of blocks.
+    pub fn count(&self) -> usize {
+        self.columns as usize * self.rows as usize
+    }
+
+    /// The block of pixel (x, y).
+    pub fn of(&self, x: u32, y: u32) -> u32 {
+        (y / BLOCK_SIZE) * self.columns + x / BLOCK_SIZE
+    }
+}

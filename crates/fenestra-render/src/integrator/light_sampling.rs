@@ -1,0 +1,143 @@
+//! Next-event estimation on emitters (`af_hf`): a light picked by the integrator's light
+//! sampler, a point or direction on it, a shadow ray, and MIS against the BSDF (seed 000 §4,
+//! §5.2).
+
+use super::next_event::{Found, NextEvent, Scattered, Shading};
+use super::IntegratorError;
+use crate::control::RenderControl;
+use crate::driver::SampleContext;
+use crate::light::{LightContext, LightSampler, LightSelection};
+use crate::render_scene::RenderScene;
+use fenestra_core::mis::MisHeuristic;
+use fenestra_core::ray::offset_origin;
+use fenestra_core::stats::RayCounters;
+use fenestra_core::{Ray, Rgb, Sampler, Vec3};
+
+/// Light sampling with the light sampler of a [`LightSelection`], built when prepared.
+pub struct LightNextEvent {
+    selection: LightSelection,
+    sampler: Box<dyn LightSampler>,
+}
+
+/// The light sampler before preparation: it picks nothing.
+struct Unprepared;
+
+impl LightSampler for Unprepared {
+    fn sample(&self, _: &LightContext, _: f32) -> Option<(usize, f32)> {
+        None
+    }
+    fn pmf(&self, _: &LightContext, _: usize) -> f32 {
+        0.0
+    }
+}
+
+impl LightNextEvent {
+    /// Light sampling by `selection` (the sampler is built by `prepare`).
+    pub fn new(selection: LightSelection) -> Self {
+        LightNextEvent {
+            selection,
+            sampler: Box::new(Unprepared),
+        }
+    }
+
+    /// The light sampler.
+    pub fn sampler(&self) -> &dyn LightSampler {
+        self.sampler.as_ref()
+    }
+
+    /// One light sample at `s`, weighted by MIS against the BSDF. With `delta_only`, only
+    /// Dirac lights contribute (strategies that reach the other lights by other means use
+    /// it for point, spot and distant lights); the light pick probability still divides, so
+    /// the estimate of the Dirac lights' share stays unbiased.
+    pub fn sample_light(
+        &self,
+        scene: &RenderScene,
+        s: &Shading,
+        delta_only: bool,
+        mis: MisHeuristic,
+        sampler: &mut Sampler,
+        rays: &mut RayCounters,
+    ) -> Rgb {
+        let u_pick = sampler.next_1d();
+        let u = sampler.next_2d();
+        let Some((index, pick)) = self.sampler.sample(&s.light_context(), u_pick) else {
+            return Rgb::ZERO;
+        };
+        let Some(ls) = scene.lights.lights[index].sample_li(&scene.scene, s.si.p, u) else {
+            return Rgb::ZERO;
+        };
+        if delta_only && !ls.delta {
+            return Rgb::ZERO;
+        }
+        let Some((wi_local, f)) = s.bsdf_toward(ls.wi) else {
+            return Rgb::ZERO;
+        };
+        let origin = offset_origin(s.si.p, s.si.ng, ls.wi);
+        let tmax = ls
+            .point
+            .map_or(f32::INFINITY, |q| (q - origin).length() * (1.0 - 1e-4));
+        rays.shadow += 1;
+        let tr = scene.transmittance(Ray::new(origin, ls.wi), tmax);
+        if tr.is_black() {
+            return Rgb::ZERO;
+        }
+        let light_pdf = pick * ls.pdf;
+        let weight = if ls.delta {
+            1.0
+        } else {
+            mis.weight(light_pdf, s.bsdf.pdf(s.wo_local, wi_local))
+        };
+        f * ls.li * tr * (wi_local.z.abs() * weight / light_pdf)
+    }
+
+    /// Density with which [`LightNextEvent::sample_light`] at `ctx` gives the direction `wi`
+    /// towards `found` (light pick probability times the light's solid-angle density).
+    pub fn light_pdf(
+        &self,
+        scene: &RenderScene,
+        ctx: &LightContext,
+        wi: Vec3,
+        found: Found,
+    ) -> f32 {
+        self.sampler.pmf(ctx, found.light)
+            * scene.lights.lights[found.light].pdf_li(&scene.scene, ctx.p, wi, found.hit)
+    }
+}
+
+impl NextEvent for LightNextEvent {
+    type Vertex = ();
+
+    fn settings(&self) -> serde_json::Value {
+        serde_json::json!({ "light_selection": self.selection })
+    }
+
+    fn prepare(&mut self, scene: &RenderScene, _: &RenderControl) -> Result<(), IntegratorError> {
+        self.sampler = self.selection.build(scene);
+        Ok(())
+    }
+
+    fn vertex(&self, _: &RenderScene, _: &Shading) {}
+
+    fn sample(
+        &self,
+        scene: &RenderScene,
+        s: &Shading,
+        _: &(),
+        mis: MisHeuristic,
+        sampler: &mut Sampler,
+        rays: &mut RayCounters,
+    ) -> Rgb {
+        self.sample_light(scene, s, false, mis, sampler, rays)
+    }
+
+    fn pdf(
+        &self,
+        scene: &RenderScene,
+        from: &Scattered<()>,
+        wi: Vec3,
+        found: Found,
+        sample: &SampleContext,
+    ) -> f32 {
+        self.light_pdf(scene, &from.light_context(sample), wi, found)
+    }
+}

@@ -1,0 +1,174 @@
+//! Next-event strategies: how a path tracer chooses directions towards light at a shading
+//! point besides BSDF sampling, and with what density it would have chosen a direction that
+//! BSDF sampling took (for the MIS weight of light found that way). Strategies share the path
+//! loop of [`PathTracer`](super::PathTracer) and its MIS bookkeeping.
+
+use crate::bsdf::Bsdf;
+use crate::control::RenderControl;
+use crate::driver::SampleContext;
+use crate::integrator::IntegratorError;
+use crate::light::{LightContext, LightHit};
+use crate::render_scene::RenderScene;
+use fenestra_core::mis::MisHeuristic;
+use fenestra_core::stats::{RayCounters, RenderStats};
+use fenestra_core::{Rgb, Sampler, Vec3};
+use fenestra_scene::SurfaceInteraction;
+
+/// A shading point as next-event strategies see it.
+#[derive(Clone, Copy)]
+pub struct Shading<'a> {
+    /// The surface point.
+    pub si: &'a SurfaceInteraction,
+    /// Its BSDF.
+    pub bsdf: &'a Bsdf,
+    /// Direction towards where the path came from (world).
+    pub wo: Vec3,
+    /// `wo` in the shading frame.
+    pub wo_local: Vec3,
+    /// The sample being taken.
+    pub sample: &'a SampleContext,
+}
+
+impl Shading<'_> {
+    /// What a light sampler sees of this point.
+    pub fn light_context(&self) -> LightContext<'_> {
+        LightContext {
+            p: self.si.p,
+            n: self.si.ns,
+            sample: self.sample,
+        }
+    }
+
+    /// Whether `wi` and `wo` lie on the sides of the geometric surface that the shading
+    /// frame claims (`wi_local_z`: `wi`'s local z): guards against light leaks through
+    /// shading normals.
+    pub fn sides_agree(&self, wi: Vec3, wi_local_z: f32) -> bool {
+        (wi.dot(self.si.ng) * self.wo.dot(self.si.ng) > 0.0) == (wi_local_z * self.wo_local.z > 0.0)
+    }
+
+    /// The BSDF for light arriving from `wi` (world): the local direction and f, or `None`
+    /// when the sides disagree or f vanishes.
+    pub fn bsdf_toward(&self, wi: Vec3) -> Option<(Vec3, Rgb)> {
+        let wi_local = self.si.shading_frame().to_local(wi);
+        if !self.sides_agree(wi, wi_local.z) {
+            return None;
+        }
+        let f = self.bsdf.eval(self.wo_local, wi_local);
+        (!f.is_black()).then_some((wi_local, f))
+    }
+}
+
+/// The vertex a BSDF-sampled ray left from, as MIS needs it when the ray finds light.
+#[derive(Clone, Copy, Debug)]
+pub struct Scattered<V> {
+    /// The vertex's position.
+    pub p: Vec3,
+    /// Its shading normal.
+    pub n: Vec3,
+    /// The BSDF's solid-angle density of the sampled direction.
+    pub bsdf_pdf: f32,
+    /// What the next-event strategy kept of the vertex.
+    pub vertex: V,
+}
+
+impl<V> Scattered<V> {
+    /// What a light sampler saw of this vertex.
+    pub fn light_context<'a>(&self, sample: &'a SampleContext) -> LightContext<'a> {
+        LightContext {
+            p: self.p,
+            n: self.n,
+            sample,
+        }
+    }
+}
+
+/// A light that a BSDF-sampled ray found: which light and where.
+#[derive(Clone, Copy, Debug)]
+pub struct Found<'a> {
+    /// Index of the light in the scene's lights.
+    pub light: usize,
+    /// Where the ray met it.
+    pub hit: LightHit<'a>,
+}
+
+/// A next-event strategy of a path tracer.
+pub trait NextEvent: Send + Sync {
+    /// Whether the strategy samples anything (false: BSDF sampling alone, `hf`).
+    const SAMPLES: bool = true;
+
+    /// What the strategy keeps of a shading vertex: computed once there, used by its own
+    /// sample and by the MIS weight of light that the next BSDF-sampled ray finds.
+    type Vertex: Copy + Default;
+
+    /// The strategy's settings (part of the integrator's).
+    fn settings(&self) -> serde_json::Value;
+
+    /// Scene-dependent state (light samplers, estimated geometry), built once before
+    /// rendering.
+    fn prepare(
+        &mut self,
+        _scene: &RenderScene,
+        _control: &RenderControl,
+    ) -> Result<(), IntegratorError> {
+        Ok(())
+    }
+
+    /// The state kept of the non-delta vertex `s`.
+    fn vertex(&self, scene: &RenderScene, s: &Shading) -> Self::Vertex;
+
+    /// One next-event sample at `s`: the light it finds, weighted by MIS (`mis`) against
+    /// BSDF sampling and divided by its density.
+    fn sample(
+        &self,
+        scene: &RenderScene,
+        s: &Shading,
+        vertex: &Self::Vertex,
+        mis: MisHeuristic,
+        sampler: &mut Sampler,
+        rays: &mut RayCounters,
+    ) -> Rgb;
+
+    /// Solid-angle density with which [`NextEvent::sample`] at `from` gives the direction
+    /// `wi` along which a BSDF-sampled ray found `found`.
+    fn pdf(
+        &self,
+        scene: &RenderScene,
+        from: &Scattered<Self::Vertex>,
+        wi: Vec3,
+        found: Found,
+        sample: &SampleContext,
+    ) -> f32;
+
+    /// Adds the strategy's own figures to a render's statistics.
+    fn report(&self, _stats: &mut RenderStats) {}
+}
+
+/// No next-event estimation: BSDF sampling alone (`hf`).
+pub struct NoNextEvent;
+
+impl NextEvent for NoNextEvent {
+    const SAMPLES: bool = false;
+    type Vertex = ();
+
+    fn settings(&self) -> serde_json::Value {
+        serde_json::json!({})
+    }
+
+    fn vertex(&self, _: &RenderScene, _: &Shading) {}
+
+    fn sample(
+        &self,
+        _: &RenderScene,
+        _: &Shading,
+        _: &(),
+        _: MisHeuristic,
+        _: &mut Sampler,
+        _: &mut RayCounters,
+    ) -> Rgb {
+        Rgb::ZERO
+    }
+
+    fn pdf(&self, _: &RenderScene, _: &Scattered<()>, _: Vec3, _: Found, _: &SampleContext) -> f32 {
+        0.0
+    }
+}

@@ -1,0 +1,81 @@
+//! A scene ready to render: the scene's geometry with one BSDF per material and its lights
+//! in samplable form. Light selection is not here: an integrator owns its light sampler.
+
+use crate::bsdf::{self, Bsdf};
+use crate::light::Lights;
+use fenestra_core::ray::offset_origin;
+use fenestra_core::{Ray, Rgb};
+use fenestra_scene::{Hit, Material, Scene, SurfaceInteraction};
+use std::borrow::Cow;
+
+/// Panes a ray passes before it counts as blocked.
+const MAX_PANES: usize = 16;
+
+/// A scene with what rendering needs besides geometry: BSDFs and samplable lights.
+pub struct RenderScene {
+    /// Geometry, materials, camera and ray queries.
+    pub scene: Scene,
+    /// One BSDF per material of `scene`, same order.
+    pub bsdfs: Vec<Bsdf>,
+    /// Every light, emissive shapes included.
+    pub lights: Lights,
+}
+
+impl RenderScene {
+    /// Builds the BSDFs and lights of `scene`.
+    pub fn new(scene: Scene) -> Self {
+        let bsdfs = scene.materials.iter().map(Bsdf::from_material).collect();
+        let lights = Lights::new(&scene);
+        RenderScene {
+            scene,
+            bsdfs,
+            lights,
+        }
+    }
+
+    /// Follows a ray through thin glass panes (pbrt's "thindielectric", windows): each pane
+    /// lets the fraction 1 - R' of the light through along the same line. Returns that
+    /// transmittance and the first other surface hit before `tmax` (`None`: nothing but
+    /// panes in the way). Visibility rays of next-event estimation use it, and path tracing
+    /// counts no vertex for the straight-through part, so both techniques see the same
+    /// light (MIS stays consistent).
+    pub fn through_glass(&self, mut ray: Ray, mut tmax: f32) -> (Rgb, Option<Hit>) {
+        let mut tr = Rgb::ONE;
+        for _ in 0..MAX_PANES {
+            let Some(hit) = self.scene.intersect(&ray, tmax) else {
+                return (tr, None);
+            };
+            let Bsdf::ThinDielectric(pane) =
+                &self.bsdfs[self.scene.shapes[hit.shape as usize].material]
+            else {
+                return (tr, Some(hit));
+            };
+            let si = self.scene.interaction(&ray, &hit);
+            tr *= 1.0 - pane.reflectance(si.ng.dot(ray.d));
+            ray = Ray::new(offset_origin(si.p, si.ng, ray.d), ray.d);
+            tmax -= hit.t;
+        }
+        (Rgb::ZERO, None)
+    }
+
+    /// Transmittance of the segment from the ray's origin to `tmax` (zero when anything but
+    /// thin glass blocks it).
+    pub fn transmittance(&self, ray: Ray, tmax: f32) -> Rgb {
+        match self.through_glass(ray, tmax) {
+            (tr, None) => tr,
+            (_, Some(_)) => Rgb::ZERO,
+        }
+    }
+
+    /// The BSDF at a surface point: the material's, with textured reflectance looked up at
+    /// the point's uv.
+    pub fn bsdf_at(&self, si: &SurfaceInteraction) -> Cow<'_, Bsdf> {
+        let material = self.scene.shapes[si.shape].material;
+        match &self.scene.materials[material] {
+            Material::TexturedDiffuse { texture } => Cow::Owned(Bsdf::Diffuse(bsdf::Diffuse {
+                reflectance: texture.lookup(si.uv),
+            })),
+            _ => Cow::Borrowed(&self.bsdfs[material]),
+        }
+    }
+}
