@@ -51,12 +51,15 @@ impl Distribution1D {
         }
     }
 
+    /// Number of pieces.
     pub fn len(&self) -> usize {
         self.func.len()
     }
+    /// Whether there are no pieces.
     pub fn is_empty(&self) -> bool {
         self.func.is_empty()
     }
+    /// Integral of the unnormalised function over [0, 1).
     pub fn integral(&self) -> f32 {
         self.integral
     }
@@ -88,6 +91,7 @@ impl Distribution1D {
         (x, self.func[i] / self.integral, i)
     }
 
+    /// Density at `x` in [0, 1) of [`Distribution1D::sample_continuous`].
     pub fn pdf_continuous(&self, x: f32) -> f32 {
         let i = ((x * self.len() as f32) as usize).min(self.len() - 1);
         self.func[i] / self.integral
@@ -111,6 +115,7 @@ pub struct Distribution2D {
 }
 
 impl Distribution2D {
+    /// The distribution of the non-negative `func` given per cell.
     pub fn new(func: &[f32], width: usize, height: usize) -> Self {
         let conditional: Vec<Distribution1D> = (0..height)
             .map(|y| Distribution1D::new(&func[y * width..(y + 1) * width]))
@@ -130,6 +135,7 @@ impl Distribution2D {
         (Vec2::new(x, y), pdf_x * pdf_y)
     }
 
+    /// Density of [`Distribution2D::sample`] at `p` in [0,1)^2.
     pub fn pdf(&self, p: Vec2) -> f32 {
         let h = self.conditional.len();
         let row = ((p.y * h as f32) as usize).min(h - 1);

@@ -5,8 +5,11 @@ use glam::Vec3;
 /// An orthonormal basis (s, t, n); local coordinates have the normal along +z.
 #[derive(Clone, Copy, Debug)]
 pub struct Frame {
+    /// First tangent.
     pub s: Vec3,
+    /// Second tangent.
     pub t: Vec3,
+    /// Normal (local +z).
     pub n: Vec3,
 }
 
@@ -37,9 +40,11 @@ impl Frame {
         }
     }
 
+    /// `v` (world) in this frame's coordinates.
     pub fn to_local(&self, v: Vec3) -> Vec3 {
         Vec3::new(v.dot(self.s), v.dot(self.t), v.dot(self.n))
     }
+    /// `v` (in this frame's coordinates) in world coordinates.
     pub fn to_world(&self, v: Vec3) -> Vec3 {
         self.s * v.x + self.t * v.y + self.n * v.z
     }

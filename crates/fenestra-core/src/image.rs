@@ -6,25 +6,41 @@ use crate::Rgb;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
+/// An image that cannot be read or written.
 #[derive(Debug, thiserror::Error)]
 pub enum ImageError {
+    /// The file is missing or not a readable image.
     #[error("cannot read image {path}: {reason}")]
-    Read { path: PathBuf, reason: String },
+    Read {
+        /// The file.
+        path: PathBuf,
+        /// What went wrong.
+        reason: String,
+    },
+    /// The file could not be written.
     #[error(transparent)]
     Write(#[from] WriteError),
+    /// The file name's extension names no format fenestra reads or writes.
     #[error("image {path}: unsupported extension (expected .exr, .hdr, .png or .jpg)")]
-    Extension { path: PathBuf },
+    Extension {
+        /// The file.
+        path: PathBuf,
+    },
 }
 
+/// A linear RGB image.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Image {
+    /// Width in pixels.
     pub width: usize,
+    /// Height in pixels.
     pub height: usize,
     /// Row-major, top row first.
     pub pixels: Vec<Rgb>,
 }
 
 impl Image {
+    /// A black image.
     pub fn new(width: usize, height: usize) -> Self {
         Image {
             width,
@@ -33,10 +49,12 @@ impl Image {
         }
     }
 
+    /// The pixel in column `x`, row `y` (0 at the top).
     pub fn get(&self, x: usize, y: usize) -> Rgb {
         self.pixels[y * self.width + x]
     }
 
+    /// Sets the pixel in column `x`, row `y`.
     pub fn set(&mut self, x: usize, y: usize, c: Rgb) {
         self.pixels[y * self.width + x] = c;
     }
@@ -231,6 +249,7 @@ fn latin1(s: &str) -> String {
         .collect()
 }
 
+/// The sRGB transfer function inverted: an encoded value in [0, 1] to linear.
 pub fn srgb_to_linear(v: f32) -> f32 {
     if v <= 0.04045 {
         v / 12.92
@@ -239,6 +258,7 @@ pub fn srgb_to_linear(v: f32) -> f32 {
     }
 }
 
+/// The sRGB transfer function: a linear value in [0, 1] to its encoding.
 pub fn linear_to_srgb(v: f32) -> f32 {
     if v <= 0.003_130_8 {
         12.92 * v

@@ -24,7 +24,11 @@ pub use rgb::Rgb;
 pub use rng::Rng;
 pub use sampler::Sampler;
 
+/// pi.
 pub const PI: f32 = std::f32::consts::PI;
+/// 1 / pi.
 pub const INV_PI: f32 = std::f32::consts::FRAC_1_PI;
+/// 1 / (2 pi).
 pub const INV_2PI: f32 = 0.5 * std::f32::consts::FRAC_1_PI;
+/// 1 / (4 pi).
 pub const INV_4PI: f32 = 0.25 * std::f32::consts::FRAC_1_PI;

@@ -8,7 +8,10 @@ pub enum MisHeuristic {
     /// w_i = p_i / sum_j p_j.
     Balance,
     /// w_i = p_i^beta / sum_j p_j^beta (beta = 2 is Veach's power heuristic).
-    Power { beta: f32 },
+    Power {
+        /// The exponent beta.
+        beta: f32,
+    },
 }
 
 impl MisHeuristic {

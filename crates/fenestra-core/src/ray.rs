@@ -2,17 +2,21 @@
 
 use glam::Vec3;
 
+/// A ray: origin and unit direction.
 #[derive(Clone, Copy, Debug)]
 pub struct Ray {
+    /// Origin.
     pub o: Vec3,
     /// Unit direction.
     pub d: Vec3,
 }
 
 impl Ray {
+    /// The ray from `o` along the unit direction `d`.
     pub fn new(o: Vec3, d: Vec3) -> Self {
         Ray { o, d }
     }
+    /// The point at distance `t` along the ray.
     pub fn at(&self, t: f32) -> Vec3 {
         self.o + self.d * t
     }

@@ -2,29 +2,40 @@
 
 use std::ops::{Add, AddAssign, Div, Mul, MulAssign, Sub};
 
+/// A linear sRGB colour (radiance, reflectance, ...) in f32.
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Rgb {
+    /// Red.
     pub r: f32,
+    /// Green.
     pub g: f32,
+    /// Blue.
     pub b: f32,
 }
 
 impl Rgb {
+    /// Black.
     pub const ZERO: Rgb = Rgb::splat(0.0);
+    /// White (1, 1, 1).
     pub const ONE: Rgb = Rgb::splat(1.0);
 
+    /// The colour (r, g, b).
     pub const fn new(r: f32, g: f32, b: f32) -> Self {
         Rgb { r, g, b }
     }
+    /// The grey (v, v, v).
     pub const fn splat(v: f32) -> Self {
         Rgb { r: v, g: v, b: v }
     }
+    /// Whether every channel is zero.
     pub fn is_black(self) -> bool {
         self.r == 0.0 && self.g == 0.0 && self.b == 0.0
     }
+    /// Whether every channel is finite.
     pub fn is_finite(self) -> bool {
         self.r.is_finite() && self.g.is_finite() && self.b.is_finite()
     }
+    /// The largest channel.
     pub fn max_component(self) -> f32 {
         self.r.max(self.g).max(self.b)
     }
@@ -32,12 +43,15 @@ impl Rgb {
     pub fn luminance(self) -> f32 {
         0.2126 * self.r + 0.7152 * self.g + 0.0722 * self.b
     }
+    /// The mean of the channels.
     pub fn average(self) -> f32 {
         (self.r + self.g + self.b) / 3.0
     }
+    /// `f` applied to each channel.
     pub fn map(self, f: impl Fn(f32) -> f32) -> Self {
         Rgb::new(f(self.r), f(self.g), f(self.b))
     }
+    /// The channels as [r, g, b].
     pub fn to_array(self) -> [f32; 3] {
         [self.r, self.g, self.b]
     }

@@ -41,7 +41,7 @@ impl Rng {
         ((self.next_f64() * n as f64) as usize).min(n - 1)
     }
 
-    /// Index i with probability weights[i] / sum (uniform if all weights are zero).
+    /// Index `i` with probability `weights[i] / sum` (uniform if all weights are zero).
     pub fn weighted(&mut self, weights: &[f64]) -> usize {
         let total: f64 = weights.iter().sum();
         if !(total > 0.0) {

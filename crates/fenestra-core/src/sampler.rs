@@ -26,6 +26,7 @@ pub fn hash_u32(mut x: u32) -> u32 {
     x
 }
 
+/// Hashes two 32-bit values into one (for seeding streams).
 pub fn hash_combine(a: u32, b: u32) -> u32 {
     hash_u32(
         a ^ hash_u32(b)
@@ -52,6 +53,7 @@ impl Sampler {
         }
     }
 
+    /// The stream's next number in [0, 1).
     pub fn next_1d(&mut self) -> f32 {
         let d = self.dim;
         self.dim += 1;
@@ -64,6 +66,7 @@ impl Sampler {
         self.group[(d % 4) as usize]
     }
 
+    /// The stream's next two numbers, from the same 4D Sobol group.
     pub fn next_2d(&mut self) -> Vec2 {
         // Keep both coordinates of a 2D sample in the same 4D group.
         if self.dim % 4 == 3 {

@@ -24,6 +24,7 @@ pub fn square_to_cosine_hemisphere(u: Vec2) -> Vec3 {
     Vec3::new(d.x, d.y, z)
 }
 
+/// Density of [`square_to_cosine_hemisphere`] at `v`.
 pub fn cosine_hemisphere_pdf(v: Vec3) -> f32 {
     if v.z > 0.0 {
         v.z * INV_PI
@@ -32,6 +33,7 @@ pub fn cosine_hemisphere_pdf(v: Vec3) -> f32 {
     }
 }
 
+/// Uniform directions on the unit sphere.
 pub fn square_to_uniform_sphere(u: Vec2) -> Vec3 {
     let z = 1.0 - 2.0 * u.x;
     let r = (1.0 - z * z).max(0.0).sqrt();
@@ -39,6 +41,7 @@ pub fn square_to_uniform_sphere(u: Vec2) -> Vec3 {
     Vec3::new(r * phi.cos(), r * phi.sin(), z)
 }
 
+/// Density of [`square_to_uniform_sphere`]: 1 / (4 pi).
 pub const UNIFORM_SPHERE_PDF: f32 = INV_4PI;
 
 /// Uniform directions in the cone of half-angle acos(cos_max) around +z.
@@ -49,6 +52,7 @@ pub fn square_to_uniform_cone(u: Vec2, cos_max: f32) -> Vec3 {
     Vec3::new(r * phi.cos(), r * phi.sin(), z)
 }
 
+/// Density of [`square_to_uniform_cone`] (per steradian).
 pub fn uniform_cone_pdf(cos_max: f32) -> f32 {
     1.0 / (2.0 * PI * (1.0 - cos_max))
 }

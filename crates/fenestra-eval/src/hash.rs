@@ -1,6 +1,7 @@
 //! A stable 64-bit content hash (FNV-1a) that can digest `Debug` output as a stream, so a
 //! scene of millions of triangles is keyed without building one huge string.
 
+/// FNV-1a over bytes.
 #[derive(Clone, Copy, Debug)]
 pub struct Fnv64(u64);
 
@@ -11,12 +12,14 @@ impl Default for Fnv64 {
 }
 
 impl Fnv64 {
+    /// Digests `bytes`.
     pub fn update(&mut self, bytes: &[u8]) {
         for &b in bytes {
             self.0 ^= b as u64;
             self.0 = self.0.wrapping_mul(0x0000_0100_0000_01b3);
         }
     }
+    /// The hash so far.
     pub fn finish(&self) -> u64 {
         self.0
     }

@@ -1,6 +1,7 @@
 //! Measurement for fenestra (SPEC R3): image metrics and efficiency, the per-pixel z-test
 //! that shows an estimator is unbiased, content-keyed reference caching, bench suites and
 //! their HTML reports. Depends on the core only; the renderer is driven as a separate process.
+#![warn(missing_docs)]
 
 pub mod colormap;
 pub mod hash;

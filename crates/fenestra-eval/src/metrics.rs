@@ -4,6 +4,7 @@ use crate::EvalError;
 use fenestra_core::image::Image;
 use serde::{Deserialize, Serialize};
 
+/// The error of an image against a reference.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Metrics {
     /// Mean squared error over all pixels and channels.

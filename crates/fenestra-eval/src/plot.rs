@@ -6,7 +6,9 @@ use std::path::Path;
 
 /// One curve: a label and its (x, y) points, all positive.
 pub struct Series {
+    /// Legend text.
     pub label: String,
+    /// (x, y) points.
     pub points: Vec<(f64, f64)>,
 }
 

@@ -15,7 +15,9 @@ use std::path::Path;
 /// Mean and sample standard deviation.
 #[derive(Clone, Copy, Debug, Serialize)]
 pub struct Spread {
+    /// Mean.
     pub mean: f64,
+    /// Sample standard deviation.
     pub sd: f64,
 }
 
@@ -35,27 +37,39 @@ impl Spread {
 /// One technique under one budget, over its repetitions.
 #[derive(Clone, Debug, Serialize)]
 pub struct Row {
+    /// The technique's label.
     pub technique: String,
+    /// Repetitions.
     pub runs: usize,
+    /// Mean samples per pixel.
     pub spp: f64,
+    /// Render time.
     pub time_s: Spread,
+    /// Mean squared error.
     pub mse: Spread,
+    /// Relative mean squared error.
     pub rel_mse: Spread,
     /// Mean over repetitions of 1 / (MSE x time).
     pub efficiency: f64,
     /// Efficiency over the baseline's (the suite's first technique); for a rel_mse budget,
     /// the baseline's time over this one's.
     pub speedup: Option<f64>,
+    /// Mean shadow rays per pixel.
     pub shadow_rays_per_pixel: f64,
     /// For rel_mse budgets: whether every repetition reached the target.
     pub reached: bool,
 }
 
+/// The rows of one (scene, path length, budget).
 #[derive(Clone, Debug, Serialize)]
 pub struct Group {
+    /// The scene.
     pub scene: String,
+    /// Path length.
     pub max_depth: u32,
+    /// The budget's name.
     pub budget: String,
+    /// One row per technique.
     pub rows: Vec<Row>,
 }
 

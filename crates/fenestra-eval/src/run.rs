@@ -17,22 +17,28 @@ use std::process::Command;
 /// A finished run: what was asked, what the renderer reported, and its error.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct RunRecord {
+    /// What was asked.
     pub spec: RunSpec,
     /// Path of the EXR relative to the report folder.
     pub image: String,
+    /// Path of its reference, relative to the report folder.
     pub reference: String,
     /// The render's statistics (its JSON sidecar: time, samples, rays, convergence).
     pub stats: RenderStats,
+    /// Its error against the reference.
     pub metrics: Metrics,
 }
 
 /// The reference of one (scene, path length).
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct ReferenceRecord {
+    /// The scene.
     pub scene: String,
+    /// Path length.
     pub max_depth: u32,
     /// Path relative to the report folder.
     pub image: String,
+    /// Found in the cache (false: rendered for this report).
     pub cached: bool,
 }
 
@@ -46,15 +52,19 @@ fn file_error(path: &Path, e: impl std::fmt::Display) -> EvalError {
 /// Added to the suite's seed for its references.
 pub const REFERENCE_SEED_OFFSET: u64 = 1 << 40;
 
+/// Runs a suite's references and renders as `fenestra` processes.
 pub struct Runner<'a> {
     /// The `fenestra` executable.
     pub program: PathBuf,
+    /// The suite.
     pub suite: &'a Suite,
     /// Folder of the suite file (scene paths are relative to it).
     pub suite_dir: PathBuf,
+    /// The report folder.
     pub out: PathBuf,
     /// Where references are cached across reports.
     pub cache: PathBuf,
+    /// Worker threads of each render (all cores by default).
     pub threads: Option<usize>,
 }
 
@@ -144,6 +154,7 @@ impl Runner<'_> {
         })
     }
 
+    /// Renders one run and measures it against its reference.
     pub fn run(&self, spec: &RunSpec, reference: &ReferenceRecord) -> Result<RunRecord, EvalError> {
         let tech = &self.suite.techniques[spec.technique];
         let rel = format!("runs/{}.exr", spec.id);

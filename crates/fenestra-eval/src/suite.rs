@@ -4,10 +4,13 @@ use crate::EvalError;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
+/// A bench suite (TOML): scenes x techniques x budgets x repetitions.
 #[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Suite {
+    /// Its name (the report folder's by default).
     pub name: String,
+    /// What it measures.
     #[serde(default)]
     pub description: String,
     /// Image size [width, height] for every run.
@@ -15,14 +18,18 @@ pub struct Suite {
     /// Runs of each configuration, with seeds seed, seed + 1, ...
     #[serde(default = "one")]
     pub repetitions: u32,
+    /// Seed of the first repetition.
     #[serde(default)]
     pub seed: u64,
+    /// How references are rendered.
     pub reference: Reference,
+    /// The scenes and path lengths.
     #[serde(rename = "scene")]
     pub scenes: Vec<SceneEntry>,
     /// The first technique is the baseline that speed-ups are relative to.
     #[serde(rename = "technique")]
     pub techniques: Vec<Technique>,
+    /// The budgets every technique gets.
     #[serde(rename = "budget")]
     pub budgets: Vec<Budget>,
 }
@@ -31,16 +38,20 @@ fn one() -> u32 {
     1
 }
 
+/// How references are rendered.
 #[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Reference {
+    /// The integrator.
     pub integrator: String,
+    /// Samples per pixel.
     pub spp: u32,
     /// More `fenestra render` arguments for the reference.
     #[serde(default)]
     pub args: Vec<String>,
 }
 
+/// A scene and its path lengths.
 #[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct SceneEntry {
@@ -50,10 +61,13 @@ pub struct SceneEntry {
     pub max_depth: Vec<u32>,
 }
 
+/// A way of rendering: an integrator with options.
 #[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Technique {
+    /// Its name in tables and plots.
     pub label: String,
+    /// The integrator.
     pub integrator: String,
     /// More `fenestra render` arguments, e.g. ["--mis", "balance"].
     #[serde(default)]
@@ -65,9 +79,13 @@ pub struct Technique {
 #[derive(Clone, Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Budget {
+    /// Equal samples per pixel.
     pub spp: Option<u32>,
+    /// Equal time, in seconds.
     pub time: Option<f64>,
+    /// Equal quality: render until this relative MSE.
     pub rel_mse: Option<f64>,
+    /// With `rel_mse`: give up after this many seconds.
     pub max_time: Option<f64>,
 }
 
@@ -103,12 +121,19 @@ impl Budget {
 /// One render of a suite.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct RunSpec {
+    /// Unique name (the image's file name).
     pub id: String,
+    /// The scene.
     pub scene: String,
+    /// Path length.
     pub max_depth: u32,
+    /// Index of the technique.
     pub technique: usize,
+    /// Index of the budget.
     pub budget: usize,
+    /// Repetition, from 0.
     pub repetition: u32,
+    /// Seed of its sample streams.
     pub seed: u64,
 }
 

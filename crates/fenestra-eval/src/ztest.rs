@@ -7,6 +7,7 @@ use fenestra_core::image::Image;
 use serde::Serialize;
 use statrs::distribution::{ContinuousCDF, Normal};
 
+/// The outcome of a z-test.
 #[derive(Clone, Debug, Serialize)]
 pub struct ZTest {
     /// Pixel-channel values tested.
@@ -17,7 +18,9 @@ pub struct ZTest {
     pub alpha_per_test: f64,
     /// Smallest two-sided p-value and where it occurred (x, y, channel).
     pub min_p: f64,
+    /// Where the smallest p-value occurred: (x, y, channel).
     pub worst: (usize, usize, usize),
+    /// Whether no value failed.
     pub passed: bool,
 }
 

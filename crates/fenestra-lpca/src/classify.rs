@@ -9,6 +9,7 @@ use crate::subspace::{subspace_distance, GramBlocks, Subspace};
 use rayon::prelude::*;
 use std::time::Instant;
 
+/// What one classification step cost.
 #[derive(Clone, Copy, Debug, Default, serde::Serialize)]
 pub struct ClassifyStats {
     /// Seconds spent classifying, overhead included.

@@ -2,14 +2,19 @@
 
 use crate::LpcaError;
 
+/// n points of dimension d, row-major in f32.
 #[derive(Clone, Debug)]
 pub struct Dataset {
+    /// Number of points (rows).
     pub n: usize,
+    /// Dimension (columns).
     pub d: usize,
+    /// n x d values, row-major.
     pub values: Vec<f32>,
 }
 
 impl Dataset {
+    /// Checks that `values` holds n rows of d finite values.
     pub fn new(n: usize, d: usize, values: Vec<f32>) -> Result<Self, LpcaError> {
         if values.len() != n * d {
             return Err(LpcaError::Input(format!(
@@ -30,6 +35,7 @@ impl Dataset {
         Ok(Dataset { n, d, values })
     }
 
+    /// Point `i`.
     pub fn row(&self, i: usize) -> &[f32] {
         &self.values[i * self.d..(i + 1) * self.d]
     }

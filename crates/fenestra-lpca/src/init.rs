@@ -8,11 +8,16 @@ use fenestra_core::Rng;
 use rayon::prelude::*;
 use std::time::Instant;
 
+/// How the initial clusters are chosen (seed 003 §3.5).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 pub enum Init {
+    /// k distinct random points.
     Random,
+    /// The points of largest distance sum to the chosen ones.
     DistanceSum,
+    /// k-means++ (Arthur and Vassilvitskii 2007).
     KmeansPlusPlus,
+    /// k-means++ with SortMeans' pruning (seed 003 Alg. 3).
     SortMeansPlusPlus,
 }
 
@@ -33,6 +38,7 @@ impl std::str::FromStr for Init {
     }
 }
 
+/// The initial centroids and what choosing them cost.
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct Seeding {
     /// Data indices of the initial centroids.
@@ -41,7 +47,9 @@ pub struct Seeding {
     /// produce it as they go).
     #[serde(skip)]
     pub assignment: Option<(Vec<u32>, Vec<f64>)>,
+    /// Point-centroid distances evaluated.
     pub distance_evals: u64,
+    /// Seconds taken.
     pub seconds: f64,
 }
 

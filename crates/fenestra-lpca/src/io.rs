@@ -9,8 +9,8 @@
 //! | `coefficients.npy` | (n, l) float32 | coordinates of every row in its subspace |
 //! | `stats.json` | | per-iteration dimension, seconds and distance evaluations, totals, phi |
 //!
-//! Row i is reconstructed as means[a] + sum_m coefficients[i, m] bases[a, m] with
-//! a = assignments[i].
+//! Row i is reconstructed as `means[a] + sum_m coefficients[i, m] bases[a, m]` with
+//! `a = assignments[i]`.
 
 use crate::data::Dataset;
 use crate::lpca::Outcome;

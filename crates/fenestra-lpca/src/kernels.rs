@@ -20,6 +20,7 @@ pub fn dot_f32_f64(a: &[f32], b: &[f64]) -> f64 {
     s
 }
 
+/// The dot product of two equally long slices (four accumulators).
 #[inline]
 pub fn dot(a: &[f64], b: &[f64]) -> f64 {
     let mut acc = [0.0f64; 4];

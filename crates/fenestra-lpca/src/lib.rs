@@ -4,6 +4,7 @@
 //! and SortCluster-LPCA, which prunes point-subspace distances with the generalised triangle
 //! inequality (eq. 3.4) and gives exactly the same assignments as LPCA. No dependency on
 //! the renderer.
+#![warn(missing_docs)]
 
 pub mod classify;
 pub mod data;
@@ -21,10 +22,18 @@ pub use lpca::{run, Algorithm, Options, Outcome};
 pub use schedule::Schedule;
 pub use subspace::Subspace;
 
+/// What can go wrong in the LPCA library.
 #[derive(Debug, thiserror::Error)]
 pub enum LpcaError {
+    /// The data or an option is invalid.
     #[error("{0}")]
     Input(String),
+    /// A file could not be read or written.
     #[error("{path}: {reason}")]
-    Io { path: String, reason: String },
+    Io {
+        /// The file.
+        path: String,
+        /// What went wrong.
+        reason: String,
+    },
 }

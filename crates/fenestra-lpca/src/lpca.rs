@@ -13,6 +13,7 @@ use crate::LpcaError;
 use serde::Serialize;
 use std::time::Instant;
 
+/// How points are classified to subspaces.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 pub enum Algorithm {
     /// Exhaustive classification (Lloyd's k-means when the schedule is "0:N").
@@ -36,46 +37,66 @@ impl std::str::FromStr for Algorithm {
     }
 }
 
+/// A run of (SortCluster-)LPCA.
 #[derive(Clone, Debug)]
 pub struct Options {
+    /// Number of clusters k.
     pub clusters: usize,
+    /// Subspace dimensions and the iterations at each.
     pub schedule: Schedule,
+    /// Exhaustive or SortCluster classification.
     pub algorithm: Algorithm,
+    /// How the clusters start.
     pub init: Init,
+    /// Seed of the initialisation.
     pub seed: u64,
 }
 
+/// One iteration: refit the subspaces, classify the points.
 #[derive(Clone, Debug, Serialize)]
 pub struct IterationStats {
+    /// Subspace dimension.
     pub dim: usize,
+    /// Iteration index, from 0.
     pub iteration: usize,
+    /// Seconds spent fitting the subspaces.
     pub fit_seconds: f64,
+    /// The classification.
     #[serde(flatten)]
     pub classify: ClassifyStats,
     /// Objective after this iteration: sum of point-subspace distances.
     pub phi: f64,
 }
 
+/// The result of a run: assignments, subspaces and statistics.
 #[derive(Clone, Debug, Serialize)]
 pub struct Outcome {
+    /// Cluster of every point.
     #[serde(skip)]
     pub assignments: Vec<u32>,
+    /// Distance of every point to its subspace.
     #[serde(skip)]
     pub distances: Vec<f64>,
+    /// The subspaces.
     #[serde(skip)]
     pub models: Vec<Subspace>,
+    /// The initialisation.
     pub init: Seeding,
     /// Exhaustive classification after seeds that give none (random, distance-sum).
     pub initial_classification: Option<ClassifyStats>,
+    /// Every iteration.
     pub iterations: Vec<IterationStats>,
     /// Seed 003's objective: the sum over points of the distance to their subspace.
     pub phi: f64,
     /// Sum of squared distances over the sum of squared norms of the points.
     pub relative_squared_error: f64,
+    /// Seconds spent classifying, over all iterations.
     pub classification_seconds: f64,
+    /// Point-subspace distances evaluated, over all iterations.
     pub distance_evals: u64,
 }
 
+/// Runs LPCA or SortCluster-LPCA on `data`.
 pub fn run(data: &Dataset, options: &Options) -> Result<Outcome, LpcaError> {
     let k = options.clusters;
     if k == 0 || k > data.n {

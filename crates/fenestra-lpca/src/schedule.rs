@@ -2,6 +2,7 @@
 
 use crate::LpcaError;
 
+/// (dimension, iterations) pairs, run in order.
 #[derive(Clone, Debug, PartialEq, Eq, serde::Serialize)]
 pub struct Schedule(pub Vec<(usize, usize)>);
 
@@ -33,6 +34,7 @@ impl Schedule {
         Ok(Schedule(out))
     }
 
+    /// The largest dimension.
     pub fn max_dim(&self) -> usize {
         self.0.iter().map(|s| s.0).max().unwrap_or(0)
     }

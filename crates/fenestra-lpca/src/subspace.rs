@@ -4,14 +4,17 @@
 
 use crate::kernels::{dot, dot_f32_f64};
 
+/// An affine subspace: a mean and orthonormal directions.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Subspace {
+    /// Its origin.
     pub mean: Vec<f64>,
     /// Orthonormal directions, each of length d.
     pub basis: Vec<Vec<f64>>,
 }
 
 impl Subspace {
+    /// The 0-dimensional subspace at `mean`.
     pub fn point(mean: Vec<f64>) -> Self {
         Subspace {
             mean,
@@ -19,6 +22,7 @@ impl Subspace {
         }
     }
 
+    /// Its dimension.
     pub fn dim(&self) -> usize {
         self.basis.len()
     }
@@ -66,6 +70,7 @@ pub struct GramBlocks {
 }
 
 impl GramBlocks {
+    /// The Gram blocks of `models`.
     pub fn new(models: &[Subspace]) -> Self {
         let mut offsets = Vec::with_capacity(models.len() + 1);
         let mut columns: Vec<&Vec<f64>> = Vec::new();

@@ -6,6 +6,7 @@ use fenestra_core::Vec3;
 use petal_clustering::{Dbscan, Fit};
 use petal_neighbors::distance::Euclidean;
 
+/// DBSCAN(eps, m) of seed 000 Alg. 2.
 #[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
 pub struct DbscanParams {
     /// Neighbourhood radius eps in metres (seed §5.2: 0.125).

@@ -52,11 +52,15 @@ impl std::str::FromStr for Model {
 /// PT(theta, n, r), DBSCAN(eps, m), RANSAC(Plane, eps, tau, N), MVCE(eps) and the model.
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct EstimateParams {
+    /// Photon tracing PT(theta, n, r).
     pub photons: PhotonParams,
+    /// Clustering DBSCAN(eps, m).
     pub dbscan: DbscanParams,
+    /// Plane fitting RANSAC(eps, tau, N).
     pub ransac: Ransac,
     /// Khachiyan's stopping tolerance (seed §5.2: 0.001).
     pub mvce_eps: f64,
+    /// The shape fitted to each cluster.
     pub model: Model,
 }
 
@@ -75,17 +79,20 @@ impl Default for EstimateParams {
 /// One fitted portal and what it came from.
 #[derive(Clone, Debug)]
 pub struct Estimated {
+    /// The portal.
     pub portal: Portal,
     /// Index of its cluster (clusters are ordered largest first).
     pub cluster: usize,
     /// Photons in the cluster and RANSAC inliers among them.
     pub photons: usize,
+    /// RANSAC inliers among them.
     pub inliers: usize,
     /// Khachiyan iterations (0 when a rectangle was chosen without an ellipse).
     pub mvce_iterations: usize,
 }
 
 impl Estimated {
+    /// Its portals.json record, with photons and cluster.
     pub fn record(&self) -> PortalRecord {
         let mut r = PortalRecord::new(&self.portal);
         r.photons = Some(self.photons);
@@ -97,22 +104,30 @@ impl Estimated {
 /// Seconds spent in each stage.
 #[derive(Clone, Copy, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct Timings {
+    /// Photon tracing.
     pub photons: f64,
+    /// DBSCAN.
     pub clustering: f64,
+    /// Planes and covering shapes.
     pub fitting: f64,
 }
 
 impl Timings {
+    /// All stages.
     pub fn total(&self) -> f64 {
         self.photons + self.clustering + self.fitting
     }
 }
 
+/// What the pipeline found and what it took.
 pub struct Estimate {
+    /// The photons traced.
     pub photons: Photons,
     /// Photon indices of each cluster, largest first.
     pub clusters: Vec<Vec<usize>>,
+    /// The fitted portals.
     pub portals: Vec<Estimated>,
+    /// Seconds per stage.
     pub timings: Timings,
 }
 

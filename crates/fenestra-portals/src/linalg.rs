@@ -45,6 +45,7 @@ pub fn pinv_sym(m: &DMat3, rel_tol: f64) -> DMat3 {
     out
 }
 
+/// The outer product a b^T.
 pub fn outer(a: DVec3, b: DVec3) -> DMat3 {
     DMat3::from_cols(a * b.x, a * b.y, a * b.z)
 }

@@ -11,6 +11,7 @@ const ILL_CONDITIONED: f64 = 1e12;
 /// An ellipse {x : (x - c)^T E (x - c) <= 1}, as centre and semi-axes.
 #[derive(Clone, Debug)]
 pub struct Ellipse {
+    /// Centre c.
     pub center: DVec2,
     /// Semi-axis vectors (direction times length), major first.
     pub axes: [DVec2; 2],
@@ -21,6 +22,7 @@ pub struct Ellipse {
 }
 
 impl Ellipse {
+    /// pi times the semi-axes' lengths.
     pub fn area(&self) -> f64 {
         std::f64::consts::PI * self.axes[0].length() * self.axes[1].length()
     }

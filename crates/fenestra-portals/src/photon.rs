@@ -58,6 +58,7 @@ pub struct PhotonParams {
     pub target: Option<usize>,
     /// Give up after this many beams even if the target is not reached.
     pub max_beams: u64,
+    /// Seed of the beams' sample streams.
     pub seed: u64,
 }
 
@@ -78,6 +79,7 @@ impl Default for PhotonParams {
 /// The photons of one tracing run.
 #[derive(Clone, Debug)]
 pub struct Photons {
+    /// Where photons were deposited.
     pub points: Vec<Vec3>,
     /// Beams traced (each is one emitted ray and, if it hits, n cone rays).
     pub beams: u64,

@@ -5,14 +5,17 @@ use crate::linalg::{outer, sym_eigen};
 use fenestra_core::Rng;
 use glam::{DMat3, DVec2, DVec3};
 
+/// A plane through `point` with unit `normal`.
 #[derive(Clone, Copy, Debug)]
 pub struct Plane {
+    /// A point on it.
     pub point: DVec3,
     /// Unit normal.
     pub normal: DVec3,
 }
 
 impl Plane {
+    /// Distance of `x` from the plane.
     pub fn distance(&self, x: DVec3) -> f64 {
         (x - self.point).dot(self.normal).abs()
     }
@@ -30,6 +33,7 @@ impl Plane {
         DVec2::new((x - self.point).dot(u), (x - self.point).dot(v))
     }
 
+    /// The point of in-plane coordinates `p`.
     pub fn from_plane(&self, p: DVec2) -> DVec3 {
         let (u, v) = self.basis();
         self.point + u * p.x + v * p.y
@@ -57,9 +61,13 @@ pub fn fit_plane(points: &[DVec3]) -> Option<Plane> {
 /// ends the search, at most N trials.
 #[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Ransac {
+    /// Inlier distance to the plane (m).
     pub eps: f64,
+    /// Inlier fraction that ends the search.
     pub tau: f64,
+    /// Maximum trials N.
     pub trials: usize,
+    /// Seed of the random point choices.
     pub seed: u64,
 }
 
@@ -78,8 +86,11 @@ impl Default for Ransac {
 /// The fitted plane and the indices of its inliers.
 #[derive(Clone, Debug)]
 pub struct PlaneFit {
+    /// The least-squares plane of the inliers.
     pub plane: Plane,
+    /// Indices of the points within eps of the plane.
     pub inliers: Vec<usize>,
+    /// Trials made.
     pub trials: usize,
 }
 

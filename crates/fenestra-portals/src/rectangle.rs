@@ -9,11 +9,14 @@ use glam::{DMat3, DVec2};
 /// A rectangle as centre and two perpendicular half-edge vectors.
 #[derive(Clone, Copy, Debug)]
 pub struct Rectangle {
+    /// Centre.
     pub center: DVec2,
+    /// Half-edge vectors, perpendicular.
     pub half: [DVec2; 2],
 }
 
 impl Rectangle {
+    /// Area.
     pub fn area(&self) -> f64 {
         4.0 * self.half[0].length() * self.half[1].length()
     }

@@ -4,14 +4,19 @@
 use fenestra_core::image::Image;
 use fenestra_core::Rgb;
 
+/// One pixel's accumulators.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Pixel {
+    /// Sum of the samples, per channel.
     pub sum: [f64; 3],
+    /// Sum of their squares, per channel.
     pub sum_sq: [f64; 3],
+    /// Samples added.
     pub count: u32,
 }
 
 impl Pixel {
+    /// Adds one sample.
     pub fn add(&mut self, c: Rgb) {
         for (i, v) in c.to_array().into_iter().enumerate() {
             self.sum[i] += v as f64;
@@ -20,6 +25,7 @@ impl Pixel {
         self.count += 1;
     }
 
+    /// The sample mean, per channel.
     pub fn mean(&self) -> [f64; 3] {
         let n = self.count.max(1) as f64;
         self.sum.map(|s| s / n)
@@ -38,14 +44,19 @@ impl Pixel {
     }
 }
 
+/// The image being rendered: one [`Pixel`] of accumulators per pixel, row-major.
 #[derive(Clone, Debug)]
 pub struct Film {
+    /// Width in pixels.
     pub width: u32,
+    /// Height in pixels.
     pub height: u32,
+    /// Row-major, top row first.
     pub pixels: Vec<Pixel>,
 }
 
 impl Film {
+    /// An empty film.
     pub fn new(width: u32, height: u32) -> Self {
         Film {
             width,

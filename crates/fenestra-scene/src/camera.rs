@@ -11,12 +11,15 @@ pub enum FieldOfView {
     ShorterAxis(f32),
 }
 
+/// A pinhole camera.
 #[derive(Clone, Debug)]
 pub struct Camera {
+    /// The pinhole.
     pub position: Vec3,
     forward: Vec3,
     right: Vec3,
     up: Vec3,
+    /// The field of view.
     pub fov: FieldOfView,
     /// pbrt's "screenwindow" (x0, x1, y0, y1) in units of tan(fov / 2); the default spans
     /// the field of view with the image's aspect ratio.

@@ -4,8 +4,10 @@ use crate::shape::{Shape, ShapeKind};
 use crate::Hit;
 use fenestra_core::{Frame, Ray, Vec2, Vec3, INV_2PI, INV_PI};
 
+/// A point on a surface where a ray hit it, with its frame and parametrisation.
 #[derive(Clone, Copy, Debug)]
 pub struct SurfaceInteraction {
+    /// The point.
     pub p: Vec3,
     /// Geometric normal; its side is the shape's "outside" (emitting side).
     pub ng: Vec3,
@@ -13,13 +15,18 @@ pub struct SurfaceInteraction {
     pub ns: Vec3,
     /// Tangent along increasing u (for anisotropic materials).
     pub dpdu: Vec3,
+    /// Texture coordinates.
     pub uv: Vec2,
+    /// Index of the shape in the scene.
     pub shape: usize,
+    /// Primitive (triangle) index within the shape.
     pub prim: usize,
+    /// Distance along the ray that found it.
     pub t: f32,
 }
 
 impl SurfaceInteraction {
+    /// The shading frame: `ns` as +z, `dpdu` as the first tangent.
     pub fn shading_frame(&self) -> Frame {
         Frame::from_normal_tangent(self.ns, self.dpdu)
     }
@@ -44,6 +51,7 @@ impl SurfaceInteraction {
         Self::from_hit(shape, &Ray::new(p, Vec3::Z), &hit)
     }
 
+    /// The interaction where `ray` hit `shape` (`hit` from a ray query).
     pub fn from_hit(shape: &Shape, ray: &Ray, hit: &Hit) -> Self {
         let prim = hit.prim as usize;
         let (p, mut ng, mut ns, dpdu, uv) = match &shape.kind {

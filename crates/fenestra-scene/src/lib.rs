@@ -1,6 +1,7 @@
 //! Scene model of fenestra: geometry (triangle meshes, spheres, disks), materials and lights as
 //! data, the pinhole camera, ray queries behind one trait with two backends (Embree, obvhs),
 //! and the built-in experiment scenes.
+#![warn(missing_docs)]
 
 pub mod accel;
 pub mod builtin;

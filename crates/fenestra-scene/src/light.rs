@@ -14,6 +14,7 @@ pub struct Emission {
 }
 
 impl Emission {
+    /// One-sided emission of radiance `l`.
     pub fn radiance(l: Rgb) -> Self {
         Emission {
             radiance: l,
@@ -32,38 +33,53 @@ impl Emission {
     }
 }
 
+/// Light arriving from infinitely far away in every direction.
 #[derive(Clone, Debug)]
 pub enum EnvironmentDesc {
+    /// The same radiance from every direction.
     Constant(Rgb),
     /// A latitude-longitude image: column 0 at phi = 0 (the +x axis), row 0 at the +z pole
     /// after `to_world`, which maps the map's frame (z up) to the world.
     Image {
+        /// Radiance per pixel.
         image: Arc<Image>,
+        /// Multiplies the image.
         scale: Rgb,
+        /// The map's frame in the world.
         to_world: glam::Mat3,
     },
 }
 
+/// A light that is not an emissive shape.
 #[derive(Clone, Debug)]
 pub enum LightDesc {
-    /// Isotropic point light of intensity `intensity` (W/sr).
+    /// Isotropic point light.
     Point {
+        /// Where it is.
         position: Vec3,
+        /// Intensity (W/sr).
         intensity: Rgb,
     },
     /// Spot light with pbrt's smooth falloff between the two cone angles (degrees).
     Spot {
+        /// Where it is.
         position: Vec3,
+        /// The cone's axis.
         direction: Vec3,
+        /// Intensity on the axis (W/sr).
         intensity: Rgb,
+        /// Half-angle of the cone, beyond which nothing is emitted.
         cone_angle: f32,
+        /// Half-angle where the falloff starts.
         falloff_start: f32,
     },
-    /// Directional light arriving along `direction` (unit, the direction light travels),
-    /// with irradiance `irradiance` (W/m^2) on a surface facing it.
+    /// Directional light.
     Distant {
+        /// The direction light travels (unit).
         direction: Vec3,
+        /// Irradiance (W/m^2) on a surface facing it.
         irradiance: Rgb,
     },
+    /// Light from infinitely far away.
     Environment(EnvironmentDesc),
 }

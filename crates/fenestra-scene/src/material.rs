@@ -4,45 +4,77 @@ use crate::texture::ImageTexture;
 use fenestra_core::Rgb;
 use std::sync::Arc;
 
+/// A surface's scattering, as parameters.
 #[derive(Clone, Debug)]
 pub enum Material {
     /// Lambertian reflector.
-    Diffuse { reflectance: Rgb },
+    Diffuse {
+        /// Albedo.
+        reflectance: Rgb,
+    },
     /// Lambertian reflector whose reflectance comes from an image texture.
-    TexturedDiffuse { texture: Arc<ImageTexture> },
+    TexturedDiffuse {
+        /// The albedo texture, looked up at the surface's uv.
+        texture: Arc<ImageTexture>,
+    },
     /// Perfect specular reflector.
-    Mirror { reflectance: Rgb },
-    /// Smooth dielectric interface with Fresnel reflection and refraction (seed 000 §2.4);
-    /// `eta` is the interior index over the exterior one.
-    Dielectric { eta: f32 },
+    Mirror {
+        /// Reflectance.
+        reflectance: Rgb,
+    },
+    /// Smooth dielectric interface with Fresnel reflection and refraction (seed 000 §2.4).
+    Dielectric {
+        /// Interior index of refraction over the exterior one.
+        eta: f32,
+    },
     /// A thin dielectric sheet (a window pane): specular reflection with the sheet's total
     /// reflectance including inter-reflections, straight transmission of the rest.
-    ThinDielectric { eta: f32 },
+    ThinDielectric {
+        /// The sheet's index of refraction.
+        eta: f32,
+    },
     /// Energy-normalised Phong: kd/pi + ks (n+2)/(2 pi) cos^n(alpha).
     Phong {
+        /// kd.
         diffuse: Rgb,
+        /// ks.
         specular: Rgb,
+        /// The lobe exponent n.
         exponent: f32,
     },
     /// Anisotropic Ward with Walter's (2005) normalisation (seed 003 §2.5).
     Ward {
+        /// Diffuse albedo.
         diffuse: Rgb,
+        /// Specular albedo.
         specular: Rgb,
+        /// Roughness along the tangent.
         alpha_x: f32,
+        /// Roughness along the bitangent.
         alpha_y: f32,
     },
     /// GGX microfacet conductor with complex index eta + i k per channel.
     RoughConductor {
+        /// Real part of the index of refraction.
         eta: Rgb,
+        /// Absorption coefficient (imaginary part).
         k: Rgb,
+        /// GGX roughness along the tangent.
         alpha_x: f32,
+        /// GGX roughness along the bitangent.
         alpha_y: f32,
     },
     /// GGX microfacet dielectric (Walter et al. 2007).
-    RoughDielectric { eta: f32, alpha: f32 },
+    RoughDielectric {
+        /// Interior index of refraction over the exterior one.
+        eta: f32,
+        /// GGX roughness.
+        alpha: f32,
+    },
 }
 
 impl Material {
+    /// A grey Lambertian material of albedo `r`.
     pub fn diffuse(r: f32) -> Self {
         Material::Diffuse {
             reflectance: Rgb::splat(r),

@@ -11,8 +11,11 @@ use fenestra_core::{Ray, Vec3};
 /// Render settings a scene proposes (a scene file's Film, Sampler and Integrator).
 #[derive(Clone, Debug)]
 pub struct RenderDefaults {
+    /// Image width in pixels.
     pub width: u32,
+    /// Image height in pixels.
     pub height: u32,
+    /// Samples per pixel.
     pub spp: u32,
     /// Maximum path length in segments from the camera to the emitter (2 = direct light).
     pub max_depth: u32,
@@ -32,53 +35,96 @@ impl Default for RenderDefaults {
 /// Everything a scene is made of, before it is validated and gets its acceleration structure.
 #[derive(Clone, Debug)]
 pub struct SceneDesc {
+    /// The scene's name (a built-in's, or the file's stem).
     pub name: String,
+    /// Every shape, emitters included.
     pub shapes: Vec<Shape>,
+    /// Materials, indexed by `Shape::material`.
     pub materials: Vec<Material>,
     /// Lights that are not shapes (area emitters are shapes with an emission).
     pub lights: Vec<LightDesc>,
+    /// The camera.
     pub camera: Camera,
+    /// Render settings the scene proposes.
     pub defaults: RenderDefaults,
     /// Light portals given by the scene (pbrt-v4's "point3 portal" of an infinite light):
     /// planar quads, corners in order.
     pub portals: Vec<[Vec3; 4]>,
 }
 
+/// Why a scene description is not a valid scene.
 #[derive(Debug, thiserror::Error)]
 pub enum SceneError {
+    /// A shape names a material that does not exist.
     #[error("shape {shape}: material index {material} out of range ({count} materials)")]
     MaterialIndex {
+        /// The shape.
         shape: usize,
+        /// The material index it names.
         material: usize,
+        /// How many materials there are.
         count: usize,
     },
+    /// A triangle names a vertex that does not exist.
     #[error(
         "shape {shape}: triangle {triangle} uses vertex {vertex} but the mesh has {count} vertices"
     )]
     VertexIndex {
+        /// The shape.
         shape: usize,
+        /// The triangle.
         triangle: usize,
+        /// The vertex index it names.
         vertex: u32,
+        /// How many vertices the mesh has.
         count: usize,
     },
+    /// A shape's geometry is invalid.
     #[error("shape {shape}: {what}")]
-    Geometry { shape: usize, what: String },
+    Geometry {
+        /// The shape.
+        shape: usize,
+        /// What is wrong.
+        what: String,
+    },
+    /// A material's parameters are invalid.
     #[error("material {index}: {what}")]
-    Material { index: usize, what: String },
+    Material {
+        /// The material.
+        index: usize,
+        /// What is wrong.
+        what: String,
+    },
+    /// A light's parameters are invalid.
     #[error("light {index}: {what}")]
-    Light { index: usize, what: String },
+    Light {
+        /// The light.
+        index: usize,
+        /// What is wrong.
+        what: String,
+    },
+    /// The ray-query library refused the geometry.
     #[error("building the ray-query structure failed: {0}")]
     Accel(String),
 }
 
+/// A validated scene with its ray-query structure: what renderers read.
 pub struct Scene {
+    /// The scene's name.
     pub name: String,
+    /// Every shape, emitters included.
     pub shapes: Vec<Shape>,
+    /// Materials, indexed by `Shape::material`.
     pub materials: Vec<Material>,
+    /// Lights that are not shapes.
     pub lights: Vec<LightDesc>,
+    /// The camera.
     pub camera: Camera,
+    /// Render settings the scene proposes.
     pub defaults: RenderDefaults,
+    /// Light portals given by the scene (quads, corners in order).
     pub portals: Vec<[Vec3; 4]>,
+    /// The ray-query backend in use.
     pub backend: Backend,
     accel: Box<dyn RayQuery>,
     bounds: (Vec3, Vec3),
@@ -88,7 +134,7 @@ impl Scene {
     /// Validates `desc` and builds its ray-query structure with `backend`.
     pub fn build(desc: SceneDesc, backend: Backend) -> Result<Scene, SceneError> {
         validate(&desc)?;
-        let accel = backend.build(&desc.shapes).map_err(SceneError::Accel)?;
+        let accel = backend.build(&desc.shapes)?;
         let mut lo = Vec3::splat(f32::INFINITY);
         let mut hi = Vec3::splat(f32::NEG_INFINITY);
         for s in &desc.shapes {
@@ -115,14 +161,17 @@ impl Scene {
         })
     }
 
+    /// The closest hit along `ray` in (0, tmax).
     pub fn intersect(&self, ray: &Ray, tmax: f32) -> Option<Hit> {
         self.accel.intersect(ray, tmax)
     }
 
+    /// Whether anything lies along `ray` in (0, tmax).
     pub fn occluded(&self, ray: &Ray, tmax: f32) -> bool {
         self.accel.occluded(ray, tmax)
     }
 
+    /// The surface point of `hit` found along `ray`.
     pub fn interaction(&self, ray: &Ray, hit: &Hit) -> SurfaceInteraction {
         SurfaceInteraction::from_hit(&self.shapes[hit.shape as usize], ray, hit)
     }
@@ -138,6 +187,7 @@ impl Scene {
         ((lo + hi) * 0.5, ((hi - lo).length() * 0.5).max(1e-3))
     }
 
+    /// Triangles in all meshes.
     pub fn triangle_count(&self) -> usize {
         self.shapes
             .iter()

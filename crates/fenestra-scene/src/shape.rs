@@ -6,11 +6,13 @@ use fenestra_core::{Ray, Vec2, Vec3};
 /// An indexed triangle mesh in world space.
 #[derive(Clone, Debug, Default)]
 pub struct TriangleMesh {
+    /// Vertex positions.
     pub positions: Vec<Vec3>,
     /// Per-vertex shading normals (optional).
     pub normals: Option<Vec<Vec3>>,
     /// Per-vertex texture coordinates (optional).
     pub uvs: Option<Vec<Vec2>>,
+    /// Vertex indices of each triangle.
     pub indices: Vec<[u32; 3]>,
 }
 
@@ -38,6 +40,7 @@ impl TriangleMesh {
         }
     }
 
+    /// The corners of triangle `i`.
     pub fn triangle(&self, i: usize) -> [Vec3; 3] {
         let [a, b, c] = self.indices[i];
         [
@@ -47,6 +50,7 @@ impl TriangleMesh {
         ]
     }
 
+    /// The area of triangle `i`.
     pub fn triangle_area(&self, i: usize) -> f32 {
         let [a, b, c] = self.triangle(i);
         0.5 * (b - a).cross(c - a).length()
@@ -69,17 +73,25 @@ impl TriangleMesh {
     }
 }
 
+/// The geometry of a shape.
 #[derive(Clone, Debug)]
 pub enum ShapeKind {
+    /// Triangles.
     Mesh(TriangleMesh),
+    /// A sphere, its normal pointing outwards.
     Sphere {
+        /// Its centre.
         center: Vec3,
+        /// Its radius.
         radius: f32,
     },
     /// A disk of `radius` around `center`, facing `normal` (unit).
     Disk {
+        /// Its centre.
         center: Vec3,
+        /// The side it faces (unit).
         normal: Vec3,
+        /// Its radius.
         radius: f32,
     },
 }
@@ -87,8 +99,11 @@ pub enum ShapeKind {
 /// A shape with its material and, if it emits, its area emission.
 #[derive(Clone, Debug)]
 pub struct Shape {
+    /// Its geometry.
     pub kind: ShapeKind,
+    /// Index of its material in the scene.
     pub material: usize,
+    /// Its emission, if it is an area light.
     pub emission: Option<Emission>,
     /// Flips the geometric and shading normals (pbrt's ReverseOrientation): emission and
     /// "outside" follow the flipped normal.
@@ -96,6 +111,7 @@ pub struct Shape {
 }
 
 impl Shape {
+    /// A shape of `material` that does not emit.
     pub fn new(kind: ShapeKind, material: usize) -> Self {
         Shape {
             kind,
@@ -104,10 +120,12 @@ impl Shape {
             flip_normals: false,
         }
     }
+    /// The shape emitting `e`.
     pub fn emitting(mut self, e: Emission) -> Self {
         self.emission = Some(e);
         self
     }
+    /// The shape with its normals flipped.
     pub fn flipped(mut self) -> Self {
         self.flip_normals = !self.flip_normals;
         self
@@ -121,6 +139,7 @@ impl Shape {
         }
     }
 
+    /// Surface area (m^2).
     pub fn area(&self) -> f32 {
         match &self.kind {
             ShapeKind::Mesh(m) => (0..m.indices.len()).map(|i| m.triangle_area(i)).sum(),
@@ -229,6 +248,8 @@ pub fn intersect_sphere(center: Vec3, radius: f32, ray: &Ray, tmin: f32, tmax: f
     }
 }
 
+/// Distance along `ray` in (tmin, tmax) to the disk of `radius` around `center` facing
+/// `normal`, if it hits.
 pub fn intersect_disk(
     center: Vec3,
     normal: Vec3,

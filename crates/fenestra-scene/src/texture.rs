@@ -5,21 +5,29 @@ use fenestra_core::{Rgb, Vec2};
 use std::path::PathBuf;
 use std::sync::Arc;
 
+/// An image looked up by texture coordinates (pbrt-v4's "imagemap" parameters).
 #[derive(Clone, Debug)]
 pub struct ImageTexture {
+    /// The texels (linear).
     pub image: Arc<Image>,
     /// The file it came from (kept for export).
     pub path: PathBuf,
+    /// Multiplies every texel.
     pub scale: f32,
+    /// Use 1 - value instead of the value.
     pub invert: bool,
     /// uv mapping: (u * uscale + udelta, v * vscale + vdelta).
     pub uscale: f32,
+    /// See `uscale`.
     pub vscale: f32,
+    /// See `uscale`.
     pub udelta: f32,
+    /// See `uscale`.
     pub vdelta: f32,
 }
 
 impl ImageTexture {
+    /// `image` from the file `path`, with the identity mapping.
     pub fn new(image: Arc<Image>, path: PathBuf) -> Self {
         ImageTexture {
             image,

@@ -14,16 +14,24 @@ use std::path::Path;
 /// was estimated from.
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct PortalRecord {
+    /// "quad", "triangle" or "ellipse".
     pub kind: String,
+    /// Centre.
     pub center: [f32; 3],
+    /// Unit normal (either side).
     pub normal: [f32; 3],
+    /// Area in m^2.
     pub area: f32,
+    /// An ellipse's two semi-axis vectors.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub axes: Option<[[f32; 3]; 2]>,
+    /// A quad's four or a triangle's three corners, in order.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub vertices: Option<Vec<[f32; 3]>>,
+    /// Photons of the cluster it was fitted to.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub photons: Option<usize>,
+    /// That cluster's index (largest first).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cluster: Option<usize>,
 }

@@ -13,21 +13,30 @@ pub use spherical_rectangle::SphericalRectangle;
 
 use fenestra_core::{Frame, UnknownName, Vec2, Vec3, PI};
 
+/// A planar opening light comes through.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Portal {
     /// The parallelogram corner + s e1 + t e2, (s, t) in [0, 1]^2.
     Quad {
+        /// One corner.
         corner: Vec3,
+        /// The edge from `corner` to the second corner.
         e1: Vec3,
+        /// The edge from `corner` to the fourth corner.
         e2: Vec3,
     },
+    /// A triangle.
     Triangle {
+        /// Its corners.
         vertices: [Vec3; 3],
     },
     /// The ellipse centre + x a + y b with x^2 + y^2 <= 1 (a, b perpendicular semi-axes).
     Ellipse {
+        /// Its centre.
         center: Vec3,
+        /// First semi-axis.
         a: Vec3,
+        /// Second semi-axis (perpendicular to `a`).
         b: Vec3,
     },
 }
@@ -73,6 +82,7 @@ impl Portal {
         }
     }
 
+    /// Area in m^2.
     pub fn area(&self) -> f32 {
         match self {
             Portal::Quad { e1, e2, .. } => e1.cross(*e2).length(),
@@ -83,6 +93,7 @@ impl Portal {
         }
     }
 
+    /// Centre (centroid of a triangle).
     pub fn center(&self) -> Vec3 {
         match self {
             Portal::Quad { corner, e1, e2 } => *corner + (*e1 + *e2) * 0.5,
@@ -224,7 +235,9 @@ pub struct Portals {
     portals: Vec<Portal>,
     /// Each portal's geometry, computed once: it is needed for every portal at every vertex.
     geometry: Vec<Geometry>,
+    /// How a point is chosen on a portal.
     pub sampling: PortalSampling,
+    /// How a portal is picked.
     pub choice: PortalChoice,
 }
 
@@ -246,6 +259,7 @@ impl Default for Portals {
 /// A direction through a portal from a shading point.
 #[derive(Clone, Copy, Debug)]
 pub struct PortalSample {
+    /// Unit direction from the shading point through the portal.
     pub wi: Vec3,
     /// Solid-angle density of `wi` over all portals (every portal the ray crosses counts).
     pub pdf: f32,
@@ -293,6 +307,7 @@ impl Portal {
 pub type Side = Option<Vec3>;
 
 impl Portals {
+    /// `portals`, sampled by solid angle and picked by contribution.
     pub fn new(portals: Vec<Portal>) -> Self {
         let geometry = portals
             .iter()
@@ -312,16 +327,19 @@ impl Portals {
         }
     }
 
+    /// The same portals sampled and picked by other rules.
     pub fn with_strategy(mut self, sampling: PortalSampling, choice: PortalChoice) -> Self {
         self.sampling = sampling;
         self.choice = choice;
         self
     }
 
+    /// Whether there is no portal.
     pub fn is_empty(&self) -> bool {
         self.portals.is_empty()
     }
 
+    /// The portals.
     pub fn portals(&self) -> &[Portal] {
         &self.portals
     }

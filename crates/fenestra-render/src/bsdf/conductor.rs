@@ -4,6 +4,7 @@ use super::microfacet::Ggx;
 use super::{fresnel, reflect, BsdfSample};
 use fenestra_core::{Rgb, Vec2, Vec3};
 
+/// GGX microfacet conductor with complex Fresnel reflectance.
 #[derive(Clone, Debug)]
 pub struct RoughConductor {
     eta: Rgb,
@@ -12,6 +13,7 @@ pub struct RoughConductor {
 }
 
 impl RoughConductor {
+    /// The conductor of complex index eta + i k and GGX roughness (ax, ay).
     pub fn new(eta: Rgb, k: Rgb, ax: f32, ay: f32) -> Self {
         RoughConductor {
             eta,
@@ -20,6 +22,7 @@ impl RoughConductor {
         }
     }
 
+    /// f(wo, wi) in the local frame.
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> Rgb {
         let h = (wo + wi).normalize_or_zero();
         if h == Vec3::ZERO {
@@ -29,6 +32,7 @@ impl RoughConductor {
         f * (self.ggx.d(h) * self.ggx.g(wo, wi) / (4.0 * wo.z * wi.z))
     }
 
+    /// Solid-angle density with which `sample` gives `wi`.
     pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         let h = (wo + wi).normalize_or_zero();
         if h == Vec3::ZERO {
@@ -37,6 +41,7 @@ impl RoughConductor {
         self.ggx.pdf_visible(wo, h) / (4.0 * wo.dot(h).abs())
     }
 
+    /// Samples an incident direction for `wo`.
     pub fn sample(&self, wo: Vec3, u: Vec2) -> Option<BsdfSample> {
         let h = self.ggx.sample_visible(wo, u);
         let wi = reflect(wo, h);

@@ -4,6 +4,7 @@
 use super::{fresnel, reflect_z, BsdfSample};
 use fenestra_core::{Rgb, Vec3};
 
+/// A smooth dielectric interface: Fresnel reflection and refraction (seed 000 §2.4).
 #[derive(Clone, Debug)]
 pub struct SmoothDielectric {
     /// Interior index over exterior index; the exterior is the +z side.
@@ -11,6 +12,7 @@ pub struct SmoothDielectric {
 }
 
 impl SmoothDielectric {
+    /// Samples an incident direction for `wo`.
     pub fn sample(&self, wo: Vec3, uc: f32) -> Option<BsdfSample> {
         let f = fresnel::dielectric(wo.z, self.eta);
         if uc < f {
@@ -38,6 +40,7 @@ impl SmoothDielectric {
 /// the rest passes straight through, back into the medium it came from.
 #[derive(Clone, Debug)]
 pub struct ThinDielectric {
+    /// The pane's index of refraction.
     pub eta: f32,
 }
 
@@ -53,6 +56,7 @@ impl ThinDielectric {
         }
     }
 
+    /// Samples an incident direction for `wo`.
     pub fn sample(&self, wo: Vec3, uc: f32) -> Option<BsdfSample> {
         let r = self.reflectance(wo.z);
         let (wi, pdf) = if uc < r {

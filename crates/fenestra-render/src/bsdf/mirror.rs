@@ -3,12 +3,15 @@
 use super::{reflect_z, BsdfSample};
 use fenestra_core::{Rgb, Vec3};
 
+/// A perfect mirror.
 #[derive(Clone, Debug)]
 pub struct Mirror {
+    /// Albedo.
     pub reflectance: Rgb,
 }
 
 impl Mirror {
+    /// Samples an incident direction for `wo`.
     pub fn sample(&self, wo: Vec3) -> Option<BsdfSample> {
         Some(BsdfSample {
             wi: reflect_z(wo),

@@ -6,7 +6,7 @@ mod conductor;
 mod dielectric;
 mod diffuse;
 pub mod fresnel;
-pub mod microfacet;
+pub(crate) mod microfacet;
 mod mirror;
 mod phong;
 mod rough_dielectric;
@@ -23,6 +23,7 @@ pub use ward::Ward;
 use fenestra_core::{Rgb, Vec2, Vec3};
 use fenestra_scene::Material;
 
+/// A direction sampled by a BSDF.
 #[derive(Clone, Copy, Debug)]
 pub struct BsdfSample {
     /// Sampled incident direction (local frame).
@@ -57,15 +58,24 @@ impl BsdfSample {
     }
 }
 
+/// A material's scattering, ready to evaluate and sample.
 #[derive(Clone, Debug)]
 pub enum Bsdf {
+    /// Lambertian.
     Diffuse(Diffuse),
+    /// Perfect mirror.
     Mirror(Mirror),
+    /// Smooth glass.
     SmoothDielectric(SmoothDielectric),
+    /// A thin glass pane.
     ThinDielectric(ThinDielectric),
+    /// Energy-normalised Phong.
     Phong(Phong),
+    /// Anisotropic Ward.
     Ward(Ward),
+    /// GGX conductor.
     RoughConductor(RoughConductor),
+    /// GGX dielectric.
     RoughDielectric(RoughDielectric),
 }
 
@@ -80,6 +90,7 @@ pub fn reflect(wo: Vec3, h: Vec3) -> Vec3 {
 }
 
 impl Bsdf {
+    /// The BSDF of material `m` (textured materials get their texture's mean; see `RenderScene::bsdf_at`).
     pub fn from_material(m: &Material) -> Bsdf {
         match *m {
             Material::Diffuse { reflectance } => Bsdf::Diffuse(Diffuse { reflectance }),

@@ -4,6 +4,7 @@
 use super::{reflect_z, specular_probability, BsdfSample};
 use fenestra_core::{warp, Frame, Rgb, Vec2, Vec3, INV_2PI, INV_PI};
 
+/// Energy-normalised Phong: kd/pi + ks (n+2)/(2 pi) cos^n(alpha), lobes sampled in proportion to their albedos.
 #[derive(Clone, Debug)]
 pub struct Phong {
     diffuse: Rgb,
@@ -13,6 +14,7 @@ pub struct Phong {
 }
 
 impl Phong {
+    /// Phong with albedos kd, ks and exponent n.
     pub fn new(diffuse: Rgb, specular: Rgb, exponent: f32) -> Self {
         Phong {
             diffuse,
@@ -26,18 +28,21 @@ impl Phong {
         reflect_z(wo).dot(wi).max(0.0)
     }
 
+    /// f(wo, wi) in the local frame.
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> Rgb {
         let n = self.exponent;
         self.diffuse * INV_PI
             + self.specular * ((n + 2.0) * INV_2PI * Self::cos_alpha(wo, wi).powf(n))
     }
 
+    /// Solid-angle density with which `sample` gives `wi`.
     pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         let n = self.exponent;
         let spec = (n + 1.0) * INV_2PI * Self::cos_alpha(wo, wi).powf(n);
         self.p_specular * spec + (1.0 - self.p_specular) * warp::cosine_hemisphere_pdf(wi)
     }
 
+    /// Samples an incident direction for `wo`.
     pub fn sample(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<BsdfSample> {
         let wi = if uc < self.p_specular {
             // cos(alpha) = u^(1/(n+1)) around the mirror direction.

@@ -5,6 +5,7 @@ use super::microfacet::Ggx;
 use super::{fresnel, reflect, BsdfSample};
 use fenestra_core::{Rgb, Vec2, Vec3};
 
+/// GGX microfacet dielectric (Walter et al. 2007): rough reflection and refraction.
 #[derive(Clone, Debug)]
 pub struct RoughDielectric {
     eta: f32,
@@ -38,6 +39,7 @@ fn half_vector(wo: Vec3, wi: Vec3, eta: f32) -> Option<(Vec3, f32, bool)> {
 }
 
 impl RoughDielectric {
+    /// The interface of relative index `eta` and GGX roughness `alpha`.
     pub fn new(eta: f32, alpha: f32) -> Self {
         RoughDielectric {
             eta,
@@ -45,6 +47,7 @@ impl RoughDielectric {
         }
     }
 
+    /// f(wo, wi) in the local frame.
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> Rgb {
         let Some((wm, etap, reflection)) = half_vector(wo, wi, self.eta) else {
             return Rgb::ZERO;
@@ -61,6 +64,7 @@ impl RoughDielectric {
         }
     }
 
+    /// Solid-angle density with which `sample` gives `wi`.
     pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         let Some((wm, etap, reflection)) = half_vector(wo, wi, self.eta) else {
             return 0.0;
@@ -75,6 +79,7 @@ impl RoughDielectric {
         }
     }
 
+    /// Samples an incident direction for `wo`.
     pub fn sample(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<BsdfSample> {
         let wm = self.ggx.sample_visible(wo, u);
         let f = fresnel::dielectric(wo.dot(wm), self.eta);

@@ -5,6 +5,7 @@
 use super::{reflect, specular_probability, BsdfSample};
 use fenestra_core::{warp, Rgb, Vec2, Vec3, INV_PI, PI};
 
+/// Anisotropic Ward with Walter's (2005) normalisation (seed 003 §2.5).
 #[derive(Clone, Debug)]
 pub struct Ward {
     diffuse: Rgb,
@@ -15,6 +16,7 @@ pub struct Ward {
 }
 
 impl Ward {
+    /// Ward with diffuse and specular albedos and roughness (ax, ay).
     pub fn new(diffuse: Rgb, specular: Rgb, ax: f32, ay: f32) -> Self {
         Ward {
             diffuse,
@@ -31,6 +33,7 @@ impl Ward {
         (-e).exp()
     }
 
+    /// f(wo, wi) in the local frame.
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> Rgb {
         let h = (wo + wi).normalize_or_zero();
         if h.z <= 0.0 {
@@ -48,6 +51,7 @@ impl Ward {
         self.exponential(h) / (PI * self.ax * self.ay * h.z * h.z * h.z)
     }
 
+    /// Solid-angle density with which `sample` gives `wi`.
     pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         let h = (wo + wi).normalize_or_zero();
         let spec = if h == Vec3::ZERO {
@@ -58,6 +62,7 @@ impl Ward {
         self.p_specular * spec + (1.0 - self.p_specular) * warp::cosine_hemisphere_pdf(wi)
     }
 
+    /// Samples an incident direction for `wo`.
     pub fn sample(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<BsdfSample> {
         let wi = if uc < self.p_specular {
             // Walter 2005, eqs. 6-7.

@@ -7,6 +7,7 @@ use fenestra_core::{warp, Frame, Rgb, Vec2, Vec3, PI};
 use fenestra_scene::light::Emission;
 use fenestra_scene::{Scene, ShapeKind, SurfaceInteraction};
 
+/// A diffuse area emitter on a shape.
 #[derive(Clone, Debug)]
 pub struct AreaLight {
     shape: usize,
@@ -17,6 +18,7 @@ pub struct AreaLight {
 }
 
 impl AreaLight {
+    /// The emitter of shape `shape` of `scene`.
     pub fn new(scene: &Scene, shape: usize, emission: Emission) -> Self {
         let s = &scene.shapes[shape];
         let triangles = match &s.kind {
@@ -35,10 +37,6 @@ impl AreaLight {
         }
     }
 
-    pub fn shape(&self) -> usize {
-        self.shape
-    }
-
     /// Radiance leaving the emitter point `si` in direction `w`.
     pub fn le(&self, si: &SurfaceInteraction, w: Vec3) -> Rgb {
         if self.emission.two_sided || si.ng.dot(w) > 0.0 {
@@ -48,6 +46,7 @@ impl AreaLight {
         }
     }
 
+    /// Emitted power (luminance of watts).
     pub fn power(&self) -> f32 {
         let sides = if self.emission.two_sided { 2.0 } else { 1.0 };
         PI * self.area * sides * self.emission.radiance.luminance()
@@ -59,6 +58,7 @@ impl AreaLight {
         (d2 > radius * radius * 1.0001).then(|| (1.0 - radius * radius / d2).max(0.0).sqrt())
     }
 
+    /// A direction from `p` towards a point of the emitter: triangles by area, spheres by the cone they subtend, disks by area.
     pub fn sample_li(&self, scene: &Scene, p: Vec3, u: Vec2) -> Option<LightSample> {
         let shape = &scene.shapes[self.shape];
         let (si, pdf) = match &shape.kind {

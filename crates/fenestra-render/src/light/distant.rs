@@ -4,6 +4,7 @@ use super::LightSample;
 use fenestra_core::{Rgb, Vec3, PI};
 use fenestra_scene::Scene;
 
+/// A directional light.
 #[derive(Clone, Debug)]
 pub struct DistantLight {
     /// Direction light travels.
@@ -12,6 +13,7 @@ pub struct DistantLight {
 }
 
 impl DistantLight {
+    /// Light travelling along `direction` with `irradiance` on a surface facing it.
     pub fn new(direction: Vec3, irradiance: Rgb) -> Self {
         DistantLight {
             direction: direction.normalize(),
@@ -24,6 +26,7 @@ impl DistantLight {
         self.direction
     }
 
+    /// The light's only direction.
     pub fn sample_li(&self) -> Option<LightSample> {
         Some(LightSample {
             wi: -self.direction,
@@ -34,6 +37,7 @@ impl DistantLight {
         })
     }
 
+    /// Power through the scene's bounding disk (pbrt-v4's convention).
     pub fn power(&self, scene: &Scene) -> f32 {
         let r = scene.bounding_sphere().1;
         PI * r * r * self.irradiance.luminance()

@@ -9,9 +9,12 @@ use fenestra_scene::{EnvironmentDesc, Scene};
 use glam::Mat3;
 use std::sync::Arc;
 
+/// Light from infinitely far away.
 #[derive(Clone, Debug)]
 pub enum Environment {
+    /// The same radiance everywhere.
     Constant(Rgb),
+    /// A latitude-longitude image.
     Image(ImageEnvironment),
 }
 
@@ -25,6 +28,7 @@ pub struct ImageEnvironment {
 }
 
 impl Environment {
+    /// The light of `desc`, with its sampling distribution.
     pub fn new(desc: &EnvironmentDesc) -> Self {
         match desc {
             EnvironmentDesc::Constant(l) => Environment::Constant(*l),
@@ -72,6 +76,7 @@ impl Environment {
         }
     }
 
+    /// A direction by the image's luminance (uniform for a constant sky).
     pub fn sample_li(&self, u: Vec2) -> Option<LightSample> {
         let (wi, pdf) = match self {
             Environment::Constant(_) => {
@@ -98,6 +103,7 @@ impl Environment {
         })
     }
 
+    /// Solid-angle density of `sample_li` giving `dir`.
     pub fn pdf_li(&self, dir: Vec3) -> f32 {
         match self {
             Environment::Constant(_) => warp::UNIFORM_SPHERE_PDF,
@@ -113,6 +119,7 @@ impl Environment {
         }
     }
 
+    /// Power through the scene's bounding disk (pbrt-v4's convention).
     pub fn power(&self, scene: &Scene) -> f32 {
         let r = scene.bounding_sphere().1;
         let mean = match self {

@@ -37,7 +37,9 @@ pub struct LightSample {
 /// A ray leaving a light (for photon tracing): origin and unit direction.
 #[derive(Clone, Copy, Debug)]
 pub struct EmittedRay {
+    /// Where it starts.
     pub origin: Vec3,
+    /// Unit direction.
     pub dir: Vec3,
 }
 
@@ -74,10 +76,15 @@ pub enum LightHit<'a> {
 /// A light of any kind.
 #[derive(Clone, Debug)]
 pub enum Light {
+    /// Point light.
     Point(PointLight),
+    /// Spot light.
     Spot(SpotLight),
+    /// Directional light.
     Distant(DistantLight),
+    /// Emissive shape.
     Area(AreaLight),
+    /// Environment.
     Environment(Environment),
 }
 
@@ -147,6 +154,7 @@ impl Light {
 
 /// All lights of a scene, with the maps the integrators need.
 pub struct Lights {
+    /// Every light: the scene's lights first, then one per emitting shape.
     pub lights: Vec<Light>,
     /// For each shape, the index of its area light if it emits.
     pub area_of_shape: Vec<Option<usize>>,
@@ -157,6 +165,7 @@ pub struct Lights {
 }
 
 impl Lights {
+    /// The lights of `scene`.
     pub fn new(scene: &Scene) -> Self {
         let mut lights = Vec::new();
         let mut environments = Vec::new();

@@ -3,6 +3,7 @@
 use super::LightSample;
 use fenestra_core::{Rgb, Vec3, PI};
 
+/// An isotropic point light.
 #[derive(Clone, Debug)]
 pub struct PointLight {
     position: Vec3,
@@ -10,6 +11,7 @@ pub struct PointLight {
 }
 
 impl PointLight {
+    /// A light at `position` of `intensity` (W/sr).
     pub fn new(position: Vec3, intensity: Rgb) -> Self {
         PointLight {
             position,
@@ -17,10 +19,12 @@ impl PointLight {
         }
     }
 
+    /// Where it is.
     pub fn position(&self) -> Vec3 {
         self.position
     }
 
+    /// The direction from `p` to the light and the radiance-like I/d^2.
     pub fn sample_li(&self, p: Vec3) -> Option<LightSample> {
         let (wi, d2) = super::toward(self.position, p)?;
         Some(LightSample {
@@ -32,6 +36,7 @@ impl PointLight {
         })
     }
 
+    /// Emitted power, 4 pi I (luminance of watts).
     pub fn power(&self) -> f32 {
         4.0 * PI * self.intensity.luminance()
     }

@@ -3,6 +3,7 @@
 use super::LightSample;
 use fenestra_core::{warp, Frame, Rgb, Vec2, Vec3, PI};
 
+/// A spot light with pbrt-v4's smoothstep falloff.
 #[derive(Clone, Debug)]
 pub struct SpotLight {
     position: Vec3,
@@ -47,6 +48,7 @@ impl SpotLight {
         }
     }
 
+    /// The direction from `p` to the light and the radiance-like I(w)/d^2.
     pub fn sample_li(&self, p: Vec3) -> Option<LightSample> {
         let (wi, d2) = super::toward(self.position, p)?;
         let falloff = smoothstep(self.cos_end, self.cos_start, (-wi).dot(self.direction));
@@ -62,6 +64,7 @@ impl SpotLight {
         })
     }
 
+    /// Emitted power (luminance of watts), falloff included.
     pub fn power(&self) -> f32 {
         // Full intensity inside the inner cone, smoothstep average (1/2) in the falloff ring.
         self.intensity.luminance()

@@ -6,11 +6,13 @@ mod embree;
 mod obvhs;
 
 use crate::shape::Shape;
+use crate::SceneError;
 use fenestra_core::Ray;
 
 /// The closest surface along a ray.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Hit {
+    /// Distance along the ray.
     pub t: f32,
     /// Index of the shape in the scene.
     pub shape: u32,
@@ -18,9 +20,12 @@ pub struct Hit {
     pub prim: u32,
     /// Barycentrics of the triangle's 2nd and 3rd vertex (0 for analytic shapes).
     pub u: f32,
+    /// See `u`.
     pub v: f32,
 }
 
+/// Closest-hit and any-hit ray queries over a scene's shapes (a BVH of one library or
+/// another).
 pub trait RayQuery: Send + Sync {
     /// Closest hit in (0, tmax).
     fn intersect(&self, ray: &Ray, tmax: f32) -> Option<Hit>;
@@ -31,8 +36,10 @@ pub trait RayQuery: Send + Sync {
 /// Which ray-query library to use.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Backend {
+    /// Intel Embree 3 (the default when built with the `embree` feature).
     #[cfg(feature = "embree")]
     Embree,
+    /// obvhs' compressed wide BVH (pure Rust).
     Obvhs,
 }
 
@@ -82,6 +89,7 @@ impl Backend {
         ]
     }
 
+    /// The name `--bvh` takes.
     pub fn name(self) -> &'static str {
         match self {
             #[cfg(feature = "embree")]
@@ -90,10 +98,13 @@ impl Backend {
         }
     }
 
-    pub fn build(self, shapes: &[Shape]) -> Result<Box<dyn RayQuery>, String> {
+    /// The ray-query structure of `shapes`.
+    pub fn build(self, shapes: &[Shape]) -> Result<Box<dyn RayQuery>, SceneError> {
         match self {
             #[cfg(feature = "embree")]
-            Backend::Embree => Ok(Box::new(embree::EmbreeScene::new(shapes)?)),
+            Backend::Embree => Ok(Box::new(
+                embree::EmbreeScene::new(shapes).map_err(SceneError::Accel)?,
+            )),
             Backend::Obvhs => Ok(Box::new(obvhs::ObvhsScene::new(shapes))),
         }
     }

@@ -22,6 +22,7 @@ pub fn windows(count: usize, z0: f32) -> Vec<Rect> {
         .collect()
 }
 
+/// builtin:hall-windows.
 pub fn hall_windows() -> SceneDesc {
     let mut a = Assembler::default();
     let stone = a.material(Material::Diffuse {

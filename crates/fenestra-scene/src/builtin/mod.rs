@@ -3,7 +3,7 @@
 
 mod box_hole;
 mod cornell;
-pub mod geometry;
+pub(crate) mod geometry;
 pub mod hall;
 mod kitchen;
 mod ponderosa;

@@ -9,10 +9,13 @@ use fenestra_core::{Rgb, Vec3};
 use std::path::Path;
 use std::path::PathBuf;
 
+/// A mesh file that cannot be read.
 #[derive(Debug, thiserror::Error)]
 #[error("{path}: {reason}")]
 pub struct MeshError {
+    /// The file.
     pub path: PathBuf,
+    /// What is wrong with it.
     pub reason: String,
 }
 

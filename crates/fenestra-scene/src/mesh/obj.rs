@@ -13,6 +13,7 @@ use std::sync::Arc;
 
 /// An OBJ file's meshes, each with an index into `materials`.
 pub struct ObjModel {
+    /// The meshes, each with its material's index.
     pub meshes: Vec<(TriangleMesh, usize)>,
     /// Materials with their emitted radiance (Ke), if any; the last is the default material
     /// of faces without one.
@@ -21,6 +22,7 @@ pub struct ObjModel {
     pub warnings: Vec<String>,
 }
 
+/// Reads an OBJ file and its MTL materials.
 pub fn read(path: &Path) -> Result<ObjModel, MeshError> {
     let err = |reason: String| MeshError {
         path: path.to_path_buf(),

@@ -14,15 +14,19 @@ use std::path::{Path, PathBuf};
 /// Meshes with more triangles than this are written as PLY files.
 const INLINE_TRIANGLES: usize = 4096;
 
+/// An export that failed.
 #[derive(Debug, thiserror::Error)]
 #[error("exporting to {path}: {reason}")]
 pub struct ExportError {
+    /// The file being written.
     pub path: PathBuf,
+    /// What went wrong.
     pub reason: String,
 }
 
 /// What an export wrote.
 pub struct Exported {
+    /// Every file written, the scene file first.
     pub files: Vec<PathBuf>,
 }
 

@@ -21,8 +21,11 @@ use std::sync::Arc;
 /// A position in a scene file (1-based line and column, in characters).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Loc {
+    /// The file.
     pub file: Arc<PathBuf>,
+    /// Line, from 1.
     pub line: u32,
+    /// Column, from 1.
     pub col: u32,
 }
 
@@ -32,14 +35,18 @@ impl fmt::Display for Loc {
     }
 }
 
+/// A scene file that cannot be read, and where.
 #[derive(Debug, thiserror::Error)]
 #[error("{loc}: {msg}")]
 pub struct PbrtError {
+    /// Where in which file.
     pub loc: Loc,
+    /// What was expected or is wrong.
     pub msg: String,
 }
 
 impl PbrtError {
+    /// The error `msg` at `loc`.
     pub fn at(loc: &Loc, msg: impl Into<String>) -> Self {
         PbrtError {
             loc: loc.clone(),
@@ -51,8 +58,11 @@ impl PbrtError {
 /// Something the file asks for that fenestra does not do, counted over the whole scene.
 #[derive(Clone, Debug)]
 pub struct Warning {
+    /// What is not supported.
     pub what: String,
+    /// How many times the scene asks for it.
     pub count: usize,
+    /// Where it first does.
     pub first: Loc,
 }
 
@@ -68,7 +78,9 @@ impl fmt::Display for Warning {
 
 /// A scene read from a file, with what could not be represented.
 pub struct Loaded {
+    /// The scene.
     pub desc: SceneDesc,
+    /// What it asks for that fenestra does not do.
     pub warnings: Vec<Warning>,
 }
 
