@@ -225,8 +225,8 @@ fn interrupting_a_render_keeps_what_it_has() {
 #[test]
 fn reference_is_cached_by_content_and_settings() {
     let cache = tmp("refcache");
-    let run = |spp: &str| {
-        let o = fenestra(&[
+    let run_with = |spp: &str, extra: &[&str]| {
+        let mut args = vec![
             "reference",
             "builtin:box-hole",
             "--spp",
@@ -236,10 +236,13 @@ fn reference_is_cached_by_content_and_settings() {
             "--cache",
             cache.to_str().expect("utf-8"),
             "--json",
-        ]);
+        ];
+        args.extend_from_slice(extra);
+        let o = fenestra(&args);
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         serde_json::from_slice::<serde_json::Value>(&o.stdout).expect("json")
     };
+    let run = |spp: &str| run_with(spp, &[]);
     let first = run("16");
     assert_eq!(first["cached"], false);
     let again = run("16");
@@ -248,6 +251,20 @@ fn reference_is_cached_by_content_and_settings() {
     let other = run("32");
     assert_eq!(other["cached"], false, "other settings, other reference");
     assert_ne!(first["path"], other["path"]);
+    // Every setting that changes the picture changes the key: the ray-query backend, the
+    // integrator's own options.
+    let lp = ["--integrator", "lp_hf"];
+    let keyed = [
+        run_with("16", &["--bvh", "obvhs"]),
+        run_with("16", &lp),
+        run_with("16", &[&lp[..], &["--portal-sampling", "area"]].concat()),
+        run_with("16", &[&lp[..], &["--portal-light-mix", "0.5"]].concat()),
+        run_with("16", &["--light-selection", "uniform"]),
+    ];
+    for (i, k) in keyed.iter().enumerate() {
+        assert_eq!(k["cached"], false, "case {i}: {k}");
+        assert_ne!(k["path"], first["path"], "case {i}");
+    }
     let path = PathBuf::from(first["path"].as_str().expect("path"));
     assert!(
         path.with_extension("var.exr").exists(),

@@ -13,9 +13,14 @@ use fenestra_core::ray::offset_origin;
 use fenestra_core::stats::RayCounters;
 use fenestra_core::{Ray, Rgb, Sampler, Vec3};
 
-/// Light sampling with the light sampler of a [`LightSelection`], built when prepared.
+/// Builds a light sampler for a scene.
+type BuildSampler = dyn Fn(&RenderScene) -> Box<dyn LightSampler> + Send + Sync;
+
+/// Light sampling with a light sampler built when prepared: one of the fixed
+/// [`LightSelection`]s or any other (learned samplers of research crates).
 pub struct LightNextEvent {
-    selection: LightSelection,
+    name: String,
+    build: Box<BuildSampler>,
     sampler: Box<dyn LightSampler>,
 }
 
@@ -34,8 +39,18 @@ impl LightSampler for Unprepared {
 impl LightNextEvent {
     /// Light sampling by `selection` (the sampler is built by `prepare`).
     pub fn new(selection: LightSelection) -> Self {
+        Self::with_sampler(selection.name(), move |scene| selection.build(scene))
+    }
+
+    /// Light sampling by the sampler `build` makes for the scene when prepared; `name`
+    /// identifies it in the integrator's settings.
+    pub fn with_sampler(
+        name: impl Into<String>,
+        build: impl Fn(&RenderScene) -> Box<dyn LightSampler> + Send + Sync + 'static,
+    ) -> Self {
         LightNextEvent {
-            selection,
+            name: name.into(),
+            build: Box::new(build),
             sampler: Box::new(Unprepared),
         }
     }
@@ -108,11 +123,11 @@ impl NextEvent for LightNextEvent {
     type Vertex = ();
 
     fn settings(&self) -> serde_json::Value {
-        serde_json::json!({ "light_selection": self.selection })
+        serde_json::json!({ "light_selection": self.name })
     }
 
     fn prepare(&mut self, scene: &RenderScene, _: &RenderControl) -> Result<(), IntegratorError> {
-        self.sampler = self.selection.build(scene);
+        self.sampler = (self.build)(scene);
         Ok(())
     }
 

@@ -29,7 +29,7 @@ pub trait LightSampler: Send + Sync {
 }
 
 /// The fixed light samplers, by name.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum LightSelection {
     /// Every light with the same probability.
     Uniform,
@@ -49,6 +49,14 @@ impl std::str::FromStr for LightSelection {
 }
 
 impl LightSelection {
+    /// The name `--light-selection` takes.
+    pub fn name(self) -> &'static str {
+        match self {
+            LightSelection::Uniform => "uniform",
+            LightSelection::Power => "power",
+        }
+    }
+
     /// The sampler for the lights of `scene`.
     pub fn build(self, scene: &RenderScene) -> Box<dyn LightSampler> {
         match self {
