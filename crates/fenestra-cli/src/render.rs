@@ -55,7 +55,8 @@ pub struct RenderOpts {
 #[derive(Args)]
 pub struct RenderArgs {
     /// Render for this many seconds instead of a fixed sample count (with --spp: whichever
-    /// comes first); preparation (such as --portals auto) counts in it.
+    /// comes first). Preparation (such as --portals auto) comes on top; the sidecar's time_s
+    /// includes it and prepare_s says how much it was.
     #[arg(long, allow_negative_numbers = true)]
     time: Option<f64>,
     /// A reference image: the sidecar then records MSE and relative MSE after every pass

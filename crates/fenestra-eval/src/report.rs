@@ -43,8 +43,10 @@ pub struct Row {
     pub runs: usize,
     /// Mean samples per pixel.
     pub spp: f64,
-    /// Render time.
+    /// Time in all, preparation (such as portal estimation) included.
     pub time_s: Spread,
+    /// Mean seconds of preparation within `time_s`.
+    pub prepare_s: f64,
     /// Mean squared error.
     pub mse: Spread,
     /// Relative mean squared error.
@@ -111,6 +113,7 @@ pub fn aggregate(suite: &Suite, records: &[RunRecord]) -> Vec<Group> {
                         runs: runs.len(),
                         spp: Spread::of(&col(&|r| r.stats.spp as f64)).mean,
                         time_s: Spread::of(&times),
+                        prepare_s: Spread::of(&col(&|r| r.stats.prepare_s)).mean,
                         mse: Spread::of(&mses),
                         rel_mse: Spread::of(&col(&|r| r.metrics.rel_mse)),
                         efficiency: Spread::of(&eff).mean,
@@ -156,17 +159,30 @@ fn sci(x: f64) -> String {
     }
 }
 
+impl Row {
+    /// "mean ± sd" seconds, the preparation's share when there is one, or that the target
+    /// was not reached.
+    fn time_cell(&self) -> String {
+        let prepare = if self.prepare_s >= 0.005 {
+            format!(" ({:.2} preparing)", self.prepare_s)
+        } else {
+            String::new()
+        };
+        if self.reached {
+            format!("{:.2} ± {:.2}{prepare}", self.time_s.mean, self.time_s.sd)
+        } else {
+            format!("> {:.1} (not reached)", self.time_s.mean)
+        }
+    }
+}
+
 /// The table as Markdown (seed 000 Table 5.1 / seed 004 Tables 4.2-4.3 layout).
 pub fn markdown_table(groups: &[Group]) -> String {
     let mut s = String::from("| scene | path length | budget | technique | spp | time s | MSE | relMSE | efficiency | speed-up | shadow rays/px |\n|---|---|---|---|---|---|---|---|---|---|---|\n");
     for g in groups {
         for r in &g.rows {
             let speedup = r.speedup.map_or("-".into(), |x| format!("{x:.2}x"));
-            let time = if r.reached {
-                format!("{:.2} ± {:.2}", r.time_s.mean, r.time_s.sd)
-            } else {
-                format!("> {:.1} (not reached)", r.time_s.mean)
-            };
+            let time = r.time_cell();
             let _ = writeln!(
                 s,
                 "| {} | {} | {} | {} | {:.0} | {} | {} ± {} | {} | {} | {} | {:.1} |",
@@ -343,11 +359,7 @@ pub fn write_report(
                 } else {
                     ""
                 };
-                let time = if r.reached {
-                    format!("{:.2} ± {:.2}", r.time_s.mean, r.time_s.sd)
-                } else {
-                    format!("&gt; {:.1} (not reached)", r.time_s.mean)
-                };
+                let time = esc(&r.time_cell());
                 let _ = write!(
                     html,
                     "<tr{class}><td>{}</td><td>{:.0}</td><td>{time}</td><td>{} ± {}</td><td>{}</td><td>{}</td><td>{}</td><td>{:.1}</td></tr>",

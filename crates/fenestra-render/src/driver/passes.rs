@@ -4,9 +4,9 @@
 //! own statistics; after it the estimator sees the film and all blocks' statistics, in block
 //! order, and rebuilds what the next pass samples from.
 //!
-//! Work is split into bands of eight pixel rows (one row of blocks), rendered in parallel;
-//! within a band, blocks and pixels go in order and each pixel's samples in index order, so
-//! the film and the block statistics are the same whatever the number of threads.
+//! Blocks are rendered in parallel, each by one worker: its pixels in order and each pixel's
+//! samples in index order, and the blocks' statistics are collected in block order, so the
+//! film and the statistics are the same whatever the number of threads.
 
 use super::{Blocks, SampleContext, BLOCK_SIZE};
 use crate::control::RenderControl;
@@ -23,9 +23,9 @@ use std::time::Instant;
 pub struct PassInfo {
     /// The pass about to start, from 0.
     pub index: u32,
-    /// Seconds since the render began (preparation included): what time limits count.
+    /// Seconds since the render began, preparation included.
     pub elapsed_s: f64,
-    /// Seconds spent in the passes so far (for the cost of a sample).
+    /// Seconds spent in the passes so far: what time limits count.
     pub render_s: f64,
 }
 
@@ -94,7 +94,6 @@ pub fn render_passes<E: PassEstimator>(
 ) -> RenderStats {
     let (width, height) = (film.width, film.height);
     let blocks = Blocks::new(width, height);
-    let band = width as usize * BLOCK_SIZE as usize;
     let mut taken = vec![0u32; film.pixels.len()];
     let started = Instant::now();
     control
@@ -113,26 +112,20 @@ pub fn render_passes<E: PassEstimator>(
             break;
         }
         let shared = &*estimator;
-        let bands: Vec<(Vec<E::BlockStats>, RayCounters)> = film
-            .pixels
-            .par_chunks_mut(band.max(1))
-            .zip(taken.par_chunks_mut(band.max(1)))
-            .enumerate()
-            .map(|(row, (pixels, taken))| {
-                let band = Band {
-                    row: row as u32,
-                    width,
-                    height,
-                    blocks,
-                    pass: passes,
-                    seed: settings.seed,
-                };
-                band.render(shared, scene, control, pixels, taken)
-            })
-            .collect();
+        let pass = Pass {
+            index: passes,
+            width,
+            height,
+            seed: settings.seed,
+        };
+        let rendered: Vec<(E::BlockStats, RayCounters)> =
+            BlockView::all(blocks, width, &mut film.pixels, &mut taken)
+                .into_par_iter()
+                .map(|view| pass.render(shared, scene, control, view))
+                .collect();
         let mut block_stats = Vec::with_capacity(blocks.count());
-        for (stats, counters) in bands {
-            block_stats.extend(stats);
+        for (stats, counters) in rendered {
+            block_stats.push(stats);
             rays += counters;
         }
         if control.cancelled() {
@@ -168,84 +161,107 @@ pub fn render_passes<E: PassEstimator>(
     stats
 }
 
-/// One row of blocks in one pass.
-struct Band {
-    row: u32,
+/// The film's pixels of one block, and their sample counts: up to eight row pieces of up to
+/// eight pixels (disjoint slices of the row-major film, so blocks render in parallel).
+struct BlockView<'a> {
+    index: u32,
+    x0: u32,
+    y0: u32,
+    rows: [Option<(&'a mut [Pixel], &'a mut [u32])>; BLOCK_SIZE as usize],
+}
+
+impl<'a> BlockView<'a> {
+    /// Every block of the film, in block order.
+    fn all(
+        blocks: Blocks,
+        width: u32,
+        pixels: &'a mut [Pixel],
+        taken: &'a mut [u32],
+    ) -> Vec<BlockView<'a>> {
+        let mut views: Vec<BlockView> = (0..blocks.count() as u32)
+            .map(|index| BlockView {
+                index,
+                x0: (index % blocks.columns) * BLOCK_SIZE,
+                y0: (index / blocks.columns) * BLOCK_SIZE,
+                rows: std::array::from_fn(|_| None),
+            })
+            .collect();
+        let w = width.max(1) as usize;
+        let b = BLOCK_SIZE as usize;
+        for (y, (pixels, taken)) in pixels.chunks_mut(w).zip(taken.chunks_mut(w)).enumerate() {
+            let first = (y / b) * blocks.columns as usize;
+            for (column, piece) in pixels.chunks_mut(b).zip(taken.chunks_mut(b)).enumerate() {
+                views[first + column].rows[y % b] = Some(piece);
+            }
+        }
+        views
+    }
+}
+
+/// What every block of one pass shares.
+struct Pass {
+    index: u32,
     width: u32,
     height: u32,
-    blocks: Blocks,
-    pass: u32,
     seed: u64,
 }
 
-impl Band {
-    /// Renders the band's blocks left to right into `pixels` (the band's rows of the film)
-    /// and `taken` (their sample counts); returns each block's statistics and the rays.
+impl Pass {
+    /// Renders one block: its pixels row by row, each pixel's samples in index order;
+    /// returns the block's statistics and the rays traced.
     fn render<E: PassEstimator>(
         &self,
         estimator: &E,
         scene: &RenderScene,
         control: &RenderControl,
-        pixels: &mut [Pixel],
-        taken: &mut [u32],
-    ) -> (Vec<E::BlockStats>, RayCounters) {
+        view: BlockView,
+    ) -> (E::BlockStats, RayCounters) {
         let mut counters = RayCounters::default();
-        let mut stats = Vec::with_capacity(self.blocks.columns as usize);
-        let y0 = self.row * BLOCK_SIZE;
-        let y1 = (y0 + BLOCK_SIZE).min(self.height);
-        for column in 0..self.blocks.columns {
-            let block = self.row * self.blocks.columns + column;
-            let mut block_stats = estimator.block_stats(block, self.pass);
-            if !control.cancelled() {
-                let x0 = column * BLOCK_SIZE;
-                let x1 = (x0 + BLOCK_SIZE).min(self.width);
-                let mut samples = 0u64;
-                for y in y0..y1 {
-                    for x in x0..x1 {
-                        let i = ((y - y0) * self.width + x) as usize;
-                        let first = taken[i];
-                        let n = estimator.samples(&PixelState {
-                            x,
-                            y,
-                            block,
-                            pass: self.pass,
-                            taken: first,
-                            film: &pixels[i],
-                        });
-                        let last = first.saturating_add(n);
-                        let mut ctx = SampleContext {
-                            x,
-                            y,
-                            width: self.width,
-                            height: self.height,
-                            block,
-                            pass: self.pass,
-                            index: first,
-                        };
-                        for s in first..last {
-                            ctx.index = s;
-                            let mut sampler = Sampler::new(self.seed, ctx.pixel(), s);
-                            let l = estimator.sample(
-                                scene,
-                                &ctx,
-                                &mut sampler,
-                                &mut block_stats,
-                                &mut counters,
-                            );
-                            if l.is_finite() {
-                                pixels[i].add(l);
-                            } else {
-                                counters.dropped += 1;
-                            }
-                        }
-                        taken[i] = last;
-                        samples += (last - first) as u64;
+        let block = view.index;
+        let mut stats = estimator.block_stats(block, self.index);
+        if control.cancelled() {
+            return (stats, counters);
+        }
+        let mut samples = 0u64;
+        for (dy, row) in view.rows.into_iter().enumerate() {
+            let Some((pixels, taken)) = row else { continue };
+            let y = view.y0 + dy as u32;
+            for (dx, (pixel, taken)) in pixels.iter_mut().zip(taken.iter_mut()).enumerate() {
+                let x = view.x0 + dx as u32;
+                let first = *taken;
+                let n = estimator.samples(&PixelState {
+                    x,
+                    y,
+                    block,
+                    pass: self.index,
+                    taken: first,
+                    film: pixel,
+                });
+                let last = first.saturating_add(n);
+                let mut ctx = SampleContext {
+                    x,
+                    y,
+                    width: self.width,
+                    height: self.height,
+                    block,
+                    pass: self.index,
+                    index: first,
+                };
+                for s in first..last {
+                    ctx.index = s;
+                    let mut sampler = Sampler::new(self.seed, ctx.pixel(), s);
+                    let l = estimator.sample(scene, &ctx, &mut sampler, &mut stats, &mut counters);
+                    if l.is_finite() {
+                        pixel.add(l);
+                    } else {
+                        counters.dropped += 1;
                     }
                 }
-                control.progress.advance(samples);
+                *taken = last;
+                samples += (last - first) as u64;
             }
-            stats.push(block_stats);
         }
+        control.progress.advance(samples);
         (stats, counters)
     }
 }

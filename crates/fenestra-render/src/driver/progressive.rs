@@ -1,6 +1,7 @@
 //! The per-path driver: an estimator that maps a camera ray to radiance is rendered in passes
-//! of 1, 2, 4, ... up to 32 samples per pixel until the sample count, or the time limit, is
-//! reached (small first passes make Ctrl-C, time limits and convergence curves prompt).
+//! of 1, 2, 4, ... up to 32 samples per pixel until the sample count, or the time limit (of
+//! rendering, preparation not included), is reached (small first passes make Ctrl-C, time
+//! limits and convergence curves prompt).
 
 use super::passes::{render_passes, PassEstimator, PassInfo, PixelState};
 use super::SampleContext;
@@ -73,9 +74,11 @@ impl<E: PathEstimator> PassEstimator for Schedule<'_, E> {
             return false;
         }
         let mut n = self.size.min(self.spp - self.done);
+        // The time limit counts rendering: preparation (portal estimation, caches) comes on
+        // top, and the statistics' total time shows it.
         if let (Some(limit), true) = (self.time_limit, self.done > 0) {
             let per_sample = pass.render_s / self.done as f64;
-            n = n.min(((limit - pass.elapsed_s) / per_sample).floor().max(0.0) as u32);
+            n = n.min(((limit - pass.render_s) / per_sample).floor().max(0.0) as u32);
         }
         self.current = n;
         n > 0

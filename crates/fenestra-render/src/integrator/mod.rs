@@ -51,8 +51,9 @@ pub trait Integrator: Send + Sync {
     fn settings(&self) -> serde_json::Value;
 
     /// Work done once per scene before rendering (pre-passes, caches, estimation); it
-    /// counts in the render's time. May report through `control.progress` and stop early
-    /// when `control` is cancelled.
+    /// counts in the render's total time (`RenderStats::time_s`, with `prepare_s` its share;
+    /// time limits count rendering only). May report through `control.progress` and stop
+    /// early when `control` is cancelled.
     fn prepare(
         &mut self,
         _scene: &RenderScene,

@@ -4,7 +4,6 @@
 
 use super::Lights;
 use crate::driver::SampleContext;
-use crate::render_scene::RenderScene;
 use fenestra_core::distribution::Distribution1D;
 use fenestra_core::{UnknownName, Vec3};
 use fenestra_scene::Scene;
@@ -57,11 +56,11 @@ impl LightSelection {
         }
     }
 
-    /// The sampler for the lights of `scene`.
-    pub fn build(self, scene: &RenderScene) -> Box<dyn LightSampler> {
+    /// The sampler for `lights` of `scene`.
+    pub fn build(self, scene: &Scene, lights: &Lights) -> Box<dyn LightSampler> {
         match self {
-            LightSelection::Uniform => Box::new(UniformLightSampler::new(&scene.lights)),
-            LightSelection::Power => Box::new(PowerLightSampler::new(&scene.scene, &scene.lights)),
+            LightSelection::Uniform => Box::new(UniformLightSampler::new(lights)),
+            LightSelection::Power => Box::new(PowerLightSampler::new(scene, lights)),
         }
     }
 }
