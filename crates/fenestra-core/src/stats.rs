@@ -88,7 +88,7 @@ pub struct RenderStats {
     pub rays: RayCounters,
     /// All rays traced.
     pub total_rays: u64,
-    /// Millions of rays per second of `time_s`.
+    /// Millions of rays per second of rendering (`time_s` less `prepare_s`).
     pub mrays_per_s: f64,
     /// Shadow rays per pixel.
     pub shadow_rays_per_pixel: f64,
@@ -110,7 +110,8 @@ impl RenderStats {
     pub fn derive_rates(&mut self) {
         let pixels = (self.width as u64 * self.height as u64).max(1);
         self.total_rays = self.rays.total_rays();
-        self.mrays_per_s = self.total_rays as f64 / self.time_s.max(1e-9) / 1e6;
+        let rendering = (self.time_s - self.prepare_s).max(1e-9);
+        self.mrays_per_s = self.total_rays as f64 / rendering / 1e6;
         self.shadow_rays_per_pixel = self.rays.shadow as f64 / pixels as f64;
     }
 
