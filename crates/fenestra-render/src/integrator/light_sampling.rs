@@ -39,7 +39,9 @@ impl LightSampler for Unprepared {
 impl LightNextEvent {
     /// Light sampling by `selection` (the sampler is built by `prepare`).
     pub fn new(selection: LightSelection) -> Self {
-        Self::with_sampler(selection.name(), move |scene| selection.build(scene))
+        Self::with_sampler(selection.name(), move |scene| {
+            selection.build(&scene.scene, &scene.lights)
+        })
     }
 
     /// Light sampling by the sampler `build` makes for the scene when prepared; `name`
