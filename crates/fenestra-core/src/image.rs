@@ -28,6 +28,15 @@ pub enum ImageError {
     },
 }
 
+/// An estimate of an image: the mean of each pixel's samples and the variance of that mean.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Estimate {
+    /// Per-pixel means.
+    pub mean: Image,
+    /// Per-pixel variances of the means.
+    pub variance: Image,
+}
+
 /// A linear RGB image.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Image {

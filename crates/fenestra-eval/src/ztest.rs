@@ -3,7 +3,7 @@
 //! with chance at significance alpha after Sidak correction for the number of pixels.
 
 use crate::EvalError;
-use fenestra_core::image::Image;
+use fenestra_core::image::{Estimate, Image};
 use serde::Serialize;
 use statrs::distribution::{ContinuousCDF, Normal};
 
@@ -121,19 +121,29 @@ impl Agreement {
 }
 
 /// Whether two estimators of the same image agree within their standard errors: `a` and `b`
-/// are mean images with the per-pixel variances of their means, compared by the z-test at
+/// (mean images with the per-pixel variances of their means) are compared by the z-test at
 /// significance `alpha` over the whole image and over `region` x `region` blocks (block
 /// means are close to normal even for heavy-tailed estimators).
 pub fn agreement(
-    a: (&Image, &Image),
-    b: (&Image, &Image),
+    a: &Estimate,
+    b: &Estimate,
     alpha: f64,
     region: usize,
 ) -> Result<Agreement, EvalError> {
-    let whole = a.0.width.min(a.0.height);
+    let whole = a.mean.width.min(a.mean.height);
+    let test = |block| {
+        z_test(
+            &a.mean,
+            &a.variance,
+            &b.mean,
+            Some(&b.variance),
+            alpha,
+            block,
+        )
+    };
     Ok(Agreement {
-        whole: z_test(a.0, a.1, b.0, Some(b.1), alpha, whole)?,
-        regions: z_test(a.0, a.1, b.0, Some(b.1), alpha, region)?,
+        whole: test(whole)?,
+        regions: test(region)?,
     })
 }
 
@@ -191,15 +201,14 @@ mod tests {
 
     #[test]
     fn agreement_needs_both_estimates_to_match_everywhere() {
-        let (a, a_var) = noisy(1.0, 0.1, 4);
-        let (b, b_var) = noisy(1.0, 0.1, 5);
-        let t = agreement((&a, &a_var), (&b, &b_var), 0.01, 8).expect("sizes");
+        let estimate = |(mean, variance)| Estimate { mean, variance };
+        let a = estimate(noisy(1.0, 0.1, 4));
+        let t = agreement(&a, &estimate(noisy(1.0, 0.1, 5)), 0.01, 8).expect("sizes");
         assert!(t.passed(), "{t:?}");
         assert_eq!((t.whole.tests, t.regions.tests), (3, 16 * 3));
         // A 2% shift is 1.1 standard errors of an 8x8 region's difference, within chance, but
         // 4.5 of the whole image's.
-        let (c, c_var) = noisy(1.02, 0.1, 6);
-        let t = agreement((&a, &a_var), (&c, &c_var), 0.01, 8).expect("sizes");
+        let t = agreement(&a, &estimate(noisy(1.02, 0.1, 6)), 0.01, 8).expect("sizes");
         assert!(t.regions.passed && !t.whole.passed, "{t:?}");
     }
 }

@@ -37,13 +37,7 @@ fn portals(options: PortalOptions, mis: MisHeuristic, depth: u32) -> impl Integr
 }
 
 fn assert_agree(label: &str, a: &Film, b: &Film) {
-    let t = fenestra_eval::agreement(
-        (&a.image(), &a.variance_image()),
-        (&b.image(), &b.variance_image()),
-        0.01,
-        8,
-    )
-    .expect("sizes");
+    let t = fenestra_eval::agreement(&a.estimate(), &b.estimate(), 0.01, 8).expect("sizes");
     assert!(t.passed(), "{label}: {t:?}");
 }
 

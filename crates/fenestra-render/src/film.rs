@@ -1,7 +1,7 @@
 //! The film: per-pixel f64 sums of samples and of their squares (box filter over the pixel),
 //! so that the image and the variance of each pixel's mean come out of one render.
 
-use fenestra_core::image::Image;
+use fenestra_core::image::{Estimate, Image};
 use fenestra_core::Rgb;
 
 /// One pixel's accumulators.
@@ -77,6 +77,14 @@ impl Film {
     /// The rendered image: each pixel's sample mean.
     pub fn image(&self) -> Image {
         self.to_image(Pixel::mean)
+    }
+
+    /// The image and its per-pixel variance of the mean.
+    pub fn estimate(&self) -> Estimate {
+        Estimate {
+            mean: self.image(),
+            variance: self.variance_image(),
+        }
     }
 
     /// Per-pixel variance of the mean.

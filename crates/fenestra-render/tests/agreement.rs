@@ -58,13 +58,7 @@ fn the_agreement_test_detects_a_real_difference() {
         render(box_hole(), "af_hf", power, 2, 256),
         render(box_hole(), "af_hf", power, 4, 256),
     );
-    let t = fenestra_eval::agreement(
-        (&a.image(), &a.variance_image()),
-        (&b.image(), &b.variance_image()),
-        0.01,
-        8,
-    )
-    .expect("sizes");
+    let t = fenestra_eval::agreement(&a.estimate(), &b.estimate(), 0.01, 8).expect("sizes");
     assert!(!t.whole.passed && t.whole.min_p < 1e-20, "{t:?}");
 }
 

@@ -50,12 +50,6 @@ pub fn region_mean(film: &Film, x0: u32, x1: u32, y0: u32, y1: u32) -> (f64, f64
 /// Fails unless `a` and `b` agree within their standard errors over the whole image and
 /// over every 8x8 region (z-test at 1%).
 pub fn assert_agree(label: &str, a: &Film, b: &Film) {
-    let t = fenestra_eval::agreement(
-        (&a.image(), &a.variance_image()),
-        (&b.image(), &b.variance_image()),
-        0.01,
-        8,
-    )
-    .expect("sizes");
+    let t = fenestra_eval::agreement(&a.estimate(), &b.estimate(), 0.01, 8).expect("sizes");
     assert!(t.passed(), "{label}: {t:?}");
 }
