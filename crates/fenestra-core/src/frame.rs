@@ -27,6 +27,9 @@ impl Frame {
     /// Builds a frame from a unit normal and a tangent hint (for anisotropic materials); the
     /// tangent is orthogonalised against the normal, falling back to `from_normal`.
     pub fn from_normal_tangent(n: Vec3, tangent: Vec3) -> Self {
+        // The tangent's length is the surface's scale: normalise it first so the test below
+        // is relative.
+        let tangent = crate::ray::robust_normalize(tangent);
         let s = tangent - n * n.dot(tangent);
         let len = s.length();
         if len < 1e-6 || !len.is_finite() {

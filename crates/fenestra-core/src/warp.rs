@@ -44,17 +44,30 @@ pub fn square_to_uniform_sphere(u: Vec2) -> Vec3 {
 /// Density of [`square_to_uniform_sphere`]: 1 / (4 pi).
 pub const UNIFORM_SPHERE_PDF: f32 = INV_4PI;
 
-/// Uniform directions in the cone of half-angle acos(cos_max) around +z.
-pub fn square_to_uniform_cone(u: Vec2, cos_max: f32) -> Vec3 {
-    let z = 1.0 - u.x * (1.0 - cos_max);
-    let r = (1.0 - z * z).max(0.0).sqrt();
+/// Uniform directions in the cone around +z whose cap on the unit sphere has the height
+/// `h` = 1 - cos(theta_max). Taking `h` rather than the cosine keeps tiny cones (small, far
+/// lights, where the cosine rounds to 1) exact.
+pub fn square_to_uniform_cone(u: Vec2, h: f32) -> Vec3 {
+    let one_minus_z = u.x * h;
+    let r = (one_minus_z * (2.0 - one_minus_z)).max(0.0).sqrt();
     let phi = 2.0 * PI * u.y;
-    Vec3::new(r * phi.cos(), r * phi.sin(), z)
+    Vec3::new(r * phi.cos(), r * phi.sin(), 1.0 - one_minus_z)
 }
 
-/// Density of [`square_to_uniform_cone`] (per steradian).
-pub fn uniform_cone_pdf(cos_max: f32) -> f32 {
-    1.0 / (2.0 * PI * (1.0 - cos_max))
+/// Density of [`square_to_uniform_cone`] (per steradian) for the cap height `h`.
+pub fn uniform_cone_pdf(h: f32) -> f32 {
+    1.0 / (2.0 * PI * h)
+}
+
+/// 1 - cos(theta) from sin^2(theta) for theta in [0, pi/2], exact for small angles where
+/// 1 - sqrt(1 - s) rounds to zero.
+pub fn one_minus_cos_from_sin2(sin2: f32) -> f32 {
+    if sin2 < 1e-3 {
+        // Taylor: s/2 + s^2/8 (+ s^3/16, below f32's precision here).
+        sin2 * 0.5 + sin2 * sin2 * 0.125
+    } else {
+        1.0 - (1.0 - sin2).max(0.0).sqrt()
+    }
 }
 
 /// Uniform barycentrics (b1, b2) on a triangle (Heitz 2019, area-preserving, low distortion).
@@ -98,8 +111,8 @@ mod tests {
                 let h = square_to_cosine_hemisphere(u);
                 assert!((h.length() - 1.0).abs() < 1e-5 && h.z >= 0.0);
                 assert!((square_to_uniform_sphere(u).length() - 1.0).abs() < 1e-5);
-                let c = square_to_uniform_cone(u, 0.8);
-                assert!(c.z >= 0.8 - 1e-6);
+                let c = square_to_uniform_cone(u, 0.2);
+                assert!(c.z >= 0.8 - 1e-6 && (c.length() - 1.0).abs() < 1e-5);
                 let b = square_to_triangle(u);
                 assert!(b.x >= 0.0 && b.y >= 0.0 && b.x + b.y <= 1.0 + 1e-6);
             }
@@ -136,5 +149,22 @@ mod tests {
                 "{counts:?}"
             );
         }
+    }
+
+    #[test]
+    fn one_minus_cos_is_exact_for_tiny_and_large_angles() {
+        for theta in [1e-6f64, 1e-4, 0.01, 0.03, 0.1, 1.0, 1.5] {
+            let exact = 2.0 * (theta / 2.0).sin().powi(2);
+            let got = one_minus_cos_from_sin2(theta.sin().powi(2) as f32) as f64;
+            assert!(
+                (got / exact - 1.0).abs() < 1e-5,
+                "{theta}: {got} vs {exact}"
+            );
+        }
+        // A cone of 1e-6 rad still has its solid angle and its samples inside it.
+        let h = one_minus_cos_from_sin2(1e-12);
+        assert!((uniform_cone_pdf(h) * 2.0 * PI * 5e-13 - 1.0).abs() < 1e-5);
+        let c = square_to_uniform_cone(Vec2::new(0.999, 0.3), h);
+        assert!(c.z <= 1.0 && (c.x * c.x + c.y * c.y).sqrt() <= 1.0000001e-6);
     }
 }

@@ -12,7 +12,6 @@ use crate::error::PortalError;
 use crate::estimate::{estimate, EstimateParams};
 use crate::portal::{PortalChoice, PortalRecord, PortalSampling, Portals, Side};
 use fenestra_core::mis::MisHeuristic;
-use fenestra_core::ray::offset_origin;
 use fenestra_core::stats::{RayCounters, RenderStats};
 use fenestra_core::{Ray, Rgb, Sampler, Vec3};
 use fenestra_render::driver::SampleContext;
@@ -152,7 +151,7 @@ impl PortalNextEvent {
             return Rgb::ZERO;
         };
         rays.shadow += 1;
-        let ray = Ray::new(offset_origin(si.p, si.ng, wi), wi);
+        let ray = Ray::new(si.spawn(wi), wi);
         // Radiance found beyond and the light sampler's density of that direction.
         let (li, light_pdf) = match scene.through_glass(ray, f32::INFINITY) {
             (tr, Some(hit)) => {

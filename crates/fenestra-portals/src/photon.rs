@@ -14,7 +14,7 @@
 
 use crate::error::PortalError;
 use fenestra_core::distribution::Distribution1D;
-use fenestra_core::ray::offset_origin;
+use fenestra_core::ray::{offset_distance, offset_origin};
 use fenestra_core::{warp, Frame, Ray, Sampler, UnknownName, Vec3};
 use fenestra_render::{Progress, RenderScene};
 use rayon::prelude::*;
@@ -152,7 +152,7 @@ pub fn trace(
         pick: Distribution1D::new(&powers),
         glass,
         deposit,
-        cos_theta: params.theta_deg.to_radians().cos(),
+        cap: 1.0 - params.theta_deg.to_radians().cos(),
     };
     progress.start(Some(target as u64));
     let mut photons = Photons {
@@ -201,7 +201,8 @@ struct BeamTracer<'a> {
     pick: Distribution1D,
     glass: Vec<bool>,
     deposit: Deposit,
-    cos_theta: f32,
+    /// The beam cone's cap height on the unit sphere, 1 - cos(theta).
+    cap: f32,
 }
 
 /// Follow-up beams traced around a beam that deposited photons (seed §4.2: "once an area
@@ -221,16 +222,19 @@ impl BeamTracer<'_> {
         let Some(emitted) = self.scene.lights.lights[light].sample_ray(scene, u_pos, u_dir) else {
             return 0;
         };
-        let y = offset_origin(emitted.origin, emitted.dir, emitted.dir);
+        // Off the emitter by the rounding of a point of its magnitude.
+        let off = offset_distance(emitted.origin.abs().max_element());
+        let y = offset_origin(emitted.origin, emitted.dir, emitted.dir, off);
         let before = out.len();
         let mut rays = self.cone_beam(y, emitted.dir, &mut sampler, out);
         if out.len() > before {
             let frame = Frame::from_normal(emitted.dir);
-            let cos_spread = (FOLLOW_UP_SPREAD * self.params.theta_deg)
-                .to_radians()
-                .cos();
+            let spread = 1.0
+                - (FOLLOW_UP_SPREAD * self.params.theta_deg)
+                    .to_radians()
+                    .cos();
             for _ in 0..FOLLOW_UPS {
-                let d = frame.to_world(warp::square_to_uniform_cone(sampler.next_2d(), cos_spread));
+                let d = frame.to_world(warp::square_to_uniform_cone(sampler.next_2d(), spread));
                 rays += self.cone_beam(y, d, &mut sampler, out);
             }
         }
@@ -254,10 +258,7 @@ impl BeamTracer<'_> {
         let first = out.len();
         let n = self.params.rays_per_beam;
         for i in 0..n {
-            let d = frame.to_world(warp::square_to_uniform_cone(
-                sampler.next_2d(),
-                self.cos_theta,
-            ));
+            let d = frame.to_world(warp::square_to_uniform_cone(sampler.next_2d(), self.cap));
             let Some(h) = scene.intersect(&Ray::new(y, d), f32::INFINITY) else {
                 // A gray ray: light escapes, the beam says nothing about an opening.
                 out.truncate(first);

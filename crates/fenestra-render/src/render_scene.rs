@@ -3,7 +3,6 @@
 
 use crate::bsdf::{self, Bsdf};
 use crate::light::Lights;
-use fenestra_core::ray::offset_origin;
 use fenestra_core::{Ray, Rgb};
 use fenestra_scene::{Hit, Material, Scene, SurfaceInteraction};
 use std::borrow::Cow;
@@ -52,7 +51,7 @@ impl RenderScene {
             };
             let si = self.scene.interaction(&ray, &hit);
             tr *= 1.0 - pane.reflectance(si.ng.dot(ray.d));
-            ray = Ray::new(offset_origin(si.p, si.ng, ray.d), ray.d);
+            ray = Ray::new(si.spawn(ray.d), ray.d);
             tmax -= hit.t;
         }
         (Rgb::ZERO, None)

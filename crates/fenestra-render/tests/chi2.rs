@@ -526,10 +526,10 @@ fn cosine_and_cone_warps_match_their_pdfs() {
     let frame = Frame::from_normal(Vec3::new(0.3, -0.2, 0.9).normalize());
     chi2_test(
         "cone 0.7",
-        |rng| Some(frame.to_world(warp::square_to_uniform_cone(rng.next_2d(), 0.7))),
+        |rng| Some(frame.to_world(warp::square_to_uniform_cone(rng.next_2d(), 0.3))),
         |w| {
             if frame.to_local(w).z >= 0.7 {
-                warp::uniform_cone_pdf(0.7)
+                warp::uniform_cone_pdf(0.3)
             } else {
                 0.0
             }

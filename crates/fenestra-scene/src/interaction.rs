@@ -2,6 +2,7 @@
 
 use crate::shape::{Shape, ShapeKind};
 use crate::Hit;
+use fenestra_core::ray::{offset_distance, offset_origin, robust_normalize};
 use fenestra_core::{Frame, Ray, Vec2, Vec3, INV_2PI, INV_PI};
 
 /// A point on a surface where a ray hit it, with its frame and parametrisation.
@@ -23,9 +24,18 @@ pub struct SurfaceInteraction {
     pub prim: usize,
     /// Distance along the ray that found it.
     pub t: f32,
+    /// How far `p` may lie off the surface through rounding (relative to the magnitudes it
+    /// was computed from): rays leaving the point start this far off it.
+    pub offset: f32,
 }
 
 impl SurfaceInteraction {
+    /// The origin of a ray leaving the point towards `w`: `p` moved off the surface, to the
+    /// side of `w`, by `offset`.
+    pub fn spawn(&self, w: Vec3) -> Vec3 {
+        offset_origin(self.p, self.ng, w, self.offset)
+    }
+
     /// The shading frame: `ns` as +z, `dpdu` as the first tangent.
     pub fn shading_frame(&self) -> Frame {
         Frame::from_normal_tangent(self.ns, self.dpdu)
@@ -54,14 +64,18 @@ impl SurfaceInteraction {
     /// The interaction where `ray` hit `shape` (`hit` from a ray query).
     pub fn from_hit(shape: &Shape, ray: &Ray, hit: &Hit) -> Self {
         let prim = hit.prim as usize;
-        let (p, mut ng, mut ns, dpdu, uv) = match &shape.kind {
+        let (p, mut ng, mut ns, dpdu, uv, offset) = match &shape.kind {
             ShapeKind::Mesh(m) => {
                 let [i0, i1, i2] = m.indices[prim].map(|i| i as usize);
                 let [p0, p1, p2] = [m.positions[i0], m.positions[i1], m.positions[i2]];
                 let (b1, b2) = (hit.u, hit.v);
                 let b0 = 1.0 - b1 - b2;
                 let p = p0 * b0 + p1 * b1 + p2 * b2;
-                let mut ng = (p1 - p0).cross(p2 - p0).normalize_or_zero();
+                // Rounding of the interpolation (pbrt's bound, as a scalar): it moves p off the
+                // triangle's plane by at most a few ulps of the terms summed.
+                let scale = (p0 * b0).abs() + (p1 * b1).abs() + (p2 * b2).abs();
+                let offset = offset_distance(scale.max_element());
+                let mut ng = robust_normalize((p1 - p0).cross(p2 - p0));
                 let (uv, dpdu) = match &m.uvs {
                     Some(uv) => {
                         let [t0, t1, t2] = [uv[i0], uv[i1], uv[i2]];
@@ -79,7 +93,7 @@ impl SurfaceInteraction {
                 };
                 let ns = match &m.normals {
                     Some(n) => {
-                        let ns = (n[i0] * b0 + n[i1] * b1 + n[i2] * b2).normalize_or_zero();
+                        let ns = robust_normalize(n[i0] * b0 + n[i1] * b1 + n[i2] * b2);
                         if ns == Vec3::ZERO {
                             ng
                         } else {
@@ -92,29 +106,34 @@ impl SurfaceInteraction {
                     }
                     None => ng,
                 };
-                (p, ng, ns, dpdu, uv)
+                (p, ng, ns, dpdu, uv, offset)
             }
             ShapeKind::Sphere { center, radius } => {
-                let dir = (ray.at(hit.t) - *center).normalize();
+                // Projected onto the sphere: its error is that of the centre and radius.
+                let dir = robust_normalize(ray.at(hit.t) - *center);
                 let p = *center + dir * *radius;
+                let offset = offset_distance(center.abs().max_element() + radius);
                 let phi = dir.y.atan2(dir.x);
                 let uv = Vec2::new(
                     (phi * INV_2PI).rem_euclid(1.0),
                     dir.z.clamp(-1.0, 1.0).acos() * INV_PI,
                 );
                 let dpdu = Vec3::new(-dir.y, dir.x, 0.0);
-                (p, dir, dir, dpdu, uv)
+                (p, dir, dir, dpdu, uv, offset)
             }
             ShapeKind::Disk {
                 center,
                 normal,
                 radius,
             } => {
-                let p = ray.at(hit.t);
+                // Projected onto the disk's plane: its error is that of the centre and radius,
+                // not of the ray's origin.
                 let f = Frame::from_normal(*normal);
-                let local = f.to_local(p - *center);
+                let local = f.to_local(ray.at(hit.t) - *center);
+                let p = *center + f.s * local.x + f.t * local.y;
+                let offset = offset_distance(center.abs().max_element() + radius);
                 let uv = Vec2::new(local.x / radius * 0.5 + 0.5, local.y / radius * 0.5 + 0.5);
-                (p, *normal, *normal, f.s, uv)
+                (p, *normal, *normal, f.s, uv, offset)
             }
         };
         if shape.flip_normals {
@@ -130,6 +149,7 @@ impl SurfaceInteraction {
             shape: hit.shape as usize,
             prim,
             t: hit.t,
+            offset,
         }
     }
 }

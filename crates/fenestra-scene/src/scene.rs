@@ -52,6 +52,45 @@ pub struct SceneDesc {
     pub portals: Vec<[Vec3; 4]>,
 }
 
+impl SceneDesc {
+    /// The same scene with every length multiplied by `s` about the origin (a change of
+    /// units): geometry, camera, lights and portals move and grow, radiance stays, and point
+    /// and spot intensities grow by s^2 so that the picture is the same.
+    pub fn scaled(mut self, s: f32) -> SceneDesc {
+        for shape in &mut self.shapes {
+            match &mut shape.kind {
+                ShapeKind::Mesh(m) => m.positions.iter_mut().for_each(|p| *p *= s),
+                ShapeKind::Sphere { center, radius } | ShapeKind::Disk { center, radius, .. } => {
+                    *center *= s;
+                    *radius *= s;
+                }
+            }
+        }
+        for light in &mut self.lights {
+            match light {
+                LightDesc::Point {
+                    position,
+                    intensity,
+                }
+                | LightDesc::Spot {
+                    position,
+                    intensity,
+                    ..
+                } => {
+                    *position *= s;
+                    *intensity = *intensity * (s * s);
+                }
+                LightDesc::Distant { .. } | LightDesc::Environment(_) => {}
+            }
+        }
+        self.camera.position *= s;
+        self.portals
+            .iter_mut()
+            .for_each(|quad| quad.iter_mut().for_each(|p| *p *= s));
+        self
+    }
+}
+
 /// Why a scene description is not a valid scene.
 #[derive(Debug, thiserror::Error)]
 pub enum SceneError {
@@ -181,10 +220,12 @@ impl Scene {
         self.bounds
     }
 
-    /// A sphere enclosing all geometry (centre, radius), never of zero radius.
+    /// A sphere enclosing all geometry (centre, radius), never of zero radius (a unit
+    /// sphere when there is no geometry or a single point).
     pub fn bounding_sphere(&self) -> (Vec3, f32) {
         let (lo, hi) = self.bounds;
-        ((lo + hi) * 0.5, ((hi - lo).length() * 0.5).max(1e-3))
+        let radius = fenestra_core::ray::robust_length(hi - lo) * 0.5;
+        ((lo + hi) * 0.5, if radius > 0.0 { radius } else { 1.0 })
     }
 
     /// Triangles in all meshes.

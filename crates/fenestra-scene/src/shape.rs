@@ -53,7 +53,7 @@ impl TriangleMesh {
     /// The area of triangle `i`.
     pub fn triangle_area(&self, i: usize) -> f32 {
         let [a, b, c] = self.triangle(i);
-        0.5 * (b - a).cross(c - a).length()
+        0.5 * fenestra_core::ray::robust_length((b - a).cross(c - a))
     }
 
     /// Appends another mesh (used to merge quads into one shape).
@@ -205,7 +205,9 @@ pub fn intersect_triangle(
     let e2 = p2 - p0;
     let pv = ray.d.cross(e2);
     let det = e1.dot(pv);
-    if det.abs() < 1e-12 {
+    // Parallel rays only: det scales with the triangle's area, so any threshold would
+    // lose small triangles.
+    if det == 0.0 || !det.is_finite() {
         return None;
     }
     let inv = 1.0 / det;

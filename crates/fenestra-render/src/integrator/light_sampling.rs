@@ -9,7 +9,6 @@ use crate::driver::SampleContext;
 use crate::light::{LightContext, LightSampler, LightSelection};
 use crate::render_scene::RenderScene;
 use fenestra_core::mis::MisHeuristic;
-use fenestra_core::ray::offset_origin;
 use fenestra_core::stats::RayCounters;
 use fenestra_core::{Ray, Rgb, Sampler, Vec3};
 
@@ -89,7 +88,7 @@ impl LightNextEvent {
         let Some((wi_local, f)) = s.bsdf_toward(ls.wi) else {
             return Rgb::ZERO;
         };
-        let origin = offset_origin(s.si.p, s.si.ng, ls.wi);
+        let origin = s.si.spawn(ls.wi);
         let tmax = ls
             .point
             .map_or(f32::INFINITY, |q| (q - origin).length() * (1.0 - 1e-4));

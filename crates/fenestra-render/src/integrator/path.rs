@@ -13,7 +13,6 @@ use crate::light::LightHit;
 use crate::render_scene::RenderScene;
 use crate::settings::RenderSettings;
 use fenestra_core::mis::MisHeuristic;
-use fenestra_core::ray::offset_origin;
 use fenestra_core::stats::{RayCounters, RenderStats};
 use fenestra_core::{Ray, Rgb, Sampler, Vec3};
 
@@ -221,7 +220,7 @@ impl<N: NextEvent> PathEstimator for PathTracer<N> {
                     break;
                 }
                 segments -= 1;
-                ray = Ray::new(offset_origin(si.p, si.ng, wi), wi);
+                ray = Ray::new(si.spawn(wi), wi);
                 continue;
             }
             if at_limit {
@@ -242,7 +241,7 @@ impl<N: NextEvent> PathEstimator for PathTracer<N> {
                 }
                 beta *= 1.0 / q;
             }
-            ray = Ray::new(offset_origin(si.p, si.ng, wi), wi);
+            ray = Ray::new(si.spawn(wi), wi);
         }
         l
     }

@@ -3,6 +3,7 @@
 
 use super::LightSample;
 use fenestra_core::distribution::Distribution1D;
+use fenestra_core::ray::{robust_length, robust_normalize};
 use fenestra_core::{warp, Frame, Rgb, Vec2, Vec3, PI};
 use fenestra_scene::light::Emission;
 use fenestra_scene::{Scene, ShapeKind, SurfaceInteraction};
@@ -52,10 +53,34 @@ impl AreaLight {
         PI * self.area * sides * self.emission.radiance.luminance()
     }
 
-    /// Sphere seen from outside: (cos of the cone half-angle, distance to the centre).
-    fn sphere_cone(center: Vec3, radius: f32, p: Vec3) -> Option<f32> {
-        let d2 = (center - p).length_squared();
-        (d2 > radius * radius * 1.0001).then(|| (1.0 - radius * radius / d2).max(0.0).sqrt())
+    /// The cone a sphere subtends from a point outside it: sin^2 of its half-angle and its
+    /// cap height 1 - cos (exact however small and far the sphere).
+    fn sphere_cone(center: Vec3, radius: f32, p: Vec3) -> Option<(f32, f32)> {
+        let sin2 = (radius / robust_length(center - p)).powi(2);
+        (sin2 < 1.0 / 1.0001).then(|| (sin2, warp::one_minus_cos_from_sin2(sin2)))
+    }
+
+    /// A point of the sphere seen from `p` within the cone it subtends, uniform in solid
+    /// angle: the direction's angle theta from the axis gives the point's angle alpha at the
+    /// centre (law of sines: sin of the angle at the point is sin(theta) / sin(theta_max)),
+    /// which stays exact for tiny, far spheres where intersecting the ray loses the point.
+    fn sample_sphere(
+        center: Vec3,
+        radius: f32,
+        p: Vec3,
+        (sin2_max, cap): (f32, f32),
+        u: Vec2,
+    ) -> Vec3 {
+        let one_minus_cos = u.x * cap;
+        let cos_t = 1.0 - one_minus_cos;
+        let sin2_t = one_minus_cos * (2.0 - one_minus_cos);
+        let ratio = (sin2_t / sin2_max).min(1.0);
+        let cos_a = sin2_t / sin2_max.sqrt() + cos_t * (1.0 - ratio).sqrt();
+        let sin_a = (1.0 - cos_a * cos_a).max(0.0).sqrt();
+        let phi = 2.0 * PI * u.y;
+        let axis = robust_normalize(center - p);
+        let across = Frame::from_normal(axis).to_world(Vec3::new(phi.cos(), phi.sin(), 0.0));
+        center + (across * sin_a - axis * cos_a) * radius
     }
 
     /// A direction from `p` towards a point of the emitter: triangles by area, spheres by the cone they subtend, disks by area.
@@ -65,20 +90,10 @@ impl AreaLight {
             ShapeKind::Sphere { center, radius }
                 if Self::sphere_cone(*center, *radius, p).is_some() =>
             {
-                let cos_max = Self::sphere_cone(*center, *radius, p)?;
-                let axis = (*center - p).normalize();
-                let dir =
-                    Frame::from_normal(axis).to_world(warp::square_to_uniform_cone(u, cos_max));
-                // Closest point of the sphere along dir; grazing directions take the tangent point.
-                let dc = (*center - p).length();
-                let cos_t = dir.dot(axis);
-                let t = dc * cos_t
-                    - (radius * radius - dc * dc * (1.0 - cos_t * cos_t))
-                        .max(0.0)
-                        .sqrt();
-                let si =
-                    SurfaceInteraction::on_surface(shape, self.shape, 0, p + dir * t, 0.0, 0.0);
-                (si, warp::uniform_cone_pdf(cos_max))
+                let cone = Self::sphere_cone(*center, *radius, p)?;
+                let q = Self::sample_sphere(*center, *radius, p, cone, u);
+                let si = SurfaceInteraction::on_surface(shape, self.shape, 0, q, 0.0, 0.0);
+                (si, warp::uniform_cone_pdf(cone.1))
             }
             _ => {
                 let (prim, point, b) = self.sample_area(&shape.kind, u);
@@ -167,8 +182,8 @@ impl AreaLight {
     /// Solid-angle density at `p` of sampling the emitter point `si` (hit by a ray from `p`).
     pub fn pdf_li(&self, scene: &Scene, p: Vec3, si: &SurfaceInteraction) -> f32 {
         if let ShapeKind::Sphere { center, radius } = scene.shapes[self.shape].kind {
-            if let Some(cos_max) = Self::sphere_cone(center, radius, p) {
-                return warp::uniform_cone_pdf(cos_max);
+            if let Some((_, cap)) = Self::sphere_cone(center, radius, p) {
+                return warp::uniform_cone_pdf(cap);
             }
         }
         let d = si.p - p;

@@ -41,7 +41,7 @@ impl SpotLight {
 
     /// A ray leaving the spot in a direction uniform within its outer cone.
     pub fn sample_ray(&self, u: Vec2) -> super::EmittedRay {
-        let local = warp::square_to_uniform_cone(u, self.cos_end);
+        let local = warp::square_to_uniform_cone(u, 1.0 - self.cos_end);
         super::EmittedRay {
             origin: self.position,
             dir: Frame::from_normal(self.direction).to_world(local),

@@ -76,7 +76,8 @@ pub fn viewer_scene(path: &Path) -> Result<(SceneDesc, Vec<String>), MeshError> 
         }
     }
     let centre = (lo + hi) * 0.5;
-    let radius = ((hi - lo).length() * 0.5).max(1e-3);
+    let radius = fenestra_core::ray::robust_length(hi - lo) * 0.5;
+    let radius = if radius > 0.0 { radius } else { 1.0 };
     let fov = 40.0f32;
     let distance = radius / (0.5 * fov.to_radians()).sin();
     let eye = centre + Vec3::new(0.35, 0.3, 1.0).normalize() * distance;
