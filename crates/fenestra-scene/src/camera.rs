@@ -35,6 +35,9 @@ pub enum CameraError {
     /// The camera's position or axes are not finite, or its axes are parallel or zero.
     #[error("degenerate camera: {0}")]
     Degenerate(String),
+    /// The camera is farther from the origin than f32 ray tracing resolves.
+    #[error("{0}")]
+    TooFar(String),
     /// pbrt's screen window is empty or not finite.
     #[error("screen window {0:?} must be finite with x0 < x1 and y0 < y1")]
     ScreenWindow([f32; 4]),
@@ -44,6 +47,9 @@ impl Camera {
     /// A camera at `eye` looking at `target`, with `up` giving the image's vertical and a
     /// vertical field of view of `fov_y` degrees. Errors on degenerate input.
     pub fn look_at(eye: Vec3, target: Vec3, up: Vec3, fov_y: f32) -> Result<Self, CameraError> {
+        if let Some(what) = crate::shape::extent_error(eye.abs().max_element()) {
+            return Err(CameraError::TooFar(format!("camera position: {what}")));
+        }
         let forward = (target - eye).normalize_or_zero();
         let right = forward.cross(up).normalize_or_zero();
         if forward == Vec3::ZERO || right == Vec3::ZERO || !eye.is_finite() {
@@ -81,6 +87,9 @@ impl Camera {
             return Err(CameraError::Degenerate(format!(
                 "position {position}, forward {forward}, right {right}, up {up}"
             )));
+        }
+        if let Some(what) = crate::shape::extent_error(position.abs().max_element()) {
+            return Err(CameraError::TooFar(format!("camera position: {what}")));
         }
         if let Some(w) = screen_window {
             if !w.iter().all(|v| v.is_finite()) || w[0] >= w[1] || w[2] >= w[3] {

@@ -50,6 +50,18 @@ pub enum EnvironmentDesc {
     },
 }
 
+impl LightDesc {
+    /// The largest coordinate magnitude of the light's position (0 for lights at infinity).
+    pub fn extent(&self) -> f32 {
+        match self {
+            LightDesc::Point { position, .. } | LightDesc::Spot { position, .. } => {
+                position.abs().max_element()
+            }
+            LightDesc::Distant { .. } | LightDesc::Environment(_) => 0.0,
+        }
+    }
+}
+
 /// A light that is not an emissive shape.
 #[derive(Clone, Debug)]
 pub enum LightDesc {

@@ -253,6 +253,9 @@ fn validate(desc: &SceneDesc) -> Result<(), SceneError> {
             });
         }
         let geo = |what: String| Err(SceneError::Geometry { shape: i, what });
+        if let Some(what) = crate::shape::extent_error(s.extent()) {
+            return geo(what);
+        }
         match &s.kind {
             ShapeKind::Mesh(m) => {
                 for (t, tri) in m.indices.iter().enumerate() {
@@ -310,6 +313,9 @@ fn validate(desc: &SceneDesc) -> Result<(), SceneError> {
                 what: what.into(),
             })
         };
+        if let Some(what) = crate::shape::extent_error(l.extent()) {
+            return bad(&what);
+        }
         let finite_rgb =
             |c: &fenestra_core::Rgb| c.is_finite() && c.r >= 0.0 && c.g >= 0.0 && c.b >= 0.0;
         match l {
@@ -347,4 +353,49 @@ fn validate(desc: &SceneDesc) -> Result<(), SceneError> {
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{Material, TriangleMesh};
+
+    #[test]
+    fn geometry_lights_and_cameras_beyond_f32_are_refused() {
+        let desc = |offset: f32| SceneDesc {
+            name: "far".into(),
+            shapes: vec![Shape::new(
+                ShapeKind::Mesh(TriangleMesh::quad(Vec3::X * offset, Vec3::X, Vec3::Y)),
+                0,
+            )],
+            materials: vec![Material::diffuse(0.5)],
+            lights: vec![],
+            camera: Camera::look_at(Vec3::new(0.0, -3.0, 1.0), Vec3::ZERO, Vec3::Z, 60.0)
+                .expect("camera"),
+            defaults: RenderDefaults::default(),
+            portals: Vec::new(),
+        };
+        assert!(Scene::build(desc(1e11), Backend::Obvhs).is_ok());
+        let e = Scene::build(desc(1e13), Backend::Obvhs)
+            .err()
+            .map(|e| e.to_string());
+        assert!(
+            e.as_deref()
+                .is_some_and(|e| e.starts_with("shape 0: coordinates reach")),
+            "{e:?}"
+        );
+        let mut d = desc(0.0);
+        d.lights.push(LightDesc::Point {
+            position: Vec3::Z * 2e12,
+            intensity: fenestra_core::Rgb::ONE,
+        });
+        let e = Scene::build(d, Backend::Obvhs).err().map(|e| e.to_string());
+        assert!(
+            e.as_deref()
+                .is_some_and(|e| e.starts_with("light 0: coordinates reach")),
+            "{e:?}"
+        );
+        let far = Camera::look_at(Vec3::new(0.0, -3e38, 1.0), Vec3::ZERO, Vec3::Z, 60.0);
+        assert!(matches!(far, Err(crate::CameraError::TooFar(_))), "{far:?}");
+    }
 }

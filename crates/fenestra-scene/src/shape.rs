@@ -73,6 +73,20 @@ impl TriangleMesh {
     }
 }
 
+/// The largest coordinate, in metres from the origin, that fenestra ray traces: beyond it f32
+/// cannot resolve a scene (both backends tested to 5e12; Embree loses hits by 5e13, and
+/// obvhs' tree builder panics near 1e15).
+pub const MAX_COORDINATE: f32 = 1e12;
+
+/// Why coordinates reaching `extent` cannot be ray traced, if they cannot.
+pub fn extent_error(extent: f32) -> Option<String> {
+    (!(extent <= MAX_COORDINATE)).then(|| {
+        format!(
+            "coordinates reach {extent:e} m, beyond the {MAX_COORDINATE:e} m from the origin that f32 ray tracing resolves (scale the scene down)"
+        )
+    })
+}
+
 /// The geometry of a shape.
 #[derive(Clone, Debug)]
 pub enum ShapeKind {
@@ -129,6 +143,19 @@ impl Shape {
     pub fn flipped(mut self) -> Self {
         self.flip_normals = !self.flip_normals;
         self
+    }
+
+    /// The largest coordinate magnitude the shape reaches.
+    pub fn extent(&self) -> f32 {
+        match &self.kind {
+            ShapeKind::Mesh(m) => m
+                .positions
+                .iter()
+                .fold(0.0f32, |e, p| e.max(p.abs().max_element())),
+            ShapeKind::Sphere { center, radius } | ShapeKind::Disk { center, radius, .. } => {
+                center.abs().max_element() + radius
+            }
+        }
     }
 
     /// Number of primitives the ray-query backends see.

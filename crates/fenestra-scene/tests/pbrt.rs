@@ -382,3 +382,40 @@ AttributeEnd
     assert!((p[0] - Vec3::new(-1.0, -1.0, 2.0)).length() < 1e-6, "{p:?}");
     assert!((p[2] - Vec3::new(1.0, 1.0, 2.0)).length() < 1e-6, "{p:?}");
 }
+
+#[test]
+fn coordinates_beyond_f32_ray_tracing_are_refused_where_they_are_written() {
+    // Valid pbrt-v4 that f32 ray tracing cannot resolve: each is refused at its directive
+    // (it used to panic in obvhs' tree builder, abort in Embree or vanish silently).
+    let world = "LookAt 0 -3 1  0 0 0  0 0 1\nCamera \"perspective\"\nWorldBegin\n";
+    for (body, line) in [
+        ("Shape \"sphere\" \"float radius\" 1e30\n", 4),
+        (
+            "AttributeBegin\nScale 1e30 1e30 1e30\nShape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0] \"integer indices\" [0 1 2]\nAttributeEnd\n",
+            6,
+        ),
+        (
+            "ObjectBegin \"o\"\nShape \"sphere\"\nObjectEnd\nScale 1e20 1e20 1e20\nObjectInstance \"o\"\n",
+            8,
+        ),
+        ("LightSource \"point\" \"point3 from\" [0 0 1e30]\n", 4),
+    ] {
+        let e = load(&format!("{world}{body}")).err().unwrap_or_default();
+        assert!(
+            e.starts_with(&format!("test.pbrt:{line}:")) && e.contains("beyond the 1e12 m"),
+            "{body}: {e}"
+        );
+    }
+    let e = load("LookAt 0 -3e38 1  0 0 0  0 0 1\nCamera \"perspective\"\nWorldBegin\n")
+        .err()
+        .unwrap_or_default();
+    assert!(
+        e.starts_with("test.pbrt:2:") && e.contains("camera position"),
+        "{e}"
+    );
+    // Just inside the limit is fine, with both backends.
+    let near = load(&format!("{world}Shape \"sphere\" \"float radius\" 5e11\n")).expect("load");
+    for backend in Backend::available() {
+        assert!(Scene::build(near.desc.clone(), backend).is_ok());
+    }
+}

@@ -392,7 +392,10 @@ impl Builder {
                 let ctm = self.gs.ctm;
                 let placed: Vec<Shape> = shapes
                     .iter()
-                    .map(|s| super::shapes::transform(s, &ctm, &d.loc))
+                    .map(|s| {
+                        let s = super::shapes::transform(s, &ctm, &d.loc)?;
+                        check_extent(&s, &d.loc).map(|_| s)
+                    })
                     .collect::<Result<_, _>>()?;
                 self.shapes.extend(placed);
             }
@@ -529,12 +532,15 @@ impl Builder {
         Ok(img)
     }
 
-    /// Adds a finished shape to the scene or to the object being defined.
-    pub fn add_shape(&mut self, shape: Shape) {
+    /// Adds a finished shape (made by the directive at `loc`) to the scene or to the object
+    /// being defined; refuses one beyond what f32 ray tracing resolves.
+    pub fn add_shape(&mut self, shape: Shape, loc: &Loc) -> Result<(), PbrtError> {
+        check_extent(&shape, loc)?;
         match &mut self.object {
             Some((_, shapes)) => shapes.push(shape),
             None => self.shapes.push(shape),
         }
+        Ok(())
     }
 
     pub fn finish(self, name: String) -> Result<(SceneDesc, Vec<Warning>), PbrtError> {
@@ -616,6 +622,14 @@ fn look_at(pos: DVec3, look: DVec3, up: DVec3, loc: &Loc) -> Result<DMat4, PbrtE
         pos.extend(1.0),
     );
     Ok(world_from_camera.inverse())
+}
+
+/// Refuses a shape beyond what f32 ray tracing resolves, at the directive that made it.
+fn check_extent(shape: &Shape, loc: &Loc) -> Result<(), PbrtError> {
+    match crate::shape::extent_error(shape.extent()) {
+        Some(what) => Err(PbrtError::at(loc, what)),
+        None => Ok(()),
+    }
 }
 
 fn make_camera(c: &CameraSpec) -> Result<Camera, PbrtError> {

@@ -80,6 +80,9 @@ impl Builder {
             self.warn("light sources inside object definitions (skipped)", &d.loc);
             return Ok(());
         }
+        if let Some(what) = crate::shape::extent_error(light.extent()) {
+            return Err(PbrtError::at(&d.loc, what));
+        }
         self.lights.push(light);
         Ok(())
     }

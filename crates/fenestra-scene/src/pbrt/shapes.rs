@@ -129,8 +129,7 @@ impl Builder {
                 });
             }
         }
-        self.add_shape(shape);
-        Ok(())
+        self.add_shape(shape, &d.loc)
     }
 }
 
