@@ -1,9 +1,9 @@
 //! `fenestra bench`: runs a suite and writes its report folder.
 
-use anyhow::{Context, Result};
+use anyhow::{bail, Context, Result};
 use clap::Args;
 use fenestra_eval::report::{aggregate, markdown_table, write_report};
-use fenestra_eval::run::Runner;
+use fenestra_eval::run::{Runner, SuiteOutcome};
 use fenestra_eval::suite::{slug, Suite};
 use std::path::PathBuf;
 
@@ -27,40 +27,65 @@ pub struct BenchArgs {
 }
 
 pub fn run(args: BenchArgs) -> Result<()> {
-    let suite = Suite::load(&args.suite).map_err(anyhow::Error::msg)?;
+    let suite = Suite::load(&args.suite)?;
     let out = args
         .output
         .unwrap_or_else(|| PathBuf::from("bench-out").join(slug(&suite.name)));
+    let suite_dir = args.suite.parent().map(PathBuf::from).unwrap_or_default();
+    let mut files = crate::files::Files::default();
+    files
+        .input(&args.suite, "suite")
+        .folder(&out, "report folder")
+        .folder(&args.cache, "reference cache");
+    for s in suite
+        .scenes
+        .iter()
+        .filter(|s| !s.scene.starts_with("builtin:"))
+    {
+        files.input(&suite_dir.join(&s.scene), "scene");
+    }
+    files.check()?;
     let runner = Runner {
         program: std::env::current_exe().context("cannot find the fenestra executable")?,
         suite: &suite,
-        suite_dir: args.suite.parent().map(PathBuf::from).unwrap_or_default(),
+        suite_dir,
         out: out.clone(),
         cache: args.cache,
         threads: args.threads,
     };
-    let (refs, records) = if args.report_only {
-        let records = fenestra_eval::run::read_results(&out.join("results.jsonl"))
-            .map_err(anyhow::Error::msg)?;
-        let mut refs: Vec<_> = records
+    let outcome = if args.report_only {
+        let records = fenestra_eval::run::read_results(&out.join("results.jsonl"))?;
+        let mut references: Vec<_> = records
             .iter()
             .map(|r| fenestra_eval::run::ReferenceRecord {
                 scene: r.spec.scene.clone(),
                 max_depth: r.spec.max_depth,
                 image: r.reference.clone(),
                 cached: true,
+                key: r.reference_key.clone(),
             })
             .collect();
-        refs.sort_by(|a, b| (&a.scene, a.max_depth).cmp(&(&b.scene, b.max_depth)));
-        refs.dedup_by(|a, b| a.scene == b.scene && a.max_depth == b.max_depth);
-        (refs, records)
+        references.sort_by(|a, b| (&a.scene, a.max_depth).cmp(&(&b.scene, b.max_depth)));
+        references.dedup_by(|a, b| a.scene == b.scene && a.max_depth == b.max_depth);
+        SuiteOutcome {
+            references,
+            records,
+            failed: Vec::new(),
+        }
     } else {
-        runner
-            .run_all(|msg| eprintln!("{msg}"))
-            .map_err(anyhow::Error::msg)?
+        runner.run_all(|msg| eprintln!("{msg}"))?
     };
-    write_report(&out, &suite, &refs, &records)?;
-    print!("{}", markdown_table(&aggregate(&suite, &records)));
+    write_report(&out, &suite, &outcome.references, &outcome.records)?;
+    print!("{}", markdown_table(&aggregate(&suite, &outcome.records)));
     println!("report: {}", out.join("index.html").display());
+    if !outcome.failed.is_empty() {
+        let ids: Vec<&str> = outcome.failed.iter().map(|f| f.0.as_str()).collect();
+        bail!(
+            "{} of {} runs failed ({}); the report shows the others, and running the suite again retries them",
+            ids.len(),
+            suite.runs().len(),
+            ids.join(", ")
+        );
+    }
     Ok(())
 }

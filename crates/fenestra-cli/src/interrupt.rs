@@ -1,5 +1,6 @@
-//! Ctrl-C for long commands: the first Ctrl-C asks the work to stop and keep what it has
-//! (the command says what it will do with it); a second one quits at once.
+//! Ctrl-C (and SIGTERM, as a job scheduler sends it) for long commands: the first asks the
+//! work to stop and keep what it has (the command says what it will do with it); a second one
+//! quits at once.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;

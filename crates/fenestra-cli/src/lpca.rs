@@ -37,6 +37,10 @@ pub struct LpcaArgs {
 }
 
 pub fn run(args: LpcaArgs) -> Result<()> {
+    crate::files::Files::default()
+        .input(&args.data, "data")
+        .folder(&args.output, "output folder")
+        .check()?;
     let schedule = Schedule::parse(&args.schedule)?;
     let data = io::read_matrix(&args.data)?;
     let options = Options {

@@ -152,12 +152,26 @@ pub fn run(args: PortalsArgs) -> Result<()> {
         std::fs::create_dir_all(dir)
             .with_context(|| format!("cannot create output folder {}", dir.display()))?;
     }
+    let loaded = scene_arg::load(&args.scene, args.scene_options)?;
+    let plot_path = args
+        .plot
+        .clone()
+        .unwrap_or_else(|| args.output.with_extension("png"));
+    let mut files = crate::files::Files::default();
+    files
+        .inputs(&loaded.files, "scene file")
+        .output(&args.output, "portals file")
+        .output(&plot_path, "picture");
+    for path in &args.export {
+        files.output(path, "export");
+    }
+    files.check()?;
     let pool = crate::thread_pool(args.threads)?;
     let cancel = interrupt::on_ctrl_c("fitting portals to the photons gathered so far");
     let params = args.estimate.params();
     let (e, bounds) = pool.install(|| -> Result<_> {
-        let desc = scene_arg::load(&args.scene, args.scene_options)?;
-        let scene = Scene::build(desc, args.bvh.unwrap_or_default()).context("invalid scene")?;
+        let scene =
+            Scene::build(loaded.desc, args.bvh.unwrap_or_default()).context("invalid scene")?;
         let scene = RenderScene::new(scene);
         let bar = Bar::new(args.quiet || args.json);
         let e = estimate(&scene, &params, &cancel, &bar)?;
@@ -177,10 +191,6 @@ pub fn run(args: PortalsArgs) -> Result<()> {
     for path in &args.export {
         export::write(&portals, path)?;
     }
-    let plot_path = args
-        .plot
-        .clone()
-        .unwrap_or_else(|| args.output.with_extension("png"));
     plot::write_projections(&e, bounds, &plot_path)?;
     if args.json {
         println!("{}", serde_json::to_string(&file)?);

@@ -74,7 +74,7 @@ pub fn run(args: RaybenchArgs) -> Result<()> {
         bail!("--rays and --repeat must be at least 1");
     }
     let pool = crate::thread_pool(args.threads)?;
-    let desc = scene_arg::load(&args.scene, args.scene_options)?;
+    let desc = scene_arg::load(&args.scene, args.scene_options)?.desc;
     pool.install(|| -> Result<()> {
         let backends = if args.bvh.is_empty() { Backend::available() } else { args.bvh.clone() };
         for backend in backends {

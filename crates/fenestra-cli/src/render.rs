@@ -1,5 +1,6 @@
 //! `fenestra render` and `fenestra reference`.
 
+use crate::files::Files;
 use crate::integrators::{self, Config, IntegratorArgs};
 use crate::{interrupt, progress::Bar, scene_arg};
 use anyhow::{bail, Context, Result};
@@ -107,6 +108,8 @@ fn parse_resolution(s: &str) -> Result<(u32, u32)> {
 /// A render fully specified and checked, ready to run.
 struct Job {
     desc: fenestra_scene::SceneDesc,
+    /// What the render reads: scene files, a portals file.
+    inputs: Files,
     width: u32,
     height: u32,
     integrator: Box<dyn Integrator>,
@@ -148,7 +151,19 @@ impl RenderOpts {
             bail!("--spp must be at least 1");
         }
         self.integrator.check()?;
-        let desc = scene_arg::load(&self.scene, self.scene_options)?;
+        let loaded = scene_arg::load(&self.scene, self.scene_options)?;
+        let desc = loaded.desc;
+        let mut inputs = Files::default();
+        inputs.inputs(&loaded.files, "scene file");
+        if let Some(p) = self
+            .integrator
+            .portals
+            .portals
+            .as_deref()
+            .filter(|&p| p != "auto")
+        {
+            inputs.input(Path::new(p), "portals file");
+        }
         let (width, height) = resolution.unwrap_or((desc.defaults.width, desc.defaults.height));
         let config = Config {
             path: self.integrator.path.options(desc.defaults.max_depth)?,
@@ -166,6 +181,7 @@ impl RenderOpts {
         };
         Ok(Job {
             desc,
+            inputs,
             width,
             height,
             integrator,
@@ -180,6 +196,7 @@ impl RenderOpts {
         let cancel = interrupt::on_ctrl_c("writing the samples taken so far");
         let Job {
             desc,
+            inputs: _,
             width,
             height,
             mut integrator,
@@ -222,6 +239,40 @@ impl RenderOpts {
     }
 }
 
+/// Checks a cached reference before serving it: its sidecar names `key` and a finished
+/// render, and its image and variance image read back at the render's size.
+fn verify_reference(path: &Path, key: &str, width: u32, height: u32) -> Result<()> {
+    let sidecar = output::companion_paths(path).1;
+    let text = std::fs::read_to_string(&sidecar)
+        .with_context(|| format!("cannot read {}", sidecar.display()))?;
+    let stats: RenderStats = serde_json::from_str(&text)
+        .with_context(|| format!("{} is not a render's sidecar", sidecar.display()))?;
+    if stats.reference_key.as_deref() != Some(key) || stats.interrupted {
+        bail!("its sidecar is not that of this reference");
+    }
+    for image in [path.to_path_buf(), output::variance_path(path)] {
+        let img = Image::read(&image)?;
+        if (img.width, img.height) != (width as usize, height as usize) {
+            bail!("{} is {}x{}", image.display(), img.width, img.height);
+        }
+    }
+    Ok(())
+}
+
+/// Adds the files a render writes for OUT.exr: OUT.png, OUT.json and, with `variance`,
+/// OUT.var.exr.
+fn render_outputs<'a>(files: &'a mut Files, exr: &Path, variance: bool) -> &'a mut Files {
+    let (png, json) = output::companion_paths(exr);
+    files
+        .output(exr, "image")
+        .output(&png, "picture")
+        .output(&json, "sidecar");
+    if variance {
+        files.output(&output::variance_path(exr), "variance image");
+    }
+    files
+}
+
 fn check_exr(path: &Path) -> Result<()> {
     if path
         .extension()
@@ -250,7 +301,12 @@ pub fn run(args: RenderArgs) -> Result<bool> {
             bail!("--target-rel-mse must be positive, got {t}");
         }
     }
-    let job = args.opts.job(args.time)?;
+    let mut job = args.opts.job(args.time)?;
+    let mut files = std::mem::take(&mut job.inputs);
+    if let Some(r) = &args.reference {
+        files.input(r, "reference");
+    }
+    render_outputs(&mut files, &args.output, args.variance).check()?;
     let reference = match &args.reference {
         Some(p) => {
             let r = Image::read(p)?;
@@ -286,6 +342,12 @@ pub fn run(args: RenderArgs) -> Result<bool> {
         args.target_rel_mse.is_none_or(|t| m.rel_mse > t)
     };
     let (mut stats, film) = args.opts.run(job, Some(&hook))?;
+    if stats.interrupted && stats.spp_max == 0 {
+        // Stopped before the first sample (while the scene was being built): a black image
+        // would only replace whatever was there.
+        eprintln!("interrupted before any sample: nothing written");
+        return Ok(true);
+    }
     stats.convergence = curve.into_inner().unwrap_or_default();
     output::write_render(
         &args.output,
@@ -300,7 +362,7 @@ pub fn run(args: RenderArgs) -> Result<bool> {
 
 /// Renders a reference into the cache, or finds it there; prints where it is.
 pub fn reference(args: ReferenceArgs) -> Result<()> {
-    let job = args.opts.job(None)?;
+    let mut job = args.opts.job(None)?;
     let key = job.key(args.opts.bvh.unwrap_or_default());
     let path = args.cache.join(format!(
         "{}-{key:016x}.exr",
@@ -311,9 +373,24 @@ pub fn reference(args: ReferenceArgs) -> Result<()> {
         path: path.clone(),
         cached: true,
         sidecar: sidecar.clone(),
+        key: format!("{key:016x}"),
     };
-    if !(path.exists() && sidecar.exists() && output::variance_path(&path).exists()) {
+    let cached = match verify_reference(&path, &format!("{key:016x}"), job.width, job.height) {
+        Ok(()) => true,
+        Err(why) => {
+            if path.exists() && !args.opts.quiet {
+                eprintln!(
+                    "cached reference {} is unusable ({why}): rendering it again",
+                    path.display()
+                );
+            }
+            false
+        }
+    };
+    if !cached {
         check_exr(&path)?;
+        let mut files = std::mem::take(&mut job.inputs);
+        render_outputs(&mut files, &path, true).check()?;
         let (mut stats, film) = args.opts.run(job, None)?;
         if stats.interrupted {
             bail!("reference interrupted: nothing cached");

@@ -2,8 +2,8 @@
 //! OBJ/PLY mesh staged for viewing.
 
 use anyhow::{bail, Result};
-use fenestra_scene::{builtin, mesh, pbrt, SceneDesc};
-use std::path::Path;
+use fenestra_scene::{builtin, mesh, pbrt, Material, SceneDesc};
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 /// How scene files are read.
@@ -14,26 +14,28 @@ pub struct SceneOptions {
     pub strict: bool,
 }
 
-/// A loaded scene with its load time and what it could not represent.
+/// A loaded scene with its load time, what it could not represent and the files it read.
 pub struct LoadedScene {
     pub desc: SceneDesc,
     pub warnings: Vec<String>,
     pub seconds: f64,
+    /// Every file read (scene, includes, meshes, images): outputs must not replace them.
+    pub files: Vec<PathBuf>,
 }
 
 /// Loads `arg`, printing warnings about unsupported input to stderr.
-pub fn load(arg: &str, opts: SceneOptions) -> Result<SceneDesc> {
+pub fn load(arg: &str, opts: SceneOptions) -> Result<LoadedScene> {
     let loaded = load_quietly(arg, opts)?;
     for w in &loaded.warnings {
         eprintln!("warning: {w}");
     }
-    Ok(loaded.desc)
+    Ok(loaded)
 }
 
 pub fn load_quietly(arg: &str, opts: SceneOptions) -> Result<LoadedScene> {
     let start = Instant::now();
-    let (desc, warnings) = if let Some(name) = arg.strip_prefix("builtin:") {
-        (builtin::load(name).map_err(anyhow::Error::msg)?, Vec::new())
+    let (desc, warnings, files) = if let Some(name) = arg.strip_prefix("builtin:") {
+        (builtin::load(name)?, Vec::new(), Vec::new())
     } else {
         let path = Path::new(arg);
         let ext = path
@@ -42,9 +44,18 @@ pub fn load_quietly(arg: &str, opts: SceneOptions) -> Result<LoadedScene> {
         match ext.as_deref() {
             Some("pbrt") => {
                 let l = pbrt::load(path, opts.strict)?;
-                (l.desc, l.warnings.iter().map(ToString::to_string).collect())
+                let warnings = l.warnings.iter().map(ToString::to_string).collect();
+                (l.desc, warnings, l.files)
             }
-            Some("obj" | "ply") => mesh::viewer_scene(path)?,
+            Some("obj" | "ply") => {
+                let (desc, warnings) = mesh::viewer_scene(path)?;
+                let textures = desc.materials.iter().filter_map(|m| match m {
+                    Material::TexturedDiffuse { texture } => Some(texture.path.clone()),
+                    _ => None,
+                });
+                let files = std::iter::once(path.to_path_buf()).chain(textures).collect();
+                (desc, warnings, files)
+            }
             _ => bail!(
                 "{arg}: unknown scene type (expected a .pbrt file, an .obj or .ply mesh, or builtin:NAME; `fenestra list` shows the built-in scenes)"
             ),
@@ -54,5 +65,6 @@ pub fn load_quietly(arg: &str, opts: SceneOptions) -> Result<LoadedScene> {
         desc,
         warnings,
         seconds: start.elapsed().as_secs_f64(),
+        files,
     })
 }

@@ -53,8 +53,13 @@ pub fn run(args: SceneArgs) -> Result<()> {
             if output.extension().is_none_or(|e| e != "pbrt") {
                 bail!("output {} must end in .pbrt", output.display());
             }
-            let desc = scene_arg::load(&scene, options)?;
-            let written = pbrt::export::write(&desc, &output)?;
+            let loaded = scene_arg::load(&scene, options)?;
+            crate::files::Files::default()
+                .inputs(&loaded.files, "scene file")
+                .output(&output, "export")
+                .folder(&pbrt::export::data_folder(&output), "export's data folder")
+                .check()?;
+            let written = pbrt::export::write(&loaded.desc, &output)?;
             for f in written.files {
                 println!("wrote {}", f.display());
             }

@@ -184,7 +184,16 @@ fn bad_input_gets_a_clear_error() {
 #[cfg(unix)]
 #[test]
 fn interrupting_a_render_keeps_what_it_has() {
-    let out = tmp("interrupted.exr");
+    for signal in ["INT", "TERM"] {
+        interrupt_render(signal);
+    }
+}
+
+/// Renders for a while, sends `signal` as Ctrl-C or a job scheduler would: the samples taken
+/// so far are written and the exit status is 130.
+#[cfg(unix)]
+fn interrupt_render(signal: &str) {
+    let out = tmp(&format!("interrupted-{signal}.exr"));
     let child = Command::new(env!("CARGO_BIN_EXE_fenestra"))
         .args([
             "render",
@@ -204,7 +213,7 @@ fn interrupting_a_render_keeps_what_it_has() {
     // Let it take some samples, then send SIGINT as Ctrl-C would.
     std::thread::sleep(std::time::Duration::from_millis(1500));
     let kill = Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
+        .args([&format!("-{signal}"), &child.id().to_string()])
         .status()
         .expect("kill");
     assert!(kill.success());
@@ -270,6 +279,15 @@ fn reference_is_cached_by_content_and_settings() {
         path.with_extension("var.exr").exists(),
         "references carry their variance"
     );
+    // A damaged cached reference is not served: it is rendered again.
+    let bytes = std::fs::read(&path).expect("exr");
+    std::fs::write(&path, &bytes[..bytes.len() / 2]).expect("truncate");
+    assert_eq!(
+        run("16")["cached"],
+        false,
+        "a truncated reference is rendered again"
+    );
+    assert_eq!(run("16")["cached"], true);
 }
 
 #[test]
@@ -371,6 +389,30 @@ spp = 8
     assert_eq!(lines(&dir.join("results.jsonl")), 4);
     let html = std::fs::read_to_string(dir.join("index.html")).expect("html");
     assert!(html.contains("<table>") && html.contains("plots/box-hole-d2-spp.svg"));
+    // A technique changed under the same label is run again, not taken from the record.
+    let text = std::fs::read_to_string(&suite).expect("suite");
+    std::fs::write(
+        &suite,
+        text.replace("integrator = \"hf\"", "integrator = \"lp_hf\""),
+    )
+    .expect("suite");
+    let o = fenestra(&args);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("[1/4]") && !err.contains("[3/4]"), "{err}");
+    assert_eq!(lines(&dir.join("results.jsonl")), 6);
+    // Every run failing is a failure of the command, naming the runs.
+    std::fs::write(
+        &suite,
+        text.replace("integrator = \"hf\"", "integrator = \"nope\""),
+    )
+    .expect("suite");
+    let o = fenestra(&args);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        !o.status.success() && err.contains("2 of 4 runs failed (box-hole-d2-hf-8spp-r0"),
+        "{err}"
+    );
 }
 
 #[test]
@@ -745,4 +787,127 @@ fn image_size(path: &Path) -> (u32, u32) {
         u32::from_be_bytes([bytes[16], bytes[17], bytes[18], bytes[19]]),
         u32::from_be_bytes([bytes[20], bytes[21], bytes[22], bytes[23]]),
     )
+}
+
+#[test]
+fn outputs_never_replace_inputs_or_each_other() {
+    let dir = tmp("clobber");
+    std::fs::create_dir_all(&dir).expect("dir");
+    let p = |name: &str| dir.join(name).to_str().expect("utf-8").to_string();
+    let o = fenestra(&[
+        "scene",
+        "export",
+        "builtin:box-hole",
+        "-o",
+        &p("victim.pbrt"),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let victim = std::fs::read(dir.join("victim.pbrt")).expect("scene");
+    let reference = dir.join("ref.exr");
+    let o = render(&reference, &[]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let reference_bytes = std::fs::read(&reference).expect("reference");
+    std::fs::write(dir.join("portals.json"), r#"{"portals":[{"kind":"quad","center":[0,0,0.5],"normal":[0,0,1],"area":0.0625,"vertices":[[-0.125,-0.125,0.5],[0.125,-0.125,0.5],[0.125,0.125,0.5],[-0.125,0.125,0.5]]}]}"#).expect("portals");
+    let portals_bytes = std::fs::read(dir.join("portals.json")).expect("portals");
+    for (args, expect) in [
+        (
+            vec![
+                "portals".into(),
+                p("victim.pbrt"),
+                "-o".into(),
+                p("v.json"),
+                "--export".into(),
+                p("victim.pbrt"),
+            ],
+            "is also the scene file this command reads",
+        ),
+        (
+            vec![
+                "portals".into(),
+                "builtin:box-hole".into(),
+                "-o".into(),
+                p("p.json"),
+                "--plot".into(),
+                p("p.json"),
+            ],
+            "written twice, as the portals file and as the picture",
+        ),
+        (
+            vec![
+                "render".into(),
+                "builtin:box-hole".into(),
+                "--reference".into(),
+                p("ref.exr"),
+                "-o".into(),
+                p("ref.exr"),
+            ],
+            "is also the reference this command reads",
+        ),
+        (
+            vec![
+                "scene".into(),
+                "export".into(),
+                p("victim.pbrt"),
+                "-o".into(),
+                p("victim.pbrt"),
+            ],
+            "is also the scene file this command reads",
+        ),
+        (
+            vec![
+                "render".into(),
+                p("victim.pbrt"),
+                "--integrator".into(),
+                "lp_hf".into(),
+                "--portals".into(),
+                p("portals.json"),
+                "-o".into(),
+                p("portals.exr"),
+            ],
+            "is also the portals file this command reads",
+        ),
+    ] {
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        assert_clear_error(&args, expect);
+    }
+    assert_eq!(
+        std::fs::read(dir.join("victim.pbrt")).expect("scene"),
+        victim
+    );
+    assert_eq!(
+        std::fs::read(&reference).expect("reference"),
+        reference_bytes
+    );
+    assert_eq!(
+        std::fs::read(dir.join("portals.json")).expect("portals"),
+        portals_bytes
+    );
+    assert!(!dir.join("v.json").exists() && !dir.join("p.json").exists());
+
+    // A folder in the way of the PNG is found before rendering; the old image set stays.
+    std::fs::create_dir_all(dir.join("blocked.png")).expect("dir");
+    let blocked = dir.join("blocked.exr");
+    std::fs::write(&blocked, b"old").expect("old");
+    let o = fenestra(&[
+        "render",
+        "builtin:box-hole",
+        "--spp",
+        "100000",
+        "-o",
+        &p("blocked.exr"),
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        !o.status.success() && err.contains("blocked.png: it is a folder"),
+        "{err}"
+    );
+    assert_eq!(std::fs::read(&blocked).expect("old"), b"old");
+    let leftovers = std::fs::read_dir(&dir)
+        .expect("dir")
+        .filter(|e| {
+            e.as_ref()
+                .is_ok_and(|e| e.file_name().to_string_lossy().contains(".tmp."))
+        })
+        .count();
+    assert_eq!(leftovers, 0, "no temporary files left");
 }

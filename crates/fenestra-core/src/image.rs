@@ -158,8 +158,21 @@ impl Image {
         }
     }
 
-    /// Writes linear 32-bit float OpenEXR with the given string attributes in its header.
+    /// Writes linear 32-bit float OpenEXR with the given string attributes in its header,
+    /// atomically.
     pub fn write_exr(
+        &self,
+        path: &Path,
+        metadata: &BTreeMap<String, String>,
+    ) -> Result<(), ImageError> {
+        Ok(write_atomically(path, |tmp| {
+            self.write_exr_to(tmp, metadata)
+        })?)
+    }
+
+    /// [`Image::write_exr`] straight to `path` (for a [`FileSet`](crate::fs::FileSet) that
+    /// renames it into place).
+    pub fn write_exr_to(
         &self,
         path: &Path,
         metadata: &BTreeMap<String, String>,
@@ -184,12 +197,23 @@ impl Image {
             };
             image.attributes.other.insert(k, AttributeValue::Text(v));
         }
-        Ok(write_atomically(path, |tmp| image.write().to_file(tmp))?)
+        image
+            .write()
+            .to_file(path)
+            .map_err(|e| WriteError::new(path, e).into())
     }
 
-    /// Writes an 8-bit sRGB PNG after scaling by 2^stops; `None` picks the exposure that
-    /// maps the log-average luminance to middle grey (Reinhard's key value 0.18).
+    /// Writes an 8-bit sRGB PNG after scaling by 2^stops, atomically; `None` picks the
+    /// exposure that maps the log-average luminance to middle grey (Reinhard's key value
+    /// 0.18).
     pub fn write_png(&self, path: &Path, exposure_stops: Option<f32>) -> Result<(), ImageError> {
+        Ok(write_atomically(path, |tmp| {
+            self.write_png_to(tmp, exposure_stops)
+        })?)
+    }
+
+    /// [`Image::write_png`] straight to `path`.
+    pub fn write_png_to(&self, path: &Path, exposure_stops: Option<f32>) -> Result<(), ImageError> {
         let scale = match exposure_stops {
             Some(ev) => 2f32.powf(ev),
             None => self.auto_exposure_scale(),
@@ -203,9 +227,8 @@ impl Image {
         }
         let buf = image::RgbImage::from_raw(self.width as u32, self.height as u32, bytes)
             .ok_or_else(|| WriteError::new(path, "pixel buffer size mismatch"))?;
-        Ok(write_atomically(path, |tmp| {
-            buf.save_with_format(tmp, image::ImageFormat::Png)
-        })?)
+        buf.save_with_format(path, image::ImageFormat::Png)
+            .map_err(|e| WriteError::new(path, e).into())
     }
 
     /// The scale that maps the log-average luminance to middle grey (0.18).

@@ -23,6 +23,10 @@ pub struct RunRecord {
     pub image: String,
     /// Path of its reference, relative to the report folder.
     pub reference: String,
+    /// The reference's cache key (it hashes the scene's content): a record is reused only
+    /// with the same reference.
+    #[serde(default)]
+    pub reference_key: String,
     /// The render's statistics (its JSON sidecar: time, samples, rays, convergence).
     pub stats: RenderStats,
     /// Its error against the reference.
@@ -40,6 +44,19 @@ pub struct ReferenceRecord {
     pub image: String,
     /// Found in the cache (false: rendered for this report).
     pub cached: bool,
+    /// Its cache key.
+    #[serde(default)]
+    pub key: String,
+}
+
+/// What running a suite produced.
+pub struct SuiteOutcome {
+    /// The references, by scene and path length.
+    pub references: Vec<ReferenceRecord>,
+    /// The suite's runs that have a result, in the suite's order.
+    pub records: Vec<RunRecord>,
+    /// Runs that failed this time: (id, why).
+    pub failed: Vec<(String, String)>,
 }
 
 fn file_error(path: &Path, e: impl std::fmt::Display) -> EvalError {
@@ -77,6 +94,9 @@ pub struct ReferenceSummary {
     pub cached: bool,
     /// Its statistics (JSON sidecar).
     pub sidecar: PathBuf,
+    /// The cache key: a hash of the scene's content and every setting.
+    #[serde(default)]
+    pub key: String,
 }
 
 /// Runs `cmd` and reads what it prints on stdout as JSON.
@@ -151,6 +171,7 @@ impl Runner<'_> {
             max_depth: depth,
             image: rel,
             cached: summary.cached,
+            key: summary.key,
         })
     }
 
@@ -180,16 +201,14 @@ impl Runner<'_> {
             spec: spec.clone(),
             image: rel,
             reference: reference.image.clone(),
+            reference_key: reference.key.clone(),
             stats,
             metrics,
         })
     }
 
     /// Runs everything not yet in results.jsonl; `report` hears about each step.
-    pub fn run_all(
-        &self,
-        mut report: impl FnMut(&str),
-    ) -> Result<(Vec<ReferenceRecord>, Vec<RunRecord>), EvalError> {
+    pub fn run_all(&self, mut report: impl FnMut(&str)) -> Result<SuiteOutcome, EvalError> {
         let runs_dir = self.out.join("runs");
         std::fs::create_dir_all(&runs_dir).map_err(|e| file_error(&runs_dir, e))?;
         let results_path = self.out.join("results.jsonl");
@@ -201,11 +220,13 @@ impl Runner<'_> {
             .map_err(|e| file_error(&results_path, e))?;
         let mut references: HashMap<(String, u32), ReferenceRecord> = HashMap::new();
         let runs = self.suite.runs();
-        let mut failures = 0;
+        let mut failed = Vec::new();
+        // A recorded run counts when its settings (spec, with its key) and its reference (whose
+        // key hashes the scene's content) are those of this suite now.
+        let current = |r: &RunRecord, spec: &RunSpec, reference: &ReferenceRecord| {
+            r.spec == *spec && r.reference_key == reference.key
+        };
         for (i, spec) in runs.iter().enumerate() {
-            if done.iter().any(|r| r.spec == *spec) {
-                continue;
-            }
             let key = (spec.scene.clone(), spec.max_depth);
             if !references.contains_key(&key) {
                 report(&format!(
@@ -213,6 +234,9 @@ impl Runner<'_> {
                     spec.scene, spec.max_depth
                 ));
                 references.insert(key.clone(), self.reference(&spec.scene, spec.max_depth)?);
+            }
+            if done.iter().any(|r| current(r, spec, &references[&key])) {
+                continue;
             }
             report(&format!("[{}/{}] {}", i + 1, runs.len(), spec.id));
             match self.run(spec, &references[&key]) {
@@ -225,34 +249,29 @@ impl Runner<'_> {
                     done.push(record);
                 }
                 Err(e) => {
-                    failures += 1;
                     report(&format!("run {} failed (the others go on): {e}", spec.id));
+                    failed.push((spec.id.clone(), e.to_string()));
                 }
             }
         }
-        // References of runs finished in an earlier invocation.
-        for r in &done {
-            let key = (r.spec.scene.clone(), r.spec.max_depth);
-            references.entry(key).or_insert_with(|| ReferenceRecord {
-                scene: r.spec.scene.clone(),
-                max_depth: r.spec.max_depth,
-                image: r.reference.clone(),
-                cached: true,
-            });
-        }
-        if failures > 0 {
-            report(&format!(
-                "{failures} runs failed; run the suite again to retry them"
-            ));
-        }
-        let mut refs: Vec<ReferenceRecord> = references.into_values().collect();
-        refs.sort_by(|a, b| (&a.scene, a.max_depth).cmp(&(&b.scene, b.max_depth)));
-        // Keep only runs of the current suite, in its order.
+        // Only runs of the current suite, in its order (the latest record of each).
         let records = runs
             .iter()
-            .filter_map(|s| done.iter().find(|r| r.spec == *s).cloned())
+            .filter_map(|s| {
+                let reference = &references[&(s.scene.clone(), s.max_depth)];
+                done.iter()
+                    .rev()
+                    .find(|r| current(r, s, reference))
+                    .cloned()
+            })
             .collect();
-        Ok((refs, records))
+        let mut refs: Vec<ReferenceRecord> = references.into_values().collect();
+        refs.sort_by(|a, b| (&a.scene, a.max_depth).cmp(&(&b.scene, b.max_depth)));
+        Ok(SuiteOutcome {
+            references: refs,
+            records,
+            failed,
+        })
     }
 }
 

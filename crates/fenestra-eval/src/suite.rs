@@ -121,6 +121,11 @@ impl Budget {
 /// One render of a suite.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct RunSpec {
+    /// A hash of everything that changes the run's result (resolution, the technique's
+    /// integrator and arguments, the budget, seed, scene, path length, the reference, the
+    /// version): resuming reuses a recorded run only when its key matches.
+    #[serde(default)]
+    pub key: String,
     /// Unique name (the image's file name).
     pub id: String,
     /// The scene.
@@ -179,7 +184,21 @@ impl Suite {
             if b.max_time.is_some() && b.rel_mse.is_none() {
                 return Err(format!("budget {}: max_time goes with rel_mse", i + 1));
             }
+            let positive = |x: Option<f64>| x.is_none_or(|x| x.is_finite() && x > 0.0);
+            if b.spp == Some(0) || ![b.time, b.rel_mse, b.max_time].into_iter().all(positive) {
+                return Err(format!(
+                    "budget {}: spp, time, rel_mse and max_time must be positive and finite",
+                    i + 1
+                ));
+            }
         }
+        // Run ids (and so file names) are built from these names: they must stay distinct.
+        distinct(
+            self.techniques.iter().map(|t| slug(&t.label)),
+            "technique labels",
+        )?;
+        distinct(self.scenes.iter().map(|s| slug(&s.scene)), "scenes")?;
+        distinct(self.budgets.iter().map(Budget::label), "budgets")?;
         for s in &self.scenes {
             if s.max_depth.is_empty() || s.max_depth.contains(&0) {
                 return Err(format!(
@@ -187,11 +206,6 @@ impl Suite {
                     s.scene
                 ));
             }
-        }
-        let mut labels: Vec<&str> = self.techniques.iter().map(|t| t.label.as_str()).collect();
-        labels.sort_unstable();
-        if labels.windows(2).any(|w| w[0] == w[1]) {
-            return Err("technique labels must be distinct".into());
         }
         Ok(())
     }
@@ -210,14 +224,26 @@ impl Suite {
                                 slug(&tech.label),
                                 budget.label()
                             );
+                            let seed = self.seed + rep as u64;
+                            let key = crate::hash::debug_hash(&(
+                                self.resolution,
+                                (&tech.integrator, &tech.args),
+                                budget.render_args(),
+                                seed,
+                                (&s.scene, d),
+                                (&self.reference.integrator, self.reference.spp),
+                                &self.reference.args,
+                                env!("CARGO_PKG_VERSION"),
+                            ));
                             runs.push(RunSpec {
+                                key: format!("{key:016x}"),
                                 id,
                                 scene: s.scene.clone(),
                                 max_depth: d,
                                 technique: t,
                                 budget: b,
                                 repetition: rep,
-                                seed: self.seed + rep as u64,
+                                seed,
                             });
                         }
                     }
@@ -229,6 +255,21 @@ impl Suite {
 }
 
 /// A file-name-safe form of a label.
+/// Refuses names that coincide (after `slug`), naming the first pair.
+fn distinct(names: impl Iterator<Item = String>, what: &str) -> Result<(), String> {
+    let mut seen = std::collections::HashSet::new();
+    for n in names {
+        if !seen.insert(n.clone()) {
+            return Err(format!(
+                "{what} must give distinct file names; two give \"{n}\""
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// A name made safe for file names: lower case, `builtin:` dropped, anything but letters,
+/// digits, '-' and '.' replaced by '_'.
 pub fn slug(s: &str) -> String {
     let s = s.strip_prefix("builtin:").unwrap_or(s);
     s.chars()
@@ -321,5 +362,40 @@ max_time = 5
             .unwrap_err()
             .to_string();
         assert!(e.contains("/no/suite.toml: cannot read"), "{e}");
+        // Labels that differ only in characters a file name cannot hold would share files.
+        let e = Suite::load(&write(
+            "labels",
+            &SUITE
+                .replace("\"HF\"", "\"H F\"")
+                .replace("\"AF_HF power\"", "\"H/F\""),
+        ))
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("two give \"h_f\""), "{e}");
+        for bad in ["spp = 0", "time = -1.0", "time = nan", "time = inf"] {
+            let e = Suite::load(&write("budget", &SUITE.replace("spp = 4", bad)))
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains("must be positive and finite"), "{bad}: {e}");
+        }
+    }
+
+    #[test]
+    fn a_run_is_keyed_by_everything_that_changes_its_result() {
+        let key = |text: &str| {
+            Suite::load(&write("key", text)).expect("valid").runs()[0]
+                .key
+                .clone()
+        };
+        let base = key(SUITE);
+        assert_eq!(base, key(SUITE), "the same suite, the same key");
+        for changed in [
+            SUITE.replace("[8, 8]", "[8, 16]"),
+            SUITE.replace("integrator = \"hf\"", "integrator = \"af_hf\""),
+            SUITE.replace("spp = 64", "spp = 32"),
+            SUITE.replace("repetitions = 2", "repetitions = 2\nseed = 5"),
+        ] {
+            assert_ne!(key(&changed), base, "{changed}");
+        }
     }
 }

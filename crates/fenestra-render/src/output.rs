@@ -1,7 +1,7 @@
 //! Writing a render: linear EXR with metadata, tone-mapped PNG beside it, JSON sidecar.
 
 use crate::film::Film;
-use fenestra_core::fs::write_text_atomically;
+use fenestra_core::fs::{FileSet, WriteError};
 use fenestra_core::image::ImageError;
 use fenestra_core::stats::RenderStats;
 use std::collections::BTreeMap;
@@ -43,8 +43,9 @@ pub fn variance_path(exr_path: &Path) -> PathBuf {
     exr_path.with_extension("var.exr")
 }
 
-/// Writes OUT.exr, OUT.png and the JSON sidecar OUT.json (the statistics), each atomically;
-/// with `variance`, also OUT.var.exr, the per-pixel variance of the mean.
+/// Writes OUT.exr, OUT.png and the JSON sidecar OUT.json (the statistics) and, with
+/// `variance`, OUT.var.exr, the per-pixel variance of the mean: as one set, so that a failure
+/// or an interruption leaves the previous files of the set as they were.
 pub fn write_render(
     exr_path: &Path,
     film: &Film,
@@ -53,14 +54,18 @@ pub fn write_render(
     variance: bool,
 ) -> Result<(), ImageError> {
     let image = film.image();
-    image.write_exr(exr_path, &exr_metadata(stats))?;
+    let metadata = exr_metadata(stats);
+    let mut set = FileSet::new();
+    set.stage(exr_path, |tmp| image.write_exr_to(tmp, &metadata))?;
     if variance {
-        film.variance_image()
-            .write_exr(&variance_path(exr_path), &exr_metadata(stats))?;
+        let var = film.variance_image();
+        set.stage(&variance_path(exr_path), |tmp| {
+            var.write_exr_to(tmp, &metadata)
+        })?;
     }
     let (png, json) = companion_paths(exr_path);
-    image.write_png(&png, exposure)?;
-    let text = serde_json::to_string_pretty(stats)
-        .map_err(|e| fenestra_core::fs::WriteError::new(&json, e))?;
-    Ok(write_text_atomically(&json, &(text + "\n"))?)
+    set.stage(&png, |tmp| image.write_png_to(tmp, exposure))?;
+    let text = serde_json::to_string_pretty(stats).map_err(|e| WriteError::new(&json, e))?;
+    set.stage(&json, |tmp| std::fs::write(tmp, text + "\n"))?;
+    Ok(set.commit()?)
 }

@@ -18,7 +18,7 @@ struct Checkered {
 
 impl Checkered {
     fn weight(&self, ctx: &LightContext, light: usize) -> f32 {
-        if ctx.sample.block % 2 == 1 && light % 2 == 0 {
+        if !ctx.sample.block.is_multiple_of(2) && light.is_multiple_of(2) {
             2.0
         } else {
             1.0

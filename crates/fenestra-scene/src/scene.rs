@@ -78,7 +78,7 @@ impl SceneDesc {
                     ..
                 } => {
                     *position *= s;
-                    *intensity = *intensity * (s * s);
+                    *intensity *= s * s;
                 }
                 LightDesc::Distant { .. } | LightDesc::Environment(_) => {}
             }

@@ -72,6 +72,8 @@ pub(super) struct Builder {
     warnings: Vec<Warning>,
     warning_index: HashMap<String, usize>,
     depth: usize,
+    /// Every file read besides the main one: includes, PLY meshes, images.
+    pub files: Vec<PathBuf>,
 }
 
 impl Builder {
@@ -105,6 +107,7 @@ impl Builder {
             warnings: Vec::new(),
             warning_index: HashMap::new(),
             depth: 0,
+            files: Vec::new(),
         }
     }
 
@@ -222,6 +225,7 @@ impl Builder {
             return Err(cannot("not a regular file".into()));
         }
         let bytes = std::fs::read(&path).map_err(|e| cannot(e.to_string()))?;
+        self.files.push(path.clone());
         self.depth += 1;
         let r = self.run_bytes(&bytes, &path, Some(&d.loc));
         self.depth -= 1;
@@ -528,6 +532,7 @@ impl Builder {
             return Ok(img.clone());
         }
         let img = Arc::new(Image::read(path).map_err(|e| PbrtError::at(loc, e.to_string()))?);
+        self.files.push(path.to_path_buf());
         self.images.insert(path.to_path_buf(), img.clone());
         Ok(img)
     }

@@ -30,6 +30,14 @@ pub struct Exported {
     pub files: Vec<PathBuf>,
 }
 
+/// The folder beside `path` where an export puts its meshes and images: `<stem>-data/`.
+pub fn data_folder(path: &Path) -> PathBuf {
+    let stem = path
+        .file_stem()
+        .map_or_else(|| "scene".into(), |s| s.to_string_lossy().into_owned());
+    path.with_file_name(format!("{stem}-data"))
+}
+
 /// Writes `desc` to `path` (a .pbrt file) and its data folder `<stem>-data/` when needed.
 pub fn write(desc: &SceneDesc, path: &Path) -> Result<Exported, ExportError> {
     let err = |reason: String| ExportError {

@@ -82,6 +82,8 @@ pub struct Loaded {
     pub desc: SceneDesc,
     /// What it asks for that fenestra does not do.
     pub warnings: Vec<Warning>,
+    /// Every file read: the scene file, what it includes, PLY meshes and images.
+    pub files: Vec<PathBuf>,
 }
 
 /// Reads a pbrt-v4 scene file (and what it includes). With `strict`, anything unsupported is
@@ -104,6 +106,8 @@ pub fn load_bytes(bytes: &[u8], path: &Path, strict: bool) -> Result<Loaded, Pbr
     let name = path
         .file_stem()
         .map_or_else(|| "scene".into(), |s| s.to_string_lossy().into_owned());
+    let mut files = vec![path.to_path_buf()];
+    files.append(&mut b.files);
     let (desc, warnings) = b.finish(name)?;
     if strict && !warnings.is_empty() {
         let w = &warnings[0];
@@ -116,5 +120,9 @@ pub fn load_bytes(bytes: &[u8], path: &Path, strict: bool) -> Result<Loaded, Pbr
             format!("unsupported in strict mode: {}{more}", w.what),
         ));
     }
-    Ok(Loaded { desc, warnings })
+    Ok(Loaded {
+        desc,
+        warnings,
+        files,
+    })
 }

@@ -50,8 +50,10 @@ impl Builder {
                     self.warn("plymesh displacement", &d.loc);
                     p.use_all();
                 }
-                let mesh = crate::mesh::ply::read(&dir.join(&file))
+                let path = dir.join(&file);
+                let mesh = crate::mesh::ply::read(&path)
                     .map_err(|e| PbrtError::at(&d.loc, e.to_string()))?;
+                self.files.push(path);
                 ShapeKind::Mesh(mesh)
             }
             "bilinearmesh" => ShapeKind::Mesh(bilinear_mesh(d)?),

@@ -1,0 +1,126 @@
+//! What a command reads and writes, checked before any work starts: no output may be one of
+//! the command's inputs (a scene, a portals file, a reference, a texture the scene uses) or
+//! another of its outputs, and no input may lie in a folder the command fills. Paths are
+//! compared canonically (symbolic links and `..` resolved), so `./a/../scene.pbrt` is
+//! `scene.pbrt`.
+
+use anyhow::{bail, Result};
+use std::path::{Path, PathBuf};
+
+/// A command's inputs and outputs, each with what it is for.
+#[derive(Default)]
+pub struct Files {
+    inputs: Vec<(PathBuf, String)>,
+    outputs: Vec<(PathBuf, String)>,
+    folders: Vec<(PathBuf, String)>,
+}
+
+/// `path` made absolute with links and `..` resolved; for a path that does not exist yet,
+/// its folder's canonical path joined with its name.
+fn canonical(path: &Path) -> PathBuf {
+    if let Ok(p) = path.canonicalize() {
+        return p;
+    }
+    let absolute = std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
+    match (absolute.parent(), absolute.file_name()) {
+        (Some(dir), Some(name)) => canonical(dir).join(name),
+        _ => absolute,
+    }
+}
+
+impl Files {
+    /// A file the command reads.
+    pub fn input(&mut self, path: &Path, what: &str) -> &mut Self {
+        self.inputs.push((canonical(path), what.to_string()));
+        self
+    }
+
+    /// Files the command reads.
+    pub fn inputs(&mut self, paths: &[PathBuf], what: &str) -> &mut Self {
+        for p in paths {
+            self.input(p, what);
+        }
+        self
+    }
+
+    /// A file the command writes.
+    pub fn output(&mut self, path: &Path, what: &str) -> &mut Self {
+        self.outputs.push((canonical(path), what.to_string()));
+        self
+    }
+
+    /// A folder the command writes files into.
+    pub fn folder(&mut self, path: &Path, what: &str) -> &mut Self {
+        self.folders.push((canonical(path), what.to_string()));
+        self
+    }
+
+    /// Refuses outputs that are inputs or each other, inputs inside output folders, and
+    /// outputs that cannot be written (a folder in the way, a missing or read-only folder):
+    /// before the work, not after it.
+    pub fn check(&self) -> Result<()> {
+        for (i, (out, what)) in self.outputs.iter().enumerate() {
+            if let Some((_, input)) = self.inputs.iter().find(|(p, _)| p == out) {
+                bail!(
+                    "{} ({what}) is also the {input} this command reads: refusing to overwrite it",
+                    out.display()
+                );
+            }
+            if let Some((_, other)) = self.outputs[..i].iter().find(|(p, _)| p == out) {
+                bail!(
+                    "{} would be written twice, as the {other} and as the {what}: give them different names",
+                    out.display()
+                );
+            }
+        }
+        for (out, _) in &self.outputs {
+            fenestra_core::fs::check_writable(out)?;
+        }
+        for (folder, what) in &self.folders {
+            if folder.exists() && !folder.is_dir() {
+                bail!("{} ({what}) is a file, not a folder", folder.display());
+            }
+            if let Some((p, input)) = self.inputs.iter().find(|(p, _)| p.starts_with(folder)) {
+                bail!(
+                    "{} ({input}) lies in {} ({what}), which this command writes into: choose another folder",
+                    p.display(),
+                    folder.display()
+                );
+            }
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn collisions_are_found_through_other_spellings() {
+        let dir = std::env::temp_dir().join(format!("fenestra-files-{}", std::process::id()));
+        std::fs::create_dir_all(dir.join("sub")).expect("dir");
+        let scene = dir.join("scene.pbrt");
+        std::fs::write(&scene, "").expect("write");
+        let mut f = Files::default();
+        f.input(&scene, "scene")
+            .output(&dir.join("sub/../out.exr"), "image");
+        assert!(f.check().is_ok());
+        f.output(&dir.join("sub/../scene.pbrt"), "export");
+        let e = f.check().expect_err("overwrites the scene").to_string();
+        assert!(e.contains("is also the scene"), "{e}");
+        let mut f = Files::default();
+        f.output(&dir.join("p.json"), "portals")
+            .output(&dir.join("./p.json"), "picture");
+        let e = f.check().expect_err("same output twice").to_string();
+        assert!(
+            e.contains("written twice, as the portals and as the picture"),
+            "{e}"
+        );
+        let mut f = Files::default();
+        f.input(&scene, "scene").folder(&dir, "report folder");
+        let e = f.check().expect_err("input in output folder").to_string();
+        assert!(e.contains("which this command writes into"), "{e}");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}
