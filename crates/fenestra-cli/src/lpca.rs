@@ -103,6 +103,23 @@ pub fn btf(args: BtfArgs) -> Result<()> {
     if args.size == 0 || args.views == 0 || args.lights == 0 || args.materials == 0 {
         bail!("--size, --views, --lights and --materials must be positive");
     }
+    if !(args.noise.is_finite() && args.noise >= 0.0) {
+        bail!(
+            "--noise must be a finite non-negative number, got {}",
+            args.noise
+        );
+    }
+    let (rows, columns) = (
+        args.size.saturating_mul(args.size),
+        args.views.saturating_mul(args.lights),
+    );
+    if args.materials > rows || args.dim > columns {
+        bail!(
+            "--materials ({}) can be at most the {rows} texels and --dim ({}) at most the {columns} columns",
+            args.materials,
+            args.dim
+        );
+    }
     let bytes = (args.size as f64).powi(2) * args.views as f64 * args.lights as f64 * 8.0;
     if bytes > 8.0 * (1u64 << 30) as f64 {
         bail!(

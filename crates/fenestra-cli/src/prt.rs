@@ -119,6 +119,12 @@ pub fn run(args: PrtArgs) -> Result<()> {
     if args.segments < 3 || args.sides < 3 || args.resolution == 0 || args.supersample == 0 {
         bail!("--segments and --sides must be at least 3, --resolution and --supersample positive");
     }
+    if !(args.exponent.is_finite() && args.exponent >= 0.0) {
+        bail!(
+            "--exponent must be a finite non-negative number, got {}",
+            args.exponent
+        );
+    }
     let bytes =
         args.segments as f64 * args.sides as f64 * 6.0 * (args.resolution as f64).powi(2) * 4.0;
     if bytes > 8.0 * (1u64 << 30) as f64 {

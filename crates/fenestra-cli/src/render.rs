@@ -147,6 +147,9 @@ impl RenderOpts {
                 bail!("--time must be a positive number of seconds, got {t}");
             }
         }
+        if let Some(e) = self.exposure.filter(|e| !e.is_finite()) {
+            bail!("--exposure must be a finite number of stops, got {e}");
+        }
         if self.spp == Some(0) {
             bail!("--spp must be at least 1");
         }

@@ -178,7 +178,49 @@ fn bad_input_gets_a_clear_error() {
         &["render", "builtin:box-hole", "--bvh", "optix", "-o", o],
         "unknown ray-query backend 'optix'",
     );
-    assert!(!out.exists(), "no output is written when the input is bad");
+    assert_clear_error(
+        &["render", "builtin:box-hole", "--exposure", "nan", "-o", o],
+        "--exposure must be a finite number",
+    );
+    let npy = tmp("bad.npy");
+    let n = npy.to_str().expect("utf-8");
+    assert_clear_error(
+        &["btf", "--noise", "nan", "-o", n],
+        "--noise must be a finite",
+    );
+    assert_clear_error(
+        &["btf", "--materials", "1000000000", "-o", n],
+        "--materials",
+    );
+    assert_clear_error(
+        &["prt", "--exponent", "nan", "-o", n],
+        "--exponent must be a finite",
+    );
+    assert_clear_error(
+        &["raybench", "builtin:box-hole", "--rays", "10000000000000"],
+        "at most 100000000",
+    );
+    assert!(
+        !out.exists() && !npy.exists(),
+        "no output is written when the input is bad"
+    );
+    // An image with a NaN pixel has no error to report.
+    let mut img = Image::new(4, 4);
+    img.pixels[5] = fenestra_core::Rgb::new(f32::NAN, 0.0, 0.0);
+    let (nan, good) = (tmp("nan.exr"), tmp("good.exr"));
+    img.write_exr(&nan, &Default::default()).expect("write");
+    Image::new(4, 4)
+        .write_exr(&good, &Default::default())
+        .expect("write");
+    assert_clear_error(
+        &[
+            "compare",
+            "--ref",
+            good.to_str().expect("utf-8"),
+            nan.to_str().expect("utf-8"),
+        ],
+        "the image has 1 pixels that are not finite",
+    );
 }
 
 #[cfg(unix)]

@@ -21,6 +21,14 @@ pub enum EvalError {
     /// An image and its reference differ in size: (width, height, reference width, height).
     #[error("image sizes differ: {0}x{1} against reference {2}x{3}")]
     SizeMismatch(usize, usize, usize, usize),
+    /// An image holds NaN or infinite pixels, which no error can be measured against.
+    #[error("the {which} has {pixels} pixels that are not finite (NaN or infinite)")]
+    NonFinite {
+        /// "image" or "reference".
+        which: &'static str,
+        /// How many.
+        pixels: usize,
+    },
     /// An image could not be read or written.
     #[error(transparent)]
     Image(#[from] fenestra_core::image::ImageError),

@@ -29,6 +29,12 @@ pub fn compare(img: &Image, reference: &Image) -> Result<Metrics, EvalError> {
             reference.height,
         ));
     }
+    for (image, which) in [(img, "image"), (reference, "reference")] {
+        let bad = image.pixels.iter().filter(|p| !p.is_finite()).count();
+        if bad > 0 {
+            return Err(EvalError::NonFinite { which, pixels: bad });
+        }
+    }
     let (mut se, mut rel, mut ae, mut sum, mut ref_sum) = (0.0f64, 0.0f64, 0.0f64, 0.0f64, 0.0f64);
     for (p, r) in img.pixels.iter().zip(&reference.pixels) {
         for (x, r) in p.to_array().into_iter().zip(r.to_array()) {

@@ -54,21 +54,26 @@ pub fn dbscan(points: &[Vec3], params: DbscanParams) -> Vec<Vec<usize>> {
         for w in cores.windows(2) {
             sets.union(w[0], w[1]);
         }
-        let Some(&first) = cores.first() else { continue };
+        let Some(&first) = cores.first() else {
+            continue;
+        };
         for other in grid.neighbour_cells(*key) {
             // Each pair of cells once.
             if other <= *key {
                 continue;
             }
-            let Some(&(c, d)) = grid.cells.get(&other) else { continue };
-            let Some(q) = grid.members(c, d).find(|&j| core[j]) else { continue };
+            let Some(&(c, d)) = grid.cells.get(&other) else {
+                continue;
+            };
+            let Some(q) = grid.members(c, d).find(|&j| core[j]) else {
+                continue;
+            };
             if sets.find(first) == sets.find(q) {
                 continue;
             }
-            let joined = cores.iter().any(|&i| {
-                grid.members(c, d)
-                    .any(|j| core[j] && grid.within(i, j))
-            });
+            let joined = cores
+                .iter()
+                .any(|&i| grid.members(c, d).any(|j| core[j] && grid.within(i, j)));
             if joined {
                 sets.union(first, q);
             }
@@ -202,7 +207,9 @@ impl<'a> Grid<'a> {
     }
 
     fn members(&self, a: u32, b: u32) -> impl Iterator<Item = usize> + '_ {
-        self.order[a as usize..b as usize].iter().map(|&i| i as usize)
+        self.order[a as usize..b as usize]
+            .iter()
+            .map(|&i| i as usize)
     }
 
     /// The cells that may hold points within eps of cell `key`'s (itself excluded).

@@ -51,6 +51,53 @@ pub enum EnvironmentDesc {
 }
 
 impl LightDesc {
+    /// What makes the light unusable, if anything: positions beyond what f32 resolves,
+    /// non-finite or negative power, zero directions, impossible cone angles.
+    pub fn problem(&self) -> Option<String> {
+        if let Some(what) = crate::shape::extent_error(self.extent()) {
+            return Some(what);
+        }
+        let finite_rgb = |c: &Rgb| c.is_finite() && c.r >= 0.0 && c.g >= 0.0 && c.b >= 0.0;
+        let problem = match self {
+            LightDesc::Point {
+                position,
+                intensity,
+            }
+            | LightDesc::Spot {
+                position,
+                intensity,
+                ..
+            } if !(position.is_finite() && finite_rgb(intensity)) => {
+                "position or intensity is not finite, or intensity is negative"
+            }
+            LightDesc::Distant { irradiance, .. } if !finite_rgb(irradiance) => {
+                "irradiance is not finite or negative"
+            }
+            LightDesc::Spot { direction, .. } | LightDesc::Distant { direction, .. }
+                if !(direction.length() >= 1e-6) =>
+            {
+                "light direction is zero"
+            }
+            LightDesc::Spot {
+                cone_angle,
+                falloff_start,
+                ..
+            } if !(*cone_angle > 0.0 && *cone_angle <= 180.0) || *falloff_start > *cone_angle => {
+                "spot light cone angles must satisfy 0 <= falloff start <= cone angle <= 180"
+            }
+            LightDesc::Environment(EnvironmentDesc::Constant(l)) if !finite_rgb(l) => {
+                "environment radiance is not finite or negative"
+            }
+            LightDesc::Environment(EnvironmentDesc::Image { image, scale, .. })
+                if !finite_rgb(scale) || image.pixels.iter().any(|p| !finite_rgb(p)) =>
+            {
+                "environment image or scale is not finite or negative"
+            }
+            _ => return None,
+        };
+        Some(problem.to_string())
+    }
+
     /// The largest coordinate magnitude of the light's position (0 for lights at infinity).
     pub fn extent(&self) -> f32 {
         match self {

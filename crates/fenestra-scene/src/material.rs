@@ -87,7 +87,8 @@ impl Material {
         let alpha_ok = |a: f32| a.is_finite() && a > 0.0;
         match self {
             Material::Diffuse { reflectance: r } | Material::Mirror { reflectance: r } => {
-                (!rgb_ok(r)).then(|| format!("reflectance {r:?} must be finite and non-negative"))
+                (!rgb_ok(r) || r.max_component() > 1.0)
+                    .then(|| format!("reflectance {r:?} must lie in [0, 1]"))
             }
             Material::Dielectric { eta }
             | Material::ThinDielectric { eta }

@@ -301,55 +301,14 @@ fn validate(desc: &SceneDesc) -> Result<(), SceneError> {
             }
         }
         if let Some(e) = &s.emission {
-            if !e.radiance.is_finite() || e.radiance.max_component() < 0.0 {
+            if !e.radiance.is_finite() || e.radiance.r.min(e.radiance.g).min(e.radiance.b) < 0.0 {
                 return geo(format!("emitted radiance {:?} invalid", e.radiance));
             }
         }
     }
     for (i, l) in desc.lights.iter().enumerate() {
-        let bad = |what: &str| {
-            Err(SceneError::Light {
-                index: i,
-                what: what.into(),
-            })
-        };
-        if let Some(what) = crate::shape::extent_error(l.extent()) {
-            return bad(&what);
-        }
-        let finite_rgb =
-            |c: &fenestra_core::Rgb| c.is_finite() && c.r >= 0.0 && c.g >= 0.0 && c.b >= 0.0;
-        match l {
-            LightDesc::Point {
-                position,
-                intensity,
-            }
-            | LightDesc::Spot {
-                position,
-                intensity,
-                ..
-            } if !(position.is_finite() && finite_rgb(intensity)) => {
-                return bad("position or intensity is not finite, or intensity is negative")
-            }
-            LightDesc::Distant { irradiance, .. } if !finite_rgb(irradiance) => {
-                return bad("irradiance is not finite or negative")
-            }
-            LightDesc::Spot {
-                direction,
-                cone_angle,
-                falloff_start,
-                ..
-            } => {
-                if direction.length() < 1e-6 {
-                    return bad("spot light direction is zero");
-                }
-                if !(*cone_angle > 0.0 && *cone_angle <= 180.0) || *falloff_start > *cone_angle {
-                    return bad("spot light cone angles must satisfy 0 <= falloff start <= cone angle <= 180");
-                }
-            }
-            LightDesc::Distant { direction, .. } if direction.length() < 1e-6 => {
-                return bad("distant light direction is zero")
-            }
-            _ => {}
+        if let Some(what) = l.problem() {
+            return Err(SceneError::Light { index: i, what });
         }
     }
     Ok(())

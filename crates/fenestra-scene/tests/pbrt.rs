@@ -419,3 +419,31 @@ fn coordinates_beyond_f32_ray_tracing_are_refused_where_they_are_written() {
         assert!(Scene::build(near.desc.clone(), backend).is_ok());
     }
 }
+
+#[test]
+fn impossible_light_and_material_values_are_refused_or_clamped_as_pbrt_does() {
+    let world = "LookAt 0 -3 1  0 0 0  0 0 1\nCamera \"perspective\"\nWorldBegin\n";
+    let e = load(&format!(
+        "{world}LightSource \"infinite\" \"rgb L\" [-1 -1 -1]\n"
+    ))
+    .err()
+    .unwrap_or_default();
+    assert!(
+        e.starts_with("test.pbrt:4:") && e.contains("negative"),
+        "{e}"
+    );
+    // pbrt-v4 clamps reflectances to [0, 1]: so does the reader, and says so.
+    let l = load(&format!(
+        "{world}Material \"diffuse\" \"rgb reflectance\" [1e30 0.5 2]\nShape \"sphere\"\n"
+    ))
+    .expect("load");
+    assert!(
+        l.warnings.iter().any(|w| w.what.contains("clamped")),
+        "{:?}",
+        l.warnings
+    );
+    assert!(l.desc.materials.iter().any(|m| matches!(
+        m,
+        Material::Diffuse { reflectance } if *reflectance == Rgb::new(1.0, 0.5, 1.0)
+    )));
+}

@@ -107,7 +107,20 @@ impl PortalRecord {
                 b: v(*b),
             },
             ("quad", _, Some(c)) if c.len() == 4 => {
-                Portal::quad([v(c[0]), v(c[1]), v(c[2]), v(c[3])])
+                let corners = [v(c[0]), v(c[1]), v(c[2]), v(c[3])];
+                // The third corner is implied by the others: a quad that is not a
+                // parallelogram would silently become another portal.
+                let implied = corners[1] + corners[3] - corners[0];
+                let size = (corners[1] - corners[0])
+                    .length()
+                    .max((corners[3] - corners[0]).length());
+                let off = (corners[2] - implied).length();
+                if !(off <= 1e-4 * size) {
+                    return Err(format!(
+                        "a quad's vertices must form a parallelogram in order (the third is {off:e} m from where the others put it)"
+                    ));
+                }
+                Portal::quad(corners)
             }
             ("triangle", _, Some(c)) if c.len() == 3 => Portal::Triangle {
                 vertices: [v(c[0]), v(c[1]), v(c[2])],
@@ -140,7 +153,14 @@ impl PortalRecord {
                 center.is_finite() && a.is_finite() && b.is_finite()
             }
         };
-        if !finite || !(portal.area() > 0.0) {
+        let extent = portal
+            .corners()
+            .iter()
+            .fold(0.0f32, |e, c| e.max(c.abs().max_element()));
+        if let Some(what) = fenestra_scene::shape::extent_error(extent).filter(|_| finite) {
+            return Err(what);
+        }
+        if !finite || !portal.area().is_normal() || portal.area() < 0.0 {
             return Err("a portal needs finite coordinates and a positive area".into());
         }
         Ok(portal)
@@ -236,10 +256,22 @@ mod tests {
                 "perpendicular",
             ),
             (
-                r#"{"portals":[{"kind":"quad","center":[0,0,0],"normal":[0,0,1],"area":1,"vertices":[[0,0,0],[1,0,0],[2,0,0],[3,0,0]]}]}"#,
+                r#"{"portals":[{"kind":"quad","center":[0,0,0],"normal":[0,0,1],"area":1,"vertices":[[0,0,0],[1,0,0],[2,0,0],[1,0,0]]}]}"#,
                 "positive area",
             ),
             (r#"{"portal":[]}"#, "missing field"),
+            (
+                r#"{"portals":[{"kind":"quad","center":[0,0,0],"normal":[0,0,1],"area":1,"vertices":[[0,0,0],[1,0,0],[0.5,1,0],[0,1,0]]}]}"#,
+                "must form a parallelogram",
+            ),
+            (
+                r#"{"portals":[{"kind":"quad","center":[0,0,0],"normal":[0,0,1],"area":1,"vertices":[[0,0,0],[1e-20,0,0],[1e-20,1e-20,0],[0,1e-20,0]]}]}"#,
+                "positive area",
+            ),
+            (
+                r#"{"portals":[{"kind":"quad","center":[0,0,0],"normal":[0,0,1],"area":1,"vertices":[[0,0,0],[1e20,0,0],[1e20,1,0],[0,1,0]]}]}"#,
+                "beyond the 1e12 m",
+            ),
         ] {
             std::fs::write(&path, bad).expect("write");
             let e = Portals::read_json(&path).expect_err(why).to_string();

@@ -284,7 +284,7 @@ impl Portal {
     }
 
     /// Corners of the portal's bounding parallelogram (for the behind-the-surface test).
-    fn corners(&self) -> [Vec3; 4] {
+    pub(crate) fn corners(&self) -> [Vec3; 4] {
         match self {
             Portal::Quad { corner, e1, e2 } => {
                 [*corner, *corner + *e1, *corner + *e1 + *e2, *corner + *e2]

@@ -90,7 +90,15 @@ pub fn read(path: &Path) -> Result<ObjModel, MeshError> {
 
 fn convert(m: &tobj::Material, dir: &Path, warnings: &mut Vec<String>) -> (Material, Option<Rgb>) {
     let rgb = |c: Option<[f32; 3]>| c.map(Rgb::from);
-    let kd = rgb(m.diffuse).unwrap_or(Rgb::splat(0.5));
+    let mut kd = rgb(m.diffuse).unwrap_or(Rgb::splat(0.5));
+    if kd.max_component() > 1.0 {
+        warnings.push(format!(
+            "material '{}': Kd {:?} above 1, clamped to 1 (as pbrt-v4 clamps reflectances)",
+            m.name,
+            kd.to_array()
+        ));
+        kd = kd.map(|c| c.min(1.0));
+    }
     let ks = rgb(m.specular).unwrap_or(Rgb::ZERO);
     let emission = rgb(m.emissive).filter(|e| e.max_component() > 0.0);
     let transparent =
@@ -153,6 +161,23 @@ mod tests {
             matches!(m.materials[1].0, Material::Dielectric { eta } if (eta - 1.33).abs() < 1e-6)
         );
         assert!(matches!(m.materials[2].0, Material::Phong { exponent, .. } if exponent == 80.0));
+        // Reflectance above 1 is clamped, as pbrt-v4 clamps it, and said.
+        std::fs::write(dir.join("hot.mtl"), "newmtl hot\nKd 50 0.5 0.5\n").expect("mtl");
+        std::fs::write(
+            dir.join("hot.obj"),
+            "mtllib hot.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nusemtl hot\nf 1 2 3\n",
+        )
+        .expect("obj");
+        let hot = read(&dir.join("hot.obj")).expect("read");
+        assert!(
+            hot.warnings.iter().any(|w| w.contains("clamped")),
+            "{:?}",
+            hot.warnings
+        );
+        assert!(matches!(
+            hot.materials[0].0,
+            Material::Diffuse { reflectance } if reflectance == Rgb::new(1.0, 0.5, 0.5)
+        ));
         std::fs::write(dir.join("bad.obj"), "v 0 0 0\nf 1 2 3\n").expect("obj");
         assert!(read(&dir.join("bad.obj")).is_err());
         let _ = std::fs::remove_dir_all(&dir);

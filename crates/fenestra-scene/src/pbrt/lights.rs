@@ -80,7 +80,7 @@ impl Builder {
             self.warn("light sources inside object definitions (skipped)", &d.loc);
             return Ok(());
         }
-        if let Some(what) = crate::shape::extent_error(light.extent()) {
+        if let Some(what) = light.problem() {
             return Err(PbrtError::at(&d.loc, what));
         }
         self.lights.push(light);

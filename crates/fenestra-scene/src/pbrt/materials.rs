@@ -172,10 +172,16 @@ impl Builder {
                 None => Err(PbrtError::at(loc, format!("unknown texture \"{name}\""))),
             };
         }
-        Ok(Reflectance::Value(match p.spectrum("reflectance")? {
+        let r = match p.spectrum("reflectance")? {
             Some((s, l)) => spectra::to_rgb(&s).map_err(|e| PbrtError::at(&l, e))?,
             None => Rgb::splat(0.5),
-        }))
+        };
+        if r.max_component() > 1.0 {
+            // pbrt-v4 clamps reflectances to [0, 1]; a surface reflecting more than it
+            // receives would make light out of nothing.
+            self.warn("reflectance above 1 (clamped to 1, as pbrt-v4 does)", loc);
+        }
+        Ok(Reflectance::Value(r.map(|c| c.min(1.0))))
     }
 
     /// GGX (alpha_u, alpha_v) from "roughness" or "uroughness"/"vroughness"; pbrt-v4 remaps
