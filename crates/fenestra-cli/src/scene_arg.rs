@@ -61,6 +61,12 @@ pub fn load_quietly(arg: &str, opts: SceneOptions) -> Result<LoadedScene> {
             ),
         }
     };
+    let mut warnings = warnings;
+    if desc.lights.is_empty() && desc.shapes.iter().all(|s| s.emission.is_none()) {
+        warnings.push(format!(
+            "{arg}: the scene has no light (no light source, no emissive shape): it renders black"
+        ));
+    }
     Ok(LoadedScene {
         desc,
         warnings,

@@ -204,6 +204,27 @@ fn bad_input_gets_a_clear_error() {
         !out.exists() && !npy.exists(),
         "no output is written when the input is bad"
     );
+    // A scene without light renders, and says it will be black.
+    let dark = tmp("dark.pbrt");
+    std::fs::write(
+        &dark,
+        "LookAt 0 -3 1  0 0 0  0 0 1\nCamera \"perspective\"\nWorldBegin\nShape \"sphere\"\n",
+    )
+    .expect("scene");
+    let dark_out = tmp("dark.exr");
+    let o = fenestra(&[
+        "render",
+        dark.to_str().expect("utf-8"),
+        "--spp",
+        "1",
+        "--resolution",
+        "4x4",
+        "-q",
+        "-o",
+        dark_out.to_str().expect("utf-8"),
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success() && err.contains("has no light"), "{err}");
     // An image with a NaN pixel has no error to report.
     let mut img = Image::new(4, 4);
     img.pixels[5] = fenestra_core::Rgb::new(f32::NAN, 0.0, 0.0);

@@ -122,7 +122,7 @@ impl RenderStats {
         } else {
             format!("{}-{}", self.spp, self.spp_max)
         };
-        let prepare = if self.prepare_s > 0.0 {
+        let prepare = if self.prepare_s >= 0.005 {
             format!(" ({:.2} s preparing)", self.prepare_s)
         } else {
             String::new()

@@ -16,7 +16,7 @@ pub struct Dataset {
 impl Dataset {
     /// Checks that `values` holds n rows of d finite values.
     pub fn new(n: usize, d: usize, values: Vec<f32>) -> Result<Self, LpcaError> {
-        if values.len() != n * d {
+        if n.checked_mul(d) != Some(values.len()) {
             return Err(LpcaError::Input(format!(
                 "{} values do not make {n} rows of {d}",
                 values.len()

@@ -27,8 +27,44 @@ fn err(path: &Path, reason: impl std::fmt::Display) -> LpcaError {
     }
 }
 
+/// A header may claim any shape: before the NPY reader trusts it (for allocation, or a
+/// product that overflows), check that the file holds at least one byte per claimed value.
+fn check_header(path: &Path) -> Result<(), LpcaError> {
+    use std::io::Read;
+    let mut head = Vec::new();
+    std::fs::File::open(path)
+        .and_then(|f| f.take(65_536).read_to_end(&mut head))
+        .map_err(|e| err(path, e))?;
+    let text = String::from_utf8_lossy(&head);
+    let Some(shape) = text
+        .split_once("'shape':")
+        .and_then(|(_, rest)| rest.split_once('('))
+        .and_then(|(_, rest)| rest.split_once(')'))
+        .map(|(shape, _)| shape)
+    else {
+        // Not a header we can read: the NPY reader says what is wrong.
+        return Ok(());
+    };
+    let size = std::fs::metadata(path).map_err(|e| err(path, e))?.len();
+    let claimed = shape
+        .split(',')
+        .map(str::trim)
+        .filter(|s| !s.is_empty())
+        .try_fold(1u64, |acc, s| {
+            s.parse::<u64>().ok().and_then(|v| acc.checked_mul(v))
+        });
+    match claimed {
+        Some(values) if values <= size => Ok(()),
+        _ => Err(err(
+            path,
+            format!("the header claims the shape ({shape}), more values than the file's {size} bytes hold"),
+        )),
+    }
+}
+
 /// Reads a 2D NPY matrix of float32 or float64 (C or Fortran order) as rows.
 pub fn read_matrix(path: &Path) -> Result<Dataset, LpcaError> {
+    check_header(path)?;
     let file = std::fs::File::open(path).map_err(|e| err(path, e))?;
     let npy = npyz::NpyFile::new(BufReader::new(file))
         .map_err(|e| err(path, format!("not a NumPy .npy file: {e}")))?;

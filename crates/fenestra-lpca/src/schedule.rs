@@ -6,6 +6,10 @@ use crate::LpcaError;
 #[derive(Clone, Debug, PartialEq, Eq, serde::Serialize)]
 pub struct Schedule(pub Vec<(usize, usize)>);
 
+/// Iterations allowed at one dimension: far more than LPCA needs to settle, few enough
+/// that a typo cannot make a run that never ends.
+pub const MAX_ITERATIONS: usize = 10_000;
+
 impl Schedule {
     /// Parses "0:15,2:10,4:7" (parentheses allowed: "(0:15),(2:10)").
     pub fn parse(s: &str) -> Result<Schedule, LpcaError> {
@@ -25,6 +29,11 @@ impl Schedule {
             let iters: usize = iters.trim().parse().map_err(|_| bad(part))?;
             if iters == 0 {
                 return Err(bad(part));
+            }
+            if iters > MAX_ITERATIONS {
+                return Err(LpcaError::Input(format!(
+                    "schedule entry '{part}': at most {MAX_ITERATIONS} iterations per dimension (LPCA settles in tens)"
+                )));
             }
             out.push((dim, iters));
         }
@@ -53,5 +62,7 @@ mod tests {
         assert!(Schedule::parse("0:0").is_err());
         assert!(Schedule::parse("a:1").is_err());
         assert!(Schedule::parse("").is_err());
+        let e = Schedule::parse("0:99999999999").expect_err("endless");
+        assert!(e.to_string().contains("at most 10000 iterations"), "{e}");
     }
 }

@@ -140,6 +140,22 @@ fn npy_round_trip_and_bad_files() {
         .unwrap_err()
         .to_string()
         .contains("unsupported element type"));
+    // A header claiming more values than the file holds (its product overflows usize).
+    let dict = "{'descr': '<f4', 'fortran_order': False, 'shape': (4611686018427387904, 4), }";
+    let mut header = dict.to_string();
+    while (10 + header.len() + 1) % 64 != 0 {
+        header.push(' ');
+    }
+    header.push('\n');
+    let mut bytes = b"\x93NUMPY\x01\x00".to_vec();
+    bytes.extend((header.len() as u16).to_le_bytes());
+    bytes.extend(header.as_bytes());
+    bytes.extend([0u8; 64]);
+    std::fs::write(dir.join("huge.npy"), &bytes).expect("write");
+    let e = fenestra_lpca::io::read_matrix(&dir.join("huge.npy"))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("the header claims"), "{e}");
     std::fs::write(dir.join("junk.npy"), b"not numpy").expect("write");
     assert!(fenestra_lpca::io::read_matrix(&dir.join("junk.npy"))
         .unwrap_err()

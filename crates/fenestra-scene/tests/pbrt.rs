@@ -447,3 +447,36 @@ fn impossible_light_and_material_values_are_refused_or_clamped_as_pbrt_does() {
         Material::Diffuse { reflectance } if *reflectance == Rgb::new(1.0, 0.5, 1.0)
     )));
 }
+
+#[test]
+fn messages_say_what_was_wanted_and_empty_meshes_are_empty() {
+    let e = load("LookAt 0 -3 1  0 0 0  0 0 1\nCamera \"perspective\" \"float fov\" [ nan ]\n")
+        .err()
+        .unwrap_or_default();
+    assert!(
+        e.contains("test.pbrt:2:36: expected a number in parameter \"float fov\""),
+        "{e}"
+    );
+    // A PLY mesh without faces is an empty shape (it used to stop Embree with "error NONE").
+    let dir = scratch("empty-ply");
+    std::fs::write(
+        dir.join("empty.ply"),
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 0\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n",
+    )
+    .expect("ply");
+    std::fs::write(
+        dir.join("s.pbrt"),
+        "LookAt 0 -3 1  0 0 0  0 0 1\nCamera \"perspective\"\nWorldBegin\nShape \"plymesh\" \"string filename\" \"empty.ply\"\nShape \"sphere\"\n",
+    )
+    .expect("pbrt");
+    let l = pbrt::load(&dir.join("s.pbrt"), false).expect("load");
+    assert_eq!(l.files.len(), 2, "the scene and its PLY: {:?}", l.files);
+    for backend in Backend::available() {
+        let scene = Scene::build(l.desc.clone(), backend).expect("an empty mesh is fine");
+        assert_eq!(
+            shape_at(&scene, 0.5, 0.5),
+            Some(1),
+            "the sphere is hit ({backend:?})"
+        );
+    }
+}

@@ -17,7 +17,7 @@ pub use sampler::{
 pub use spot::SpotLight;
 
 use fenestra_core::{Rgb, Vec2, Vec3};
-use fenestra_scene::{LightDesc, Scene, SurfaceInteraction};
+use fenestra_scene::{Emission, LightDesc, Scene, SurfaceInteraction};
 
 /// Incident light sampled at a point.
 #[derive(Clone, Copy, Debug)]
@@ -204,7 +204,9 @@ impl Lights {
             .iter()
             .enumerate()
             .map(|(i, s)| {
-                s.emission.filter(|e| !e.radiance.is_black()).map(|e| {
+                // An emitter without area (an empty mesh) emits nothing.
+                let emits = |e: &Emission| !e.radiance.is_black() && s.area() > 0.0;
+                s.emission.filter(emits).map(|e| {
                     lights.push(Light::Area(AreaLight::new(scene, i, e)));
                     lights.len() - 1
                 })

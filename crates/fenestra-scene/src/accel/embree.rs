@@ -40,6 +40,10 @@ impl EmbreeScene {
             rtcSetSceneFlags(scene, RTCSceneFlags::ROBUST);
             let mut analytic = Vec::new();
             for (id, shape) in shapes.iter().enumerate() {
+                if shape.primitive_count() == 0 {
+                    // Nothing to hit (a PLY with no faces); Embree refuses empty buffers.
+                    continue;
+                }
                 let geom = match &shape.kind {
                     ShapeKind::Mesh(mesh) => {
                         let g = rtcNewGeometry(device, RTCGeometryType::TRIANGLE);

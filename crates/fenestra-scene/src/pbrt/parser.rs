@@ -239,12 +239,12 @@ fn param_list(c: &mut Cursor, directive: &str) -> Result<ParamList, PbrtError> {
                         _ => return c.expected("a value or ']'", &after),
                     }
                 }
-                collect(items, &loc, &after)?
+                collect(items, &loc, &decl, &after)?
             }
             Some(t @ (Tok::Number(_) | Tok::Str(_) | Tok::Word(_))) => {
                 let item = (t.clone(), c.here());
                 c.next();
-                collect(vec![item], &loc, &after)?
+                collect(vec![item], &loc, &decl, &after)?
             }
             _ => return c.expected("a value or '['", &after),
         };
@@ -253,8 +253,20 @@ fn param_list(c: &mut Cursor, directive: &str) -> Result<ParamList, PbrtError> {
     Ok(list)
 }
 
-/// One parameter's values, which must all be of one kind.
-fn collect(items: Vec<(Tok, Loc)>, loc: &Loc, after: &str) -> Result<Values, PbrtError> {
+/// One parameter's values, which must all be of one kind; `decl` ("float fov") says which.
+fn collect(
+    items: Vec<(Tok, Loc)>,
+    loc: &Loc,
+    decl: &str,
+    after: &str,
+) -> Result<Values, PbrtError> {
+    // A bare word is a bool; anywhere else the declared type says what was wanted (pbrt
+    // numbers are finite decimals: nan and inf are words).
+    let wanted = match decl.split_whitespace().next() {
+        Some("bool") => "true or false",
+        Some("string" | "texture") => "a quoted string",
+        _ => "a number",
+    };
     let bool_word = |t: &Tok| match t {
         Tok::Word(w) | Tok::Str(w) if w == "true" => Some(true),
         Tok::Word(w) | Tok::Str(w) if w == "false" => Some(false),
@@ -279,7 +291,7 @@ fn collect(items: Vec<(Tok, Loc)>, loc: &Loc, after: &str) -> Result<Values, Pbr
                 bool_word(t).ok_or_else(|| {
                     PbrtError::at(
                         l,
-                        format!("expected true or false in {after}, found {}", t.describe()),
+                        format!("expected {wanted} in {after}, found {}", t.describe()),
                     )
                 })
             })
