@@ -28,14 +28,20 @@ pub fn read(path: &Path) -> Result<ObjModel, MeshError> {
         path: path.to_path_buf(),
         reason,
     };
-    let (models, mtl) =
-        tobj::load_obj(path, &tobj::GPU_LOAD_OPTIONS).map_err(|e| err(e.to_string()))?;
+    let text = std::fs::read(path).map_err(|e| err(e.to_string()))?;
+    check_indices(&text).map_err(err)?;
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let (models, mtl) = tobj::load_obj_buf(
+        &mut std::io::Cursor::new(&text),
+        &tobj::GPU_LOAD_OPTIONS,
+        |mtl| tobj::load_mtl(dir.join(mtl)),
+    )
+    .map_err(|e| err(e.to_string()))?;
     let mut warnings = Vec::new();
     let mtl = mtl.unwrap_or_else(|e| {
         warnings.push(format!("{}: materials not loaded ({e})", path.display()));
         Vec::new()
     });
-    let dir = path.parent().unwrap_or(Path::new("."));
     let mut materials: Vec<(Material, Option<Rgb>)> =
         mtl.iter().map(|m| convert(m, dir, &mut warnings)).collect();
     let default = materials.len();
@@ -86,6 +92,50 @@ pub fn read(path: &Path) -> Result<ObjModel, MeshError> {
         materials,
         warnings,
     })
+}
+
+/// Every face or line index must name a vertex, texture coordinate or normal: tobj
+/// multiplies indices unchecked, which overflows for one far out of range (a relative index
+/// before the first vertex, found by cargo fuzz).
+fn check_indices(text: &[u8]) -> Result<(), String> {
+    const KINDS: [&str; 3] = ["vertex", "texture coordinate", "normal"];
+    let mut defined = [0i64; 3];
+    for (no, line) in text.split(|&b| b == b'\n').enumerate() {
+        let Ok(line) = std::str::from_utf8(line) else {
+            continue; // tobj refuses the file
+        };
+        let mut words = line.split_whitespace();
+        match words.next() {
+            Some("v") => defined[0] += 1,
+            Some("vt") => defined[1] += 1,
+            Some("vn") => defined[2] += 1,
+            Some("f" | "l") => {
+                for word in words {
+                    for (kind, index) in word.split('/').take(3).enumerate() {
+                        let Ok(i) = index.parse::<i64>() else {
+                            continue; // empty (v//vn) or not a number: tobj refuses it
+                        };
+                        // Relative indices count back from the last one defined so far.
+                        let names_one = if i < 0 {
+                            i.checked_neg().is_some_and(|back| back <= defined[kind])
+                        } else {
+                            i <= i64::from(u32::MAX)
+                        };
+                        if !names_one {
+                            return Err(format!(
+                                "line {}: index {i} names no {} ({} defined before it)",
+                                no + 1,
+                                KINDS[kind],
+                                defined[kind]
+                            ));
+                        }
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    Ok(())
 }
 
 fn convert(m: &tobj::Material, dir: &Path, warnings: &mut Vec<String>) -> (Material, Option<Rgb>) {
@@ -180,6 +230,29 @@ mod tests {
         ));
         std::fs::write(dir.join("bad.obj"), "v 0 0 0\nf 1 2 3\n").expect("obj");
         assert!(read(&dir.join("bad.obj")).is_err());
+        // Relative indices count back from the last vertex; one before the first is refused
+        // with its line (tobj's arithmetic overflowed on it).
+        let tri = "v 0 0 0\nv 1 0 0\nv 1 1 0\nvn 0 0 1\n";
+        std::fs::write(dir.join("rel.obj"), format!("{tri}f -3//1 -2//1 -1//-1\n")).expect("obj");
+        assert_eq!(read(&dir.join("rel.obj")).expect("read").meshes.len(), 1);
+        for (face, says) in [
+            (
+                "f 1//-800001 2//1 3//1",
+                "line 5: index -800001 names no normal (1 defined",
+            ),
+            ("f -4 -2 -1", "line 5: index -4 names no vertex (3 defined"),
+            (
+                "f 1/9223372036854775807 2 3",
+                "index 9223372036854775807 names no texture",
+            ),
+        ] {
+            std::fs::write(dir.join("far.obj"), format!("{tri}{face}\n")).expect("obj");
+            let e = read(&dir.join("far.obj"))
+                .err()
+                .expect("refused")
+                .to_string();
+            assert!(e.contains(says), "{face}: {e}");
+        }
         let _ = std::fs::remove_dir_all(&dir);
     }
 }
