@@ -1,10 +1,12 @@
-//! Linear RGB images with OpenEXR, Radiance HDR and PNG input, EXR output with metadata, and
-//! tone-mapped PNG output for looking. Files are written to a temporary name and renamed.
+//! Linear RGB images with OpenEXR, Radiance HDR, PFM, PNG, JPEG and TGA input, EXR output
+//! with metadata, and tone-mapped PNG output for looking. Files are written to a temporary name and renamed.
 
 use crate::fs::{write_atomically, WriteError};
 use crate::Rgb;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
+
+mod pfm;
 
 /// An image that cannot be read or written.
 #[derive(Debug, thiserror::Error)]
@@ -21,7 +23,7 @@ pub enum ImageError {
     #[error(transparent)]
     Write(#[from] WriteError),
     /// The file name's extension names no format fenestra reads or writes.
-    #[error("image {path}: unsupported extension (expected .exr, .hdr, .png or .jpg)")]
+    #[error("image {path}: unsupported extension (expected .exr, .hdr, .pfm, .png, .jpg or .tga)")]
     Extension {
         /// The file.
         path: PathBuf,
@@ -109,8 +111,8 @@ impl Image {
         )
     }
 
-    /// Reads an image as linear RGB: OpenEXR and Radiance HDR as stored, PNG/JPEG decoded
-    /// from sRGB.
+    /// Reads an image as linear RGB: OpenEXR, Radiance HDR and PFM as stored, PNG, JPEG and
+    /// TGA decoded from sRGB.
     pub fn read(path: &Path) -> Result<Image, ImageError> {
         let err = |reason: String| ImageError::Read {
             path: path.to_path_buf(),
@@ -128,7 +130,11 @@ impl Image {
                 .map_err(|e| err(e.to_string()))?;
                 Ok(img.layer_data.channel_data.pixels)
             }
-            Some("hdr" | "png" | "jpg" | "jpeg") => {
+            Some("pfm") => {
+                let bytes = std::fs::read(path).map_err(|e| err(e.to_string()))?;
+                pfm::decode(&bytes).map_err(err)
+            }
+            Some("hdr" | "png" | "jpg" | "jpeg" | "tga") => {
                 let decoded = image::ImageReader::open(path)
                     .map_err(|e| err(e.to_string()))?
                     .with_guessed_format()
@@ -338,6 +344,28 @@ mod tests {
         for v in [0.0, 0.002, 0.2, 0.9, 1.0] {
             assert!((srgb_to_linear(linear_to_srgb(v)) - v).abs() < 1e-5);
         }
+    }
+
+    #[test]
+    fn tga_jpeg_and_pfm_are_read_as_linear_rgb() {
+        // 8-bit formats hold sRGB: 188 is linear 0.5.
+        let srgb = image::RgbImage::from_fn(2, 1, |x, _| image::Rgb([188, 188 * x as u8, 0]));
+        for (name, format, tolerance) in [
+            ("t.tga", image::ImageFormat::Tga, 0.0),
+            ("t.jpg", image::ImageFormat::Jpeg, 0.05),
+        ] {
+            let path = tmpdir().join(name);
+            srgb.save_with_format(&path, format).expect("save");
+            let img = Image::read(&path).expect(name);
+            assert_eq!((img.width, img.height), (2, 1), "{name}");
+            assert!((img.get(0, 0).r - srgb_to_linear(188.0 / 255.0)).abs() <= tolerance);
+            assert!((img.get(1, 0).g - 0.5).abs() < 0.01 + tolerance, "{name}");
+        }
+        let path = tmpdir().join("t.pfm");
+        let mut pfm = b"PF\n1 1\n-1\n".to_vec();
+        pfm.extend([2.0f32, 0.5, 0.0].iter().flat_map(|f| f.to_le_bytes()));
+        std::fs::write(&path, pfm).expect("pfm");
+        assert_eq!(Image::read(&path).expect("pfm").pixels, [Rgb::new(2.0, 0.5, 0.0)]);
     }
 
     #[test]
