@@ -6,6 +6,7 @@
 pub mod accel;
 pub mod builtin;
 pub mod camera;
+mod compressed;
 pub mod interaction;
 pub mod light;
 pub mod material;

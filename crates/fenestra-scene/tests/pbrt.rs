@@ -216,6 +216,48 @@ fn materials_lights_and_render_settings() {
 }
 
 #[test]
+fn gzip_compressed_scene_files_and_meshes_are_read() {
+    use std::io::Write;
+    let gzip = |path: PathBuf, bytes: &[u8]| {
+        let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::fast());
+        gz.write_all(bytes).expect("gzip");
+        std::fs::write(path, gz.finish().expect("gzip")).expect("write");
+    };
+    let dir = scratch("gzip");
+    gzip(
+        dir.join("tri.ply.gz"),
+        b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
+          property float z\nelement face 1\nproperty list uchar int vertex_indices\n\
+          end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+    );
+    gzip(
+        dir.join("geometry.pbrt.gz"),
+        b"Shape \"plymesh\" \"string filename\" \"tri.ply.gz\"\n",
+    );
+    gzip(
+        dir.join("main.pbrt.gz"),
+        b"WorldBegin\nInclude \"geometry.pbrt.gz\"\nTranslate 0 0 2\nInclude \"geometry.pbrt.gz\"\n",
+    );
+    let s = pbrt::load(&dir.join("main.pbrt.gz"), true).expect("load");
+    assert_eq!(s.desc.shapes.len(), 2);
+    let ShapeKind::Mesh(m) = &s.desc.shapes[1].kind else {
+        panic!("mesh")
+    };
+    assert_eq!(m.positions[1], Vec3::new(1.0, 0.0, 2.0));
+    // A damaged file says that it is gzip and where it was included.
+    std::fs::write(dir.join("geometry.pbrt.gz"), [0x1f, 0x8b, 8, 0]).expect("damage");
+    let e = pbrt::load(&dir.join("main.pbrt.gz"), true)
+        .err()
+        .expect("damaged")
+        .to_string();
+    assert!(
+        e.contains("main.pbrt.gz:2:1: cannot read included file") && e.contains("gzip-compressed"),
+        "{e}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
 fn image_textures_and_environments() {
     let dir = scratch("images");
     let mut tex = fenestra_core::image::Image::new(2, 1);

@@ -10,7 +10,7 @@ use ply_rs_bw::ply::{
     PropertyType, ScalarType,
 };
 use ply_rs_bw::writer::Writer;
-use std::io::{BufReader, Write};
+use std::io::Write;
 use std::path::Path;
 
 #[derive(Default)]
@@ -121,13 +121,25 @@ pub fn read(path: &Path) -> Result<TriangleMesh, MeshError> {
         path: path.to_path_buf(),
         reason,
     };
-    let file = std::fs::File::open(path).map_err(|e| err(e.to_string()))?;
-    let mut reader = ply_rs_bw::parser::Reader::new(BufReader::with_capacity(1 << 20, file));
+    let file = crate::compressed::Source::open(path).map_err(|e| err(e.to_string()))?;
+    let most_bytes = file.most_bytes();
+    let mut reader = ply_rs_bw::parser::Reader::new(file);
     let vparser = Parser::<Vertex>::new();
     let fparser = Parser::<Face>::new();
     let header = vparser
         .read_header(&mut reader)
         .map_err(|e| err(format!("bad PLY header: {e}")))?;
+    // A header may claim any count; the reader would grow its arrays until memory ran out
+    // on elements that take no bytes (found by cargo fuzz).
+    for (name, def) in &header.elements {
+        let least = least_bytes(def, header.encoding);
+        if (def.count as u64).saturating_mul(least) > most_bytes {
+            return Err(err(format!(
+                "element '{name}' claims {} entries of at least {least} bytes, more than the file holds",
+                def.count
+            )));
+        }
+    }
     let mut vertices = None;
     let mut faces = None;
     let mut has = (false, false);
@@ -192,6 +204,25 @@ pub fn read(path: &Path) -> Result<TriangleMesh, MeshError> {
             .then(|| vertices.iter().map(|v| Vec2::from(v.uv)).collect()),
         indices,
     })
+}
+
+/// The fewest bytes one element of `def` takes: its scalars and list lengths (one byte each
+/// in ASCII), at least one.
+fn least_bytes(def: &ElementDef, encoding: Encoding) -> u64 {
+    let size = |t: &ScalarType| match (encoding, t) {
+        (Encoding::Ascii, _) | (_, ScalarType::Char | ScalarType::UChar) => 1,
+        (_, ScalarType::Short | ScalarType::UShort) => 2,
+        (_, ScalarType::Int | ScalarType::UInt | ScalarType::Float) => 4,
+        (_, ScalarType::Double) => 8,
+    };
+    let bytes: u64 = def
+        .properties
+        .values()
+        .map(|p| match &p.data_type {
+            PropertyType::Scalar(t) | PropertyType::List(t, _) => size(t),
+        })
+        .sum();
+    bytes.max(1)
 }
 
 /// Writes `mesh` as binary little-endian PLY (positions, normals and uv when present).
@@ -270,6 +301,17 @@ mod tests {
         assert_eq!(back.indices, m.indices);
         assert_eq!(back.uvs, m.uvs);
 
+        // gzip-compressed, whatever the name; a damaged one says it is gzip.
+        let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::fast());
+        gz.write_all(&std::fs::read(&bin).expect("bin")).expect("gzip");
+        let gz = gz.finish().expect("gzip");
+        let packed = dir.join("quad.ply.gz");
+        std::fs::write(&packed, &gz).expect("write");
+        assert_eq!(read(&packed).expect("read gzip").positions, m.positions);
+        std::fs::write(&packed, &gz[..gz.len() / 2]).expect("write");
+        let e = read(&packed).expect_err("truncated").to_string();
+        assert!(e.contains("gzip-compressed, but"), "{e}");
+
         std::fs::write(
             &ascii,
             "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n\
@@ -282,6 +324,26 @@ mod tests {
             e.contains("face 0 uses vertex 1 but the file has 1 vertices"),
             "{e}"
         );
+        // Counts the file cannot hold are refused before reading (an element without
+        // properties took no bytes and grew without end).
+        for (element, says) in [
+            (
+                "element junk 1000000000000\n",
+                "element 'junk' claims 1000000000000 entries of at least 1 bytes",
+            ),
+            (
+                "element vertex 100000\nproperty double x\n",
+                "element 'vertex' claims 100000 entries of at least 8 bytes",
+            ),
+        ] {
+            std::fs::write(
+                &ascii,
+                format!("ply\nformat binary_little_endian 1.0\n{element}end_header\n"),
+            )
+            .expect("write");
+            let e = read(&ascii).expect_err(says).to_string();
+            assert!(e.contains(says), "{e}");
+        }
         std::fs::write(&ascii, b"\x00\xffgarbage").expect("write");
         assert!(read(&ascii).is_err());
         let _ = std::fs::remove_dir_all(&dir);

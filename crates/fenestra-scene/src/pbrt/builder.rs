@@ -142,18 +142,13 @@ impl Builder {
             let line_start = good.iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1);
             let col = String::from_utf8_lossy(&good[line_start..]).chars().count() as u32 + 1;
             let bad = bytes[e.valid_up_to()];
-            let gz = if bytes.starts_with(&[0x1f, 0x8b]) {
-                " (gzip-compressed scene files are not supported: decompress it first)"
-            } else {
-                ""
-            };
             PbrtError {
                 loc: Loc {
                     file: file.clone(),
                     line,
                     col,
                 },
-                msg: format!("not a text file: invalid UTF-8 byte 0x{bad:02x}{gz}"),
+                msg: format!("not a text file: invalid UTF-8 byte 0x{bad:02x}"),
             }
         })?;
         let tokens = tokenize(text, &file)?;
@@ -204,15 +199,6 @@ impl Builder {
                 ),
             ));
         }
-        if path.extension().is_some_and(|e| e == "gz") {
-            return Err(PbrtError::at(
-                &d.loc,
-                format!(
-                    "{}: gzip-compressed scene files are not supported",
-                    path.display()
-                ),
-            ));
-        }
         let cannot = |e: String| {
             PbrtError::at(
                 &d.loc,
@@ -224,7 +210,7 @@ impl Builder {
         if !meta.is_file() {
             return Err(cannot("not a regular file".into()));
         }
-        let bytes = std::fs::read(&path).map_err(|e| cannot(e.to_string()))?;
+        let bytes = crate::compressed::read(&path).map_err(|e| cannot(e.to_string()))?;
         self.files.push(path.clone());
         self.depth += 1;
         let r = self.run_bytes(&bytes, &path, Some(&d.loc));

@@ -94,7 +94,7 @@ pub fn load(path: &Path, strict: bool) -> Result<Loaded, PbrtError> {
         line: 1,
         col: 1,
     };
-    let bytes = std::fs::read(path)
+    let bytes = crate::compressed::read(path)
         .map_err(|e| PbrtError::at(&start, format!("cannot read scene file: {e}")))?;
     load_bytes(&bytes, path, strict)
 }
