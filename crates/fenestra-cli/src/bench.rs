@@ -26,7 +26,8 @@ pub struct BenchArgs {
     report_only: bool,
 }
 
-pub fn run(args: BenchArgs) -> Result<()> {
+/// Runs the suite; `Ok(true)` when it was interrupted (the report holds what finished).
+pub fn run(args: BenchArgs) -> Result<bool> {
     let suite = Suite::load(&args.suite)?;
     let out = args
         .output
@@ -71,13 +72,19 @@ pub fn run(args: BenchArgs) -> Result<()> {
             references,
             records,
             failed: Vec::new(),
+            interrupted: false,
         }
     } else {
-        runner.run_all(|msg| eprintln!("{msg}"))?
+        let stop = crate::interrupt::on_ctrl_c("reporting the runs that finished");
+        runner.run_all(&stop, |msg| eprintln!("{msg}"))?
     };
     write_report(&out, &suite, &outcome.references, &outcome.records)?;
     print!("{}", markdown_table(&aggregate(&suite, &outcome.records)));
     println!("report: {}", out.join("index.html").display());
+    if outcome.interrupted {
+        eprintln!("interrupted; run the same command again to resume");
+        return Ok(true);
+    }
     if !outcome.failed.is_empty() {
         let ids: Vec<&str> = outcome.failed.iter().map(|f| f.0.as_str()).collect();
         bail!(
@@ -87,5 +94,5 @@ pub fn run(args: BenchArgs) -> Result<()> {
             ids.join(", ")
         );
     }
-    Ok(())
+    Ok(false)
 }

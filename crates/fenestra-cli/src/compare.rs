@@ -1,13 +1,14 @@
 //! `fenestra compare`: error of images against a reference, with efficiency from their
 //! sidecars.
 
-use anyhow::{Context, Result};
+use anyhow::{bail, Context, Result};
 use clap::Args;
-use fenestra_core::image::Image;
+use fenestra_core::image::{read_exr_metadata, Image};
 use fenestra_core::stats::RenderStats;
 use fenestra_eval::metrics;
 use serde_json::{json, Value};
-use std::path::PathBuf;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
 
 #[derive(Args)]
 pub struct CompareArgs {
@@ -22,11 +23,45 @@ pub struct CompareArgs {
     json: bool,
 }
 
+/// fenestra's EXR attributes of an image (none for other files and other renderers').
+fn attributes(path: &Path) -> BTreeMap<String, String> {
+    read_exr_metadata(path).unwrap_or_default()
+}
+
+/// Refuses an image of another scene than the reference's, and warns when both were
+/// rendered with one seed: they share random numbers, which understates the error.
+fn check_pair(
+    image: &Path,
+    reference: &Path,
+    ref_attributes: &BTreeMap<String, String>,
+) -> Result<()> {
+    let attributes = attributes(image);
+    let both = |key: &str| Some((attributes.get(key)?, ref_attributes.get(key)?));
+    if let Some((scene, ref_scene)) = both("fenestra:scene").filter(|(a, b)| a != b) {
+        bail!(
+            "{} is an image of scene '{scene}' and the reference {} of scene '{ref_scene}'",
+            image.display(),
+            reference.display()
+        );
+    }
+    if let Some((seed, _)) = both("fenestra:seed").filter(|(a, b)| a == b) {
+        eprintln!(
+            "warning: {} and the reference were both rendered with seed {seed}: they share \
+             random numbers, so the error is understated (`fenestra reference` renders in a \
+             seed space of its own)",
+            image.display()
+        );
+    }
+    Ok(())
+}
+
 pub fn run(args: CompareArgs) -> Result<()> {
     let reference = Image::read(&args.reference)?;
+    let ref_attributes = attributes(&args.reference);
     let mut rows = Vec::new();
     for path in &args.images {
         let img = Image::read(path)?;
+        check_pair(path, &args.reference, &ref_attributes)?;
         let m = metrics::compare(&img, &reference)
             .with_context(|| format!("comparing {}", path.display()))?;
         // The sidecar is optional: images from other renderers have none.

@@ -77,14 +77,17 @@ fn main() -> ExitCode {
     }
     let cli = Cli::parse();
     let result = match cli.command {
+        // The conventional exit status after SIGINT, once what was done is written.
         Command::Render(args) => match render::run(args) {
-            // The conventional exit status after SIGINT, once the partial image is written.
             Ok(true) => return ExitCode::from(130),
             other => other.map(|_| ()),
         },
         Command::Reference(args) => render::reference(args),
         Command::Compare(args) => compare::run(args),
-        Command::Bench(args) => bench::run(args),
+        Command::Bench(args) => match bench::run(args) {
+            Ok(true) => return ExitCode::from(130),
+            other => other.map(|_| ()),
+        },
         Command::Lpca(args) => lpca::run(args),
         Command::Btf(args) => lpca::btf(args),
         Command::Prt(args) => prt::run(args),

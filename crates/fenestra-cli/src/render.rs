@@ -9,7 +9,7 @@ use fenestra_core::image::Image;
 use fenestra_core::stats::ConvergencePoint;
 use fenestra_eval::hash::debug_hash;
 use fenestra_eval::metrics;
-use fenestra_eval::run::ReferenceSummary;
+use fenestra_eval::run::{ReferenceSummary, REFERENCE_SEED_OFFSET};
 use fenestra_render::control::PassHook;
 use fenestra_render::{
     output, Film, Integrator, RenderControl, RenderScene, RenderSettings, RenderStats,
@@ -28,6 +28,9 @@ pub struct RenderOpts {
     /// Samples per pixel (default: the scene's).
     #[arg(long)]
     spp: Option<u32>,
+    /// Random seed: a pixel's samples depend only on it, the pixel and the sample index.
+    /// `reference` renders in a seed space of its own (seed + 2^40), so that a reference
+    /// never shares random numbers with a render.
     #[arg(long, default_value_t = 0)]
     seed: u64,
     /// Worker threads (default: all cores).
@@ -366,6 +369,7 @@ pub fn run(args: RenderArgs) -> Result<bool> {
 /// Renders a reference into the cache, or finds it there; prints where it is.
 pub fn reference(args: ReferenceArgs) -> Result<()> {
     let mut job = args.opts.job(None)?;
+    job.settings.seed = job.settings.seed.wrapping_add(REFERENCE_SEED_OFFSET);
     let key = job.key(args.opts.bvh.unwrap_or_default());
     let path = args.cache.join(format!(
         "{}-{key:016x}.exr",

@@ -294,6 +294,70 @@ fn interrupt_render(signal: &str) {
     assert!(img.mean().r > 0.0);
 }
 
+/// Ctrl-C during a suite stops it after the current run, reports what finished, says how to
+/// resume and exits 130; running it again does the rest.
+#[test]
+#[cfg(unix)]
+fn an_interrupted_bench_says_how_to_resume() {
+    let dir = tmp("bench-interrupted");
+    let suite = dir.with_extension("toml");
+    std::fs::write(
+        &suite,
+        "name = \"stop\"\nresolution = [32, 32]\nrepetitions = 6\n[reference]\n\
+         integrator = \"af_hf\"\nspp = 16\n[[scene]]\nscene = \"builtin:box-hole\"\n\
+         max_depth = [3]\n[[technique]]\nlabel = \"AF\"\nintegrator = \"af_hf\"\n\
+         [[budget]]\nspp = 256\n",
+    )
+    .expect("suite");
+    let cache = dir.join("cache");
+    let args = [
+        "bench",
+        suite.to_str().expect("utf-8"),
+        "-o",
+        dir.to_str().expect("utf-8"),
+        "--cache",
+        cache.to_str().expect("utf-8"),
+    ];
+    let child = Command::new(env!("CARGO_BIN_EXE_fenestra"))
+        .args(args)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("spawn");
+    let results = dir.join("results.jsonl");
+    let lines = || {
+        std::fs::read_to_string(&results)
+            .map(|t| t.lines().count())
+            .unwrap_or(0)
+    };
+    let start = std::time::Instant::now();
+    while lines() == 0 && start.elapsed().as_secs() < 120 {
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+    // Only the bench process: its current run finishes, then it stops.
+    let kill = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .expect("kill");
+    assert!(kill.success());
+    let o = child.wait_with_output().expect("wait");
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(130), "{err}");
+    assert!(
+        err.contains("interrupted; run the same command again to resume"),
+        "{err}"
+    );
+    let finished = lines();
+    assert!((1..6).contains(&finished), "{finished} runs finished");
+    assert!(
+        dir.join("index.html").exists(),
+        "the report shows what finished"
+    );
+    let o = fenestra(&args);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(lines(), 6, "the rest is run, nothing twice");
+}
+
 #[test]
 fn reference_is_cached_by_content_and_settings() {
     let cache = tmp("refcache");
@@ -342,6 +406,12 @@ fn reference_is_cached_by_content_and_settings() {
         path.with_extension("var.exr").exists(),
         "references carry their variance"
     );
+    // References have a seed space of their own: --seed 0 renders with 2^40.
+    let meta = read_exr_metadata(&path).expect("metadata");
+    assert_eq!(
+        meta.get("fenestra:seed").map(String::as_str),
+        Some("1099511627776")
+    );
     // A damaged cached reference is not served: it is rendered again.
     let bytes = std::fs::read(&path).expect("exr");
     std::fs::write(&path, &bytes[..bytes.len() / 2]).expect("truncate");
@@ -377,6 +447,9 @@ fn compare_reports_metrics_and_efficiency() {
         "--json",
     ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    // Both were rendered with seed 0: they share random numbers, which is said.
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("both rendered with seed 0"), "{err}");
     let rows: serde_json::Value = serde_json::from_slice(&o.stdout).expect("json");
     let (noisy, exact) = (&rows[0], &rows[1]);
     for key in ["mse", "rel_mse", "mae", "mean", "time_s", "efficiency"] {
@@ -387,6 +460,36 @@ fn compare_reports_metrics_and_efficiency() {
     let e = noisy["efficiency"].as_f64().expect("eff");
     let expect = 1.0 / (noisy["mse"].as_f64().expect("mse") * noisy["time_s"].as_f64().expect("t"));
     assert!((e - expect).abs() <= 1e-9 * expect);
+    // Another seed: no warning. Another scene: refused.
+    assert!(render(&img, &["--seed", "5"]).status.success());
+    let o = fenestra(&[
+        "compare",
+        "--ref",
+        reference.to_str().expect("utf-8"),
+        img.to_str().expect("utf-8"),
+    ]);
+    assert!(o.status.success() && o.stderr.is_empty(), "{o:?}");
+    let cornell = tmp("cmp-cornell.exr");
+    let c = fenestra(&[
+        "render",
+        "builtin:cornell-box",
+        "--spp",
+        "1",
+        "--resolution",
+        "24x16",
+        "-o",
+        cornell.to_str().expect("utf-8"),
+    ]);
+    assert!(c.status.success());
+    assert_clear_error(
+        &[
+            "compare",
+            "--ref",
+            reference.to_str().expect("utf-8"),
+            cornell.to_str().expect("utf-8"),
+        ],
+        "is an image of scene 'cornell-box' and the reference",
+    );
 }
 
 #[test]

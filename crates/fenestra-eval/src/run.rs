@@ -13,6 +13,7 @@ use std::collections::HashMap;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::Command;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// A finished run: what was asked, what the renderer reported, and its error.
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -57,6 +58,8 @@ pub struct SuiteOutcome {
     pub records: Vec<RunRecord>,
     /// Runs that failed this time: (id, why).
     pub failed: Vec<(String, String)>,
+    /// The suite was stopped before its end (the records hold what finished).
+    pub interrupted: bool,
 }
 
 fn file_error(path: &Path, e: impl std::fmt::Display) -> EvalError {
@@ -66,7 +69,7 @@ fn file_error(path: &Path, e: impl std::fmt::Display) -> EvalError {
     }
 }
 
-/// Added to the suite's seed for its references.
+/// Added to the seed of `fenestra reference`: references live in a seed space of their own.
 pub const REFERENCE_SEED_OFFSET: u64 = 1 << 40;
 
 /// Runs a suite's references and renders as `fenestra` processes.
@@ -142,20 +145,19 @@ impl Runner<'_> {
         cmd
     }
 
-    /// Renders (or finds in the cache) the reference of (scene, depth). Its seed is far from
-    /// the runs' (seed, seed + 1, ...): a run sharing the reference's random numbers would
-    /// look converged.
+    /// Renders (or finds in the cache) the reference of (scene, depth). `fenestra reference`
+    /// renders it in a seed space of its own, far from the runs' (seed, seed + 1, ...): a run
+    /// sharing the reference's random numbers would look converged.
     pub fn reference(&self, scene: &str, depth: u32) -> Result<ReferenceRecord, EvalError> {
         let r = &self.suite.reference;
         let mut cmd = self.base("reference", scene, depth);
-        let seed = self.suite.seed.wrapping_add(REFERENCE_SEED_OFFSET);
         cmd.args([
             "--integrator",
             &r.integrator,
             "--spp",
             &r.spp.to_string(),
             "--seed",
-            &seed.to_string(),
+            &self.suite.seed.to_string(),
         ]);
         cmd.args(["--cache", &self.cache.display().to_string()]);
         cmd.args(&r.args);
@@ -208,7 +210,11 @@ impl Runner<'_> {
     }
 
     /// Runs everything not yet in results.jsonl; `report` hears about each step.
-    pub fn run_all(&self, mut report: impl FnMut(&str)) -> Result<SuiteOutcome, EvalError> {
+    pub fn run_all(
+        &self,
+        stop: &AtomicBool,
+        mut report: impl FnMut(&str),
+    ) -> Result<SuiteOutcome, EvalError> {
         let runs_dir = self.out.join("runs");
         std::fs::create_dir_all(&runs_dir).map_err(|e| file_error(&runs_dir, e))?;
         let results_path = self.out.join("results.jsonl");
@@ -221,19 +227,33 @@ impl Runner<'_> {
         let mut references: HashMap<(String, u32), ReferenceRecord> = HashMap::new();
         let runs = self.suite.runs();
         let mut failed = Vec::new();
+        let mut interrupted = false;
         // A recorded run counts when its settings (spec, with its key) and its reference (whose
         // key hashes the scene's content) are those of this suite now.
         let current = |r: &RunRecord, spec: &RunSpec, reference: &ReferenceRecord| {
             r.spec == *spec && r.reference_key == reference.key
         };
+        // A stop request reaches the child being run too (Ctrl-C signals the process group):
+        // what it left unfinished is neither recorded nor counted as failed.
         for (i, spec) in runs.iter().enumerate() {
+            if stop.load(Ordering::SeqCst) {
+                interrupted = true;
+                break;
+            }
             let key = (spec.scene.clone(), spec.max_depth);
             if !references.contains_key(&key) {
                 report(&format!(
                     "reference {} path length {}",
                     spec.scene, spec.max_depth
                 ));
-                references.insert(key.clone(), self.reference(&spec.scene, spec.max_depth)?);
+                match self.reference(&spec.scene, spec.max_depth) {
+                    Ok(r) => references.insert(key.clone(), r),
+                    Err(_) if stop.load(Ordering::SeqCst) => {
+                        interrupted = true;
+                        break;
+                    }
+                    Err(e) => return Err(e),
+                };
             }
             if done.iter().any(|r| current(r, spec, &references[&key])) {
                 continue;
@@ -248,6 +268,10 @@ impl Runner<'_> {
                         .map_err(|e| file_error(&results_path, e))?;
                     done.push(record);
                 }
+                Err(_) if stop.load(Ordering::SeqCst) => {
+                    interrupted = true;
+                    break;
+                }
                 Err(e) => {
                     report(&format!("run {} failed (the others go on): {e}", spec.id));
                     failed.push((spec.id.clone(), e.to_string()));
@@ -258,7 +282,7 @@ impl Runner<'_> {
         let records = runs
             .iter()
             .filter_map(|s| {
-                let reference = &references[&(s.scene.clone(), s.max_depth)];
+                let reference = references.get(&(s.scene.clone(), s.max_depth))?;
                 done.iter()
                     .rev()
                     .find(|r| current(r, s, reference))
@@ -271,6 +295,7 @@ impl Runner<'_> {
             references: refs,
             records,
             failed,
+            interrupted,
         })
     }
 }
