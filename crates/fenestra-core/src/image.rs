@@ -365,7 +365,10 @@ mod tests {
         let mut pfm = b"PF\n1 1\n-1\n".to_vec();
         pfm.extend([2.0f32, 0.5, 0.0].iter().flat_map(|f| f.to_le_bytes()));
         std::fs::write(&path, pfm).expect("pfm");
-        assert_eq!(Image::read(&path).expect("pfm").pixels, [Rgb::new(2.0, 0.5, 0.0)]);
+        assert_eq!(
+            Image::read(&path).expect("pfm").pixels,
+            [Rgb::new(2.0, 0.5, 0.0)]
+        );
     }
 
     #[test]

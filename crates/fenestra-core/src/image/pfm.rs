@@ -29,7 +29,11 @@ pub fn decode(bytes: &[u8]) -> Result<Image, String> {
     let channels = match token("type")? {
         "PF" => 3,
         "Pf" => 1,
-        other => return Err(format!("not a PFM file (starts with {other:?}, not PF or Pf)")),
+        other => {
+            return Err(format!(
+                "not a PFM file (starts with {other:?}, not PF or Pf)"
+            ))
+        }
     };
     let mut size = |what: &str| -> Result<usize, String> {
         let word = token(what)?;
@@ -56,7 +60,12 @@ pub fn decode(bytes: &[u8]) -> Result<Image, String> {
     }
     let magnitude = scale.abs();
     let value = |i: usize| {
-        let b = [rest[4 * i], rest[4 * i + 1], rest[4 * i + 2], rest[4 * i + 3]];
+        let b = [
+            rest[4 * i],
+            rest[4 * i + 1],
+            rest[4 * i + 2],
+            rest[4 * i + 3],
+        ];
         magnitude
             * if scale < 0.0 {
                 f32::from_le_bytes(b)
@@ -125,7 +134,10 @@ mod tests {
             (pfm("PF\n1 x\n-1\n", &one, true), "height \"x\""),
             (pfm("PF\n0 1\n-1\n", &one, true), "width \"0\""),
             (pfm("PF\n1 1\nnan\n", &one, true), "scale \"nan\""),
-            (pfm("PF\n2 1\n-1\n", &one, true), "need more than the 12 bytes"),
+            (
+                pfm("PF\n2 1\n-1\n", &one, true),
+                "need more than the 12 bytes",
+            ),
             (
                 pfm("PF\n4294967296 4294967296\n-1\n", &one, true),
                 "need more than",

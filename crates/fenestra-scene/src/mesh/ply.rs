@@ -303,7 +303,8 @@ mod tests {
 
         // gzip-compressed, whatever the name; a damaged one says it is gzip.
         let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::fast());
-        gz.write_all(&std::fs::read(&bin).expect("bin")).expect("gzip");
+        gz.write_all(&std::fs::read(&bin).expect("bin"))
+            .expect("gzip");
         let gz = gz.finish().expect("gzip");
         let packed = dir.join("quad.ply.gz");
         std::fs::write(&packed, &gz).expect("write");
