@@ -52,7 +52,7 @@ pub fn decode(bytes: &[u8]) -> Result<Image, String> {
     let bytes_needed = width
         .checked_mul(height)
         .and_then(|n| n.checked_mul(channels * 4));
-    if !bytes_needed.is_some_and(|n| n <= rest.len()) {
+    if bytes_needed.is_none_or(|n| n > rest.len()) {
         return Err(format!(
             "{width}x{height} pixels of {channels} floats need more than the {} bytes after the header",
             rest.len()
