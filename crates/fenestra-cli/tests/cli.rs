@@ -109,6 +109,15 @@ fn assert_clear_error(args: &[&str], expect: &str) {
     );
 }
 
+/// `fenestra compare --ref REFERENCE IMAGE` fails, saying `expect`.
+fn assert_compare_refused(reference: &Path, image: &Path, expect: &str) {
+    let path = |p: &Path| p.to_str().expect("utf-8").to_string();
+    assert_clear_error(
+        &["compare", "--ref", &path(reference), &path(image)],
+        expect,
+    );
+}
+
 #[test]
 fn bad_input_gets_a_clear_error() {
     let out = tmp("err.exr");
@@ -233,15 +242,7 @@ fn bad_input_gets_a_clear_error() {
     Image::new(4, 4)
         .write_exr(&good, &Default::default())
         .expect("write");
-    assert_clear_error(
-        &[
-            "compare",
-            "--ref",
-            good.to_str().expect("utf-8"),
-            nan.to_str().expect("utf-8"),
-        ],
-        "the image has 1 pixels that are not finite",
-    );
+    assert_compare_refused(&good, &nan, "the image has 1 pixels that are not finite");
 }
 
 #[cfg(unix)]
@@ -294,32 +295,39 @@ fn interrupt_render(signal: &str) {
     assert!(img.mean().r > 0.0);
 }
 
+/// A bench suite written beside a scratch report folder: (the folder, the suite file, the
+/// `fenestra bench` arguments that run it with a cache inside the folder).
+fn bench_suite(name: &str, toml: &str) -> (PathBuf, PathBuf, Vec<String>) {
+    let dir = tmp(name);
+    let suite = dir.with_extension("toml");
+    std::fs::write(&suite, toml).expect("suite");
+    let arg = |p: &Path| p.to_str().expect("utf-8").to_string();
+    let args = vec![
+        "bench".into(),
+        arg(&suite),
+        "-o".into(),
+        arg(&dir),
+        "--cache".into(),
+        arg(&dir.join("cache")),
+    ];
+    (dir, suite, args)
+}
+
 /// Ctrl-C during a suite stops it after the current run, reports what finished, says how to
 /// resume and exits 130; running it again does the rest.
 #[test]
 #[cfg(unix)]
 fn an_interrupted_bench_says_how_to_resume() {
-    let dir = tmp("bench-interrupted");
-    let suite = dir.with_extension("toml");
-    std::fs::write(
-        &suite,
+    let (dir, _, args) = bench_suite(
+        "bench-interrupted",
         "name = \"stop\"\nresolution = [32, 32]\nrepetitions = 6\n[reference]\n\
          integrator = \"af_hf\"\nspp = 16\n[[scene]]\nscene = \"builtin:box-hole\"\n\
          max_depth = [3]\n[[technique]]\nlabel = \"AF\"\nintegrator = \"af_hf\"\n\
          [[budget]]\nspp = 256\n",
-    )
-    .expect("suite");
-    let cache = dir.join("cache");
-    let args = [
-        "bench",
-        suite.to_str().expect("utf-8"),
-        "-o",
-        dir.to_str().expect("utf-8"),
-        "--cache",
-        cache.to_str().expect("utf-8"),
-    ];
+    );
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
     let child = Command::new(env!("CARGO_BIN_EXE_fenestra"))
-        .args(args)
+        .args(&args)
         .stdout(std::process::Stdio::piped())
         .stderr(std::process::Stdio::piped())
         .spawn()
@@ -481,23 +489,17 @@ fn compare_reports_metrics_and_efficiency() {
         cornell.to_str().expect("utf-8"),
     ]);
     assert!(c.status.success());
-    assert_clear_error(
-        &[
-            "compare",
-            "--ref",
-            reference.to_str().expect("utf-8"),
-            cornell.to_str().expect("utf-8"),
-        ],
+    assert_compare_refused(
+        &reference,
+        &cornell,
         "is an image of scene 'cornell-box' and the reference",
     );
 }
 
 #[test]
 fn bench_writes_a_report_and_resumes() {
-    let dir = tmp("bench");
-    let suite = dir.with_extension("toml");
-    std::fs::write(
-        &suite,
+    let (dir, suite, args) = bench_suite(
+        "bench",
         r#"name = "ci"
 resolution = [8, 8]
 repetitions = 2
@@ -516,17 +518,8 @@ integrator = "af_hf"
 [[budget]]
 spp = 8
 "#,
-    )
-    .expect("suite");
-    let cache = dir.join("cache");
-    let args = [
-        "bench",
-        suite.to_str().expect("utf-8"),
-        "-o",
-        dir.to_str().expect("utf-8"),
-        "--cache",
-        cache.to_str().expect("utf-8"),
-    ];
+    );
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
     let o = fenestra(&args);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     for f in [
