@@ -258,6 +258,62 @@ fn gzip_compressed_scene_files_and_meshes_are_read() {
 }
 
 #[test]
+fn float_textures_give_their_average_where_a_material_takes_a_constant() {
+    // The official crown scene stopped at "roughness has type texture but float is expected".
+    let dir = scratch("float-textures");
+    let mut grey = fenestra_core::image::Image::new(2, 1);
+    grey.set(0, 0, Rgb::splat(0.2));
+    grey.set(1, 0, Rgb::splat(0.4));
+    grey.write_exr(&dir.join("rough.exr"), &Default::default())
+        .expect("exr");
+    std::fs::write(
+        dir.join("s.pbrt"),
+        r#"WorldBegin
+        Texture "quarter" "float" "constant" "float value" 0.25
+        Texture "map" "float" "imagemap" "string filename" "rough.exr"
+        Texture "mixed" "float" "mix" "float amount" 0.5
+        Material "conductor" "texture roughness" "quarter"
+        Shape "sphere"
+        Material "conductor" "texture uroughness" "map" "float vroughness" 0.3
+        Shape "sphere"
+        Material "dielectric" "texture roughness" "mixed"
+        Shape "sphere""#,
+    )
+    .expect("scene");
+    let s = pbrt::load(&dir.join("s.pbrt"), false).expect("lenient");
+    let alphas = |m: &Material| match *m {
+        Material::RoughConductor {
+            alpha_x, alpha_y, ..
+        } => (alpha_x, alpha_y),
+        ref other => panic!("rough conductor expected, found {other:?}"),
+    };
+    let (ax, ay) = alphas(&s.desc.materials[0]);
+    assert!((ax - 0.5).abs() < 1e-6 && (ay - 0.5).abs() < 1e-6);
+    let (ax, ay) = alphas(&s.desc.materials[1]);
+    assert!((ax - 0.3f32.sqrt()).abs() < 1e-6 && (ay - 0.3f32.sqrt()).abs() < 1e-6);
+    assert!(matches!(s.desc.materials[2], Material::Dielectric { .. }));
+    let w: Vec<String> = s.warnings.iter().map(ToString::to_string).collect();
+    for says in [
+        "float texture for \"roughness\" (its average, 0.25, is used)",
+        "float texture for \"uroughness\" (its average, 0.3",
+        "float Texture class \"mix\"",
+        "float texture for \"roughness\" (the default is used)",
+    ] {
+        assert!(w.iter().any(|w| w.contains(says)), "{says}: {w:?}");
+    }
+    let e = pbrt::load(&dir.join("s.pbrt"), true)
+        .err()
+        .expect("strict refuses it")
+        .to_string();
+    assert!(e.contains("unsupported in strict mode"), "{e}");
+    let e = load("WorldBegin\nMaterial \"conductor\" \"texture roughness\" \"none\"")
+        .err()
+        .expect("unknown");
+    assert!(e.contains("2:1: unknown float texture \"none\""), "{e}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
 fn image_textures_and_environments() {
     let dir = scratch("images");
     let mut tex = fenestra_core::image::Image::new(2, 1);

@@ -63,6 +63,9 @@ pub(super) struct Builder {
     named_coords: HashMap<String, DMat4>,
     named_materials: HashMap<String, usize>,
     pub textures: HashMap<String, Tex>,
+    /// Float textures by name: their average (fenestra's materials take constants), or
+    /// `None` for a class fenestra does not read.
+    pub float_textures: HashMap<String, Option<f32>>,
     images: HashMap<PathBuf, Arc<Image>>,
     objects: HashMap<String, Vec<Shape>>,
     /// The instance being defined (ObjectBegin .. ObjectEnd) and its shapes.
@@ -94,6 +97,7 @@ impl Builder {
             named_coords: HashMap::new(),
             named_materials: HashMap::new(),
             textures: HashMap::new(),
+            float_textures: HashMap::new(),
             images: HashMap::new(),
             objects: HashMap::new(),
             object: None,
@@ -450,51 +454,23 @@ impl Builder {
         let (name, ty, class) = (d.str(0), d.str(1), d.str(2));
         let p = &d.params;
         if ty == "float" {
-            self.warn(format!("float Texture \"{class}\""), &d.loc);
-            p.use_all();
+            let value = match class {
+                "constant" => Some(p.float("value", 1.0)?),
+                "imagemap" => Some(self.image_texture(d, dir)?.average().average()),
+                _ => {
+                    self.warn(
+                        format!("float Texture class \"{class}\" (materials using it keep their defaults)"),
+                        &d.loc,
+                    );
+                    p.use_all();
+                    None
+                }
+            };
+            self.float_textures.insert(name.into(), value);
             return Ok(());
         }
         let tex = match class {
-            "imagemap" => {
-                let Some(file) = p.string("filename")? else {
-                    return Err(PbrtError::at(
-                        &d.loc,
-                        format!("imagemap texture \"{name}\" needs \"string filename\""),
-                    ));
-                };
-                let path = dir.join(&file);
-                let image = self.image(&path, &d.loc)?;
-                let mut t = ImageTexture::new(image, path.clone());
-                t.scale = p.float("scale", 1.0)?;
-                t.invert = p.bool("invert", false)?;
-                t.uscale = p.float("uscale", 1.0)?;
-                t.vscale = p.float("vscale", 1.0)?;
-                t.udelta = p.float("udelta", 0.0)?;
-                t.vdelta = p.float("vdelta", 0.0)?;
-                p.string("filter")?;
-                p.float("maxanisotropy", 8.0)?;
-                if let Some(w) = p.string("wrap")?.filter(|w| w != "repeat") {
-                    self.warn(
-                        format!("texture wrap mode \"{w}\" (textures repeat)"),
-                        &d.loc,
-                    );
-                }
-                if let Some(m) = p.string("mapping")?.filter(|m| m != "uv") {
-                    self.warn(
-                        format!("texture mapping \"{m}\" (uv mapping is used)"),
-                        &d.loc,
-                    );
-                }
-                if let Some(e) = p.string("encoding")? {
-                    let png = path
-                        .extension()
-                        .is_some_and(|x| x.eq_ignore_ascii_case("png"));
-                    if !(png && e == "sRGB" || !png && e == "linear") {
-                        self.warn(format!("texture encoding \"{e}\" (PNG is read as sRGB, EXR and HDR as linear)"), &d.loc);
-                    }
-                }
-                Tex::Image(Arc::new(t))
-            }
+            "imagemap" => Tex::Image(Arc::new(self.image_texture(d, dir)?)),
             "constant" => Tex::Rgb(match p.spectrum("value")? {
                 Some((s, loc)) => super::spectra::to_rgb(&s).map_err(|e| PbrtError::at(&loc, e))?,
                 None => Rgb::ONE,
@@ -510,6 +486,57 @@ impl Builder {
         };
         self.textures.insert(name.into(), tex);
         Ok(())
+    }
+
+    /// The image texture of an "imagemap" Texture directive.
+    fn image_texture(&mut self, d: &Directive, dir: &Path) -> Result<ImageTexture, PbrtError> {
+        let p = &d.params;
+        let Some(file) = p.string("filename")? else {
+            return Err(PbrtError::at(
+                &d.loc,
+                format!(
+                    "imagemap texture \"{}\" needs \"string filename\"",
+                    d.str(0)
+                ),
+            ));
+        };
+        let path = dir.join(&file);
+        let image = self.image(&path, &d.loc)?;
+        let mut t = ImageTexture::new(image, path.clone());
+        t.scale = p.float("scale", 1.0)?;
+        t.invert = p.bool("invert", false)?;
+        t.uscale = p.float("uscale", 1.0)?;
+        t.vscale = p.float("vscale", 1.0)?;
+        t.udelta = p.float("udelta", 0.0)?;
+        t.vdelta = p.float("vdelta", 0.0)?;
+        p.string("filter")?;
+        p.float("maxanisotropy", 8.0)?;
+        if let Some(w) = p.string("wrap")?.filter(|w| w != "repeat") {
+            self.warn(
+                format!("texture wrap mode \"{w}\" (textures repeat)"),
+                &d.loc,
+            );
+        }
+        if let Some(m) = p.string("mapping")?.filter(|m| m != "uv") {
+            self.warn(
+                format!("texture mapping \"{m}\" (uv mapping is used)"),
+                &d.loc,
+            );
+        }
+        if let Some(e) = p.string("encoding")? {
+            let eight_bit = path.extension().is_some_and(|x| {
+                ["png", "tga", "jpg", "jpeg"]
+                    .iter()
+                    .any(|k| x.eq_ignore_ascii_case(k))
+            });
+            if !(eight_bit && e == "sRGB" || !eight_bit && e == "linear") {
+                self.warn(
+                    format!("texture encoding \"{e}\" (PNG, TGA and JPEG are read as sRGB, EXR, HDR and PFM as linear)"),
+                    &d.loc,
+                );
+            }
+        }
+        Ok(t)
     }
 
     /// An image file, read once however many textures or lights use it.

@@ -63,7 +63,7 @@ impl Builder {
                 };
                 let eta = p.float("eta", 1.5)?;
                 let f0 = ((eta - 1.0) / (eta + 1.0)).powi(2);
-                let alpha = self.alpha(p)?.max(SMOOTH_ALPHA);
+                let alpha = self.alpha(p, loc)?.max(SMOOTH_ALPHA);
                 for unused in ["thickness", "g", "maxdepth", "nsamples"] {
                     let _ = p
                         .float(unused, 0.0)
@@ -95,7 +95,7 @@ impl Builder {
                         rgb("k", spectra::named("metal-Cu-k").unwrap_or(Rgb::ONE))?,
                     ),
                 };
-                let (au, av) = self.alphas(p)?;
+                let (au, av) = self.alphas(p, loc)?;
                 if au.max(av) < SMOOTH_ALPHA {
                     let f0 =
                         |e: f32, k: f32| ((e - 1.0).powi(2) + k * k) / ((e + 1.0).powi(2) + k * k);
@@ -125,7 +125,7 @@ impl Builder {
                 if ty == "thindielectric" {
                     Material::ThinDielectric { eta }
                 } else {
-                    let (au, av) = self.alphas(p)?;
+                    let (au, av) = self.alphas(p, loc)?;
                     if au.max(av) < SMOOTH_ALPHA {
                         Material::Dielectric { eta }
                     } else {
@@ -184,19 +184,48 @@ impl Builder {
         Ok(Reflectance::Value(r.map(|c| c.min(1.0))))
     }
 
+    /// A float parameter, which pbrt-v4 also lets name a float texture: fenestra's materials
+    /// take constants, so a texture gives its average (warned), one it cannot read nothing.
+    fn float_or_texture(
+        &mut self,
+        p: &ParamList,
+        name: &str,
+        loc: &Loc,
+    ) -> Result<Option<f32>, PbrtError> {
+        if p.type_of(name) != Some("texture") {
+            return p.opt_float(name);
+        }
+        let texture = p.texture(name)?.unwrap_or_default();
+        let value = match self.float_textures.get(&texture) {
+            Some(&value) => value,
+            None => {
+                return Err(PbrtError::at(
+                    loc,
+                    format!("unknown float texture \"{texture}\""),
+                ))
+            }
+        };
+        let what = match value {
+            Some(v) => format!("float texture for \"{name}\" (its average, {v}, is used)"),
+            None => format!("float texture for \"{name}\" (the default is used)"),
+        };
+        self.warn(what, loc);
+        Ok(value)
+    }
+
     /// GGX (alpha_u, alpha_v) from "roughness" or "uroughness"/"vroughness"; pbrt-v4 remaps
     /// roughness r to alpha = sqrt(r) unless "remaproughness" is false.
-    fn alphas(&mut self, p: &ParamList) -> Result<(f32, f32), PbrtError> {
-        let r = p.float("roughness", 0.0)?;
-        let u = p.opt_float("uroughness")?.unwrap_or(r);
-        let v = p.opt_float("vroughness")?.unwrap_or(r);
+    fn alphas(&mut self, p: &ParamList, loc: &Loc) -> Result<(f32, f32), PbrtError> {
+        let r = self.float_or_texture(p, "roughness", loc)?.unwrap_or(0.0);
+        let u = self.float_or_texture(p, "uroughness", loc)?.unwrap_or(r);
+        let v = self.float_or_texture(p, "vroughness", loc)?.unwrap_or(r);
         let remap = p.bool("remaproughness", true)?;
         let a = |x: f32| if remap { x.max(0.0).sqrt() } else { x };
         Ok((a(u), a(v)))
     }
 
-    fn alpha(&mut self, p: &ParamList) -> Result<f32, PbrtError> {
-        let (u, v) = self.alphas(p)?;
+    fn alpha(&mut self, p: &ParamList, loc: &Loc) -> Result<f32, PbrtError> {
+        let (u, v) = self.alphas(p, loc)?;
         Ok((u * v).sqrt())
     }
 }
