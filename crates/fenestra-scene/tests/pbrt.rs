@@ -314,6 +314,65 @@ fn float_textures_give_their_average_where_a_material_takes_a_constant() {
 }
 
 #[test]
+fn scale_and_mix_textures() {
+    // The killeroo scenes' floors are a "scale" of an image; both used to become grey.
+    let dir = scratch("scale-mix");
+    let mut tex = fenestra_core::image::Image::new(2, 1);
+    tex.set(0, 0, Rgb::new(1.0, 0.0, 0.0));
+    tex.set(1, 0, Rgb::new(0.0, 0.0, 1.0));
+    tex.write_exr(&dir.join("t.exr"), &Default::default())
+        .expect("tex");
+    std::fs::write(
+        dir.join("s.pbrt"),
+        r#"WorldBegin
+        Texture "grid" "spectrum" "imagemap" "string filename" "t.exr"
+        Texture "half" "spectrum" "scale" "texture tex" "grid" "float scale" 0.5
+        Texture "value" "spectrum" "scale" "rgb tex" [0.2 0.4 0.6] "float scale" 1.5
+        Texture "mixed" "spectrum" "mix" "rgb tex1" [1 0 0] "rgb tex2" [0 0 1] "float amount" 0.25
+        Texture "blend" "spectrum" "mix" "texture tex1" "grid" "rgb tex2" [0 1 0]
+        Material "diffuse" "texture reflectance" "half"
+        Shape "sphere"
+        Material "diffuse" "texture reflectance" "value"
+        Shape "sphere"
+        Material "diffuse" "texture reflectance" "mixed"
+        Shape "sphere"
+        Material "diffuse" "texture reflectance" "blend"
+        Shape "sphere""#,
+    )
+    .expect("scene");
+    let s = pbrt::load(&dir.join("s.pbrt"), false).expect("load");
+    let Material::TexturedDiffuse { texture } = &s.desc.materials[0] else {
+        panic!("a scaled image stays an image")
+    };
+    assert_eq!(
+        texture.lookup(Vec2::new(0.25, 0.5)),
+        Rgb::new(0.5, 0.0, 0.0)
+    );
+    let reflectance = |m: &Material| match *m {
+        Material::Diffuse { reflectance } => reflectance,
+        ref other => panic!("diffuse expected, found {other:?}"),
+    };
+    let close = |a: Rgb, b: Rgb| (a - b).map(f32::abs).max_component() < 1e-6;
+    assert!(close(
+        reflectance(&s.desc.materials[1]),
+        Rgb::new(0.3, 0.6, 0.9)
+    ));
+    assert!(close(
+        reflectance(&s.desc.materials[2]),
+        Rgb::new(0.75, 0.0, 0.25)
+    ));
+    // An image in a mix: the means are mixed, and said.
+    assert!(close(
+        reflectance(&s.desc.materials[3]),
+        Rgb::new(0.25, 0.5, 0.25)
+    ));
+    let w: Vec<String> = s.warnings.iter().map(ToString::to_string).collect();
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert!(w[0].contains("mix of image textures"), "{w:?}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
 fn image_textures_and_environments() {
     let dir = scratch("images");
     let mut tex = fenestra_core::image::Image::new(2, 1);

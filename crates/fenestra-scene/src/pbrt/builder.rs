@@ -2,6 +2,7 @@
 //! systems, materials, textures and object instances, turning directives into a `SceneDesc`.
 
 use super::lexer::tokenize;
+use super::params::ParamList;
 use super::parser::{parse, Directive};
 use super::{Loc, PbrtError, Warning};
 use crate::texture::ImageTexture;
@@ -471,6 +472,42 @@ impl Builder {
         }
         let tex = match class {
             "imagemap" => Tex::Image(Arc::new(self.image_texture(d, dir)?)),
+            "scale" => {
+                let tex = self.spectrum_input(p, "tex", &d.loc)?;
+                let scale = self.float_or_texture(p, "scale", &d.loc)?.unwrap_or(1.0);
+                match tex {
+                    Some(Tex::Rgb(c)) => Tex::Rgb(c * scale),
+                    // Exact: the image's own scale comes before its inversion.
+                    Some(Tex::Image(t)) if !t.invert => {
+                        let mut t = (*t).clone();
+                        t.scale *= scale;
+                        Tex::Image(Arc::new(t))
+                    }
+                    Some(Tex::Image(t)) => {
+                        self.warn(
+                            "scale of an inverted image texture (its mean is used)",
+                            &d.loc,
+                        );
+                        Tex::Rgb(t.average() * scale)
+                    }
+                    None => Tex::Rgb(Rgb::splat(scale)),
+                }
+            }
+            "mix" => {
+                let one = self.spectrum_input(p, "tex1", &d.loc)?;
+                let two = self.spectrum_input(p, "tex2", &d.loc)?;
+                let amount = self.float_or_texture(p, "amount", &d.loc)?.unwrap_or(0.5);
+                let value = |t: Option<Tex>, default: f32| match t {
+                    Some(Tex::Rgb(c)) => (c, false),
+                    Some(Tex::Image(t)) => (t.average(), true),
+                    None => (Rgb::splat(default), false),
+                };
+                let ((a, a_image), (b, b_image)) = (value(one, 0.0), value(two, 1.0));
+                if a_image || b_image {
+                    self.warn("mix of image textures (their means are mixed)", &d.loc);
+                }
+                Tex::Rgb(a * (1.0 - amount) + b * amount)
+            }
             "constant" => Tex::Rgb(match p.spectrum("value")? {
                 Some((s, loc)) => super::spectra::to_rgb(&s).map_err(|e| PbrtError::at(&loc, e))?,
                 None => Rgb::ONE,
@@ -486,6 +523,28 @@ impl Builder {
         };
         self.textures.insert(name.into(), tex);
         Ok(())
+    }
+
+    /// A spectrum texture's input `name`: a named texture or a value, if given.
+    fn spectrum_input(
+        &mut self,
+        p: &ParamList,
+        name: &str,
+        loc: &Loc,
+    ) -> Result<Option<Tex>, PbrtError> {
+        if p.type_of(name) == Some("texture") {
+            let texture = p.texture(name)?.unwrap_or_default();
+            return match self.textures.get(&texture) {
+                Some(t) => Ok(Some(t.clone())),
+                None => Err(PbrtError::at(loc, format!("unknown texture \"{texture}\""))),
+            };
+        }
+        Ok(match p.spectrum(name)? {
+            Some((s, l)) => Some(Tex::Rgb(
+                super::spectra::to_rgb(&s).map_err(|e| PbrtError::at(&l, e))?,
+            )),
+            None => None,
+        })
     }
 
     /// The image texture of an "imagemap" Texture directive.

@@ -186,7 +186,7 @@ impl Builder {
 
     /// A float parameter, which pbrt-v4 also lets name a float texture: fenestra's materials
     /// take constants, so a texture gives its average (warned), one it cannot read nothing.
-    fn float_or_texture(
+    pub(super) fn float_or_texture(
         &mut self,
         p: &ParamList,
         name: &str,
