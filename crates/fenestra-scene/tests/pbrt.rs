@@ -487,6 +487,44 @@ fn malformed_input_names_file_line_and_column() {
 }
 
 #[test]
+fn loop_subdivision_surfaces_are_built_as_pbrt_v4_levels_them() {
+    // The killeroo scenes' bodies; they used to be skipped.
+    let tetrahedron = r#""point3 P" [1 1 1  1 -1 -1  -1 1 -1  -1 -1 1]
+        "integer indices" [0 1 2  0 3 1  0 2 3  1 3 2]"#;
+    let s = load(&format!(
+        "WorldBegin\nShape \"loopsubdiv\" \"integer levels\" 2 {tetrahedron}\n\
+         Shape \"loopsubdiv\" {tetrahedron}"
+    ))
+    .expect("load");
+    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+    let triangles: Vec<usize> = s
+        .desc
+        .shapes
+        .iter()
+        .map(|shape| match &shape.kind {
+            ShapeKind::Mesh(m) => {
+                assert!(m.normals.is_some(), "smooth shading normals");
+                m.indices.len()
+            }
+            _ => panic!("mesh"),
+        })
+        .collect();
+    // Four times the triangles per level; pbrt-v4's default is 3 levels.
+    assert_eq!(triangles, [4 * 16, 4 * 64]);
+    for (levels, says) in [
+        ("-1", "\"levels\" must be 0 to 8, found -1"),
+        ("9", "\"levels\" must be 0 to 8, found 9"),
+    ] {
+        let e = load(&format!(
+            "WorldBegin\nShape \"loopsubdiv\" \"integer levels\" {levels} {tetrahedron}"
+        ))
+        .err()
+        .expect("refused");
+        assert!(e.contains(says), "{e}");
+    }
+}
+
+#[test]
 fn bilinear_patches_become_triangles() {
     let s = load(
         r#"WorldBegin

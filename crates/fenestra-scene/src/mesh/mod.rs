@@ -1,7 +1,8 @@
-//! Mesh files: PLY (ply-rs-bw) and OBJ with MTL (tobj).
+//! Mesh files: PLY (ply-rs-bw) and OBJ with MTL (tobj); Loop subdivision surfaces.
 
 pub mod obj;
 pub mod ply;
+pub mod subdivide;
 
 use crate::light::{Emission, EnvironmentDesc, LightDesc};
 use crate::{Camera, Material, RenderDefaults, SceneDesc, Shape, ShapeKind};

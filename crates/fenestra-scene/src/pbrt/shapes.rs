@@ -1,4 +1,4 @@
-//! pbrt-v4 shapes: trianglemesh, plymesh, bilinearmesh, sphere and disk, built in object space
+//! pbrt-v4 shapes: trianglemesh, plymesh, bilinearmesh, loopsubdiv, sphere and disk, built in object space
 //! and moved to the world by the current transform.
 
 use super::builder::Builder;
@@ -13,6 +13,12 @@ use std::path::Path;
 
 /// Bilinear patches that are not planar are split into this many quads per side.
 const BILINEAR_SPLITS: usize = 8;
+
+/// The most levels of Loop subdivision a scene may ask for.
+const MAX_SUBDIVISION_LEVELS: i64 = 8;
+
+/// The most triangles one subdivision surface may become (about 3 GB of mesh).
+const MAX_SUBDIVIDED_TRIANGLES: u64 = 1 << 27;
 
 impl Builder {
     pub(super) fn shape(&mut self, d: &Directive, dir: &Path) -> Result<(), PbrtError> {
@@ -57,6 +63,7 @@ impl Builder {
                 ShapeKind::Mesh(mesh)
             }
             "bilinearmesh" => ShapeKind::Mesh(bilinear_mesh(d)?),
+            "loopsubdiv" => ShapeKind::Mesh(loop_subdivision(d)?),
             "sphere" => {
                 let radius = p.float("radius", 1.0)?;
                 let (zmin, zmax, phimax) = (
@@ -216,6 +223,36 @@ fn triangle_mesh(d: &Directive) -> Result<TriangleMesh, PbrtError> {
         uvs,
         indices,
     })
+}
+
+/// pbrt-v4's "loopsubdiv": P and indices subdivided "levels" times (default 3, at most
+/// [`MAX_SUBDIVISION_LEVELS`]) and moved to the limit surface.
+fn loop_subdivision(d: &Directive) -> Result<TriangleMesh, PbrtError> {
+    let p = &d.params;
+    let Some(positions) = p.point3s("P")? else {
+        return Err(PbrtError::at(&d.loc, "loopsubdiv needs \"point3 P\""));
+    };
+    let indices = indices::<3>(d, positions.len(), "loopsubdiv")?;
+    let levels = p.int("levels", 3)?;
+    // Each level quadruples the triangles: 4^8 = 65,536 per control triangle.
+    if !(0..=MAX_SUBDIVISION_LEVELS).contains(&levels) {
+        return Err(PbrtError::at(
+            &d.loc,
+            format!("loopsubdiv \"levels\" must be 0 to {MAX_SUBDIVISION_LEVELS}, found {levels}"),
+        ));
+    }
+    let triangles = (indices.len() as u64) << (2 * levels);
+    if triangles > MAX_SUBDIVIDED_TRIANGLES {
+        return Err(PbrtError::at(
+            &d.loc,
+            format!("loopsubdiv would make {triangles} triangles (at most {MAX_SUBDIVIDED_TRIANGLES}): use fewer levels"),
+        ));
+    }
+    Ok(crate::mesh::subdivide::loop_subdivide(
+        &positions,
+        &indices,
+        levels as u32,
+    ))
 }
 
 /// Bilinear patches (p00, p10, p01, p11) as triangles: two per planar patch, a grid of
