@@ -314,6 +314,36 @@ fn float_textures_give_their_average_where_a_material_takes_a_constant() {
 }
 
 #[test]
+fn spectrum_files_are_read_relative_to_the_scene_file() {
+    // killeroo-gold stopped at "spectrum files are not supported".
+    let dir = scratch("spd");
+    std::fs::create_dir_all(dir.join("spds")).expect("dir");
+    std::fs::write(dir.join("spds/two.spd"), "# flat\n380 2\n780 2\n").expect("spd");
+    std::fs::write(
+        dir.join("s.pbrt"),
+        "WorldBegin\nMaterial \"conductor\" \"spectrum eta\" \"spds/two.spd\" \"spectrum k\" \"spds/two.spd\"\n\
+         Shape \"sphere\"\n",
+    )
+    .expect("scene");
+    let s = pbrt::load(&dir.join("s.pbrt"), true).expect("load");
+    // A smooth conductor of eta = k = 2: F0 = ((2-1)^2 + 4) / ((2+1)^2 + 4) = 5/13.
+    let Material::Mirror { reflectance } = s.desc.materials[0] else {
+        panic!("mirror")
+    };
+    assert!((reflectance.g - 5.0 / 13.0).abs() < 1e-3, "{reflectance:?}");
+    std::fs::remove_file(dir.join("spds/two.spd")).expect("remove");
+    let e = pbrt::load(&dir.join("s.pbrt"), true)
+        .err()
+        .expect("missing file")
+        .to_string();
+    assert!(
+        e.contains("s.pbrt:2:") && e.contains("cannot read spectrum file"),
+        "{e}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
 fn scale_and_mix_textures() {
     // The killeroo scenes' floors are a "scale" of an image; both used to become grey.
     let dir = scratch("scale-mix");

@@ -301,7 +301,8 @@ impl ParamList {
         }
     }
 
-    /// A spectrum parameter: `rgb`/`color`, `blackbody`, `spectrum` (pairs or a name).
+    /// A spectrum parameter: `rgb`/`color`, `blackbody`, `spectrum` (pairs, a name, or a
+    /// file of pairs relative to the scene file).
     pub fn spectrum(&self, name: &str) -> Result<Option<(SpectrumParam, Loc)>, PbrtError> {
         let Some(p) = self.find(name, &["rgb", "color", "blackbody", "spectrum", "float"])? else {
             return Ok(None);
@@ -320,7 +321,17 @@ impl ParamList {
                     .map(|c| (c[0] as f32, c[1] as f32))
                     .collect(),
             ),
-            (Values::Strs(s), "spectrum") if s.len() == 1 => SpectrumParam::Named(s[0].clone()),
+            (Values::Strs(s), "spectrum") if s.len() == 1 => {
+                if super::spectra::named(&s[0]).is_none() && s[0].contains('.') {
+                    let dir = p.loc.file.parent().unwrap_or(std::path::Path::new("."));
+                    match super::spectra::read_file(&dir.join(&s[0])) {
+                        Ok(pairs) => SpectrumParam::Sampled(pairs),
+                        Err(e) => return bad(format!("parameter \"{name}\": {e}")),
+                    }
+                } else {
+                    SpectrumParam::Named(s[0].clone())
+                }
+            }
             _ => {
                 return bad(format!(
                     "parameter \"{name}\" ({}) must hold one value",

@@ -130,14 +130,45 @@ pub fn to_rgb(s: &SpectrumParam) -> Result<Rgb, String> {
         SpectrumParam::Blackbody(t) => Err(format!("blackbody temperature {t} must be positive")),
         SpectrumParam::Sampled(p) if p.is_empty() => Err("empty spectrum".into()),
         SpectrumParam::Sampled(p) => Ok(sampled(p)),
-        SpectrumParam::Named(n) => named(n).ok_or_else(|| {
-            if n.contains('.') {
-                format!("spectrum files (\"{n}\") are not supported; use rgb or a named spectrum")
-            } else {
-                format!("unknown named spectrum \"{n}\" (known: {NAMES})")
-            }
-        }),
+        SpectrumParam::Named(n) => {
+            named(n).ok_or_else(|| format!("unknown named spectrum \"{n}\" (known: {NAMES})"))
+        }
     }
+}
+
+/// A spectrum file as pbrt-v4 reads it: (wavelength nm, value) pairs as whitespace-separated
+/// numbers, `#` starting a comment.
+pub fn read_file(path: &std::path::Path) -> Result<Vec<(f32, f32)>, String> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| format!("cannot read spectrum file {}: {e}", path.display()))?;
+    let mut numbers = Vec::new();
+    for (no, line) in text.lines().enumerate() {
+        let line = line.split('#').next().unwrap_or("");
+        for word in line.split_whitespace() {
+            match word.parse::<f32>() {
+                Ok(x) if x.is_finite() => numbers.push(x),
+                _ => {
+                    return Err(format!(
+                        "{}:{}: \"{word}\" is not a number",
+                        path.display(),
+                        no + 1
+                    ))
+                }
+            }
+        }
+    }
+    if numbers.is_empty() || numbers.len() % 2 != 0 {
+        return Err(format!(
+            "{}: {} numbers, not (wavelength, value) pairs",
+            path.display(),
+            numbers.len()
+        ));
+    }
+    let pairs: Vec<(f32, f32)> = numbers.chunks_exact(2).map(|c| (c[0], c[1])).collect();
+    if pairs.windows(2).any(|w| w[1].0 <= w[0].0) {
+        return Err(format!("{}: wavelengths must increase", path.display()));
+    }
+    Ok(pairs)
 }
 
 #[cfg(test)]
@@ -156,6 +187,40 @@ mod tests {
         // Near the equal-energy white point a blackbody is nearly neutral.
         let e = blackbody(5455.0);
         assert!((e.r / e.b - 1.0).abs() < 0.15, "{e:?}");
+    }
+
+    #[test]
+    fn spectrum_files_are_pairs_with_comments() {
+        let dir = std::env::temp_dir().join(format!("fenestra-spd-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("dir");
+        let file = |name: &str, text: &str| {
+            let path = dir.join(name);
+            std::fs::write(&path, text).expect("write");
+            path
+        };
+        let good = file(
+            "flat.spd",
+            "# measured\n400 0.5  500 0.5 # mid\n600 0.5\n700 0.5\n",
+        );
+        let pairs = read_file(&good).expect("pairs");
+        assert_eq!(pairs.len(), 4);
+        let grey = to_rgb(&SpectrumParam::Sampled(pairs)).expect("rgb");
+        assert!(
+            (grey.r - 0.5).abs() < 1e-4 && (grey.b - 0.5).abs() < 1e-4,
+            "{grey:?}"
+        );
+        for (text, says) in [
+            ("400 0.5 500", "3 numbers, not (wavelength, value) pairs"),
+            ("400 0.5\n500 x", ":2: \"x\" is not a number"),
+            ("500 0.5 400 0.5", "wavelengths must increase"),
+        ] {
+            let e = read_file(&file("bad.spd", text)).expect_err(says);
+            assert!(e.contains(says), "{e}");
+        }
+        assert!(read_file(&dir.join("missing.spd"))
+            .expect_err("missing")
+            .contains("cannot read spectrum file"));
+        let _ = std::fs::remove_dir_all(&dir);
     }
 
     #[test]
