@@ -1,5 +1,6 @@
 //! Perspective pinhole camera.
 
+use crate::filter::PixelFilter;
 use fenestra_core::{Ray, Vec2, Vec3};
 
 /// How the field of view is given.
@@ -24,6 +25,9 @@ pub struct Camera {
     /// pbrt's "screenwindow" (x0, x1, y0, y1) in units of tan(fov / 2); the default spans
     /// the field of view with the image's aspect ratio.
     pub screen_window: Option<[f32; 4]>,
+    /// The pixel filter camera samples are drawn from (a uniform point of the pixel unless
+    /// the scene says otherwise).
+    pub filter: PixelFilter,
 }
 
 /// A camera that cannot be built.
@@ -103,6 +107,7 @@ impl Camera {
             up,
             fov,
             screen_window,
+            filter: PixelFilter::default(),
         })
     }
 

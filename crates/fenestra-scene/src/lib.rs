@@ -7,6 +7,7 @@ pub mod accel;
 pub mod builtin;
 pub mod camera;
 mod compressed;
+pub mod filter;
 pub mod interaction;
 pub mod light;
 pub mod material;

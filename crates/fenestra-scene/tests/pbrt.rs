@@ -344,6 +344,51 @@ fn spectrum_files_are_read_relative_to_the_scene_file() {
 }
 
 #[test]
+fn pixel_filters_as_pbrt_v4_defines_them() {
+    use fenestra_scene::filter::{FilterShape, PixelFilter};
+    let filter = |header: &str| {
+        load(&format!("{header}\nWorldBegin\n")).map(|s| (s.desc.camera.filter, s.warnings.len()))
+    };
+    // No PixelFilter: pbrt-v4's gaussian of radius 1.5 and sigma 0.5.
+    assert_eq!(filter(""), Ok((PixelFilter::pbrt_default(), 0)));
+    assert_eq!(
+        filter("PixelFilter \"triangle\""),
+        Ok((PixelFilter::new(FilterShape::Triangle, Vec2::splat(2.0)), 0))
+    );
+    assert_eq!(
+        filter("PixelFilter \"gaussian\" \"float xradius\" 2 \"float sigma\" 0.7"),
+        Ok((
+            PixelFilter::new(FilterShape::Gaussian { sigma: 0.7 }, Vec2::new(2.0, 1.5)),
+            0
+        ))
+    );
+    assert_eq!(
+        filter("PixelFilter \"box\""),
+        Ok((PixelFilter::default(), 0))
+    );
+    // Negative lobes cannot be importance-sampled: said.
+    let (mitchell, warnings) = filter("PixelFilter \"mitchell\"").expect("mitchell");
+    assert!(matches!(mitchell.shape, FilterShape::Mitchell { .. }) && warnings == 1);
+    for (header, says) in [
+        (
+            "PixelFilter \"lanczos\"",
+            "1:1: unknown PixelFilter \"lanczos\"",
+        ),
+        (
+            "PixelFilter \"box\" \"float xradius\" 0",
+            "PixelFilter radii must be in (0, 64]",
+        ),
+        (
+            "PixelFilter \"gaussian\" \"float sigma\" -1",
+            "sigma and tau positive",
+        ),
+    ] {
+        let e = filter(header).expect_err(says);
+        assert!(e.contains(says), "{e}");
+    }
+}
+
+#[test]
 fn scale_and_mix_textures() {
     // The killeroo scenes' floors are a "scale" of an image; both used to become grey.
     let dir = scratch("scale-mix");

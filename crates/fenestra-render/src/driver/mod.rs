@@ -49,20 +49,20 @@ impl SampleContext {
         self.y as u64 * self.width as u64 + self.x as u64
     }
 
-    /// The camera ray through a uniformly chosen point of the pixel (box filter); the film
-    /// position takes the sample's first two dimensions.
+    /// The camera ray through a point drawn from the camera's pixel filter around the pixel
+    /// (a uniform point of the pixel by default); the film position takes the sample's first
+    /// two dimensions.
     pub fn camera_ray(
         &self,
         scene: &RenderScene,
         sampler: &mut Sampler,
         rays: &mut RayCounters,
     ) -> Ray {
-        let film_pos = Vec2::new(self.x as f32, self.y as f32) + sampler.next_2d();
+        let camera = &scene.scene.camera;
+        let film_pos =
+            Vec2::new(self.x as f32, self.y as f32) + camera.filter.sample(sampler.next_2d());
         rays.camera += 1;
-        scene
-            .scene
-            .camera
-            .generate_ray(film_pos, self.width, self.height)
+        camera.generate_ray(film_pos, self.width, self.height)
     }
 }
 

@@ -192,6 +192,8 @@ mod tests {
                     "{name}: camera"
                 );
             }
+            // The pixel filter too (pbrt-v4's default differs from fenestra's).
+            assert_eq!(a.camera.filter, b.camera.filter, "{name}: pixel filter");
         }
         let _ = std::fs::remove_dir_all(&dir);
     }

@@ -5,10 +5,11 @@ use super::lexer::tokenize;
 use super::params::ParamList;
 use super::parser::{parse, Directive};
 use super::{Loc, PbrtError, Warning};
+use crate::filter::{FilterShape, PixelFilter};
 use crate::texture::ImageTexture;
 use crate::{Camera, FieldOfView, LightDesc, Material, RenderDefaults, SceneDesc, Shape};
 use fenestra_core::image::Image;
-use fenestra_core::{Rgb, Vec3};
+use fenestra_core::{Rgb, Vec2, Vec3};
 use glam::{DMat4, DVec3};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -72,6 +73,8 @@ pub(super) struct Builder {
     /// The instance being defined (ObjectBegin .. ObjectEnd) and its shapes.
     pub object: Option<(String, Vec<Shape>)>,
     camera: Option<CameraSpec>,
+    /// The PixelFilter, if the scene names one (pbrt-v4's default is a gaussian).
+    filter: Option<PixelFilter>,
     defaults: RenderDefaults,
     warnings: Vec<Warning>,
     warning_index: HashMap<String, usize>,
@@ -103,6 +106,7 @@ impl Builder {
             objects: HashMap::new(),
             object: None,
             camera: None,
+            filter: None,
             defaults: RenderDefaults {
                 width: 1280,
                 height: 720,
@@ -301,15 +305,7 @@ impl Builder {
                 // pbrt counts bounces; fenestra counts segments from the camera (2 = direct).
                 self.defaults.max_depth = positive(depth + 1, "maxdepth", &d.loc)?;
             }
-            "PixelFilter" => {
-                if d.str(0) != "box" {
-                    self.warn(
-                        format!("PixelFilter \"{}\" (fenestra uses a box filter)", d.str(0)),
-                        &d.loc,
-                    );
-                }
-                d.params.use_all();
-            }
+            "PixelFilter" => self.filter = Some(self.pixel_filter(d)?),
             // The acceleration structure does not change the picture.
             "Accelerator" => d.params.use_all(),
             "ColorSpace" if d.str(0) == "srgb" => {}
@@ -525,6 +521,69 @@ impl Builder {
         Ok(())
     }
 
+    /// pbrt-v4's PixelFilter with its parameters and defaults.
+    fn pixel_filter(&mut self, d: &Directive) -> Result<PixelFilter, PbrtError> {
+        let p = &d.params;
+        let (shape, radius) = match d.str(0) {
+            "box" => (FilterShape::Box, 0.5),
+            "triangle" => (FilterShape::Triangle, 2.0),
+            "gaussian" => (
+                FilterShape::Gaussian {
+                    sigma: p.float("sigma", 0.5)?,
+                },
+                1.5,
+            ),
+            "mitchell" => (
+                FilterShape::Mitchell {
+                    b: p.float("B", 1.0 / 3.0)?,
+                    c: p.float("C", 1.0 / 3.0)?,
+                },
+                2.0,
+            ),
+            "sinc" => (
+                FilterShape::Sinc {
+                    tau: p.float("tau", 3.0)?,
+                },
+                4.0,
+            ),
+            other => {
+                return Err(PbrtError::at(
+                    &d.loc,
+                    format!(
+                    "unknown PixelFilter \"{other}\" (box, triangle, gaussian, mitchell or sinc)"
+                ),
+                ))
+            }
+        };
+        let radius = Vec2::new(p.float("xradius", radius)?, p.float("yradius", radius)?);
+        let sigma_ok = match shape {
+            FilterShape::Gaussian { sigma } => sigma > 0.0 && sigma.is_finite(),
+            FilterShape::Sinc { tau } => tau > 0.0 && tau.is_finite(),
+            _ => true,
+        };
+        if !(radius.x > 0.0 && radius.y > 0.0 && radius.is_finite() && radius.max_element() <= 64.0)
+            || !sigma_ok
+        {
+            return Err(PbrtError::at(
+                &d.loc,
+                "PixelFilter radii must be in (0, 64] pixels and sigma and tau positive",
+            ));
+        }
+        if matches!(
+            shape,
+            FilterShape::Mitchell { .. } | FilterShape::Sinc { .. }
+        ) {
+            self.warn(
+                format!(
+                    "PixelFilter \"{}\" negative lobes (its positive part is used)",
+                    d.str(0)
+                ),
+                &d.loc,
+            );
+        }
+        Ok(PixelFilter::new(shape, radius))
+    }
+
     /// A spectrum texture's input `name`: a named texture or a value, if given.
     fn spectrum_input(
         &mut self,
@@ -627,7 +686,7 @@ impl Builder {
                 "this begin has no matching AttributeEnd/TransformEnd/ObjectEnd before the end of the scene",
             ));
         }
-        let camera = match &self.camera {
+        let mut camera = match &self.camera {
             Some(c) => make_camera(c)?,
             None => Camera::from_basis(
                 Vec3::ZERO,
@@ -648,6 +707,7 @@ impl Builder {
                 )
             })?,
         };
+        camera.filter = self.filter.unwrap_or_else(PixelFilter::pbrt_default);
         let mut shapes = self.shapes;
         let mut materials = self.materials;
         // Drop pbrt's default material when nothing uses it.

@@ -3,6 +3,7 @@
 //! Phong and Ward materials use fenestra's own "phong"/"ward" types (pbrt-v4 has no
 //! equivalent); everything else is plain pbrt-v4.
 
+use crate::filter::{FilterShape, PixelFilter};
 use crate::light::{EnvironmentDesc, LightDesc};
 use crate::{Camera, FieldOfView, Material, SceneDesc, ShapeKind, TriangleMesh};
 use fenestra_core::fs::{write_atomically, write_text_atomically};
@@ -301,6 +302,26 @@ fn rgb(c: Rgb) -> String {
     join(&c.to_array())
 }
 
+/// The camera's pixel filter, always written: pbrt-v4's default (a gaussian) is not
+/// fenestra's (the pixel's box).
+fn pixel_filter(s: &mut String, f: &PixelFilter) {
+    let (name, extra) = match f.shape {
+        FilterShape::Box => ("box", String::new()),
+        FilterShape::Triangle => ("triangle", String::new()),
+        FilterShape::Gaussian { sigma } => ("gaussian", format!(" \"float sigma\" [ {sigma} ]")),
+        FilterShape::Mitchell { b, c } => (
+            "mitchell",
+            format!(" \"float B\" [ {b} ] \"float C\" [ {c} ]"),
+        ),
+        FilterShape::Sinc { tau } => ("sinc", format!(" \"float tau\" [ {tau} ]")),
+    };
+    let _ = writeln!(
+        s,
+        "PixelFilter \"{name}\" \"float xradius\" [ {} ] \"float yradius\" [ {} ]{extra}",
+        f.radius.x, f.radius.y
+    );
+}
+
 fn camera(s: &mut String, c: &Camera, width: u32, height: u32) {
     let (forward, right, up) = c.basis();
     let orthonormal_rh = (forward.length() - 1.0).abs() < 1e-5
@@ -338,6 +359,7 @@ fn camera(s: &mut String, c: &Camera, width: u32, height: u32) {
         }
         _ => None,
     };
+    pixel_filter(s, &c.filter);
     let _ = write!(s, "Camera \"perspective\" \"float fov\" [ {fov} ]");
     if let Some(w) = window {
         let _ = write!(s, " \"float screenwindow\" [ {} ]", join(&w));
