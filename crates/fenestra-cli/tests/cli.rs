@@ -460,7 +460,15 @@ fn compare_reports_metrics_and_efficiency() {
     assert!(err.contains("both rendered with seed 0"), "{err}");
     let rows: serde_json::Value = serde_json::from_slice(&o.stdout).expect("json");
     let (noisy, exact) = (&rows[0], &rows[1]);
-    for key in ["mse", "rel_mse", "mae", "mean", "time_s", "efficiency"] {
+    for key in [
+        "mse",
+        "rel_mse",
+        "mae",
+        "mean",
+        "region_error",
+        "time_s",
+        "efficiency",
+    ] {
         assert!(noisy[key].is_number(), "{key} missing in {noisy}");
     }
     assert!(noisy["mse"].as_f64().expect("mse") > 0.0);

@@ -17,6 +17,33 @@ pub struct Metrics {
     pub mean: f64,
     /// Mean of the reference.
     pub ref_mean: f64,
+    /// Error of the means of an 8 x 8 grid of regions: the sum over regions and channels of
+    /// |image mean - reference mean| over the sum of the reference means. Unlike the MSE it
+    /// hardly moves with noise, so it tells a different picture from a noisy one.
+    #[serde(default)]
+    pub region_error: f64,
+}
+
+/// Regions per side of [`Metrics::region_error`]'s grid.
+pub const REGIONS: usize = 8;
+
+/// The mean of each channel over each region of a `REGIONS` x `REGIONS` grid.
+fn region_means(img: &Image) -> Vec<[f64; 3]> {
+    let mut sums = vec![([0.0f64; 3], 0usize); REGIONS * REGIONS];
+    for y in 0..img.height {
+        let ry = y * REGIONS / img.height.max(1);
+        for x in 0..img.width {
+            let rx = x * REGIONS / img.width.max(1);
+            let (sum, n) = &mut sums[ry * REGIONS + rx];
+            for (s, v) in sum.iter_mut().zip(img.get(x, y).to_array()) {
+                *s += v as f64;
+            }
+            *n += 1;
+        }
+    }
+    sums.into_iter()
+        .map(|(s, n)| s.map(|v| v / n.max(1) as f64))
+        .collect()
 }
 
 /// Compares `img` with `reference` channel by channel.
@@ -48,12 +75,24 @@ pub fn compare(img: &Image, reference: &Image) -> Result<Metrics, EvalError> {
         }
     }
     let n = (img.pixels.len() * 3).max(1) as f64;
+    let (mut region_diff, mut region_ref) = (0.0f64, 0.0f64);
+    for (m, r) in region_means(img).iter().zip(region_means(reference)) {
+        for (m, r) in m.iter().zip(r) {
+            region_diff += (m - r).abs();
+            region_ref += r.abs();
+        }
+    }
     Ok(Metrics {
         mse: se / n,
         rel_mse: rel / n,
         mae: ae / n,
         mean: sum / n,
         ref_mean: ref_sum / n,
+        region_error: if region_ref > 0.0 {
+            region_diff / region_ref
+        } else {
+            region_diff
+        },
     })
 }
 
@@ -89,5 +128,26 @@ mod tests {
             compare(&Image::new(1, 1), &r),
             Err(EvalError::SizeMismatch(1, 1, 2, 1))
         ));
+    }
+
+    #[test]
+    fn region_error_sees_a_shifted_region_and_not_noise_within_one() {
+        // A 16 x 16 reference of 1, so each of the 8 x 8 regions is 2 x 2 pixels.
+        let mut reference = Image::new(16, 16);
+        reference.pixels.fill(Rgb::ONE);
+        // Noise that cancels within every region: no regional error, but an MSE.
+        let mut noisy = reference.clone();
+        for (i, p) in noisy.pixels.iter_mut().enumerate() {
+            *p = Rgb::splat(if (i + i / 16) % 2 == 0 { 1.5 } else { 0.5 });
+        }
+        let m = compare(&noisy, &reference).expect("same size");
+        assert!(m.region_error < 1e-12 && m.mse > 0.2, "{m:?}");
+        // One region twice as bright: 1 of 64 regions off by 100%.
+        let mut shifted = reference.clone();
+        for (x, y) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+            shifted.set(x, y, Rgb::splat(2.0));
+        }
+        let m = compare(&shifted, &reference).expect("same size");
+        assert!((m.region_error - 1.0 / 64.0).abs() < 1e-12, "{m:?}");
     }
 }
