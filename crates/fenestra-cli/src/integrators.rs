@@ -138,17 +138,17 @@ pub fn registry<'a>() -> Registry<Config<'a>> {
     Registry::new()
         .register(
             "hf",
-            "BSDF sampling only (hemispherical formulation)",
+            "plain path tracing: follows the surfaces' reflection only (seed 000's HF)",
             |c: &Config| Ok(Box::new(hf(c.path))),
         )
         .register(
             "af_hf",
-            "next-event estimation on emitters and BSDF sampling combined by MIS",
+            "path tracing that also aims at the lights, the usual default (seed 000's AF_HF)",
             |c: &Config| Ok(Box::new(af_hf(c.path, c.args.lights.light_selection))),
         )
         .register(
             "lp_hf",
-            "light-portal sampling and BSDF sampling combined by MIS (needs portals)",
+            "path tracing that aims through windows and openings (light portals; seed 000's LP_HF)",
             |c: &Config| {
                 let options = c.args.portals.options(c.args.lights.light_selection)?;
                 Ok(Box::new(fenestra_portals::lp_hf(c.path, options)?))

@@ -17,51 +17,51 @@ use crate::{Material, SceneDesc, Shape, ShapeKind, TriangleMesh};
 pub const SCENES: &[(&str, &str)] = &[
     (
         "box-hole",
-        "seed 000 §5.2: 1 m diffuse box, 0.25 m ceiling hole, 25 W emitter above",
+        "1 m white box lit through one ceiling hole by a 25 W panel above it (seed 000 §5.2)",
     ),
     (
         "box-4holes",
-        "seed 000 §5.2: the box with four 0.125 m ceiling holes near the corners",
+        "the same box with four small ceiling holes near the corners (seed 000 §5.2)",
     ),
     (
         "box-hole-sky",
-        "the box-hole box lit by a constant sky of radiance 1 instead of the emitter",
+        "the one-hole box lit by a uniform sky instead of the panel",
     ),
     (
         "box-blob",
-        "box-hole with a bumpy tessellated sphere of about 1M triangles (ray throughput)",
+        "the one-hole box with a bumpy 1M-triangle ball inside (ray throughput)",
     ),
     (
         "hall-windows",
-        "seed 000 §5.3: long hall, 19 glass windows lit from outside on one side, 7 unlit",
+        "long hall lit through 19 glass windows on one side (seed 000 §5.3, Sibenik-like)",
     ),
     (
         "tunnel",
-        "seed 000 Fig. 5.13: a room lit only through a tunnel, a sphere partly blocking the emitter",
+        "room lit only through a tunnel from a closed lamp chamber (seed 000 Fig. 5.13)",
     ),
     (
         "cornell-box",
-        "the Cornell box, published geometry, quad light",
+        "the Cornell box with its published geometry and ceiling light",
     ),
     (
         "teapot-box",
-        "seed 003 §2.6: Utah teapot, anisotropic Ward (0.18, 0.09), checkered diffuse box, area light",
+        "brushed-metal Utah teapot (anisotropic Ward) in a box with a checkered wall (seed 003 §2.6)",
     ),
     (
         "kitchen-72",
-        "seed 004 Table 4.1: kitchen, 72 area lights, cabinets as occluders, glossy floor",
+        "kitchen with 72 ceiling downlights, cabinets and a glossy floor (seed 004 Table 4.1)",
     ),
     (
         "kitchen-72-env",
-        "kitchen-72 plus a sky seen through windows behind the camera",
+        "the kitchen with daylight through windows behind the camera (seed 004 Kitchen 2)",
     ),
     (
         "ponderosa-138",
-        "seed 004 Table 4.1: 24-room house, 138 point lights (94% occluded from a typical point), sky",
+        "24-room house with 138 lamps, most hidden behind walls, and a sky (seed 004 Table 4.1)",
     ),
     (
         "terminal-832",
-        "seed 004 Table 4.1: grand hall, 613 point + 219 spherical area lights, over 1M triangles",
+        "Grand Central-like concourse, 832 lights, 1.1M triangles (seed 004 Table 4.1)",
     ),
 ];
 
