@@ -28,13 +28,14 @@ fn fan(poly: &[u32], out: &mut Vec<[u32; 3]>) {
 }
 
 /// A mesh file (OBJ or PLY) staged for viewing: Y up as most such files are, a camera in
-/// front of its bounding sphere, lit by its emissive materials or, without any, by a white
-/// sky. Returns the scene and loading warnings.
+/// front of its bounding sphere, lit by its emissive materials or, without any, as in a
+/// studio: a grey floor under it, a key light from above front left that casts its shadow
+/// there, and a dim sky as fill. Returns the scene and loading warnings.
 pub fn viewer_scene(path: &Path) -> Result<(SceneDesc, Vec<String>), MeshError> {
     let ext = path
         .extension()
         .map(|e| e.to_string_lossy().to_ascii_lowercase());
-    let (shapes, materials, warnings) = match ext.as_deref() {
+    let (mut shapes, mut materials, warnings) = match ext.as_deref() {
         Some("obj") => {
             let model = obj::read(path)?;
             let shapes: Vec<Shape> = model
@@ -88,7 +89,23 @@ pub fn viewer_scene(path: &Path) -> Result<(SceneDesc, Vec<String>), MeshError> 
     })?;
     let mut lights = Vec::new();
     if shapes.iter().all(|s| s.emission.is_none()) {
-        lights.push(LightDesc::Environment(EnvironmentDesc::Constant(Rgb::ONE)));
+        // A floor far wider than the mesh, just under it.
+        shapes.push(Shape::new(
+            ShapeKind::Disk {
+                center: Vec3::new(centre.x, lo.y, centre.z),
+                normal: Vec3::Y,
+                radius: 20.0 * radius,
+            },
+            materials.len(),
+        ));
+        materials.push(Material::diffuse(0.5));
+        lights.push(LightDesc::Distant {
+            direction: -Vec3::new(-0.5, 1.0, 0.6).normalize(),
+            irradiance: Rgb::splat(3.0),
+        });
+        lights.push(LightDesc::Environment(EnvironmentDesc::Constant(
+            Rgb::splat(0.25),
+        )));
     }
     let name = path
         .file_stem()
@@ -110,4 +127,39 @@ pub fn viewer_scene(path: &Path) -> Result<(SceneDesc, Vec<String>), MeshError> 
         },
         warnings,
     ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_bare_mesh_gets_a_floor_a_key_light_and_a_sky_and_a_lit_one_keeps_its_lights() {
+        let dir = std::env::temp_dir().join(format!("fenestra-viewer-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("dir");
+        let bare = dir.join("bare.obj");
+        std::fs::write(&bare, "v 0 1 0\nv 1 1 0\nv 0 2 0\nf 1 2 3\n").expect("obj");
+        let (desc, _) = viewer_scene(&bare).expect("bare");
+        assert_eq!(desc.shapes.len(), 2);
+        let ShapeKind::Disk { center, normal, .. } = desc.shapes[1].kind else {
+            panic!("a floor disk")
+        };
+        // Under the mesh (its lowest point is at y = 1), facing up.
+        assert_eq!((center.y, normal), (1.0, Vec3::Y));
+        assert!(matches!(
+            desc.lights[..],
+            [LightDesc::Distant { direction, .. }, LightDesc::Environment(_)] if direction.y < 0.0
+        ));
+        std::fs::write(dir.join("lamp.mtl"), "newmtl lamp\nKe 4 4 4\n").expect("mtl");
+        let lit = dir.join("lit.obj");
+        std::fs::write(
+            &lit,
+            "mtllib lamp.mtl\nv 0 1 0\nv 1 1 0\nv 0 2 0\nusemtl lamp\nf 1 2 3\n",
+        )
+        .expect("obj");
+        let (desc, _) = viewer_scene(&lit).expect("lit");
+        assert_eq!(desc.shapes.len(), 1);
+        assert!(desc.lights.is_empty());
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 }
