@@ -228,7 +228,7 @@ fn diffuse_phong_and_ward_match_their_pdfs() {
 }
 
 #[test]
-fn ggx_conductor_and_dielectric_match_their_pdfs() {
+fn ggx_conductor_dielectric_and_coated_diffuse_match_their_pdfs() {
     let gold = |ax, ay| Material::RoughConductor {
         eta: Rgb::new(0.143, 0.374, 1.442),
         k: Rgb::new(3.983, 2.385, 1.603),
@@ -250,6 +250,22 @@ fn ggx_conductor_and_dielectric_match_their_pdfs() {
             Material::RoughDielectric {
                 eta: 1.33,
                 alpha: 0.1,
+            },
+        ),
+        (
+            "coated diffuse 0.3",
+            Material::CoatedDiffuse {
+                reflectance: Rgb::new(0.6, 0.3, 0.1),
+                eta: 1.5,
+                alpha: 0.3,
+            },
+        ),
+        (
+            "coated diffuse 0.05, dark base",
+            Material::CoatedDiffuse {
+                reflectance: Rgb::splat(0.05),
+                eta: 1.5,
+                alpha: 0.05,
             },
         ),
     ];

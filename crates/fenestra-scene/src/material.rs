@@ -71,6 +71,15 @@ pub enum Material {
         /// GGX roughness.
         alpha: f32,
     },
+    /// pbrt-v4's coateddiffuse: a Lambertian base under a GGX dielectric interface.
+    CoatedDiffuse {
+        /// The base's albedo.
+        reflectance: Rgb,
+        /// The interface's index of refraction.
+        eta: f32,
+        /// The interface's GGX roughness.
+        alpha: f32,
+    },
 }
 
 impl Material {
@@ -96,6 +105,19 @@ impl Material {
                 if !(eta.is_finite() && *eta > 0.0) =>
             {
                 Some(format!("index of refraction {eta} must be positive"))
+            }
+            Material::CoatedDiffuse {
+                reflectance,
+                eta,
+                alpha,
+            } => {
+                if !rgb_ok(reflectance) || reflectance.max_component() > 1.0 {
+                    Some(format!("reflectance {reflectance:?} must lie in [0, 1]"))
+                } else if !(eta.is_finite() && *eta > 0.0) {
+                    Some(format!("index of refraction {eta} must be positive"))
+                } else {
+                    (!alpha_ok(*alpha)).then(|| format!("roughness {alpha} must be positive"))
+                }
             }
             Material::RoughDielectric { alpha, .. } if !alpha_ok(*alpha) => {
                 Some(format!("roughness {alpha} must be positive"))

@@ -206,9 +206,7 @@ fn materials_lights_and_render_settings() {
     );
     assert!(matches!(mats[2], Material::Dielectric { eta } if (eta - 1.5168).abs() < 1e-4));
     assert!(matches!(mats[3], Material::ThinDielectric { eta } if *eta == 1.5));
-    assert!(
-        matches!(mats[4], Material::Phong { specular, .. } if (specular.r - 0.04).abs() < 1e-6)
-    );
+    assert!(matches!(mats[4], Material::CoatedDiffuse { eta, .. } if *eta == 1.5));
     let e = d.shapes[5].emission.expect("emitter");
     assert!(e.two_sided);
     let power = e.radiance.luminance() * std::f32::consts::PI * 2.0 * d.shapes[5].area();

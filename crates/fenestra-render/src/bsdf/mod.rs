@@ -2,6 +2,7 @@
 //! two-sided: they reflect on whichever side `wo` lies. `sample` returns the weight
 //! f * |cos| / pdf that a path's throughput is multiplied by.
 
+mod coated;
 mod conductor;
 mod dielectric;
 mod diffuse;
@@ -12,6 +13,7 @@ mod phong;
 mod rough_dielectric;
 mod ward;
 
+pub use coated::CoatedDiffuse;
 pub use conductor::RoughConductor;
 pub use dielectric::{SmoothDielectric, ThinDielectric};
 pub use diffuse::Diffuse;
@@ -77,6 +79,8 @@ pub enum Bsdf {
     RoughConductor(RoughConductor),
     /// GGX dielectric.
     RoughDielectric(RoughDielectric),
+    /// GGX dielectric coat over a Lambertian base.
+    CoatedDiffuse(CoatedDiffuse),
 }
 
 /// Mirror image of `v` in the local z axis' plane (reflection about the normal).
@@ -121,6 +125,11 @@ impl Bsdf {
             Material::RoughDielectric { eta, alpha } => {
                 Bsdf::RoughDielectric(RoughDielectric::new(eta, alpha))
             }
+            Material::CoatedDiffuse {
+                reflectance,
+                eta,
+                alpha,
+            } => Bsdf::CoatedDiffuse(CoatedDiffuse::new(reflectance, eta, alpha)),
         }
     }
 
@@ -153,6 +162,7 @@ impl Bsdf {
             Bsdf::Phong(b) => b.eval(wo, wi),
             Bsdf::Ward(b) => b.eval(wo, wi),
             Bsdf::RoughConductor(b) => b.eval(wo, wi),
+            Bsdf::CoatedDiffuse(b) => b.eval(wo, wi),
             Bsdf::Mirror(_)
             | Bsdf::SmoothDielectric(_)
             | Bsdf::ThinDielectric(_)
@@ -173,6 +183,7 @@ impl Bsdf {
             Bsdf::Phong(b) => b.pdf(wo, wi),
             Bsdf::Ward(b) => b.pdf(wo, wi),
             Bsdf::RoughConductor(b) => b.pdf(wo, wi),
+            Bsdf::CoatedDiffuse(b) => b.pdf(wo, wi),
             Bsdf::Mirror(_)
             | Bsdf::SmoothDielectric(_)
             | Bsdf::ThinDielectric(_)
@@ -199,6 +210,7 @@ impl Bsdf {
             Bsdf::Phong(b) => b.sample(wo, uc, u),
             Bsdf::Ward(b) => b.sample(wo, uc, u),
             Bsdf::RoughConductor(b) => b.sample(wo, u),
+            Bsdf::CoatedDiffuse(b) => b.sample(wo, uc, u),
             Bsdf::SmoothDielectric(_) | Bsdf::ThinDielectric(_) | Bsdf::RoughDielectric(_) => None,
         }?;
         let ok = s.wi.z > 0.0 && s.pdf > 0.0 && s.weight.is_finite();

@@ -443,6 +443,17 @@ fn material(s: &mut String, i: usize, m: &Material) {
                 "\"string type\" \"dielectric\" \"float eta\" [ {eta} ] \"float roughness\" [ {alpha} ] \"bool remaproughness\" false"
             );
         }
+        Material::CoatedDiffuse {
+            reflectance,
+            eta,
+            alpha,
+        } => {
+            let _ = write!(
+                s,
+                "\"string type\" \"coateddiffuse\" \"rgb reflectance\" [ {} ] \"float eta\" [ {eta} ] \"float roughness\" [ {alpha} ] \"bool remaproughness\" false",
+                rgb(*reflectance)
+            );
+        }
     }
     s.push('\n');
 }

@@ -1,7 +1,7 @@
 //! pbrt-v4 materials mapped onto fenestra's. Approximations (docs/scenes.md):
-//! - coateddiffuse: normalised Phong with specular F0 = ((eta-1)/(eta+1))^2 (0.04 for 1.5),
-//!   diffuse reflectance * (1 - F0) and exponent 2/alpha^2 - 2 (the Phong lobe with the
-//!   GGX lobe's curvature at its peak, Walter et al. 2007);
+//! - coateddiffuse: an analytic layer (a GGX dielectric interface over a Lambertian base,
+//!   internal reflection included; fenestra-render's bsdf/coated.rs) where pbrt-v4 simulates
+//!   the layers stochastically; thickness, albedo, g, maxdepth and nsamples are ignored;
 //! - smooth conductor (alpha < 1e-3): a mirror of the normal-incidence Fresnel reflectance;
 //! - dielectric with spectral eta: the mean of the RGB values (no dispersion);
 //! - anisotropic rough dielectric: alpha = sqrt(alpha_u alpha_v).
@@ -62,7 +62,6 @@ impl Builder {
                     }
                 };
                 let eta = p.float("eta", 1.5)?;
-                let f0 = ((eta - 1.0) / (eta + 1.0)).powi(2);
                 let alpha = self.alpha(p, loc)?.max(SMOOTH_ALPHA);
                 for unused in ["thickness", "g", "maxdepth", "nsamples"] {
                     let _ = p
@@ -72,10 +71,10 @@ impl Builder {
                 if p.has("albedo") {
                     p.spectrum("albedo")?;
                 }
-                Material::Phong {
-                    diffuse: r * (1.0 - f0),
-                    specular: Rgb::splat(f0),
-                    exponent: (2.0 / (alpha * alpha) - 2.0).clamp(0.0, 1e6),
+                Material::CoatedDiffuse {
+                    reflectance: r,
+                    eta,
+                    alpha,
                 }
             }
             "conductor" => {
