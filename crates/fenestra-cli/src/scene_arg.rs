@@ -2,7 +2,7 @@
 //! OBJ/PLY mesh staged for viewing.
 
 use anyhow::{bail, Result};
-use fenestra_scene::{builtin, mesh, pbrt, Material, SceneDesc};
+use fenestra_scene::{builtin, mesh, pbrt, SceneDesc};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -49,10 +49,10 @@ pub fn load_quietly(arg: &str, opts: SceneOptions) -> Result<LoadedScene> {
             }
             Some("obj" | "ply") => {
                 let (desc, warnings) = mesh::viewer_scene(path)?;
-                let textures = desc.materials.iter().filter_map(|m| match m {
-                    Material::TexturedDiffuse { texture } => Some(texture.path.clone()),
-                    _ => None,
-                });
+                let textures = desc
+                    .materials
+                    .iter()
+                    .filter_map(|m| m.texture().map(|t| t.path.clone()));
                 let files = std::iter::once(path.to_path_buf()).chain(textures).collect();
                 (desc, warnings, files)
             }

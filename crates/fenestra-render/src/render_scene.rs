@@ -74,6 +74,15 @@ impl RenderScene {
             Material::TexturedDiffuse { texture } => Cow::Owned(Bsdf::Diffuse(bsdf::Diffuse {
                 reflectance: texture.lookup(si.uv),
             })),
+            Material::CoatedDiffuse {
+                texture: Some(texture),
+                ..
+            } => match &self.bsdfs[material] {
+                Bsdf::CoatedDiffuse(b) => Cow::Owned(Bsdf::CoatedDiffuse(
+                    b.with_reflectance(texture.lookup(si.uv)),
+                )),
+                other => Cow::Borrowed(other),
+            },
             _ => Cow::Borrowed(&self.bsdfs[material]),
         }
     }

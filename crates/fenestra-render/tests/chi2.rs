@@ -255,6 +255,7 @@ fn ggx_conductor_dielectric_and_coated_diffuse_match_their_pdfs() {
         (
             "coated diffuse 0.3",
             Material::CoatedDiffuse {
+                texture: None,
                 reflectance: Rgb::new(0.6, 0.3, 0.1),
                 eta: 1.5,
                 alpha: 0.3,
@@ -263,6 +264,7 @@ fn ggx_conductor_dielectric_and_coated_diffuse_match_their_pdfs() {
         (
             "coated diffuse 0.05, dark base",
             Material::CoatedDiffuse {
+                texture: None,
                 reflectance: Rgb::splat(0.05),
                 eta: 1.5,
                 alpha: 0.05,

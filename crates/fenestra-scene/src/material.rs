@@ -73,8 +73,10 @@ pub enum Material {
     },
     /// pbrt-v4's coateddiffuse: a Lambertian base under a GGX dielectric interface.
     CoatedDiffuse {
-        /// The base's albedo.
+        /// The base's albedo (the texture's mean when it has one).
         reflectance: Rgb,
+        /// The base's albedo varying over the surface, looked up at each hit.
+        texture: Option<Arc<ImageTexture>>,
         /// The interface's index of refraction.
         eta: f32,
         /// The interface's GGX roughness.
@@ -87,6 +89,15 @@ impl Material {
     pub fn diffuse(r: f32) -> Self {
         Material::Diffuse {
             reflectance: Rgb::splat(r),
+        }
+    }
+
+    /// The image texture the material looks up at each hit, if any.
+    pub fn texture(&self) -> Option<&Arc<ImageTexture>> {
+        match self {
+            Material::TexturedDiffuse { texture } => Some(texture),
+            Material::CoatedDiffuse { texture, .. } => texture.as_ref(),
+            _ => None,
         }
     }
 
@@ -110,6 +121,7 @@ impl Material {
                 reflectance,
                 eta,
                 alpha,
+                ..
             } => {
                 if !rgb_ok(reflectance) || reflectance.max_component() > 1.0 {
                     Some(format!("reflectance {reflectance:?} must lie in [0, 1]"))

@@ -478,6 +478,20 @@ fn image_textures_and_environments() {
         texture.lookup(Vec2::new(0.25, 0.5)),
         Rgb::new(1.0, 0.0, 0.0)
     );
+    // A coated base keeps its texture (looked up at each hit), without a warning.
+    let coated = pbrt::load_bytes(
+        br#"WorldBegin
+        Texture "checks" "spectrum" "imagemap" "string filename" "t.exr"
+        Material "coateddiffuse" "texture reflectance" "checks" "float roughness" 0.1
+        Shape "sphere""#,
+        &dir.join("c.pbrt"),
+        true,
+    )
+    .expect("strict: nothing approximated");
+    assert!(matches!(
+        &coated.desc.materials[0],
+        Material::CoatedDiffuse { texture: Some(t), .. } if t.lookup(Vec2::new(0.75, 0.5)) == Rgb::new(0.0, 0.0, 1.0)
+    ));
     let LightDesc::Environment(EnvironmentDesc::Image { image, scale, .. }) = &s.desc.lights[0]
     else {
         panic!("image environment")

@@ -24,6 +24,8 @@ pub struct CoatedDiffuse {
     ggx: Ggx,
     /// rho / (pi eta^2 (1 - rho Fi)): the diffuse part without its two transmittances.
     diffuse: Rgb,
+    /// Fi, the interface's reflectance for the base's light.
+    internal: f32,
 }
 
 /// Cosine-weighted mean of the dielectric Fresnel reflectance over the hemisphere seen from
@@ -40,12 +42,25 @@ impl CoatedDiffuse {
     /// The base of albedo `reflectance` under an interface of index `eta` and GGX `alpha`.
     pub fn new(reflectance: Rgb, eta: f32, alpha: f32) -> Self {
         let internal = 1.0 - (1.0 - external_reflectance(eta)) / (eta * eta);
-        let diffuse = reflectance.map(|r| r * INV_PI / (eta * eta * (1.0 - r * internal)));
         CoatedDiffuse {
             reflectance,
             eta,
             ggx: Ggx::new(alpha, alpha),
-            diffuse,
+            diffuse: Self::base_term(reflectance, eta, internal),
+            internal,
+        }
+    }
+
+    fn base_term(reflectance: Rgb, eta: f32, internal: f32) -> Rgb {
+        reflectance.map(|r| r * INV_PI / (eta * eta * (1.0 - r * internal)))
+    }
+
+    /// The same coat over a base of another albedo (a texture's value at a hit).
+    pub fn with_reflectance(&self, reflectance: Rgb) -> Self {
+        CoatedDiffuse {
+            reflectance,
+            diffuse: Self::base_term(reflectance, self.eta, self.internal),
+            ..self.clone()
         }
     }
 
@@ -123,6 +138,16 @@ mod tests {
 
     fn at(cos_o: f32) -> Vec3 {
         Vec3::new((1.0 - cos_o * cos_o).sqrt(), 0.0, cos_o)
+    }
+
+    #[test]
+    fn a_textured_base_is_the_same_coat_over_another_albedo() {
+        let coat = CoatedDiffuse::new(Rgb::splat(0.5), 1.4, 0.2);
+        let other = CoatedDiffuse::new(Rgb::new(0.9, 0.2, 0.0), 1.4, 0.2);
+        let textured = coat.with_reflectance(Rgb::new(0.9, 0.2, 0.0));
+        let (wo, wi) = (at(0.7), Vec3::new(-0.3, 0.2, 0.93).normalize());
+        assert_eq!(textured.eval(wo, wi), other.eval(wo, wi));
+        assert_eq!(textured.pdf(wo, wi), other.pdf(wo, wi));
     }
 
     #[test]

@@ -129,6 +129,7 @@ impl Bsdf {
                 reflectance,
                 eta,
                 alpha,
+                ..
             } => Bsdf::CoatedDiffuse(CoatedDiffuse::new(reflectance, eta, alpha)),
         }
     }

@@ -202,6 +202,12 @@ mod tests {
     fn material_key(m: &crate::Material) -> String {
         let s = match m {
             crate::Material::TexturedDiffuse { texture } => format!("tex {:?}", texture.average()),
+            crate::Material::CoatedDiffuse {
+                reflectance,
+                eta,
+                alpha,
+                ..
+            } => format!("coated {reflectance:?} {eta} {alpha}"),
             other => format!("{other:?}"),
         };
         round_numbers(&s)

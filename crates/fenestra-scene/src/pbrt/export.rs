@@ -88,7 +88,7 @@ pub fn write(desc: &SceneDesc, path: &Path) -> Result<Exported, ExportError> {
     camera(&mut s, &desc.camera, d.width, d.height);
     s.push_str("\nWorldBegin\n\n");
     for (i, m) in desc.materials.iter().enumerate() {
-        if let Material::TexturedDiffuse { texture } = m {
+        if let Some(texture) = m.texture() {
             // The texel values as loaded (linear), whatever file they came from.
             let file = data(format!("texture-{i}.exr"), &|tmp| {
                 texture
@@ -445,13 +445,17 @@ fn material(s: &mut String, i: usize, m: &Material) {
         }
         Material::CoatedDiffuse {
             reflectance,
+            texture,
             eta,
             alpha,
         } => {
+            let reflectance = match texture {
+                Some(_) => format!("\"texture reflectance\" \"t{i}\""),
+                None => format!("\"rgb reflectance\" [ {} ]", rgb(*reflectance)),
+            };
             let _ = write!(
                 s,
-                "\"string type\" \"coateddiffuse\" \"rgb reflectance\" [ {} ] \"float eta\" [ {eta} ] \"float roughness\" [ {alpha} ] \"bool remaproughness\" false",
-                rgb(*reflectance)
+                "\"string type\" \"coateddiffuse\" {reflectance} \"float eta\" [ {eta} ] \"float roughness\" [ {alpha} ] \"bool remaproughness\" false"
             );
         }
     }

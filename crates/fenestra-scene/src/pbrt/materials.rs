@@ -54,12 +54,9 @@ impl Builder {
                 Reflectance::Texture(Tex::Image(texture)) => Material::TexturedDiffuse { texture },
             },
             "coateddiffuse" => {
-                let r = match self.reflectance(p, loc)? {
-                    Reflectance::Value(r) | Reflectance::Texture(Tex::Rgb(r)) => r,
-                    Reflectance::Texture(Tex::Image(t)) => {
-                        self.warn("image texture on coateddiffuse (its mean is used)", loc);
-                        t.average()
-                    }
+                let (r, texture) = match self.reflectance(p, loc)? {
+                    Reflectance::Value(r) | Reflectance::Texture(Tex::Rgb(r)) => (r, None),
+                    Reflectance::Texture(Tex::Image(t)) => (t.average(), Some(t)),
                 };
                 let eta = p.float("eta", 1.5)?;
                 let alpha = self.alpha(p, loc)?.max(SMOOTH_ALPHA);
@@ -73,6 +70,7 @@ impl Builder {
                 }
                 Material::CoatedDiffuse {
                     reflectance: r,
+                    texture,
                     eta,
                     alpha,
                 }
