@@ -556,14 +556,13 @@ impl Builder {
             }
         };
         let radius = Vec2::new(p.float("xradius", radius)?, p.float("yradius", radius)?);
-        let sigma_ok = match shape {
+        let width_ok = match shape {
             FilterShape::Gaussian { sigma } => sigma > 0.0 && sigma.is_finite(),
             FilterShape::Sinc { tau } => tau > 0.0 && tau.is_finite(),
             _ => true,
         };
-        if !(radius.x > 0.0 && radius.y > 0.0 && radius.is_finite() && radius.max_element() <= 64.0)
-            || !sigma_ok
-        {
+        let radius_ok = radius.min_element() > 0.0 && radius.max_element() <= 64.0;
+        if !(radius_ok && width_ok) {
             return Err(PbrtError::at(
                 &d.loc,
                 "PixelFilter radii must be in (0, 64] pixels and sigma and tau positive",
