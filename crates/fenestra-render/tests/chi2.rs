@@ -262,6 +262,17 @@ fn ggx_conductor_dielectric_and_coated_diffuse_match_their_pdfs() {
             },
         ),
         (
+            "coated gold 0.1 under 0.3",
+            Material::CoatedConductor {
+                interface_eta: 1.5,
+                interface_alpha: 0.3,
+                eta: Rgb::new(0.143, 0.374, 1.442),
+                k: Rgb::new(3.983, 2.385, 1.603),
+                alpha_x: 0.1,
+                alpha_y: 0.1,
+            },
+        ),
+        (
             "coated diffuse 0.05, dark base",
             Material::CoatedDiffuse {
                 texture: None,

@@ -71,6 +71,21 @@ pub enum Material {
         /// GGX roughness.
         alpha: f32,
     },
+    /// pbrt-v4's coatedconductor: a GGX conductor under a GGX dielectric interface.
+    CoatedConductor {
+        /// The interface's index of refraction.
+        interface_eta: f32,
+        /// The interface's GGX roughness.
+        interface_alpha: f32,
+        /// The conductor's index of refraction.
+        eta: Rgb,
+        /// The conductor's absorption coefficient.
+        k: Rgb,
+        /// The conductor's GGX roughness along the tangent.
+        alpha_x: f32,
+        /// The conductor's GGX roughness along the bitangent.
+        alpha_y: f32,
+    },
     /// pbrt-v4's coateddiffuse: a Lambertian base under a GGX dielectric interface.
     CoatedDiffuse {
         /// The base's albedo (the texture's mean when it has one).
@@ -129,6 +144,27 @@ impl Material {
                     Some(format!("index of refraction {eta} must be positive"))
                 } else {
                     (!alpha_ok(*alpha)).then(|| format!("roughness {alpha} must be positive"))
+                }
+            }
+            Material::CoatedConductor {
+                interface_eta,
+                interface_alpha,
+                eta,
+                k,
+                alpha_x,
+                alpha_y,
+            } => {
+                if !rgb_ok(eta) || !rgb_ok(k) {
+                    Some("conductor eta and k must be finite and non-negative".into())
+                } else if !(interface_eta.is_finite() && *interface_eta > 0.0) {
+                    Some(format!(
+                        "index of refraction {interface_eta} must be positive"
+                    ))
+                } else {
+                    (![*interface_alpha, *alpha_x, *alpha_y]
+                        .into_iter()
+                        .all(alpha_ok))
+                    .then(|| "roughness must be positive".into())
                 }
             }
             Material::RoughDielectric { alpha, .. } if !alpha_ok(*alpha) => {

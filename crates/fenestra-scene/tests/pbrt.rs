@@ -207,6 +207,22 @@ fn materials_lights_and_render_settings() {
     assert!(matches!(mats[2], Material::Dielectric { eta } if (eta - 1.5168).abs() < 1e-4));
     assert!(matches!(mats[3], Material::ThinDielectric { eta } if *eta == 1.5));
     assert!(matches!(mats[4], Material::CoatedDiffuse { eta, .. } if *eta == 1.5));
+    // coatedconductor, as the killeroo-coated-gold scene writes it.
+    let gold = load(
+        r#"WorldBegin
+        Material "coatedconductor" "spectrum conductor.eta" "metal-Au-eta"
+            "spectrum conductor.k" "metal-Au-k" "float interface.roughness" 0.04
+            "float conductor.roughness" 0.01
+        Shape "sphere""#,
+    )
+    .expect("coatedconductor");
+    assert!(gold.warnings.is_empty(), "{:?}", gold.warnings);
+    assert!(matches!(
+        gold.desc.materials[0],
+        Material::CoatedConductor { interface_eta, interface_alpha, alpha_x, eta, .. }
+            if interface_eta == 1.5 && (interface_alpha - 0.2).abs() < 1e-6
+                && (alpha_x - 0.1).abs() < 1e-6 && eta.b > eta.r
+    ));
     let e = d.shapes[5].emission.expect("emitter");
     assert!(e.two_sided);
     let power = e.radiance.luminance() * std::f32::consts::PI * 2.0 * d.shapes[5].area();

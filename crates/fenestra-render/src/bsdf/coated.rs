@@ -1,4 +1,4 @@
-//! pbrt-v4's coateddiffuse as an energy-conserving analytic layer: a GGX dielectric
+//! pbrt-v4's coated materials as analytic layers. coateddiffuse, energy-conserving: a GGX dielectric
 //! interface of index eta over a Lambertian base of albedo rho (the "rough plastic" model of
 //! Weidlich and Wilkie 2007 and Mitsuba's roughplastic). The interface reflects
 //! F(wo.h) D G / (4 cos_o cos_i); light it lets through reaches the base, and what the base
@@ -13,7 +13,7 @@
 //! counterpart here.
 
 use super::microfacet::Ggx;
-use super::{fresnel, reflect, BsdfSample};
+use super::{fresnel, reflect, BsdfSample, RoughConductor};
 use fenestra_core::{warp, Rgb, Vec2, Vec3, INV_PI};
 
 /// A GGX-coated Lambertian.
@@ -86,24 +86,13 @@ impl CoatedDiffuse {
 
     /// The interface's GGX reflection.
     fn interface(&self, wo: Vec3, wi: Vec3) -> f32 {
-        let h = (wo + wi).normalize_or_zero();
-        if h == Vec3::ZERO {
-            return 0.0;
-        }
-        fresnel::dielectric(wo.dot(h), self.eta) * self.ggx.d(h) * self.ggx.g(wo, wi)
-            / (4.0 * wo.z * wi.z)
+        interface_reflection(&self.ggx, self.eta, wo, wi)
     }
 
     /// Solid-angle density with which `sample` gives `wi`.
     pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         let p = self.p_specular(wo);
-        let h = (wo + wi).normalize_or_zero();
-        let specular = if h == Vec3::ZERO {
-            0.0
-        } else {
-            self.ggx.pdf_visible(wo, h) / (4.0 * wo.dot(h).abs())
-        };
-        p * specular + (1.0 - p) * warp::cosine_hemisphere_pdf(wi)
+        p * ggx_reflection_pdf(&self.ggx, wo, wi) + (1.0 - p) * warp::cosine_hemisphere_pdf(wi)
     }
 
     /// Samples an incident direction for `wo`: the interface's visible normals or the base's
@@ -115,6 +104,79 @@ impl CoatedDiffuse {
             warp::square_to_cosine_hemisphere(u)
         };
         BsdfSample::reflected(wi, |wi| self.eval(wo, wi), |wi| self.pdf(wo, wi))
+    }
+}
+
+/// pbrt-v4's coatedconductor, analytically: the interface's GGX reflection plus the
+/// conductor's lobe seen through it, weighted by the two transmittances
+/// (1 - F(cos_i)) (1 - F(cos_o)). Refraction's narrowing of the conductor's lobe and light
+/// bouncing between the layers are left out: never more energy than arrives, somewhat less
+/// than the stochastic layers give for a rough interface.
+#[derive(Clone, Debug)]
+pub struct CoatedConductor {
+    eta: f32,
+    interface: Ggx,
+    conductor: RoughConductor,
+}
+
+impl CoatedConductor {
+    /// `conductor` under an interface of index `eta` and GGX roughness `alpha`.
+    pub fn new(eta: f32, alpha: f32, conductor: RoughConductor) -> Self {
+        CoatedConductor {
+            eta,
+            interface: Ggx::new(alpha, alpha),
+            conductor,
+        }
+    }
+
+    /// Probability of sampling the interface's lobe for `wo`.
+    fn p_interface(&self, wo: Vec3) -> f32 {
+        let f = fresnel::dielectric(wo.z, self.eta);
+        (f / (f + (1.0 - f) * (1.0 - f)).max(1e-6)).clamp(0.1, 0.9)
+    }
+
+    /// f(wo, wi) in the local frame (both above the surface).
+    pub fn eval(&self, wo: Vec3, wi: Vec3) -> Rgb {
+        let transmitted = (1.0 - fresnel::dielectric(wi.z, self.eta))
+            * (1.0 - fresnel::dielectric(wo.z, self.eta));
+        self.conductor.eval(wo, wi) * transmitted
+            + Rgb::splat(interface_reflection(&self.interface, self.eta, wo, wi))
+    }
+
+    /// Solid-angle density with which `sample` gives `wi`.
+    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        let p = self.p_interface(wo);
+        p * ggx_reflection_pdf(&self.interface, wo, wi) + (1.0 - p) * self.conductor.pdf(wo, wi)
+    }
+
+    /// Samples an incident direction for `wo`: the interface's or the conductor's visible
+    /// normals.
+    pub fn sample(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<BsdfSample> {
+        let wi = if uc < self.p_interface(wo) {
+            reflect(wo, self.interface.sample_visible(wo, u))
+        } else {
+            self.conductor.sample(wo, u)?.wi
+        };
+        BsdfSample::reflected(wi, |wi| self.eval(wo, wi), |wi| self.pdf(wo, wi))
+    }
+}
+
+/// A dielectric interface's GGX reflection F(wo.h) D G / (4 cos_o cos_i).
+fn interface_reflection(ggx: &Ggx, eta: f32, wo: Vec3, wi: Vec3) -> f32 {
+    let h = (wo + wi).normalize_or_zero();
+    if h == Vec3::ZERO {
+        return 0.0;
+    }
+    fresnel::dielectric(wo.dot(h), eta) * ggx.d(h) * ggx.g(wo, wi) / (4.0 * wo.z * wi.z)
+}
+
+/// Density of reflecting about visible normals of `ggx`.
+fn ggx_reflection_pdf(ggx: &Ggx, wo: Vec3, wi: Vec3) -> f32 {
+    let h = (wo + wi).normalize_or_zero();
+    if h == Vec3::ZERO {
+        0.0
+    } else {
+        ggx.pdf_visible(wo, h) / (4.0 * wo.dot(h).abs())
     }
 }
 
@@ -148,6 +210,19 @@ mod tests {
         let (wo, wi) = (at(0.7), Vec3::new(-0.3, 0.2, 0.93).normalize());
         assert_eq!(textured.eval(wo, wi), other.eval(wo, wi));
         assert_eq!(textured.pdf(wo, wi), other.pdf(wo, wi));
+    }
+
+    #[test]
+    fn a_coated_conductor_reflects_no_more_than_arrives() {
+        // Silver reflects about 97%; the coat's own 4% on top must not push the sum past 1.
+        let silver = |a| RoughConductor::new(Rgb::splat(0.155), Rgb::splat(4.83), a, a);
+        for (coat, metal) in [(0.05, 0.1), (0.3, 0.3), (0.6, 0.05)] {
+            let coated = CoatedConductor::new(1.5, coat, silver(metal));
+            for cos_o in [1.0f32, 0.5, 0.15] {
+                let a = albedo(|wi| coated.eval(at(cos_o), wi)).r;
+                assert!(a <= 1.01, "coat {coat}, cos {cos_o}: {a}");
+            }
+        }
     }
 
     #[test]

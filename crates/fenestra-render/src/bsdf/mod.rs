@@ -13,7 +13,7 @@ mod phong;
 mod rough_dielectric;
 mod ward;
 
-pub use coated::CoatedDiffuse;
+pub use coated::{CoatedConductor, CoatedDiffuse};
 pub use conductor::RoughConductor;
 pub use dielectric::{SmoothDielectric, ThinDielectric};
 pub use diffuse::Diffuse;
@@ -81,6 +81,8 @@ pub enum Bsdf {
     RoughDielectric(RoughDielectric),
     /// GGX dielectric coat over a Lambertian base.
     CoatedDiffuse(CoatedDiffuse),
+    /// GGX dielectric coat over a GGX conductor.
+    CoatedConductor(CoatedConductor),
 }
 
 /// Mirror image of `v` in the local z axis' plane (reflection about the normal).
@@ -131,6 +133,18 @@ impl Bsdf {
                 alpha,
                 ..
             } => Bsdf::CoatedDiffuse(CoatedDiffuse::new(reflectance, eta, alpha)),
+            Material::CoatedConductor {
+                interface_eta,
+                interface_alpha,
+                eta,
+                k,
+                alpha_x,
+                alpha_y,
+            } => Bsdf::CoatedConductor(CoatedConductor::new(
+                interface_eta,
+                interface_alpha,
+                RoughConductor::new(eta, k, alpha_x, alpha_y),
+            )),
         }
     }
 
@@ -164,6 +178,7 @@ impl Bsdf {
             Bsdf::Ward(b) => b.eval(wo, wi),
             Bsdf::RoughConductor(b) => b.eval(wo, wi),
             Bsdf::CoatedDiffuse(b) => b.eval(wo, wi),
+            Bsdf::CoatedConductor(b) => b.eval(wo, wi),
             Bsdf::Mirror(_)
             | Bsdf::SmoothDielectric(_)
             | Bsdf::ThinDielectric(_)
@@ -185,6 +200,7 @@ impl Bsdf {
             Bsdf::Ward(b) => b.pdf(wo, wi),
             Bsdf::RoughConductor(b) => b.pdf(wo, wi),
             Bsdf::CoatedDiffuse(b) => b.pdf(wo, wi),
+            Bsdf::CoatedConductor(b) => b.pdf(wo, wi),
             Bsdf::Mirror(_)
             | Bsdf::SmoothDielectric(_)
             | Bsdf::ThinDielectric(_)
@@ -212,6 +228,7 @@ impl Bsdf {
             Bsdf::Ward(b) => b.sample(wo, uc, u),
             Bsdf::RoughConductor(b) => b.sample(wo, u),
             Bsdf::CoatedDiffuse(b) => b.sample(wo, uc, u),
+            Bsdf::CoatedConductor(b) => b.sample(wo, uc, u),
             Bsdf::SmoothDielectric(_) | Bsdf::ThinDielectric(_) | Bsdf::RoughDielectric(_) => None,
         }?;
         let ok = s.wi.z > 0.0 && s.pdf > 0.0 && s.weight.is_finite();

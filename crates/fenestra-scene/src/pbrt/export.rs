@@ -443,6 +443,21 @@ fn material(s: &mut String, i: usize, m: &Material) {
                 "\"string type\" \"dielectric\" \"float eta\" [ {eta} ] \"float roughness\" [ {alpha} ] \"bool remaproughness\" false"
             );
         }
+        Material::CoatedConductor {
+            interface_eta,
+            interface_alpha,
+            eta,
+            k,
+            alpha_x,
+            alpha_y,
+        } => {
+            let _ = write!(
+                s,
+                "\"string type\" \"coatedconductor\" \"float interface.eta\" [ {interface_eta} ] \"float interface.roughness\" [ {interface_alpha} ] \"rgb conductor.eta\" [ {} ] \"rgb conductor.k\" [ {} ] \"float conductor.uroughness\" [ {alpha_x} ] \"float conductor.vroughness\" [ {alpha_y} ] \"bool remaproughness\" false",
+                rgb(*eta),
+                rgb(*k)
+            );
+        }
         Material::CoatedDiffuse {
             reflectance,
             texture,

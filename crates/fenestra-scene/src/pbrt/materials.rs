@@ -76,22 +76,7 @@ impl Builder {
                 }
             }
             "conductor" => {
-                let (eta, k) = match p.spectrum("reflectance")? {
-                    Some((s, l)) => {
-                        let r = spectra::to_rgb(&s).map_err(|e| PbrtError::at(&l, e))?;
-                        // pbrt-v4: eta = 1 and k = 2 sqrt(r) / sqrt(1 - r) reproduce r at
-                        // normal incidence.
-                        let k = r.map(|v| {
-                            let v = v.clamp(0.0, 0.9999);
-                            2.0 * v.sqrt() / (1.0 - v).sqrt()
-                        });
-                        (Rgb::ONE, k)
-                    }
-                    None => (
-                        rgb("eta", spectra::named("metal-Cu-eta").unwrap_or(Rgb::ONE))?,
-                        rgb("k", spectra::named("metal-Cu-k").unwrap_or(Rgb::ONE))?,
-                    ),
-                };
+                let (eta, k) = conductor_optics(p, "")?;
                 let (au, av) = self.alphas(p, loc)?;
                 if au.max(av) < SMOOTH_ALPHA {
                     let f0 =
@@ -106,6 +91,27 @@ impl Builder {
                         alpha_x: au.max(SMOOTH_ALPHA),
                         alpha_y: av.max(SMOOTH_ALPHA),
                     }
+                }
+            }
+            "coatedconductor" => {
+                let (eta, k) = conductor_optics(p, "conductor.")?;
+                let (au, av) = self.prefixed_alphas(p, "conductor.", loc)?;
+                let (iu, iv) = self.prefixed_alphas(p, "interface.", loc)?;
+                for unused in ["thickness", "g", "maxdepth", "nsamples"] {
+                    let _ = p
+                        .float(unused, 0.0)
+                        .or_else(|_| p.int(unused, 0).map(|v| v as f32));
+                }
+                if p.has("albedo") {
+                    p.spectrum("albedo")?;
+                }
+                Material::CoatedConductor {
+                    interface_eta: p.float("interface.eta", 1.5)?,
+                    interface_alpha: (iu * iv).sqrt().max(SMOOTH_ALPHA),
+                    eta,
+                    k,
+                    alpha_x: au.max(SMOOTH_ALPHA),
+                    alpha_y: av.max(SMOOTH_ALPHA),
                 }
             }
             "dielectric" | "thindielectric" => {
@@ -213,9 +219,27 @@ impl Builder {
     /// GGX (alpha_u, alpha_v) from "roughness" or "uroughness"/"vroughness"; pbrt-v4 remaps
     /// roughness r to alpha = sqrt(r) unless "remaproughness" is false.
     fn alphas(&mut self, p: &ParamList, loc: &Loc) -> Result<(f32, f32), PbrtError> {
-        let r = self.float_or_texture(p, "roughness", loc)?.unwrap_or(0.0);
-        let u = self.float_or_texture(p, "uroughness", loc)?.unwrap_or(r);
-        let v = self.float_or_texture(p, "vroughness", loc)?.unwrap_or(r);
+        self.prefixed_alphas(p, "", loc)
+    }
+
+    /// [`Self::alphas`] of the parameters named `prefix`roughness (a layer's, in coated
+    /// materials: "interface." or "conductor.").
+    fn prefixed_alphas(
+        &mut self,
+        p: &ParamList,
+        prefix: &str,
+        loc: &Loc,
+    ) -> Result<(f32, f32), PbrtError> {
+        let name = |n: &str| format!("{prefix}{n}");
+        let r = self
+            .float_or_texture(p, &name("roughness"), loc)?
+            .unwrap_or(0.0);
+        let u = self
+            .float_or_texture(p, &name("uroughness"), loc)?
+            .unwrap_or(r);
+        let v = self
+            .float_or_texture(p, &name("vroughness"), loc)?
+            .unwrap_or(r);
         let remap = p.bool("remaproughness", true)?;
         let a = |x: f32| if remap { x.max(0.0).sqrt() } else { x };
         Ok((a(u), a(v)))
@@ -225,4 +249,27 @@ impl Builder {
         let (u, v) = self.alphas(p, loc)?;
         Ok((u * v).sqrt())
     }
+}
+
+/// A conductor's complex index from `prefix`eta and `prefix`k (copper by default), or from
+/// "reflectance" as pbrt-v4 reads it: eta = 1 and k = 2 sqrt(r) / sqrt(1 - r) reproduce r at
+/// normal incidence.
+fn conductor_optics(p: &ParamList, prefix: &str) -> Result<(Rgb, Rgb), PbrtError> {
+    let rgb = |name: &str, default: &str| -> Result<Rgb, PbrtError> {
+        match p.spectrum(&format!("{prefix}{name}"))? {
+            Some((s, l)) => spectra::to_rgb(&s).map_err(|e| PbrtError::at(&l, e)),
+            None => Ok(spectra::named(default).unwrap_or(Rgb::ONE)),
+        }
+    };
+    Ok(match p.spectrum("reflectance")? {
+        Some((s, l)) => {
+            let r = spectra::to_rgb(&s).map_err(|e| PbrtError::at(&l, e))?;
+            let k = r.map(|v| {
+                let v = v.clamp(0.0, 0.9999);
+                2.0 * v.sqrt() / (1.0 - v).sqrt()
+            });
+            (Rgb::ONE, k)
+        }
+        None => (rgb("eta", "metal-Cu-eta")?, rgb("k", "metal-Cu-k")?),
+    })
 }
