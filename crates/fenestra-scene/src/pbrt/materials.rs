@@ -60,14 +60,7 @@ impl Builder {
                 };
                 let eta = p.float("eta", 1.5)?;
                 let alpha = self.alpha(p, loc)?.max(SMOOTH_ALPHA);
-                for unused in ["thickness", "g", "maxdepth", "nsamples"] {
-                    let _ = p
-                        .float(unused, 0.0)
-                        .or_else(|_| p.int(unused, 0).map(|v| v as f32));
-                }
-                if p.has("albedo") {
-                    p.spectrum("albedo")?;
-                }
+                layer_simulation_parameters(p)?;
                 Material::CoatedDiffuse {
                     reflectance: r,
                     texture,
@@ -97,14 +90,7 @@ impl Builder {
                 let (eta, k) = conductor_optics(p, "conductor.")?;
                 let (au, av) = self.prefixed_alphas(p, "conductor.", loc)?;
                 let (iu, iv) = self.prefixed_alphas(p, "interface.", loc)?;
-                for unused in ["thickness", "g", "maxdepth", "nsamples"] {
-                    let _ = p
-                        .float(unused, 0.0)
-                        .or_else(|_| p.int(unused, 0).map(|v| v as f32));
-                }
-                if p.has("albedo") {
-                    p.spectrum("albedo")?;
-                }
+                layer_simulation_parameters(p)?;
                 Material::CoatedConductor {
                     interface_eta: p.float("interface.eta", 1.5)?,
                     interface_alpha: (iu * iv).sqrt().max(SMOOTH_ALPHA),
@@ -272,4 +258,18 @@ fn conductor_optics(p: &ParamList, prefix: &str) -> Result<(Rgb, Rgb), PbrtError
         }
         None => (rgb("eta", "metal-Cu-eta")?, rgb("k", "metal-Cu-k")?),
     })
+}
+
+/// Reads (so they are not reported as unknown) the parameters of pbrt-v4's stochastic layer
+/// simulation, which fenestra's analytic layers have no use for.
+fn layer_simulation_parameters(p: &ParamList) -> Result<(), PbrtError> {
+    for unused in ["thickness", "g", "maxdepth", "nsamples"] {
+        let _ = p
+            .float(unused, 0.0)
+            .or_else(|_| p.int(unused, 0).map(|v| v as f32));
+    }
+    if p.has("albedo") {
+        p.spectrum("albedo")?;
+    }
+    Ok(())
 }
