@@ -71,8 +71,9 @@ impl RenderScene {
     pub fn bsdf_at(&self, si: &SurfaceInteraction) -> Cow<'_, Bsdf> {
         let material = self.scene.shapes[si.shape].material;
         match &self.scene.materials[material] {
+            // Clamped to [0, 1] as pbrt-v4 clamps reflectances (a scaled texture may exceed 1).
             Material::TexturedDiffuse { texture } => Cow::Owned(Bsdf::Diffuse(bsdf::Diffuse {
-                reflectance: texture.lookup(si.uv),
+                reflectance: texture.lookup(si.uv).map(|c| c.clamp(0.0, 1.0)),
             })),
             Material::CoatedDiffuse {
                 texture: Some(texture),

@@ -55,8 +55,10 @@ impl CoatedDiffuse {
         reflectance.map(|r| r * INV_PI / (eta * eta * (1.0 - r * internal)))
     }
 
-    /// The same coat over a base of another albedo (a texture's value at a hit).
+    /// The same coat over a base of another albedo (a texture's value at a hit), clamped to
+    /// [0, 1] as pbrt-v4 clamps reflectances (above 1/Fi the trapped light would diverge).
     pub fn with_reflectance(&self, reflectance: Rgb) -> Self {
+        let reflectance = reflectance.map(|c| c.clamp(0.0, 1.0));
         CoatedDiffuse {
             reflectance,
             diffuse: Self::base_term(reflectance, self.eta, self.internal),
@@ -210,6 +212,12 @@ mod tests {
         let (wo, wi) = (at(0.7), Vec3::new(-0.3, 0.2, 0.93).normalize());
         assert_eq!(textured.eval(wo, wi), other.eval(wo, wi));
         assert_eq!(textured.pdf(wo, wi), other.pdf(wo, wi));
+        // A texel above 1 (a scaled texture) is clamped, never a negative or infinite value.
+        let bright = coat.with_reflectance(Rgb::splat(5.0));
+        assert_eq!(
+            bright.eval(wo, wi),
+            CoatedDiffuse::new(Rgb::ONE, 1.4, 0.2).eval(wo, wi)
+        );
     }
 
     #[test]
