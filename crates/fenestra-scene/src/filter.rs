@@ -41,12 +41,12 @@ pub enum FilterShape {
 /// A separable pixel filter of `radius` pixels along x and y.
 #[derive(Clone)]
 pub struct PixelFilter {
-    /// The profile.
-    pub shape: FilterShape,
-    /// Half-widths along x and y in pixels.
-    pub radius: Vec2,
+    shape: FilterShape,
+    radius: Vec2,
     /// Inverse-CDF tables per axis for the tabulated shapes.
     tables: Option<Arc<[Profile; 2]>>,
+    /// The one-pixel box, decided once: `sample` runs for every camera ray.
+    pixel_box: bool,
 }
 
 impl std::fmt::Debug for PixelFilter {
@@ -83,10 +83,21 @@ impl PixelFilter {
             ])),
         };
         PixelFilter {
+            pixel_box: shape == FilterShape::Box && radius == Vec2::splat(0.5),
             shape,
             radius,
             tables,
         }
+    }
+
+    /// The profile.
+    pub fn shape(&self) -> &FilterShape {
+        &self.shape
+    }
+
+    /// Half-widths along x and y in pixels.
+    pub fn radius(&self) -> Vec2 {
+        self.radius
     }
 
     /// pbrt-v4's default: a gaussian of radius 1.5 and sigma 0.5.
@@ -96,7 +107,7 @@ impl PixelFilter {
 
     /// Whether this is the one-pixel box, whose samples are uniform points of the pixel.
     pub fn is_pixel_box(&self) -> bool {
-        self.shape == FilterShape::Box && self.radius == Vec2::splat(0.5)
+        self.pixel_box
     }
 
     /// The film position of a sample from `u` in [0,1)^2, relative to the pixel's top-left

@@ -382,7 +382,7 @@ fn pixel_filters_as_pbrt_v4_defines_them() {
     );
     // Negative lobes cannot be importance-sampled: said.
     let (mitchell, warnings) = filter("PixelFilter \"mitchell\"").expect("mitchell");
-    assert!(matches!(mitchell.shape, FilterShape::Mitchell { .. }) && warnings == 1);
+    assert!(matches!(mitchell.shape(), FilterShape::Mitchell { .. }) && warnings == 1);
     for (header, says) in [
         (
             "PixelFilter \"lanczos\"",

@@ -305,7 +305,7 @@ fn rgb(c: Rgb) -> String {
 /// The camera's pixel filter, always written: pbrt-v4's default (a gaussian) is not
 /// fenestra's (the pixel's box).
 fn pixel_filter(s: &mut String, f: &PixelFilter) {
-    let (name, extra) = match f.shape {
+    let (name, extra) = match *f.shape() {
         FilterShape::Box => ("box", String::new()),
         FilterShape::Triangle => ("triangle", String::new()),
         FilterShape::Gaussian { sigma } => ("gaussian", format!(" \"float sigma\" [ {sigma} ]")),
@@ -318,7 +318,8 @@ fn pixel_filter(s: &mut String, f: &PixelFilter) {
     let _ = writeln!(
         s,
         "PixelFilter \"{name}\" \"float xradius\" [ {} ] \"float yradius\" [ {} ]{extra}",
-        f.radius.x, f.radius.y
+        f.radius().x,
+        f.radius().y
     );
 }
 
