@@ -340,6 +340,8 @@ fn spectrum_files_are_read_relative_to_the_scene_file() {
     )
     .expect("scene");
     let s = pbrt::load(&dir.join("s.pbrt"), true).expect("load");
+    // The file is one of the scene's inputs (no output may replace it).
+    assert!(s.files.contains(&dir.join("spds/two.spd")), "{:?}", s.files);
     // A smooth conductor of eta = k = 2: F0 = ((2-1)^2 + 4) / ((2+1)^2 + 4) = 5/13.
     let Material::Mirror { reflectance } = s.desc.materials[0] else {
         panic!("mirror")

@@ -2,7 +2,7 @@
 //! systems, materials, textures and object instances, turning directives into a `SceneDesc`.
 
 use super::lexer::tokenize;
-use super::params::ParamList;
+use super::params::{ParamList, Values};
 use super::parser::{parse, Directive};
 use super::{Loc, PbrtError, Warning};
 use crate::filter::{FilterShape, PixelFilter};
@@ -230,6 +230,16 @@ impl Builder {
     fn directive(&mut self, d: &Directive, dir: &Path) -> Result<(), PbrtError> {
         let num3 = |o: usize| DVec3::new(d.num(o), d.num(o + 1), d.num(o + 2));
         let matrix = || DMat4::from_cols_array(&std::array::from_fn(|i| d.num(i)));
+        // Spectrum files are inputs too (no command may write over them).
+        for p in &d.params.params {
+            if let (Values::Strs(s), "spectrum") = (&p.values, p.ty.as_str()) {
+                if let [name] = &s[..] {
+                    if super::spectra::names_file(name) {
+                        self.files.push(dir.join(name));
+                    }
+                }
+            }
+        }
         match d.name {
             "Include" | "Import" => self.include(d, dir)?,
             "Identity" => self.gs.ctm = DMat4::IDENTITY,

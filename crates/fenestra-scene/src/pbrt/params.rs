@@ -322,7 +322,7 @@ impl ParamList {
                     .collect(),
             ),
             (Values::Strs(s), "spectrum") if s.len() == 1 => {
-                if super::spectra::named(&s[0]).is_none() && s[0].contains('.') {
+                if super::spectra::names_file(&s[0]) {
                     let dir = p.loc.file.parent().unwrap_or(std::path::Path::new("."));
                     match super::spectra::read_file(&dir.join(&s[0])) {
                         Ok(pairs) => SpectrumParam::Sampled(pairs),

@@ -136,6 +136,11 @@ pub fn to_rgb(s: &SpectrumParam) -> Result<Rgb, String> {
     }
 }
 
+/// Whether a "spectrum" string names a file (rather than one of the named spectra).
+pub fn names_file(name: &str) -> bool {
+    named(name).is_none() && name.contains('.')
+}
+
 /// A spectrum file as pbrt-v4 reads it: (wavelength nm, value) pairs as whitespace-separated
 /// numbers, `#` starting a comment.
 pub fn read_file(path: &std::path::Path) -> Result<Vec<(f32, f32)>, String> {
