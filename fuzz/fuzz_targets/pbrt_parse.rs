@@ -8,7 +8,7 @@ use std::path::Path;
 
 fuzz_target!(|data: &[u8]| {
     let path = Path::new("/nonexistent-fenestra-fuzz/scene.pbrt");
-    if let Ok(loaded) = fenestra_scene::pbrt::load_bytes(data, path, false) {
+    if let Ok(loaded) = fenestra_pbrt::load_bytes(data, path, false) {
         for backend in fenestra_scene::Backend::available() {
             let _ = fenestra_scene::Scene::build(loaded.desc.clone(), backend);
         }

@@ -96,7 +96,7 @@ fn main() -> ExitCode {
         Command::Portals(args) => portals_cmd::run(args),
         Command::List => {
             println!("built-in scenes (use as builtin:NAME):");
-            for (name, what) in fenestra_scene::builtin::SCENES {
+            for (name, what) in fenestra_builtin::SCENES {
                 println!("  {name:<14} {what}");
             }
             println!("integrators (--integrator NAME):");

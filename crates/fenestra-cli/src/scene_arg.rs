@@ -2,7 +2,9 @@
 //! OBJ/PLY mesh staged for viewing.
 
 use anyhow::{bail, Result};
-use fenestra_scene::{builtin, mesh, pbrt, SceneDesc};
+use fenestra_builtin as builtin;
+use fenestra_pbrt as pbrt;
+use fenestra_scene::{mesh, SceneDesc};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 

@@ -4,8 +4,9 @@
 use crate::scene_arg::{self, SceneOptions};
 use anyhow::{bail, Result};
 use clap::{Args, Subcommand};
+use fenestra_pbrt as pbrt;
 use fenestra_scene::light::LightDesc;
-use fenestra_scene::{pbrt, ShapeKind};
+use fenestra_scene::ShapeKind;
 use std::path::PathBuf;
 
 #[derive(Args)]

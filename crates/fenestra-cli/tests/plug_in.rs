@@ -2,6 +2,7 @@
 //! renders through the block/pass driver, with per-block statistics, a different number of
 //! samples per pixel in each pass, and a registry entry, as a research crate would.
 
+use fenestra_builtin as builtin;
 use fenestra_core::stats::{RayCounters, RenderStats};
 use fenestra_core::{Rgb, Sampler};
 use fenestra_render::driver::{
@@ -10,7 +11,7 @@ use fenestra_render::driver::{
 use fenestra_render::{
     render_image, Film, Integrator, Registry, RenderControl, RenderScene, RenderSettings,
 };
-use fenestra_scene::{builtin, Backend, Scene};
+use fenestra_scene::{Backend, Scene};
 use std::sync::{Arc, Mutex};
 
 /// Paints each pixel with its block's index (red), its own index (green) and the first

@@ -2,13 +2,14 @@
 //! half-size (BSDF sampling covers the rest), four times too large (a wrong MIS weight on
 //! either technique would show), mixed with light sampling, and behind thin glass.
 
+use fenestra_builtin as builtin;
 use fenestra_core::mis::MisHeuristic;
 use fenestra_core::Vec3;
 use fenestra_portals::{lp_hf, PortalChoice, PortalOptions, PortalSampling};
 use fenestra_render::integrator::{af_hf, hf, PathOptions};
 use fenestra_render::light::LightSelection;
 use fenestra_render::{render_image, Film, Integrator, RenderScene, RenderSettings};
-use fenestra_scene::{builtin, Backend, Scene, SceneDesc};
+use fenestra_scene::{Backend, Scene, SceneDesc};
 
 const SIZE: u32 = 32;
 

@@ -1,11 +1,12 @@
 //! The estimation pipeline on scenes whose openings are known: the box scenes of seed 000
 //! §5.2 carry their holes as manual portals, and the hall's lit windows are listed.
 
+use fenestra_builtin as builtin;
 use fenestra_core::Vec3;
 use fenestra_portals::estimate::{estimate, Estimate, EstimateParams};
 use fenestra_portals::Portal;
 use fenestra_render::{NoProgress, RenderScene};
-use fenestra_scene::{builtin, Backend, Scene};
+use fenestra_scene::{Backend, Scene};
 use std::sync::atomic::AtomicBool;
 
 fn run(name: &str) -> (RenderScene, Estimate) {

@@ -23,7 +23,16 @@ pub struct RenderScene {
 impl RenderScene {
     /// Builds the BSDFs and lights of `scene`.
     pub fn new(scene: Scene) -> Self {
-        let bsdfs = scene.materials.iter().map(Bsdf::from_material).collect();
+        // A mix stands for its first material where one BSDF per material is asked for
+        // (photon tracing's transmissive test); `bsdf_at` resolves it at each point.
+        let mut bsdfs: Vec<Bsdf> = Vec::with_capacity(scene.materials.len());
+        for m in &scene.materials {
+            let b = match m {
+                Material::Mix { materials, .. } => bsdfs[materials[0]].clone(),
+                m => Bsdf::from_material(m),
+            };
+            bsdfs.push(b);
+        }
         let lights = Lights::new(&scene);
         RenderScene {
             scene,
@@ -44,12 +53,10 @@ impl RenderScene {
             let Some(hit) = self.scene.intersect(&ray, tmax) else {
                 return (tr, None);
             };
-            let Bsdf::ThinDielectric(pane) =
-                &self.bsdfs[self.scene.shapes[hit.shape as usize].material]
-            else {
+            let si = self.scene.interaction(&ray, &hit);
+            let Bsdf::ThinDielectric(pane) = &self.bsdfs[self.material_at(&si)] else {
                 return (tr, Some(hit));
             };
-            let si = self.scene.interaction(&ray, &hit);
             tr *= 1.0 - pane.reflectance(si.ng.dot(ray.d));
             ray = Ray::new(si.spawn(ray.d), ray.d);
             tmax -= hit.t;
@@ -69,7 +76,7 @@ impl RenderScene {
     /// The BSDF at a surface point: the material's, with textured reflectance looked up at
     /// the point's uv.
     pub fn bsdf_at(&self, si: &SurfaceInteraction) -> Cow<'_, Bsdf> {
-        let material = self.scene.shapes[si.shape].material;
+        let material = self.material_at(si);
         match &self.scene.materials[material] {
             // Clamped to [0, 1] as pbrt-v4 clamps reflectances (a scaled texture may exceed 1).
             Material::TexturedDiffuse { texture } => Cow::Owned(Bsdf::Diffuse(bsdf::Diffuse {
@@ -86,5 +93,14 @@ impl RenderScene {
             },
             _ => Cow::Borrowed(&self.bsdfs[material]),
         }
+    }
+
+    /// The material index at a surface point, mixes resolved.
+    fn material_at(&self, si: &SurfaceInteraction) -> usize {
+        Material::resolve(
+            &self.scene.materials,
+            self.scene.shapes[si.shape].material,
+            si.p,
+        )
     }
 }

@@ -5,10 +5,11 @@
 mod common;
 
 use common::assert_agree;
+use fenestra_builtin as builtin;
 use fenestra_core::mis::MisHeuristic;
 use fenestra_render::integrator::PathOptions;
 use fenestra_render::Film;
-use fenestra_scene::{builtin, SceneDesc};
+use fenestra_scene::SceneDesc;
 
 const SIZE: u32 = 32;
 

@@ -20,7 +20,7 @@ const THETA_BINS: usize = 20;
 const PHI_BINS: usize = 40;
 const SAMPLES: usize = 1_000_000;
 /// Number of chi-square tests in this file, for the Sidak correction.
-const TESTS: f64 = 40.0;
+const TESTS: f64 = 43.0;
 
 fn bin_of(w: Vec3) -> usize {
     let z = ((w.z.clamp(-1.0, 1.0) + 1.0) * 0.5 * THETA_BINS as f32) as usize;
@@ -176,8 +176,15 @@ fn check_bsdf(name: &str, bsdf: &Bsdf, wo: Vec3) {
 }
 
 #[test]
-fn diffuse_phong_and_ward_match_their_pdfs() {
+fn lambertian_phong_and_ward_match_their_pdfs() {
     let cases = [
+        (
+            "diffuse transmission",
+            Material::DiffuseTransmission {
+                reflectance: Rgb::new(0.5, 0.3, 0.2),
+                transmittance: Rgb::new(0.2, 0.4, 0.1),
+            },
+        ),
         (
             "diffuse",
             Material::Diffuse {

@@ -3,8 +3,8 @@
 mod common;
 
 use common::integrator;
+use fenestra_builtin as builtin;
 use fenestra_render::integrator::PathOptions;
-use fenestra_scene::builtin;
 
 fn sums_with_threads(threads: usize, name: &str) -> Vec<[f64; 3]> {
     let pool = rayon::ThreadPoolBuilder::new()

@@ -1,5 +1,7 @@
 //! White furnace: inside a closed sphere of diffuse albedo a that emits L_e inwards, the
-//! radiance everywhere is L_e / (1 - a) (the sum of the bounce series).
+//! radiance everywhere is L_e / (1 - a) (the sum of the bounce series). A cosine-distributed
+//! direction from a point of a sphere's inside lands uniformly over its area, so a sphere
+//! whose albedo varies from point to point has the mean radiance L_e / (1 - mean albedo).
 
 mod common;
 
@@ -10,19 +12,24 @@ use fenestra_scene::light::Emission;
 use fenestra_scene::{Camera, Material, RenderDefaults, SceneDesc, Shape, ShapeKind};
 
 fn furnace(albedo: f32, le: f32) -> SceneDesc {
+    furnace_of(vec![Material::diffuse(albedo)], le)
+}
+
+/// The furnace sphere made of the last of `materials`.
+fn furnace_of(materials: Vec<Material>, le: f32) -> SceneDesc {
     let sphere = Shape::new(
         ShapeKind::Sphere {
             center: Vec3::ZERO,
             radius: 1.0,
         },
-        0,
+        materials.len() - 1,
     )
     .flipped()
     .emitting(Emission::radiance(Rgb::splat(le)));
     SceneDesc {
         name: "furnace".into(),
         shapes: vec![sphere],
-        materials: vec![Material::diffuse(albedo)],
+        materials,
         lights: vec![],
         camera: Camera::look_at(
             Vec3::new(0.1, -0.3, 0.2),
@@ -83,4 +90,44 @@ fn truncated_furnace_sums_the_first_bounces() {
             );
         }
     }
+}
+
+/// Mean radiance of a 16x16 furnace image at `spp` with af_hf, checked against `expect`.
+fn check_furnace(what: &str, desc: SceneDesc, expect: f64) {
+    let options = PathOptions {
+        max_depth: 200,
+        ..Default::default()
+    };
+    let mut i = integrator("af_hf", options);
+    let (film, _) = common::render(desc, i.as_mut(), 16, 256, 1);
+    let (mean, se) = common::region_mean(&film, 0, 16, 0, 16);
+    assert!(
+        (mean - expect).abs() < 4.0 * se + 1e-3 * expect && se < 0.01 * expect,
+        "{what}: mean {mean:.4} +- {se:.4}, expected {expect}"
+    );
+}
+
+#[test]
+fn a_mix_furnace_has_the_mean_albedo() {
+    // pbrt-v4's mix picks one material per point: 0.2 where it picks the first, 0.8 where
+    // the second (a quarter of the points), so the mean albedo is 0.35.
+    let materials = vec![
+        Material::diffuse(0.2),
+        Material::diffuse(0.8),
+        Material::Mix {
+            materials: [0, 1],
+            amount: 0.25,
+        },
+    ];
+    check_furnace("mix", furnace_of(materials, 1.0), 1.0 / (1.0 - 0.35));
+}
+
+#[test]
+fn diffuse_transmission_loses_what_it_transmits_out_of_the_furnace() {
+    // Light transmitted through the sphere leaves it for good; what is reflected stays.
+    let dt = Material::DiffuseTransmission {
+        reflectance: Rgb::splat(0.5),
+        transmittance: Rgb::splat(0.4),
+    };
+    check_furnace("diffusetransmission", furnace_of(vec![dt], 1.0), 2.0);
 }

@@ -3,10 +3,10 @@
 
 mod common;
 
+use fenestra_builtin as builtin;
 use fenestra_render::integrator::{LightNextEvent, PathOptions, PathTracer};
 use fenestra_render::light::{LightContext, LightSampler};
 use fenestra_render::{Integrator, RenderScene};
-use fenestra_scene::builtin;
 
 /// In odd 8x8 blocks, lights with an even index are picked twice as often as the others;
 /// in even blocks all alike. A deliberately odd rule that reads the shading point's block:

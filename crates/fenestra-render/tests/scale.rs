@@ -6,13 +6,14 @@
 
 mod common;
 
+use fenestra_builtin as builtin;
 use fenestra_core::{Rgb, Vec3};
 use fenestra_render::integrator::PathOptions;
 use fenestra_render::{render_image, Film, RenderScene, RenderSettings};
 use fenestra_scene::light::Emission;
 use fenestra_scene::{
-    builtin, Backend, Camera, LightDesc, Material, RenderDefaults, Scene, SceneDesc, Shape,
-    ShapeKind, TriangleMesh,
+    Backend, Camera, LightDesc, Material, RenderDefaults, Scene, SceneDesc, Shape, ShapeKind,
+    TriangleMesh,
 };
 
 fn render(desc: SceneDesc, backend: Backend, name: &str, depth: u32, spp: u32, seed: u64) -> Film {

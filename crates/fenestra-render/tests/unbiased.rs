@@ -4,11 +4,11 @@
 
 mod common;
 
+use fenestra_builtin as builtin;
 use fenestra_core::image::Image;
 use fenestra_core::mis::MisHeuristic;
 use fenestra_eval::z_test;
 use fenestra_render::integrator::PathOptions;
-use fenestra_scene::builtin;
 
 const SIZE: u32 = 16;
 /// z-tests run on 2x2 pixel blocks: per-pixel variance estimates of rare-event estimators

@@ -1,21 +1,21 @@
 //! Scene model of fenestra: geometry (triangle meshes, spheres, disks), materials and lights as
-//! data, the pinhole camera, ray queries behind one trait with two backends (Embree, obvhs),
-//! and the built-in experiment scenes.
+//! data, the pinhole camera, mesh files, and ray queries behind one trait with two backends
+//! (Embree, obvhs). Scene files are read by fenestra-pbrt, the experiment scenes are built by
+//! fenestra-builtin.
 #![warn(missing_docs)]
 
 pub mod accel;
-pub mod builtin;
 pub mod camera;
-mod compressed;
+pub mod compressed;
 pub mod filter;
 pub mod interaction;
 pub mod light;
 pub mod material;
 pub mod mesh;
-pub mod pbrt;
 pub mod scene;
 pub mod shape;
 pub mod texture;
+pub mod transform;
 
 pub use accel::{Backend, Hit, RayQuery};
 pub use camera::{Camera, CameraError, FieldOfView};

@@ -1,7 +1,8 @@
 //! Materials as parameters; the render crate's bsdf module evaluates and samples them.
 
 use crate::texture::ImageTexture;
-use fenestra_core::Rgb;
+use fenestra_core::sampler::hash_combine;
+use fenestra_core::{Rgb, Vec3};
 use std::sync::Arc;
 
 /// A surface's scattering, as parameters.
@@ -86,6 +87,22 @@ pub enum Material {
         /// The conductor's GGX roughness along the bitangent.
         alpha_y: f32,
     },
+    /// pbrt-v4's diffusetransmission: Lambertian reflection on the side light comes from and
+    /// Lambertian transmission to the other (leaves, lampshades, paper).
+    DiffuseTransmission {
+        /// Albedo of the reflection.
+        reflectance: Rgb,
+        /// Albedo of the transmission.
+        transmittance: Rgb,
+    },
+    /// pbrt-v4's mix: at each surface point one of two earlier materials, the second with
+    /// probability `amount`, chosen by a hash of the point (so a point always gets the same).
+    Mix {
+        /// Indices of the two materials; both below this material's own index.
+        materials: [usize; 2],
+        /// Probability of the second material, in [0, 1].
+        amount: f32,
+    },
     /// pbrt-v4's coateddiffuse: a Lambertian base under a GGX dielectric interface.
     CoatedDiffuse {
         /// The base's albedo (the texture's mean when it has one).
@@ -116,6 +133,26 @@ impl Material {
         }
     }
 
+    /// Which material a [`Material::Mix`] is at the point `p` (any other material is itself):
+    /// the second with probability `amount`, by a hash of `p`'s coordinates, followed through
+    /// mixes of mixes. `materials[index]` must have passed [`Scene`](crate::Scene)'s checks.
+    pub fn resolve(materials: &[Material], mut index: usize, p: Vec3) -> usize {
+        let h = p
+            .to_array()
+            .iter()
+            .fold(0x6d69_7865, |h, c| hash_combine(h, c.to_bits()));
+        while let Material::Mix {
+            materials: pair,
+            amount,
+        } = materials[index]
+        {
+            // 24 bits of the hash as a uniform number in [0, 1); a fresh hash per level.
+            let u = (hash_combine(h, index as u32) >> 8) as f32 / (1u32 << 24) as f32;
+            index = pair[usize::from(u < amount)];
+        }
+        index
+    }
+
     /// A parameter that makes no physical sense, as a message; `None` when valid.
     pub fn validate(&self) -> Option<String> {
         let rgb_ok = |c: &Rgb| c.is_finite() && c.r >= 0.0 && c.g >= 0.0 && c.b >= 0.0;
@@ -132,6 +169,18 @@ impl Material {
             {
                 Some(format!("index of refraction {eta} must be positive"))
             }
+            Material::DiffuseTransmission {
+                reflectance,
+                transmittance,
+            } => [
+                ("reflectance", reflectance),
+                ("transmittance", transmittance),
+            ]
+            .into_iter()
+            .find(|(_, c)| !rgb_ok(c) || c.max_component() > 1.0)
+            .map(|(what, c)| format!("{what} {c:?} must lie in [0, 1]")),
+            Material::Mix { amount, .. } => (!(0.0..=1.0).contains(amount))
+                .then(|| format!("mix amount {amount} must lie in [0, 1]")),
             Material::CoatedDiffuse {
                 reflectance,
                 eta,

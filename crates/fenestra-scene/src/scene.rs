@@ -243,6 +243,13 @@ fn validate(desc: &SceneDesc) -> Result<(), SceneError> {
         if let Some(what) = m.validate() {
             return Err(SceneError::Material { index: i, what });
         }
+        // Components come first, so resolving a mix always ends.
+        if let Material::Mix { materials, .. } = m {
+            if materials.iter().any(|&c| c >= i) {
+                let what = format!("mix of materials {materials:?}: each must come before it");
+                return Err(SceneError::Material { index: i, what });
+            }
+        }
     }
     for (i, s) in desc.shapes.iter().enumerate() {
         if s.material >= desc.materials.len() {
@@ -356,5 +363,52 @@ mod tests {
         );
         let far = Camera::look_at(Vec3::new(0.0, -3e38, 1.0), Vec3::ZERO, Vec3::Z, 60.0);
         assert!(matches!(far, Err(crate::CameraError::TooFar(_))), "{far:?}");
+    }
+
+    #[test]
+    fn a_mix_must_name_earlier_materials_and_resolves_to_them() {
+        let mix = |materials| Material::Mix {
+            materials,
+            amount: 0.25,
+        };
+        let desc = |materials: Vec<Material>| SceneDesc {
+            name: "mix".into(),
+            shapes: vec![Shape::new(
+                ShapeKind::Mesh(TriangleMesh::quad(Vec3::ZERO, Vec3::X, Vec3::Y)),
+                materials.len() - 1,
+            )],
+            materials,
+            lights: vec![],
+            camera: Camera::look_at(Vec3::new(0.0, -3.0, 1.0), Vec3::ZERO, Vec3::Z, 60.0)
+                .expect("camera"),
+            defaults: RenderDefaults::default(),
+            portals: Vec::new(),
+        };
+        let looped = vec![Material::diffuse(0.5), mix([0, 1])];
+        let e = Scene::build(desc(looped), Backend::Obvhs)
+            .err()
+            .map(|e| e.to_string());
+        assert!(e.is_some_and(|e| e.contains("each must come before it")));
+        // A mix of a mix: every point ends at material 0 or 1, about in the proportions
+        // 0.75 * 0.75, 0.25 * 0.75 + 0.25 (the second mix picks its own second, material 1).
+        let materials = vec![
+            Material::diffuse(0.1),
+            Material::diffuse(0.9),
+            mix([0, 1]),
+            mix([2, 1]),
+        ];
+        let n = 20_000;
+        let ones = (0..n)
+            .filter(|&i| {
+                let p = Vec3::new(i as f32 * 0.37, (i % 97) as f32, 0.5);
+                Material::resolve(&materials, 3, p) == 1
+            })
+            .count();
+        let expect = 0.25 + 0.75 * 0.25;
+        assert!(
+            (ones as f64 / n as f64 - expect).abs() < 0.02,
+            "{ones} of {n} points resolve to material 1, expected {expect}"
+        );
+        assert!(Scene::build(desc(materials), Backend::Obvhs).is_ok());
     }
 }

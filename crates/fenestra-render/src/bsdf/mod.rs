@@ -16,7 +16,7 @@ mod ward;
 pub use coated::{CoatedConductor, CoatedDiffuse};
 pub use conductor::RoughConductor;
 pub use dielectric::{SmoothDielectric, ThinDielectric};
-pub use diffuse::Diffuse;
+pub use diffuse::{Diffuse, DiffuseTransmission};
 pub use mirror::Mirror;
 pub use phong::Phong;
 pub use rough_dielectric::RoughDielectric;
@@ -79,6 +79,8 @@ pub enum Bsdf {
     RoughConductor(RoughConductor),
     /// GGX dielectric.
     RoughDielectric(RoughDielectric),
+    /// Lambertian reflection and transmission.
+    DiffuseTransmission(DiffuseTransmission),
     /// GGX dielectric coat over a Lambertian base.
     CoatedDiffuse(CoatedDiffuse),
     /// GGX dielectric coat over a GGX conductor.
@@ -96,9 +98,21 @@ pub fn reflect(wo: Vec3, h: Vec3) -> Vec3 {
 }
 
 impl Bsdf {
-    /// The BSDF of material `m` (textured materials get their texture's mean; see `RenderScene::bsdf_at`).
+    /// The BSDF of material `m` (textured materials get their texture's mean; see
+    /// `RenderScene::bsdf_at`). A mix has none of its own: `RenderScene` resolves it to one of
+    /// its materials at each point; alone, it absorbs.
     pub fn from_material(m: &Material) -> Bsdf {
         match *m {
+            Material::Mix { .. } => Bsdf::Diffuse(Diffuse {
+                reflectance: Rgb::ZERO,
+            }),
+            Material::DiffuseTransmission {
+                reflectance,
+                transmittance,
+            } => Bsdf::DiffuseTransmission(DiffuseTransmission {
+                reflectance,
+                transmittance,
+            }),
             Material::Diffuse { reflectance } => Bsdf::Diffuse(Diffuse { reflectance }),
             // The mean stands in until a hit point's texture lookup replaces it.
             Material::TexturedDiffuse { ref texture } => Bsdf::Diffuse(Diffuse {
@@ -160,14 +174,19 @@ impl Bsdf {
     pub fn is_transmissive(&self) -> bool {
         matches!(
             self,
-            Bsdf::SmoothDielectric(_) | Bsdf::ThinDielectric(_) | Bsdf::RoughDielectric(_)
+            Bsdf::SmoothDielectric(_)
+                | Bsdf::ThinDielectric(_)
+                | Bsdf::RoughDielectric(_)
+                | Bsdf::DiffuseTransmission(_)
         )
     }
 
     /// BSDF value f(wo, wi) (without the cosine).
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> Rgb {
-        if let Bsdf::RoughDielectric(b) = self {
-            return b.eval(wo, wi);
+        match self {
+            Bsdf::RoughDielectric(b) => return b.eval(wo, wi),
+            Bsdf::DiffuseTransmission(b) => return b.eval(wo, wi),
+            _ => {}
         }
         let Some((wo, wi)) = opaque_side(wo, wi) else {
             return Rgb::ZERO;
@@ -182,14 +201,17 @@ impl Bsdf {
             Bsdf::Mirror(_)
             | Bsdf::SmoothDielectric(_)
             | Bsdf::ThinDielectric(_)
-            | Bsdf::RoughDielectric(_) => Rgb::ZERO,
+            | Bsdf::RoughDielectric(_)
+            | Bsdf::DiffuseTransmission(_) => Rgb::ZERO,
         }
     }
 
     /// Solid-angle density of `sample` producing `wi`.
     pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
-        if let Bsdf::RoughDielectric(b) = self {
-            return b.pdf(wo, wi);
+        match self {
+            Bsdf::RoughDielectric(b) => return b.pdf(wo, wi),
+            Bsdf::DiffuseTransmission(b) => return b.pdf(wo, wi),
+            _ => {}
         }
         let Some((wo, wi)) = opaque_side(wo, wi) else {
             return 0.0;
@@ -204,7 +226,8 @@ impl Bsdf {
             Bsdf::Mirror(_)
             | Bsdf::SmoothDielectric(_)
             | Bsdf::ThinDielectric(_)
-            | Bsdf::RoughDielectric(_) => 0.0,
+            | Bsdf::RoughDielectric(_)
+            | Bsdf::DiffuseTransmission(_) => 0.0,
         }
     }
 
@@ -217,6 +240,7 @@ impl Bsdf {
             Bsdf::SmoothDielectric(b) => return b.sample(wo, uc),
             Bsdf::ThinDielectric(b) => return b.sample(wo, uc),
             Bsdf::RoughDielectric(b) => return b.sample(wo, uc, u),
+            Bsdf::DiffuseTransmission(b) => return b.sample(wo, uc, u),
             _ => {}
         }
         let flip = wo.z < 0.0;
@@ -229,7 +253,10 @@ impl Bsdf {
             Bsdf::RoughConductor(b) => b.sample(wo, u),
             Bsdf::CoatedDiffuse(b) => b.sample(wo, uc, u),
             Bsdf::CoatedConductor(b) => b.sample(wo, uc, u),
-            Bsdf::SmoothDielectric(_) | Bsdf::ThinDielectric(_) | Bsdf::RoughDielectric(_) => None,
+            Bsdf::SmoothDielectric(_)
+            | Bsdf::ThinDielectric(_)
+            | Bsdf::RoughDielectric(_)
+            | Bsdf::DiffuseTransmission(_) => None,
         }?;
         let ok = s.wi.z > 0.0 && s.pdf > 0.0 && s.weight.is_finite();
         ok.then(|| BsdfSample {

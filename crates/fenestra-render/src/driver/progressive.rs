@@ -113,7 +113,8 @@ impl<E: PathEstimator> PassEstimator for Schedule<'_, E> {
 mod tests {
     use super::*;
     use crate::control::NoProgress;
-    use fenestra_scene::{builtin, Backend, Scene};
+    use fenestra_builtin as builtin;
+    use fenestra_scene::{Backend, Scene};
     use std::sync::atomic::AtomicBool;
 
     /// Returns NaN, +inf or 1 depending on the sample's first random number.

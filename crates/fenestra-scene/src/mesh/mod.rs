@@ -1,8 +1,12 @@
-//! Mesh files: PLY (ply-rs-bw) and OBJ with MTL (tobj); Loop subdivision surfaces.
+//! Mesh files: PLY (ply-rs-bw) and OBJ with MTL (tobj); Loop subdivision surfaces; meshes
+//! built from functions.
 
+mod build;
 pub mod obj;
 pub mod ply;
 pub mod subdivide;
+
+pub use build::{grid, smooth_normals};
 
 use crate::light::{Emission, EnvironmentDesc, LightDesc};
 use crate::{Camera, Material, RenderDefaults, SceneDesc, Shape, ShapeKind};

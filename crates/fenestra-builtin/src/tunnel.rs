@@ -2,9 +2,9 @@
 //! in its side wall; the emitter sits in a closed chamber at the tunnel's far end with a
 //! sphere partly blocking it.
 
-use super::geometry::{camera, cuboid, wall_with_openings, Assembler};
-use crate::{Material, RenderDefaults, SceneDesc, Shape, ShapeKind, TriangleMesh};
+use crate::geometry::{camera, cuboid, wall_with_openings, Assembler};
 use fenestra_core::{Rgb, Vec3};
+use fenestra_scene::{Material, RenderDefaults, SceneDesc, Shape, ShapeKind, TriangleMesh};
 
 pub fn tunnel() -> SceneDesc {
     let mut a = Assembler::default();

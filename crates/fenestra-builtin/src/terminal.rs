@@ -4,11 +4,12 @@
 //! along the cornice, 313 "stars" under the vault) and 219 spherical area lights (216 lamps on
 //! the balcony edges, the clock and two lanterns). Over 1M triangles.
 
-use super::geometry::{camera, column, cuboid, grid, Assembler};
-use crate::light::{Emission, LightDesc};
-use crate::{Material, RenderDefaults, SceneDesc, Shape, ShapeKind, TriangleMesh};
+use crate::geometry::{camera, column, cuboid, Assembler};
 use fenestra_core::sampler::{hash_combine, hash_u32};
 use fenestra_core::{Rgb, Vec3, PI};
+use fenestra_scene::light::{Emission, LightDesc};
+use fenestra_scene::mesh::grid;
+use fenestra_scene::{Material, RenderDefaults, SceneDesc, Shape, ShapeKind, TriangleMesh};
 
 const HALF_L: f32 = 45.0;
 const HALF_W: f32 = 18.0;

@@ -4,10 +4,10 @@
 //! its own room's lights are visible: 94% of the lights are occluded from a random point at
 //! table height (measured by the test below; 95.9% if no light leaked through doorways).
 
-use super::geometry::{camera, cuboid, sky, wall_with_openings, Assembler, Rect};
-use crate::light::LightDesc;
-use crate::{Material, RenderDefaults, SceneDesc, TriangleMesh};
+use crate::geometry::{camera, cuboid, sky, wall_with_openings, Assembler, Rect};
 use fenestra_core::{Rgb, Vec3};
+use fenestra_scene::light::LightDesc;
+use fenestra_scene::{Material, RenderDefaults, SceneDesc, TriangleMesh};
 
 pub const ROOM: f32 = 4.0;
 pub const COLS: usize = 6;
@@ -145,9 +145,9 @@ pub fn ponderosa() -> SceneDesc {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{Backend, Scene};
     use fenestra_core::sampler::{hash_combine, hash_u32};
     use fenestra_core::Ray;
+    use fenestra_scene::{Backend, Scene};
 
     #[test]
     fn about_96_percent_of_lights_are_occluded() {

@@ -4,17 +4,19 @@
 //!   the layers stochastically; thickness, albedo, g, maxdepth and nsamples are ignored;
 //! - smooth conductor (alpha < 1e-3): a mirror of the normal-incidence Fresnel reflectance;
 //! - dielectric with spectral eta: the mean of the RGB values (no dispersion);
-//! - anisotropic rough dielectric: alpha = sqrt(alpha_u alpha_v).
+//! - anisotropic rough dielectric: alpha = sqrt(alpha_u alpha_v);
+//! - mix: the material is chosen per point by a hash of the position, where pbrt-v4 hashes
+//!   the position, direction and materials (the same mixture, another dither pattern).
 //!
 //! fenestra adds two types of its own so that its exports round-trip: "phong" (rgb diffuse,
 //! rgb specular, float exponent) and "ward" (rgb diffuse, rgb specular, float alphax, alphay).
 
-use super::builder::{Builder, Tex};
-use super::params::ParamList;
-use super::spectra;
-use super::{Loc, PbrtError};
-use crate::Material;
+use crate::builder::{Builder, Tex};
+use crate::params::ParamList;
+use crate::spectra;
+use crate::{Loc, PbrtError};
 use fenestra_core::Rgb;
+use fenestra_scene::Material;
 
 /// pbrt-v4 treats microfacet distributions with alpha below this as perfectly smooth.
 const SMOOTH_ALPHA: f32 = 1e-3;
@@ -123,6 +125,55 @@ impl Builder {
                             alpha: (au * av).sqrt().max(SMOOTH_ALPHA),
                         }
                     }
+                }
+            }
+            "diffusetransmission" => {
+                let scale = p.float("scale", 1.0)?;
+                let mut albedo = |name: &str| -> Result<Rgb, PbrtError> {
+                    let c = match self.spectrum_input(p, name, loc)? {
+                        Some(Tex::Rgb(c)) => c,
+                        Some(Tex::Image(t)) => {
+                            self.warn(
+                                format!("diffusetransmission {name} texture (its mean is used)"),
+                                loc,
+                            );
+                            t.average()
+                        }
+                        None => Rgb::splat(0.25),
+                    };
+                    Ok((c * scale).map(|v| v.clamp(0.0, 1.0)))
+                };
+                Material::DiffuseTransmission {
+                    reflectance: albedo("reflectance")?,
+                    transmittance: albedo("transmittance")?,
+                }
+            }
+            "mix" => {
+                let Some((names, at)) = p.strings("materials")? else {
+                    return Err(PbrtError::at(
+                        loc,
+                        "mix material needs \"string materials\"",
+                    ));
+                };
+                let [a, b] = &names[..] else {
+                    return Err(PbrtError::at(
+                        &at,
+                        format!("mix takes two materials, found {}", names.len()),
+                    ));
+                };
+                let index = |name: &String| {
+                    self.named_materials.get(name).copied().ok_or_else(|| {
+                        PbrtError::at(&at, format!("unknown named material \"{name}\""))
+                    })
+                };
+                let materials = [index(a)?, index(b)?];
+                let amount = self.float_or_texture(p, "amount", loc)?.unwrap_or(0.5);
+                if materials.contains(&INTERFACE) {
+                    return Err(PbrtError::at(&at, "mix with an interface material"));
+                }
+                Material::Mix {
+                    materials,
+                    amount: amount.clamp(0.0, 1.0),
                 }
             }
             "phong" => Material::Phong {

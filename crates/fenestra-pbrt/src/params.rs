@@ -1,7 +1,7 @@
 //! Typed parameter lists ("float fov" [ 45 ]) with type checks at parse time and tracking of
 //! which parameters a directive used, so the rest can be reported as unsupported.
 
-use super::{Loc, PbrtError};
+use crate::{Loc, PbrtError};
 use fenestra_core::{Rgb, Vec2, Vec3};
 use std::cell::Cell;
 
@@ -243,6 +243,14 @@ impl ParamList {
         })
     }
 
+    /// A string array with its location.
+    pub fn strings(&self, name: &str) -> Result<Option<(Vec<String>, Loc)>, PbrtError> {
+        Ok(self.find(name, &["string"])?.and_then(|p| match &p.values {
+            Values::Strs(s) => Some((s.clone(), p.loc.clone())),
+            _ => None,
+        }))
+    }
+
     pub fn texture(&self, name: &str) -> Result<Option<String>, PbrtError> {
         self.single(name, &["texture"], |v| match v {
             Values::Strs(s) => Some(s[0].clone()),
@@ -322,9 +330,9 @@ impl ParamList {
                     .collect(),
             ),
             (Values::Strs(s), "spectrum") if s.len() == 1 => {
-                if super::spectra::names_file(&s[0]) {
+                if crate::spectra::names_file(&s[0]) {
                     let dir = p.loc.file.parent().unwrap_or(std::path::Path::new("."));
-                    match super::spectra::read_file(&dir.join(&s[0])) {
+                    match crate::spectra::read_file(&dir.join(&s[0])) {
                         Ok(pairs) => SpectrumParam::Sampled(pairs),
                         Err(e) => return bad(format!("parameter \"{name}\": {e}")),
                     }

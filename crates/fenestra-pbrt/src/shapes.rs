@@ -1,14 +1,13 @@
 //! pbrt-v4 shapes: trianglemesh, plymesh, bilinearmesh, loopsubdiv, sphere and disk, built in object space
 //! and moved to the world by the current transform.
 
-use super::builder::Builder;
-use super::parser::Directive;
-use super::{Loc, PbrtError};
-use crate::builtin::geometry::grid;
-use crate::light::Emission;
-use crate::{Shape, ShapeKind, TriangleMesh};
-use fenestra_core::{Vec2, Vec3, PI};
-use glam::{DMat3, DMat4, DVec3};
+use crate::builder::{place, Builder};
+use crate::parser::Directive;
+use crate::{Loc, PbrtError};
+use fenestra_core::{Vec2, Vec3};
+use fenestra_scene::light::Emission;
+use fenestra_scene::mesh::grid;
+use fenestra_scene::{Shape, ShapeKind, TriangleMesh};
 use std::path::Path;
 
 /// Bilinear patches that are not planar are split into this many quads per side.
@@ -23,13 +22,13 @@ const MAX_SUBDIVIDED_TRIANGLES: u64 = 1 << 27;
 impl Builder {
     pub(super) fn shape(&mut self, d: &Directive, dir: &Path) -> Result<(), PbrtError> {
         let p = &d.params;
-        if self.gs.material == super::materials::INTERFACE {
+        if self.gs.material == crate::materials::INTERFACE {
             // Invisible to light in pbrt-v4 as well: nothing to render. A four-vertex
             // trianglemesh forming a parallelogram marks a light portal (what
             // `fenestra portals --export F.pbrt` writes for rectangles).
             if d.str(0) == "trianglemesh" && self.object.is_none() {
                 let mesh = triangle_mesh(d)?;
-                let shape = transform(&Shape::new(ShapeKind::Mesh(mesh), 0), &self.gs.ctm, &d.loc)?;
+                let shape = place(&Shape::new(ShapeKind::Mesh(mesh), 0), &self.gs.ctm, &d.loc)?;
                 if let ShapeKind::Mesh(m) = &shape.kind {
                     if let [a, b, c, e] = m.positions[..] {
                         let size = (b - a).length() + (e - a).length();
@@ -57,7 +56,7 @@ impl Builder {
                     p.use_all();
                 }
                 let path = dir.join(&file);
-                let mesh = crate::mesh::ply::read(&path)
+                let mesh = fenestra_scene::mesh::ply::read(&path)
                     .map_err(|e| PbrtError::at(&d.loc, e.to_string()))?;
                 self.files.push(path);
                 ShapeKind::Mesh(mesh)
@@ -108,7 +107,7 @@ impl Builder {
         let has_normals = matches!(&kind, ShapeKind::Mesh(m) if m.normals.is_some());
         let mut shape = Shape::new(kind, self.gs.material);
         shape.flip_normals = reverse && !has_normals;
-        let mut shape = transform(&shape, &self.gs.ctm, &d.loc)?;
+        let mut shape = place(&shape, &self.gs.ctm, &d.loc)?;
         if let Some(area) = self.gs.area.clone() {
             if self.object.is_some() {
                 self.warn(
@@ -248,7 +247,7 @@ fn loop_subdivision(d: &Directive) -> Result<TriangleMesh, PbrtError> {
             format!("loopsubdiv would make {triangles} triangles (at most {MAX_SUBDIVIDED_TRIANGLES}): use fewer levels"),
         ));
     }
-    Ok(crate::mesh::subdivide::loop_subdivide(
+    Ok(fenestra_scene::mesh::subdivide::loop_subdivide(
         &positions,
         &indices,
         levels as u32,
@@ -301,161 +300,4 @@ fn bilinear_mesh(d: &Directive) -> Result<TriangleMesh, PbrtError> {
         mesh.append(&patch);
     }
     Ok(mesh)
-}
-
-/// `shape` moved by `m`. A transform that mirrors flips the orientation of meshes without
-/// vertex normals and of spheres and disks, as in pbrt-v4. Spheres and disks stay analytic
-/// under similarity transforms and are tessellated otherwise.
-pub(super) fn transform(shape: &Shape, m: &DMat4, loc: &Loc) -> Result<Shape, PbrtError> {
-    let linear = DMat3::from_mat4(*m);
-    let det = linear.determinant();
-    if !(det.is_finite() && det.abs() > 1e-300) || !m.is_finite() {
-        return Err(PbrtError::at(
-            loc,
-            "the current transform is singular or not finite",
-        ));
-    }
-    let normal_m = linear.inverse().transpose();
-    let pt = |p: Vec3| m.transform_point3(p.as_dvec3()).as_vec3();
-    let nrm = |n: Vec3| (normal_m * n.as_dvec3()).normalize_or_zero().as_vec3();
-    let mirrored = det < 0.0;
-    let mut out = shape.clone();
-    out.kind = match &shape.kind {
-        ShapeKind::Mesh(mesh) => {
-            if mirrored && mesh.normals.is_none() {
-                out.flip_normals = !out.flip_normals;
-            }
-            ShapeKind::Mesh(TriangleMesh {
-                positions: mesh.positions.iter().map(|&p| pt(p)).collect(),
-                normals: mesh
-                    .normals
-                    .as_ref()
-                    .map(|n| n.iter().map(|&v| nrm(v)).collect()),
-                uvs: mesh.uvs.clone(),
-                indices: mesh.indices.clone(),
-            })
-        }
-        quadric => {
-            let scale = similarity_scale(&linear);
-            if mirrored {
-                out.flip_normals = !out.flip_normals;
-            }
-            match (quadric, scale) {
-                (ShapeKind::Sphere { center, radius }, Some(s)) => ShapeKind::Sphere {
-                    center: pt(*center),
-                    radius: radius * s as f32,
-                },
-                (
-                    ShapeKind::Disk {
-                        center,
-                        normal,
-                        radius,
-                    },
-                    Some(s),
-                ) => ShapeKind::Disk {
-                    center: pt(*center),
-                    normal: nrm(*normal),
-                    radius: radius * s as f32,
-                },
-                (q, _) => {
-                    // Outward vertex normals give the side; flip_normals still applies.
-                    let mut mesh = tessellate(q);
-                    mesh.positions.iter_mut().for_each(|p| *p = pt(*p));
-                    if let Some(n) = mesh.normals.as_mut() {
-                        n.iter_mut().for_each(|v| *v = nrm(*v));
-                    }
-                    ShapeKind::Mesh(mesh)
-                }
-            }
-        }
-    };
-    Ok(out)
-}
-
-/// The uniform scale factor of `l` if it is a rotation times a uniform scale (possibly
-/// mirrored), `None` otherwise.
-fn similarity_scale(l: &DMat3) -> Option<f64> {
-    let cols = [l.x_axis, l.y_axis, l.z_axis];
-    let s = cols[0].length();
-    let tol = 1e-5 * s;
-    let ortho = |a: DVec3, b: DVec3| a.dot(b).abs() <= tol * s;
-    let same = cols.iter().all(|c| (c.length() - s).abs() <= tol);
-    (same && ortho(cols[0], cols[1]) && ortho(cols[0], cols[2]) && ortho(cols[1], cols[2]))
-        .then_some(s)
-}
-
-/// A sphere or disk as a triangle mesh with outward normals, for non-uniform transforms.
-fn tessellate(kind: &ShapeKind) -> TriangleMesh {
-    let (segments, rings) = (96, 48);
-    let (mut mesh, normal): (TriangleMesh, Box<dyn Fn(Vec3) -> Vec3>) = match *kind {
-        ShapeKind::Sphere { center, radius } => (
-            grid(segments, rings, true, |s, t| {
-                let (phi, theta) = (2.0 * PI * s, PI * t);
-                center
-                    + Vec3::new(
-                        theta.sin() * phi.cos(),
-                        theta.sin() * phi.sin(),
-                        theta.cos(),
-                    ) * radius
-            }),
-            Box::new(move |p: Vec3| (p - center).normalize_or(Vec3::Z)),
-        ),
-        ShapeKind::Disk {
-            center,
-            normal,
-            radius,
-        } => {
-            let f = fenestra_core::Frame::from_normal(normal);
-            (
-                grid(segments, rings, true, |s, t| {
-                    let phi = 2.0 * PI * s;
-                    center + (f.s * phi.cos() + f.t * phi.sin()) * ((1.0 - t) * radius)
-                }),
-                Box::new(move |_| normal),
-            )
-        }
-        ShapeKind::Mesh(ref m) => return m.clone(),
-    };
-    mesh.normals = Some(mesh.positions.iter().map(|&p| normal(p)).collect());
-    mesh
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use std::sync::Arc;
-
-    fn loc() -> Loc {
-        Loc {
-            file: Arc::new("t".into()),
-            line: 1,
-            col: 1,
-        }
-    }
-
-    #[test]
-    fn similarity_keeps_spheres_analytic_and_stretch_tessellates() {
-        let s = Shape::new(
-            ShapeKind::Sphere {
-                center: Vec3::ZERO,
-                radius: 1.0,
-            },
-            0,
-        );
-        let m = DMat4::from_translation(DVec3::new(1.0, 2.0, 3.0))
-            * DMat4::from_axis_angle(DVec3::new(1.0, 1.0, 0.0).normalize(), 0.7)
-            * DMat4::from_scale(DVec3::splat(2.0));
-        let t = transform(&s, &m, &loc()).expect("transform");
-        assert!(
-            matches!(t.kind, ShapeKind::Sphere { radius, center } if (radius - 2.0).abs() < 1e-5 && (center - Vec3::new(1.0, 2.0, 3.0)).length() < 1e-5)
-        );
-        let stretched = transform(&s, &DMat4::from_scale(DVec3::new(1.0, 1.0, 3.0)), &loc())
-            .expect("transform");
-        let ShapeKind::Mesh(mesh) = &stretched.kind else {
-            panic!("tessellated")
-        };
-        let top = mesh.positions.iter().map(|p| p.z).fold(f32::MIN, f32::max);
-        assert!((top - 3.0).abs() < 1e-4);
-        assert!(transform(&s, &DMat4::from_scale(DVec3::new(1.0, 0.0, 1.0)), &loc()).is_err());
-    }
 }

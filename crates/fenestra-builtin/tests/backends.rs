@@ -2,10 +2,12 @@
 #![cfg(feature = "embree")]
 
 use fenestra_core::{warp, Ray, Sampler, Vec3};
-use fenestra_scene::{builtin, Backend, Shape, ShapeKind};
+use fenestra_scene::{Backend, Shape, ShapeKind};
 
 fn test_shapes() -> Vec<Shape> {
-    let mut shapes = builtin::load("box-4holes").expect("builtin").shapes;
+    let mut shapes = fenestra_builtin::load("box-4holes")
+        .expect("builtin")
+        .shapes;
     shapes.push(Shape::new(
         ShapeKind::Sphere {
             center: Vec3::new(0.1, 0.2, -0.2),

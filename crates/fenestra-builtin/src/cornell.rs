@@ -3,9 +3,9 @@
 //! (Mitsuba's cbox). The data's y-up frame is turned to fenestra's z-up by the rotation
 //! (x, y, z) -> (-x, z, y), in metres, which keeps the red wall on the left.
 
-use super::geometry::{camera, Assembler};
-use crate::{Material, RenderDefaults, SceneDesc, ShapeKind, TriangleMesh};
+use crate::geometry::{camera, Assembler};
 use fenestra_core::{Rgb, Vec3};
+use fenestra_scene::{Material, RenderDefaults, SceneDesc, ShapeKind, TriangleMesh};
 
 fn p(x: f32, y: f32, z: f32) -> Vec3 {
     Vec3::new(-x, z, y) * 0.001

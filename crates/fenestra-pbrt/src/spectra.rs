@@ -2,7 +2,7 @@
 //! the CIE 1931 observer (the analytic multi-lobe fit of Wyman, Sloan and Shirley 2013, JCGT
 //! 2(2)), and the named spectra pbrt-v4 ships, as RGB values.
 
-use super::params::SpectrumParam;
+use crate::params::SpectrumParam;
 use fenestra_core::Rgb;
 
 fn lobe(l: f64, mu: f64, s1: f64, s2: f64) -> f64 {

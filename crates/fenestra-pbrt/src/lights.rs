@@ -4,14 +4,14 @@
 //! "power" and "illuminance" rescale the spectrum as pbrt-v4 does, with luminance standing in
 //! for pbrt's photometric normalisation.
 
-use super::builder::{AreaSpec, Builder};
-use super::params::ParamList;
-use super::parser::Directive;
-use super::spectra;
-use super::{Loc, PbrtError};
-use crate::light::{EnvironmentDesc, LightDesc};
+use crate::builder::{AreaSpec, Builder};
+use crate::params::ParamList;
+use crate::parser::Directive;
+use crate::spectra;
+use crate::{Loc, PbrtError};
 use fenestra_core::image::Image;
 use fenestra_core::{Rgb, Vec3, PI};
+use fenestra_scene::light::{EnvironmentDesc, LightDesc};
 use glam::{DMat3, DVec3};
 use std::path::Path;
 use std::sync::Arc;

@@ -1,9 +1,9 @@
 //! Directives of the pbrt-v4 format from a token stream: the directive name, its positional
 //! arguments (checked against the directive's signature) and its parameter list.
 
-use super::lexer::{Tok, Token};
-use super::params::{Param, ParamList, Values};
-use super::{Loc, PbrtError};
+use crate::lexer::{Tok, Token};
+use crate::params::{Param, ParamList, Values};
+use crate::{Loc, PbrtError};
 
 #[derive(Clone, Debug, PartialEq)]
 pub enum Arg {
@@ -317,8 +317,8 @@ fn collect(
 
 #[cfg(test)]
 mod tests {
-    use super::super::lexer::tokenize;
     use super::*;
+    use crate::lexer::tokenize;
     use std::sync::Arc;
 
     fn parse_str(s: &str) -> Result<Vec<Directive>, String> {

@@ -1,15 +1,16 @@
 //! The graphics state machine of pbrt-v4: transforms, attribute stack, named coordinate
 //! systems, materials, textures and object instances, turning directives into a `SceneDesc`.
 
-use super::lexer::tokenize;
-use super::params::{ParamList, Values};
-use super::parser::{parse, Directive};
-use super::{Loc, PbrtError, Warning};
-use crate::filter::{FilterShape, PixelFilter};
-use crate::texture::ImageTexture;
-use crate::{Camera, FieldOfView, LightDesc, Material, RenderDefaults, SceneDesc, Shape};
+use crate::lexer::tokenize;
+use crate::params::{ParamList, Values};
+use crate::parser::{parse, Directive};
+use crate::{Loc, PbrtError, Warning};
 use fenestra_core::image::Image;
 use fenestra_core::{Rgb, Vec2, Vec3};
+use fenestra_scene::filter::{FilterShape, PixelFilter};
+use fenestra_scene::texture::ImageTexture;
+use fenestra_scene::transform::transformed;
+use fenestra_scene::{Camera, FieldOfView, LightDesc, Material, RenderDefaults, SceneDesc, Shape};
 use glam::{DMat4, DVec3};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -41,6 +42,9 @@ struct Saved {
     loc: Loc,
 }
 
+/// Texels along a check of a checkerboard texture.
+const CHECK_TEXELS: usize = 64;
+
 /// A named texture.
 #[derive(Clone, Debug)]
 pub(super) enum Tex {
@@ -63,7 +67,7 @@ pub(super) struct Builder {
     pub gs: GraphicsState,
     stack: Vec<Saved>,
     named_coords: HashMap<String, DMat4>,
-    named_materials: HashMap<String, usize>,
+    pub named_materials: HashMap<String, usize>,
     pub textures: HashMap<String, Tex>,
     /// Float textures by name: their average (fenestra's materials take constants), or
     /// `None` for a class fenestra does not read.
@@ -219,7 +223,7 @@ impl Builder {
         if !meta.is_file() {
             return Err(cannot("not a regular file".into()));
         }
-        let bytes = crate::compressed::read(&path).map_err(|e| cannot(e.to_string()))?;
+        let bytes = fenestra_scene::compressed::read(&path).map_err(|e| cannot(e.to_string()))?;
         self.files.push(path.clone());
         self.depth += 1;
         let r = self.run_bytes(&bytes, &path, Some(&d.loc));
@@ -234,7 +238,7 @@ impl Builder {
         for p in &d.params.params {
             if let (Values::Strs(s), "spectrum") = (&p.values, p.ty.as_str()) {
                 if let [name] = &s[..] {
-                    if super::spectra::names_file(name) {
+                    if crate::spectra::names_file(name) {
                         self.files.push(dir.join(name));
                     }
                 }
@@ -394,7 +398,7 @@ impl Builder {
                 let placed: Vec<Shape> = shapes
                     .iter()
                     .map(|s| {
-                        let s = super::shapes::transform(s, &ctm, &d.loc)?;
+                        let s = place(s, &ctm, &d.loc)?;
                         check_extent(&s, &d.loc).map(|_| s)
                     })
                     .collect::<Result<_, _>>()?;
@@ -464,6 +468,11 @@ impl Builder {
             let value = match class {
                 "constant" => Some(p.float("value", 1.0)?),
                 "imagemap" => Some(self.image_texture(d, dir)?.average().average()),
+                "checkerboard" => {
+                    let (a, b) = (p.float("tex1", 1.0)?, p.float("tex2", 0.0)?);
+                    p.use_all();
+                    Some(0.5 * (a + b))
+                }
                 _ => {
                     self.warn(
                         format!("float Texture class \"{class}\" (materials using it keep their defaults)"),
@@ -499,6 +508,7 @@ impl Builder {
                     None => Tex::Rgb(Rgb::splat(scale)),
                 }
             }
+            "checkerboard" => self.checkerboard(p, &d.loc)?,
             "mix" => {
                 let one = self.spectrum_input(p, "tex1", &d.loc)?;
                 let two = self.spectrum_input(p, "tex2", &d.loc)?;
@@ -515,7 +525,7 @@ impl Builder {
                 Tex::Rgb(a * (1.0 - amount) + b * amount)
             }
             "constant" => Tex::Rgb(match p.spectrum("value")? {
-                Some((s, loc)) => super::spectra::to_rgb(&s).map_err(|e| PbrtError::at(&loc, e))?,
+                Some((s, loc)) => crate::spectra::to_rgb(&s).map_err(|e| PbrtError::at(&loc, e))?,
                 None => Rgb::ONE,
             }),
             _ => {
@@ -529,6 +539,49 @@ impl Builder {
         };
         self.textures.insert(name.into(), tex);
         Ok(())
+    }
+
+    /// pbrt-v4's 2D checkerboard over (u, v) as an image texture of one 2x2 period: `tex1`
+    /// where floor(s) + floor(t) is even, `tex2` elsewhere, with s = u uscale + udelta and
+    /// t = v vscale + vdelta. Bilinear lookup blurs each edge over one of a check's
+    /// [`CHECK_TEXELS`] texels; image inputs give their means (warned).
+    fn checkerboard(&mut self, p: &ParamList, loc: &Loc) -> Result<Tex, PbrtError> {
+        if p.int("dimension", 2)? != 2 {
+            return Err(PbrtError::at(
+                loc,
+                "checkerboard: only dimension 2 is supported",
+            ));
+        }
+        if p.string("mapping")?.is_some_and(|m| m != "uv") {
+            self.warn("checkerboard mapping other than uv (uv is used)", loc);
+        }
+        let mut input = |name: &str, default: f32| -> Result<Rgb, PbrtError> {
+            Ok(match self.spectrum_input(p, name, loc)? {
+                Some(Tex::Rgb(c)) => c,
+                Some(Tex::Image(t)) => {
+                    self.warn("checkerboard of image textures (their means are used)", loc);
+                    t.average()
+                }
+                None => Rgb::splat(default),
+            })
+        };
+        let (one, two) = (input("tex1", 1.0)?, input("tex2", 0.0)?);
+        let n = CHECK_TEXELS;
+        let mut image = Image::new(2 * n, 2 * n);
+        for y in 0..2 * n {
+            for x in 0..2 * n {
+                // Row y holds t in (1 - y / n) mod 2 (v = 1 is the top row), column x s = x / n.
+                let even = (x / n + y / n) % 2 == 1;
+                image.set(x, y, if even { one } else { two });
+            }
+        }
+        let mut t = ImageTexture::new(Arc::new(image), PathBuf::from("checkerboard"));
+        // The image is one 2x2 period: half the scale and offset of the checks.
+        t.uscale = 0.5 * p.float("uscale", 1.0)?;
+        t.vscale = 0.5 * p.float("vscale", 1.0)?;
+        t.udelta = 0.5 * p.float("udelta", 0.0)?;
+        t.vdelta = 0.5 * p.float("vdelta", 0.0)?;
+        Ok(Tex::Image(Arc::new(t)))
     }
 
     /// pbrt-v4's PixelFilter with its parameters and defaults.
@@ -594,7 +647,7 @@ impl Builder {
     }
 
     /// A spectrum texture's input `name`: a named texture or a value, if given.
-    fn spectrum_input(
+    pub(crate) fn spectrum_input(
         &mut self,
         p: &ParamList,
         name: &str,
@@ -609,7 +662,7 @@ impl Builder {
         }
         Ok(match p.spectrum(name)? {
             Some((s, l)) => Some(Tex::Rgb(
-                super::spectra::to_rgb(&s).map_err(|e| PbrtError::at(&l, e))?,
+                crate::spectra::to_rgb(&s).map_err(|e| PbrtError::at(&l, e))?,
             )),
             None => None,
         })
@@ -719,10 +772,18 @@ impl Builder {
         camera.filter = self.filter.unwrap_or_else(PixelFilter::pbrt_default);
         let mut shapes = self.shapes;
         let mut materials = self.materials;
-        // Drop pbrt's default material when nothing uses it.
-        if shapes.iter().all(|s| s.material != 0) {
+        // Drop pbrt's default material when no shape and no mix uses it.
+        let mixes_default = materials
+            .iter()
+            .any(|m| matches!(m, Material::Mix { materials, .. } if materials.contains(&0)));
+        if !mixes_default && shapes.iter().all(|s| s.material != 0) {
             materials.remove(0);
             shapes.iter_mut().for_each(|s| s.material -= 1);
+            for m in &mut materials {
+                if let Material::Mix { materials, .. } = m {
+                    materials.iter_mut().for_each(|i| *i -= 1);
+                }
+            }
         }
         let desc = SceneDesc {
             name,
@@ -772,7 +833,7 @@ fn look_at(pos: DVec3, look: DVec3, up: DVec3, loc: &Loc) -> Result<DMat4, PbrtE
 
 /// Refuses a shape beyond what f32 ray tracing resolves, at the directive that made it.
 fn check_extent(shape: &Shape, loc: &Loc) -> Result<(), PbrtError> {
-    match crate::shape::extent_error(shape.extent()) {
+    match fenestra_scene::shape::extent_error(shape.extent()) {
         Some(what) => Err(PbrtError::at(loc, what)),
         None => Ok(()),
     }
@@ -793,4 +854,9 @@ fn make_camera(c: &CameraSpec) -> Result<Camera, PbrtError> {
         c.screen_window,
     )
     .map_err(|e| PbrtError::at(&c.loc, e.to_string()))
+}
+
+/// `shape` moved by the transform `m` in effect at `loc`.
+pub(crate) fn place(shape: &Shape, m: &DMat4, loc: &Loc) -> Result<Shape, PbrtError> {
+    transformed(shape, m).map_err(|e| PbrtError::at(loc, format!("the current {e}")))
 }

@@ -1,10 +1,11 @@
 //! The box scenes of seed 000 §5.2: a 1 m cube centred at the origin (Z up) with thin
 //! diffuse walls of albedo 0.75, light entering through square holes in the ceiling.
 
-use super::geometry::{grid, transposed, wall_with_openings, Rect};
-use crate::light::{Emission, EnvironmentDesc, LightDesc};
-use crate::{Camera, Material, RenderDefaults, SceneDesc, Shape, ShapeKind, TriangleMesh};
+use crate::geometry::{transposed, wall_with_openings, Rect};
 use fenestra_core::{Rgb, Vec3, PI};
+use fenestra_scene::light::{Emission, EnvironmentDesc, LightDesc};
+use fenestra_scene::mesh::grid;
+use fenestra_scene::{Camera, Material, RenderDefaults, SceneDesc, Shape, ShapeKind, TriangleMesh};
 
 pub enum Variant {
     /// One 0.25 m hole in the ceiling centre, 25 W emitter above.

@@ -13,7 +13,7 @@ mod parser;
 mod shapes;
 mod spectra;
 
-use crate::SceneDesc;
+use fenestra_scene::SceneDesc;
 use std::fmt;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -94,7 +94,7 @@ pub fn load(path: &Path, strict: bool) -> Result<Loaded, PbrtError> {
         line: 1,
         col: 1,
     };
-    let bytes = crate::compressed::read(path)
+    let bytes = fenestra_scene::compressed::read(path)
         .map_err(|e| PbrtError::at(&start, format!("cannot read scene file: {e}")))?;
     load_bytes(&bytes, path, strict)
 }

@@ -1,14 +1,14 @@
-//! Writes a scene as a pbrt-v4 file that [`super::load`] reads back to the same scene. Large
+//! Writes a scene as a pbrt-v4 file that [`crate::load`] reads back to the same scene. Large
 //! meshes go to binary PLY files and environment images to EXR, in a folder beside the file.
 //! Phong and Ward materials use fenestra's own "phong"/"ward" types (pbrt-v4 has no
 //! equivalent); everything else is plain pbrt-v4.
 
-use crate::filter::{FilterShape, PixelFilter};
-use crate::light::{EnvironmentDesc, LightDesc};
-use crate::{Camera, FieldOfView, Material, SceneDesc, ShapeKind, TriangleMesh};
 use fenestra_core::fs::{write_atomically, write_text_atomically};
 use fenestra_core::image::Image;
 use fenestra_core::{Rgb, Vec3};
+use fenestra_scene::filter::{FilterShape, PixelFilter};
+use fenestra_scene::light::{EnvironmentDesc, LightDesc};
+use fenestra_scene::{Camera, FieldOfView, Material, SceneDesc, ShapeKind, TriangleMesh};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -244,7 +244,8 @@ pub fn write(desc: &SceneDesc, path: &Path) -> Result<Exported, ExportError> {
                     let file = data(format!("shape-{i}.ply"), &|tmp| {
                         let f = std::fs::File::create(tmp).map_err(|e| e.to_string())?;
                         let mut w = std::io::BufWriter::new(f);
-                        crate::mesh::ply::write(&mesh, &mut w).map_err(|e| e.to_string())?;
+                        fenestra_scene::mesh::ply::write(&mesh, &mut w)
+                            .map_err(|e| e.to_string())?;
                         std::io::Write::flush(&mut w).map_err(|e| e.to_string())
                     })?;
                     let _ = writeln!(s, "  Shape \"plymesh\" \"string filename\" \"{file}\"");
@@ -459,6 +460,26 @@ fn material(s: &mut String, i: usize, m: &Material) {
                 rgb(*k)
             );
         }
+        Material::DiffuseTransmission {
+            reflectance,
+            transmittance,
+        } => {
+            let _ = write!(
+                s,
+                "\"string type\" \"diffusetransmission\" \"rgb reflectance\" [ {} ] \"rgb transmittance\" [ {} ]",
+                rgb(*reflectance),
+                rgb(*transmittance)
+            );
+        }
+        Material::Mix {
+            materials: [a, b],
+            amount,
+        } => {
+            let _ = write!(
+                s,
+                "\"string type\" \"mix\" \"string materials\" [ \"m{a}\" \"m{b}\" ] \"float amount\" [ {amount} ]"
+            );
+        }
         Material::CoatedDiffuse {
             reflectance,
             texture,
@@ -495,47 +516,4 @@ fn inline_mesh(s: &mut String, m: &TriangleMesh) {
         let _ = write!(s, "\n    \"point2 uv\" [ {} ]", t.join("  "));
     }
     s.push('\n');
-}
-
-/// Shapes compared for the round-trip test: kind, material, emission and orientation.
-#[cfg(test)]
-pub(crate) fn same_shape(a: &crate::Shape, b: &crate::Shape, tol: f32) -> bool {
-    let close = |x: Vec3, y: Vec3| (x - y).length() <= tol * (1.0 + x.length());
-    let geometry = match (&a.kind, &b.kind) {
-        (ShapeKind::Mesh(m), ShapeKind::Mesh(n)) => {
-            m.indices == n.indices
-                && m.positions.len() == n.positions.len()
-                && m.positions
-                    .iter()
-                    .zip(&n.positions)
-                    .all(|(x, y)| close(*x, *y))
-                && m.uvs.is_some() == n.uvs.is_some()
-                && m.normals.is_some() == n.normals.is_some()
-        }
-        (
-            ShapeKind::Sphere { center, radius },
-            ShapeKind::Sphere {
-                center: c2,
-                radius: r2,
-            },
-        ) => close(*center, *c2) && (radius - r2).abs() <= tol * radius,
-        (
-            ShapeKind::Disk {
-                center,
-                normal,
-                radius,
-            },
-            ShapeKind::Disk {
-                center: c2,
-                normal: n2,
-                radius: r2,
-            },
-        ) => close(*center, *c2) && close(*normal, *n2) && (radius - r2).abs() <= tol * radius,
-        _ => false,
-    };
-    geometry
-        && a.material == b.material
-        && a.flip_normals == b.flip_normals
-        && a.emission.map(|e| (e.radiance, e.two_sided))
-            == b.emission.map(|e| (e.radiance, e.two_sided))
 }

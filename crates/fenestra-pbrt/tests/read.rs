@@ -2,8 +2,8 @@
 //! and errors on malformed files.
 
 use fenestra_core::{Rgb, Vec2, Vec3};
+use fenestra_pbrt::{self as pbrt, Loaded};
 use fenestra_scene::light::{EnvironmentDesc, LightDesc};
-use fenestra_scene::pbrt::{self, Loaded};
 use fenestra_scene::{Backend, Material, Scene, ShapeKind};
 use std::path::{Path, PathBuf};
 
@@ -460,6 +460,71 @@ fn scale_and_mix_textures() {
     let w: Vec<String> = s.warnings.iter().map(ToString::to_string).collect();
     assert_eq!(w.len(), 1, "{w:?}");
     assert!(w[0].contains("mix of image textures"), "{w:?}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn checkerboard_mix_and_diffuse_transmission_as_pbrt_v4_defines_them() {
+    let s = load(
+        r#"WorldBegin
+        Texture "checks" "spectrum" "checkerboard" "rgb tex1" [1 0 0] "rgb tex2" [0 0 1]
+            "float uscale" 4 "float vscale" 2 "float udelta" 0.5
+        MakeNamedMaterial "red" "string type" "diffuse" "rgb reflectance" [0.8 0.1 0.1]
+        MakeNamedMaterial "leaf" "string type" "diffusetransmission"
+            "rgb reflectance" [0.2 0.5 0.1] "rgb transmittance" [0.1 0.4 0.1] "float scale" 2
+        MakeNamedMaterial "both" "string type" "mix" "string materials" ["red" "leaf"]
+            "float amount" 0.3
+        Material "diffuse" "texture reflectance" "checks"
+        Shape "sphere"
+        NamedMaterial "both"
+        Shape "sphere""#,
+    )
+    .expect("load");
+    // The named materials in order, then the checks.
+    let [red, leaf, both, checks] = [0, 1, 2, 3];
+    let Material::TexturedDiffuse { texture } = &s.desc.materials[checks] else {
+        panic!("a checkerboard is a texture")
+    };
+    // pbrt-v4: tex1 where floor(s) + floor(t) is even, s = 4u + 0.5, t = 2v (check centres,
+    // away from the edges the lookup blurs).
+    for (u, v) in [
+        (0.0, 0.25),
+        (0.1, 0.25),
+        (0.3, 0.9),
+        (0.55, 0.6),
+        (0.9, 0.1),
+        (-0.3, -0.7),
+    ] {
+        let (s_, t_): (f32, f32) = (4.0 * u + 0.5, 2.0 * v);
+        let even = (s_.floor() + t_.floor()) as i64 % 2 == 0;
+        let want = if even {
+            Rgb::new(1.0, 0.0, 0.0)
+        } else {
+            Rgb::new(0.0, 0.0, 1.0)
+        };
+        assert_eq!(texture.lookup(Vec2::new(u, v)), want, "uv ({u}, {v})");
+    }
+    assert!(matches!(s.desc.materials[red], Material::Diffuse { .. }));
+    assert!(matches!(
+        s.desc.materials[leaf],
+        Material::DiffuseTransmission { reflectance, transmittance }
+            if (reflectance - Rgb::new(0.4, 1.0, 0.2)).max_component().abs() < 1e-6
+            && (transmittance - Rgb::new(0.2, 0.8, 0.2)).max_component().abs() < 1e-6
+    ));
+    assert!(matches!(
+        s.desc.materials[both],
+        Material::Mix { materials: [0, 1], amount } if amount == 0.3
+    ));
+    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+    // The exporter writes them so that they read back the same.
+    let dir = scratch("mix-export");
+    let path = dir.join("e.pbrt");
+    pbrt::export::write(&s.desc, &path).expect("export");
+    let t = pbrt::load(&path, true).expect("re-read").desc;
+    assert_eq!(
+        format!("{:?}", &t.materials[red..=both]),
+        format!("{:?}", &s.desc.materials[red..=both])
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -3,7 +3,7 @@
 
 mod box_hole;
 mod cornell;
-pub(crate) mod geometry;
+mod geometry;
 pub mod hall;
 mod kitchen;
 mod ponderosa;
@@ -11,7 +11,7 @@ mod teapot;
 mod terminal;
 mod tunnel;
 
-use crate::{Material, SceneDesc, Shape, ShapeKind, TriangleMesh};
+use fenestra_scene::{Material, SceneDesc, Shape, ShapeKind, TriangleMesh};
 
 /// (name, description) of every built-in scene.
 pub const SCENES: &[(&str, &str)] = &[
@@ -105,10 +105,7 @@ pub fn glazed(mut desc: SceneDesc) -> SceneDesc {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::light::{EnvironmentDesc, LightDesc};
-    use crate::pbrt::export::same_shape;
-    use crate::{Backend, Scene};
-    use fenestra_core::Vec2;
+    use fenestra_scene::{Backend, Scene};
 
     #[test]
     fn every_scene_builds_and_matches_its_description() {
@@ -119,7 +116,7 @@ mod tests {
             let tris: usize = desc
                 .shapes
                 .iter()
-                .filter(|s| matches!(s.kind, crate::ShapeKind::Mesh(_)))
+                .filter(|s| matches!(s.kind, fenestra_scene::ShapeKind::Mesh(_)))
                 .map(|s| s.primitive_count())
                 .sum();
             match *name {
@@ -140,116 +137,5 @@ mod tests {
     #[test]
     fn hall_has_19_lit_windows() {
         assert_eq!(hall::windows(19, 5.0).len(), 19);
-    }
-
-    /// Exports every built-in scene to pbrt-v4 and reads it back: the same shapes, materials,
-    /// lights, camera rays and settings.
-    #[test]
-    fn pbrt_export_round_trips() {
-        let dir = std::env::temp_dir().join(format!("fenestra-export-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).expect("dir");
-        for (name, _) in SCENES {
-            let a = load(name).expect(name);
-            let path = dir.join(format!("{name}.pbrt"));
-            crate::pbrt::export::write(&a, &path).expect("export");
-            let b = crate::pbrt::load(&path, true).expect("re-read").desc;
-            assert_eq!(a.shapes.len(), b.shapes.len(), "{name}");
-            for (i, (s, t)) in a.shapes.iter().zip(&b.shapes).enumerate() {
-                assert!(same_shape(s, t, 1e-5), "{name}: shape {i} differs");
-            }
-            assert_eq!(
-                format!("{:?}", a.defaults),
-                format!("{:?}", b.defaults),
-                "{name}"
-            );
-            assert_eq!(a.portals.len(), b.portals.len(), "{name}: portals");
-            for (p, q) in a.portals.iter().zip(&b.portals) {
-                assert!(
-                    p.iter().zip(q).all(|(x, y)| (*x - *y).length() < 1e-5),
-                    "{name}: portal {p:?} read back as {q:?}"
-                );
-            }
-            assert_eq!(a.materials.len(), b.materials.len(), "{name}");
-            for (m, n) in a.materials.iter().zip(&b.materials) {
-                assert_eq!(material_key(m), material_key(n), "{name}");
-            }
-            assert_eq!(a.lights.len(), b.lights.len(), "{name}");
-            for (l, m) in a.lights.iter().zip(&b.lights) {
-                assert_eq!(light_key(l), light_key(m), "{name}");
-            }
-            let (w, h) = (a.defaults.width, a.defaults.height);
-            for (x, y) in [
-                (0.0, 0.0),
-                (w as f32, h as f32),
-                (w as f32 * 0.3, h as f32 * 0.8),
-            ] {
-                let (r, s) = (
-                    a.camera.generate_ray(Vec2::new(x, y), w, h),
-                    b.camera.generate_ray(Vec2::new(x, y), w, h),
-                );
-                assert!(
-                    (r.o - s.o).length() < 1e-4 && (r.d - s.d).length() < 1e-5,
-                    "{name}: camera"
-                );
-            }
-            // The pixel filter too (pbrt-v4's default differs from fenestra's).
-            assert_eq!(a.camera.filter, b.camera.filter, "{name}: pixel filter");
-        }
-        let _ = std::fs::remove_dir_all(&dir);
-    }
-
-    /// A material's kind and parameters rounded to 5 significant digits.
-    fn material_key(m: &crate::Material) -> String {
-        let s = match m {
-            crate::Material::TexturedDiffuse { texture } => format!("tex {:?}", texture.average()),
-            crate::Material::CoatedDiffuse {
-                reflectance,
-                eta,
-                alpha,
-                ..
-            } => format!("coated {reflectance:?} {eta} {alpha}"),
-            other => format!("{other:?}"),
-        };
-        round_numbers(&s)
-    }
-
-    fn light_key(l: &LightDesc) -> String {
-        match l {
-            LightDesc::Environment(EnvironmentDesc::Image {
-                image,
-                scale,
-                to_world,
-            }) => round_numbers(&format!(
-                "image {}x{} {:?} {:?} {to_world:?}",
-                image.width,
-                image.height,
-                image.mean(),
-                scale
-            )),
-            other => round_numbers(&format!("{other:?}")),
-        }
-    }
-
-    fn round_numbers(s: &str) -> String {
-        let mut out = String::new();
-        let mut num = String::new();
-        let flush = |num: &mut String, out: &mut String| {
-            if let Ok(v) = num.parse::<f64>() {
-                out.push_str(&format!("{v:.4e}"));
-            } else {
-                out.push_str(num);
-            }
-            num.clear();
-        };
-        for c in s.chars() {
-            if c.is_ascii_digit() || c == '.' || c == '-' || c == 'e' && !num.is_empty() {
-                num.push(c);
-            } else {
-                flush(&mut num, &mut out);
-                out.push(c);
-            }
-        }
-        flush(&mut num, &mut out);
-        out
     }
 }

@@ -1,7 +1,7 @@
 //! Tokens of the pbrt-v4 scene format: bare words, numbers, quoted strings and brackets, with
 //! `#` comments to the end of the line. Every token carries its line and column.
 
-use super::{Loc, PbrtError};
+use crate::{Loc, PbrtError};
 use std::sync::Arc;
 
 #[derive(Clone, Debug, PartialEq)]

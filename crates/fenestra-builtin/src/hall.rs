@@ -2,9 +2,9 @@
 //! the +y wall with a large area light outside that side only, 7 unlit windows on the -y
 //! wall, two rows of pillars. Walls are thin; each window holds a thin glass pane.
 
-use super::geometry::{camera, cuboid, transposed, wall_with_openings, Assembler, Rect};
-use crate::{Material, RenderDefaults, SceneDesc, ShapeKind, TriangleMesh};
+use crate::geometry::{camera, cuboid, transposed, wall_with_openings, Assembler, Rect};
 use fenestra_core::{Rgb, Vec3};
+use fenestra_scene::{Material, RenderDefaults, SceneDesc, ShapeKind, TriangleMesh};
 
 /// The hall's interior: x in [0, LENGTH], y in [-HALF_WIDTH, HALF_WIDTH], z in [0, HEIGHT].
 const LENGTH: f32 = 20.0;

@@ -2,11 +2,11 @@
 //! cabinets, an island, a fridge and a range hood as occluders, a glossy floor. The windows
 //! are behind the camera; `kitchen-72-env` adds a sky seen through them (Kitchen 2).
 
-use super::geometry::{camera, cuboid, sky, transposed, wall_with_openings, Assembler, Rect};
-use super::teapot::teapot_mesh;
-use crate::light::LightDesc;
-use crate::{Material, RenderDefaults, SceneDesc, ShapeKind, TriangleMesh};
+use crate::geometry::{camera, cuboid, sky, transposed, wall_with_openings, Assembler, Rect};
+use crate::teapot::teapot_mesh;
 use fenestra_core::{Rgb, Vec3};
+use fenestra_scene::light::LightDesc;
+use fenestra_scene::{Material, RenderDefaults, SceneDesc, ShapeKind, TriangleMesh};
 
 /// Room: x in [0, 6], y in [0, 5], z in [0, 2.7]; windows in the y = 0 wall.
 const W: f32 = 6.0;

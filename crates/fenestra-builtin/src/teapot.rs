@@ -2,10 +2,11 @@
 //! diffuse box with checker-textured walls lit by an area light: the kettle scene of seed 003
 //! (§2.6, Table 2.1) with anisotropic Ward (alpha_x 0.18, alpha_y 0.09).
 
-use super::geometry::{camera, checker, cuboid, smooth_normals, Assembler};
-use crate::texture::ImageTexture;
-use crate::{Material, RenderDefaults, SceneDesc, ShapeKind, TriangleMesh};
+use crate::geometry::{camera, checker, cuboid, Assembler};
 use fenestra_core::{Rgb, Vec3};
+use fenestra_scene::mesh::smooth_normals;
+use fenestra_scene::texture::ImageTexture;
+use fenestra_scene::{Material, RenderDefaults, SceneDesc, ShapeKind, TriangleMesh};
 use std::sync::Arc;
 
 const DATA: &str = include_str!("data/teapot.txt");

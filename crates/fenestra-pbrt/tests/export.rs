@@ -1,0 +1,158 @@
+//! The pbrt-v4 exporter against the reader: every built-in scene written and read back.
+
+use fenestra_core::{Vec2, Vec3};
+use fenestra_scene::light::{EnvironmentDesc, LightDesc};
+use fenestra_scene::{Material, Shape, ShapeKind};
+
+/// Exports every built-in scene to pbrt-v4 and reads it back: the same shapes, materials,
+/// lights, camera rays and settings.
+#[test]
+fn pbrt_export_round_trips() {
+    let dir = std::env::temp_dir().join(format!("fenestra-export-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("dir");
+    for (name, _) in fenestra_builtin::SCENES {
+        let a = fenestra_builtin::load(name).expect(name);
+        let path = dir.join(format!("{name}.pbrt"));
+        fenestra_pbrt::export::write(&a, &path).expect("export");
+        let b = fenestra_pbrt::load(&path, true).expect("re-read").desc;
+        assert_eq!(a.shapes.len(), b.shapes.len(), "{name}");
+        for (i, (s, t)) in a.shapes.iter().zip(&b.shapes).enumerate() {
+            assert!(same_shape(s, t, 1e-5), "{name}: shape {i} differs");
+        }
+        assert_eq!(
+            format!("{:?}", a.defaults),
+            format!("{:?}", b.defaults),
+            "{name}"
+        );
+        assert_eq!(a.portals.len(), b.portals.len(), "{name}: portals");
+        for (p, q) in a.portals.iter().zip(&b.portals) {
+            assert!(
+                p.iter().zip(q).all(|(x, y)| (*x - *y).length() < 1e-5),
+                "{name}: portal {p:?} read back as {q:?}"
+            );
+        }
+        assert_eq!(a.materials.len(), b.materials.len(), "{name}");
+        for (m, n) in a.materials.iter().zip(&b.materials) {
+            assert_eq!(material_key(m), material_key(n), "{name}");
+        }
+        assert_eq!(a.lights.len(), b.lights.len(), "{name}");
+        for (l, m) in a.lights.iter().zip(&b.lights) {
+            assert_eq!(light_key(l), light_key(m), "{name}");
+        }
+        let (w, h) = (a.defaults.width, a.defaults.height);
+        for (x, y) in [
+            (0.0, 0.0),
+            (w as f32, h as f32),
+            (w as f32 * 0.3, h as f32 * 0.8),
+        ] {
+            let (r, s) = (
+                a.camera.generate_ray(Vec2::new(x, y), w, h),
+                b.camera.generate_ray(Vec2::new(x, y), w, h),
+            );
+            assert!(
+                (r.o - s.o).length() < 1e-4 && (r.d - s.d).length() < 1e-5,
+                "{name}: camera"
+            );
+        }
+        // The pixel filter too (pbrt-v4's default differs from fenestra's).
+        assert_eq!(a.camera.filter, b.camera.filter, "{name}: pixel filter");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A material's kind and parameters rounded to 5 significant digits.
+fn material_key(m: &Material) -> String {
+    let s = match m {
+        Material::TexturedDiffuse { texture } => format!("tex {:?}", texture.average()),
+        Material::CoatedDiffuse {
+            reflectance,
+            eta,
+            alpha,
+            ..
+        } => format!("coated {reflectance:?} {eta} {alpha}"),
+        other => format!("{other:?}"),
+    };
+    round_numbers(&s)
+}
+
+fn light_key(l: &LightDesc) -> String {
+    match l {
+        LightDesc::Environment(EnvironmentDesc::Image {
+            image,
+            scale,
+            to_world,
+        }) => round_numbers(&format!(
+            "image {}x{} {:?} {:?} {to_world:?}",
+            image.width,
+            image.height,
+            image.mean(),
+            scale
+        )),
+        other => round_numbers(&format!("{other:?}")),
+    }
+}
+
+fn round_numbers(s: &str) -> String {
+    let mut out = String::new();
+    let mut num = String::new();
+    let flush = |num: &mut String, out: &mut String| {
+        if let Ok(v) = num.parse::<f64>() {
+            out.push_str(&format!("{v:.4e}"));
+        } else {
+            out.push_str(num);
+        }
+        num.clear();
+    };
+    for c in s.chars() {
+        if c.is_ascii_digit() || c == '.' || c == '-' || c == 'e' && !num.is_empty() {
+            num.push(c);
+        } else {
+            flush(&mut num, &mut out);
+            out.push(c);
+        }
+    }
+    flush(&mut num, &mut out);
+    out
+}
+
+/// Shapes compared for the round-trip test: kind, material, emission and orientation.
+fn same_shape(a: &Shape, b: &Shape, tol: f32) -> bool {
+    let close = |x: Vec3, y: Vec3| (x - y).length() <= tol * (1.0 + x.length());
+    let geometry = match (&a.kind, &b.kind) {
+        (ShapeKind::Mesh(m), ShapeKind::Mesh(n)) => {
+            m.indices == n.indices
+                && m.positions.len() == n.positions.len()
+                && m.positions
+                    .iter()
+                    .zip(&n.positions)
+                    .all(|(x, y)| close(*x, *y))
+                && m.uvs.is_some() == n.uvs.is_some()
+                && m.normals.is_some() == n.normals.is_some()
+        }
+        (
+            ShapeKind::Sphere { center, radius },
+            ShapeKind::Sphere {
+                center: c2,
+                radius: r2,
+            },
+        ) => close(*center, *c2) && (radius - r2).abs() <= tol * radius,
+        (
+            ShapeKind::Disk {
+                center,
+                normal,
+                radius,
+            },
+            ShapeKind::Disk {
+                center: c2,
+                normal: n2,
+                radius: r2,
+            },
+        ) => close(*center, *c2) && close(*normal, *n2) && (radius - r2).abs() <= tol * radius,
+        _ => false,
+    };
+    geometry
+        && a.material == b.material
+        && a.flip_normals == b.flip_normals
+        && a.emission.map(|e| (e.radiance, e.two_sided))
+            == b.emission.map(|e| (e.radiance, e.two_sided))
+}
