@@ -19,16 +19,29 @@ pub struct SceneOptions {
 /// A loaded scene with its load time, what it could not represent and the files it read.
 pub struct LoadedScene {
     pub desc: SceneDesc,
-    pub warnings: Vec<String>,
+    /// What a pbrt-v4 file asks for that fenestra replaces by something else.
+    pub substitutions: Vec<pbrt::Warning>,
+    /// What a pbrt-v4 file asks for that fenestra renders in its own documented way.
+    pub notes: Vec<pbrt::Warning>,
+    /// Other warnings: mesh files, a scene without light.
+    pub other: Vec<String>,
     pub seconds: f64,
     /// Every file read (scene, includes, meshes, images): outputs must not replace them.
     pub files: Vec<PathBuf>,
 }
 
+impl LoadedScene {
+    /// Every warning as a line of text: substitutions, then the others.
+    pub fn warnings(&self) -> Vec<String> {
+        let subs = self.substitutions.iter().map(ToString::to_string);
+        subs.chain(self.other.iter().cloned()).collect()
+    }
+}
+
 /// Loads `arg`, printing warnings about unsupported input to stderr.
 pub fn load(arg: &str, opts: SceneOptions) -> Result<LoadedScene> {
     let loaded = load_quietly(arg, opts)?;
-    for w in &loaded.warnings {
+    for w in loaded.warnings() {
         eprintln!("warning: {w}");
     }
     Ok(loaded)
@@ -36,18 +49,16 @@ pub fn load(arg: &str, opts: SceneOptions) -> Result<LoadedScene> {
 
 pub fn load_quietly(arg: &str, opts: SceneOptions) -> Result<LoadedScene> {
     let start = Instant::now();
+    let (mut substitutions, mut notes) = (Vec::new(), Vec::new());
     let (desc, warnings, files) = if let Some(name) = arg.strip_prefix("builtin:") {
         (builtin::load(name)?, Vec::new(), Vec::new())
     } else {
         let path = Path::new(arg);
-        let ext = path
-            .extension()
-            .map(|e| e.to_string_lossy().to_ascii_lowercase());
-        match ext.as_deref() {
+        match mesh::format_of(path).as_deref() {
             Some("pbrt") => {
                 let l = pbrt::load(path, opts.strict)?;
-                let warnings = l.warnings.iter().map(ToString::to_string).collect();
-                (l.desc, warnings, l.files)
+                (substitutions, notes) = (l.warnings, l.notes);
+                (l.desc, Vec::new(), l.files)
             }
             Some("obj" | "ply") => {
                 let (desc, warnings) = mesh::viewer_scene(path)?;
@@ -59,7 +70,7 @@ pub fn load_quietly(arg: &str, opts: SceneOptions) -> Result<LoadedScene> {
                 (desc, warnings, files)
             }
             _ => bail!(
-                "{arg}: unknown scene type (expected a .pbrt file, an .obj or .ply mesh, or builtin:NAME; `fenestra list` shows the built-in scenes)"
+                "{arg}: unknown scene type (expected a .pbrt or .pbrt.gz file, an .obj or .ply mesh, or builtin:NAME; `fenestra list` shows the built-in scenes)"
             ),
         }
     };
@@ -71,7 +82,9 @@ pub fn load_quietly(arg: &str, opts: SceneOptions) -> Result<LoadedScene> {
     }
     Ok(LoadedScene {
         desc,
-        warnings,
+        substitutions,
+        notes,
+        other: warnings,
         seconds: start.elapsed().as_secs_f64(),
         files,
     })

@@ -27,6 +27,13 @@ enum SceneCommand {
         #[arg(long)]
         json: bool,
     },
+    /// List everything in a scene that fenestra replaces or renders its own way, grouped by
+    /// geometry, materials, textures, lights, camera and rendering, one line each with its
+    /// effect on the picture. Exits with status 1 when something is replaced.
+    Check {
+        /// A pbrt-v4 file (or an OBJ/PLY mesh, builtin:NAME).
+        scene: String,
+    },
     /// Write a scene as a pbrt-v4 file (large meshes and images go to a folder beside it).
     Export {
         /// builtin:NAME, a pbrt-v4 file, or an OBJ/PLY mesh.
@@ -46,6 +53,7 @@ pub fn run(args: SceneArgs) -> Result<()> {
             options,
             json,
         } => info(&scene, options, json),
+        SceneCommand::Check { scene } => check(&scene),
         SceneCommand::Export {
             scene,
             options,
@@ -114,7 +122,7 @@ fn info(scene: &str, options: SceneOptions, json: bool) -> Result<()> {
         "resolution": [d.defaults.width, d.defaults.height],
         "spp": d.defaults.spp,
         "max_depth": d.defaults.max_depth,
-        "warnings": loaded.warnings,
+        "warnings": loaded.warnings(),
     });
     if json {
         println!("{}", serde_json::to_string_pretty(&v)?);
@@ -135,8 +143,72 @@ fn info(scene: &str, options: SceneOptions, json: bool) -> Result<()> {
         "  defaults: {}x{}, {} spp, path length {}",
         d.defaults.width, d.defaults.height, d.defaults.spp, d.defaults.max_depth
     );
-    for w in &loaded.warnings {
+    for w in &loaded.warnings() {
         println!("  warning: {w}");
     }
     Ok(())
+}
+
+/// `scene check`: the report, and whether anything is replaced (exit status 1).
+fn check(scene: &str) -> Result<()> {
+    let loaded = scene_arg::load_quietly(scene, SceneOptions::default())?;
+    print!("{}", check_report(scene, &loaded));
+    if !loaded.substitutions.is_empty() || !loaded.other.is_empty() {
+        std::process::exit(1);
+    }
+    Ok(())
+}
+
+fn check_report(scene: &str, loaded: &scene_arg::LoadedScene) -> String {
+    use std::fmt::Write;
+    let (subs, notes) = (&loaded.substitutions, &loaded.notes);
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "{scene}: {} replaced, {} rendered fenestra's own way{}",
+        kinds(subs.len()),
+        kinds(notes.len()),
+        if subs.is_empty() && notes.is_empty() && loaded.other.is_empty() {
+            ": read as written"
+        } else {
+            ""
+        }
+    );
+    let mut topics: Vec<pbrt::Topic> = subs.iter().chain(notes).map(|w| w.topic).collect();
+    topics.sort();
+    topics.dedup();
+    for topic in topics {
+        let _ = writeln!(out, "\n{}", capitalised(&topic.to_string()));
+        for (label, list) in [("replaced", subs), ("own way ", notes)] {
+            for w in list.iter().filter(|w| w.topic == topic) {
+                let times = match w.count {
+                    1 => String::new(),
+                    n => format!(", {n} times"),
+                };
+                let _ = writeln!(out, "  {label}  {}  [{}{times}]", w.what, w.first);
+            }
+        }
+    }
+    if !loaded.other.is_empty() {
+        let _ = writeln!(out, "\nOther");
+        for w in &loaded.other {
+            let _ = writeln!(out, "  {w}");
+        }
+    }
+    out
+}
+
+fn kinds(n: usize) -> String {
+    match n {
+        0 => "nothing".into(),
+        1 => "1 kind of input".into(),
+        n => format!("{n} kinds of input"),
+    }
+}
+
+fn capitalised(s: &str) -> String {
+    let mut c = s.chars();
+    c.next()
+        .map(|f| f.to_uppercase().chain(c).collect())
+        .unwrap_or_default()
 }

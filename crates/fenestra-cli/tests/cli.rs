@@ -764,6 +764,31 @@ fn scene_files_export_render_and_report_what_they_cannot_represent() {
         "odd.pbrt:3:1: unsupported in strict mode: Shape \"curve\"",
     );
 
+    // `scene check` groups what is replaced and what is rendered fenestra's own way, exits 1
+    // when something is replaced, and reads gzip-compressed files.
+    let o = fenestra(&["scene", "check", odd]);
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(o.status.code(), Some(1), "{text}");
+    let geometry = text.find("\nGeometry\n").expect("a geometry group");
+    let curve = text.find("replaced  Shape \"curve\"").expect("the curve");
+    assert!(geometry < curve, "{text}");
+    let coated = dir.join("coated.pbrt.gz");
+    let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::fast());
+    std::io::Write::write_all(
+        &mut gz,
+        b"WorldBegin\nLightSource \"infinite\"\nMaterial \"coateddiffuse\"\nShape \"sphere\"\n",
+    )
+    .expect("gzip");
+    std::fs::write(&coated, gz.finish().expect("gzip")).expect("write");
+    let o = fenestra(&["scene", "check", coated.to_str().expect("utf-8")]);
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{text}");
+    assert!(
+        text.contains("nothing replaced, 1 kind of input rendered fenestra's own way")
+            && text.contains("\nMaterials\n  own way   coated materials as analytic layers"),
+        "{text}"
+    );
+
     let o = fenestra(&["scene", "info", "builtin:terminal-832", "--json"]);
     assert!(o.status.success());
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("json");

@@ -4,7 +4,7 @@
 use crate::lexer::tokenize;
 use crate::params::{ParamList, Values};
 use crate::parser::{parse, Directive};
-use crate::{Loc, PbrtError, Warning};
+use crate::{Loc, PbrtError, Topic, Warning};
 use fenestra_core::image::Image;
 use fenestra_core::{Rgb, Vec2, Vec3};
 use fenestra_scene::filter::{FilterShape, PixelFilter};
@@ -31,6 +31,9 @@ pub(super) struct AreaSpec {
 #[derive(Clone, Debug)]
 pub(super) struct GraphicsState {
     pub ctm: DMat4,
+    /// "ActiveTransform EndTime": transforms move objects at the shutter's close only, and
+    /// fenestra renders the scene as it is when the shutter opens.
+    pub end_time_only: bool,
     pub reverse: bool,
     pub material: usize,
     pub area: Option<AreaSpec>,
@@ -40,6 +43,35 @@ struct Saved {
     state: GraphicsState,
     transform_only: bool,
     loc: Loc,
+}
+
+/// What motion blur becomes.
+const MOTION_BLUR: &str =
+    "motion blur (objects are rendered where they are when the shutter opens)";
+
+/// Warnings of one kind counted, not repeated, in the order first met.
+#[derive(Default)]
+pub struct Tally {
+    /// One entry per kind.
+    pub list: Vec<Warning>,
+    index: HashMap<String, usize>,
+}
+
+impl Tally {
+    fn add(&mut self, topic: Topic, what: String, loc: &Loc) {
+        match self.index.get(&what) {
+            Some(&i) => self.list[i].count += 1,
+            None => {
+                self.index.insert(what.clone(), self.list.len());
+                self.list.push(Warning {
+                    topic,
+                    what,
+                    count: 1,
+                    first: loc.clone(),
+                });
+            }
+        }
+    }
 }
 
 /// Texels along a check of a checkerboard texture.
@@ -80,8 +112,9 @@ pub(super) struct Builder {
     /// The PixelFilter, if the scene names one (pbrt-v4's default is a gaussian).
     filter: Option<PixelFilter>,
     defaults: RenderDefaults,
-    warnings: Vec<Warning>,
-    warning_index: HashMap<String, usize>,
+    warnings: Tally,
+    /// Documented approximations met (see [`crate::Loaded::notes`]).
+    pub notes: Tally,
     depth: usize,
     /// Every file read besides the main one: includes, PLY meshes, images.
     pub files: Vec<PathBuf>,
@@ -97,6 +130,7 @@ impl Builder {
             portals: Vec::new(),
             gs: GraphicsState {
                 ctm: DMat4::IDENTITY,
+                end_time_only: false,
                 reverse: false,
                 material: 0,
                 area: None,
@@ -117,27 +151,21 @@ impl Builder {
                 spp: 16,
                 max_depth: 6,
             },
-            warnings: Vec::new(),
-            warning_index: HashMap::new(),
+            warnings: Tally::default(),
+            notes: Tally::default(),
             depth: 0,
             files: Vec::new(),
         }
     }
 
-    /// Records something unsupported; repeated kinds are counted, not repeated.
-    pub fn warn(&mut self, what: impl Into<String>, loc: &Loc) {
-        let what = what.into();
-        match self.warning_index.get(&what) {
-            Some(&i) => self.warnings[i].count += 1,
-            None => {
-                self.warning_index.insert(what.clone(), self.warnings.len());
-                self.warnings.push(Warning {
-                    what,
-                    count: 1,
-                    first: loc.clone(),
-                });
-            }
-        }
+    /// Records something unsupported and what stands in for it.
+    pub fn warn(&mut self, topic: Topic, what: impl Into<String>, loc: &Loc) {
+        self.warnings.add(topic, what.into(), loc);
+    }
+
+    /// Records a documented approximation.
+    pub fn note(&mut self, topic: Topic, what: impl Into<String>, loc: &Loc) {
+        self.notes.add(topic, what.into(), loc);
     }
 
     /// Parses and runs the file `path` whose contents are `bytes`; `from` is the Include
@@ -189,13 +217,13 @@ impl Builder {
             self.directive(d, &dir)?;
             for p in d.params.unused() {
                 let what = format!(
-                    "parameter \"{} {}\" of {} \"{}\"",
+                    "parameter \"{} {}\" of {} \"{}\" (ignored)",
                     p.ty,
                     p.name,
                     d.name,
                     d.str(0)
                 );
-                self.warn(what, &p.loc);
+                self.warn(Topic::of_directive(&d.name), what, &p.loc);
             }
         }
         Ok(())
@@ -232,6 +260,20 @@ impl Builder {
     }
 
     fn directive(&mut self, d: &Directive, dir: &Path) -> Result<(), PbrtError> {
+        const TRANSFORMS: [&str; 8] = [
+            "Identity",
+            "Translate",
+            "Scale",
+            "Rotate",
+            "LookAt",
+            "Transform",
+            "ConcatTransform",
+            "CoordSysTransform",
+        ];
+        if self.gs.end_time_only && TRANSFORMS.contains(&&*d.name) {
+            self.warn(Topic::Camera, MOTION_BLUR, &d.loc);
+            return Ok(());
+        }
         let num3 = |o: usize| DVec3::new(d.num(o), d.num(o + 1), d.num(o + 2));
         let matrix = || DMat4::from_cols_array(&std::array::from_fn(|i| d.num(i)));
         // Spectrum files are inputs too (no command may write over them).
@@ -278,10 +320,13 @@ impl Builder {
                 loc: d.loc.clone(),
             }),
             "AttributeEnd" | "TransformEnd" => self.pop(d)?,
-            "ActiveTransform" if d.str(0) == "All" => {}
-            "ActiveTransform" | "TransformTimes" => {
-                self.warn(format!("{} (motion blur)", d.name), &d.loc)
+            "ActiveTransform" => {
+                self.gs.end_time_only = d.str(0) == "EndTime";
+                if d.str(0) != "All" {
+                    self.warn(Topic::Camera, MOTION_BLUR, &d.loc);
+                }
             }
+            "TransformTimes" => self.warn(Topic::Camera, MOTION_BLUR, &d.loc),
             "WorldBegin" => {
                 self.gs.ctm = DMat4::IDENTITY;
                 self.named_coords.insert("world".into(), DMat4::IDENTITY);
@@ -290,7 +335,11 @@ impl Builder {
             "Camera" => self.camera(d),
             "Film" => {
                 if !matches!(d.str(0), "rgb" | "gbuffer") {
-                    self.warn(format!("Film \"{}\" (rendered as rgb)", d.str(0)), &d.loc);
+                    self.warn(
+                        Topic::Camera,
+                        format!("Film \"{}\" (rendered as rgb)", d.str(0)),
+                        &d.loc,
+                    );
                 }
                 let p = &d.params;
                 self.defaults.width = positive(p.int("xresolution", 1280)?, "xresolution", &d.loc)?;
@@ -307,6 +356,7 @@ impl Builder {
             "Integrator" => {
                 if !matches!(d.str(0), "path" | "volpath") {
                     self.warn(
+                        Topic::Rendering,
                         format!(
                             "Integrator \"{}\" (rendered with af_hf, a path tracer)",
                             d.str(0)
@@ -324,7 +374,18 @@ impl Builder {
             "Accelerator" => d.params.use_all(),
             "ColorSpace" if d.str(0) == "srgb" => {}
             "ColorSpace" | "Option" | "Attribute" | "MakeNamedMedium" | "MediumInterface" => {
-                self.warn(format!("{} \"{}\"", d.name, d.str(0)), &d.loc);
+                let effect = match d.name.as_ref() {
+                    "ColorSpace" => "colours are taken as sRGB",
+                    "MakeNamedMedium" | "MediumInterface" => {
+                        "participating media: light passes as through vacuum"
+                    }
+                    _ => "ignored",
+                };
+                self.warn(
+                    Topic::Rendering,
+                    format!("{} \"{}\" ({effect})", d.name, d.str(0)),
+                    &d.loc,
+                );
                 d.params.use_all();
             }
             "Material" => self.gs.material = self.material(d.str(0), &d.params, &d.loc)?,
@@ -433,6 +494,7 @@ impl Builder {
         let p = &d.params;
         if d.str(0) != "perspective" {
             self.warn(
+                Topic::Camera,
                 format!("Camera \"{}\" (rendered as perspective)", d.str(0)),
                 &d.loc,
             );
@@ -446,6 +508,7 @@ impl Builder {
             .and_then(|v| <[f32; 4]>::try_from(v.as_slice()).ok());
         if p.float("lensradius", 0.0).unwrap_or(0.0) > 0.0 {
             self.warn(
+                Topic::Camera,
                 "Camera \"lensradius\" > 0 (depth of field; rendered as a pinhole)",
                 &d.loc,
             );
@@ -474,7 +537,7 @@ impl Builder {
                     Some(0.5 * (a + b))
                 }
                 _ => {
-                    self.warn(
+                    self.warn(Topic::Textures,
                         format!("float Texture class \"{class}\" (materials using it keep their defaults)"),
                         &d.loc,
                     );
@@ -500,6 +563,7 @@ impl Builder {
                     }
                     Some(Tex::Image(t)) => {
                         self.warn(
+                            Topic::Textures,
                             "scale of an inverted image texture (its mean is used)",
                             &d.loc,
                         );
@@ -520,7 +584,11 @@ impl Builder {
                 };
                 let ((a, a_image), (b, b_image)) = (value(one, 0.0), value(two, 1.0));
                 if a_image || b_image {
-                    self.warn("mix of image textures (their means are mixed)", &d.loc);
+                    self.warn(
+                        Topic::Textures,
+                        "mix of image textures (their means are mixed)",
+                        &d.loc,
+                    );
                 }
                 Tex::Rgb(a * (1.0 - amount) + b * amount)
             }
@@ -530,6 +598,7 @@ impl Builder {
             }),
             _ => {
                 self.warn(
+                    Topic::Textures,
                     format!("Texture class \"{class}\" (replaced by 0.5 grey)"),
                     &d.loc,
                 );
@@ -553,13 +622,21 @@ impl Builder {
             ));
         }
         if p.string("mapping")?.is_some_and(|m| m != "uv") {
-            self.warn("checkerboard mapping other than uv (uv is used)", loc);
+            self.warn(
+                Topic::Textures,
+                "checkerboard mapping other than uv (uv is used)",
+                loc,
+            );
         }
         let mut input = |name: &str, default: f32| -> Result<Rgb, PbrtError> {
             Ok(match self.spectrum_input(p, name, loc)? {
                 Some(Tex::Rgb(c)) => c,
                 Some(Tex::Image(t)) => {
-                    self.warn("checkerboard of image textures (their means are used)", loc);
+                    self.warn(
+                        Topic::Textures,
+                        "checkerboard of image textures (their means are used)",
+                        loc,
+                    );
                     t.average()
                 }
                 None => Rgb::splat(default),
@@ -636,6 +713,7 @@ impl Builder {
             FilterShape::Mitchell { .. } | FilterShape::Sinc { .. }
         ) {
             self.warn(
+                Topic::Camera,
                 format!(
                     "PixelFilter \"{}\" negative lobes (its positive part is used)",
                     d.str(0)
@@ -693,12 +771,14 @@ impl Builder {
         p.float("maxanisotropy", 8.0)?;
         if let Some(w) = p.string("wrap")?.filter(|w| w != "repeat") {
             self.warn(
+                Topic::Textures,
                 format!("texture wrap mode \"{w}\" (textures repeat)"),
                 &d.loc,
             );
         }
         if let Some(m) = p.string("mapping")?.filter(|m| m != "uv") {
             self.warn(
+                Topic::Textures,
                 format!("texture mapping \"{m}\" (uv mapping is used)"),
                 &d.loc,
             );
@@ -710,7 +790,7 @@ impl Builder {
                     .any(|k| x.eq_ignore_ascii_case(k))
             });
             if !(eight_bit && e == "sRGB" || !eight_bit && e == "linear") {
-                self.warn(
+                self.warn(Topic::Textures,
                     format!("texture encoding \"{e}\" (PNG, TGA and JPEG are read as sRGB, EXR, HDR and PFM as linear)"),
                     &d.loc,
                 );
@@ -794,7 +874,7 @@ impl Builder {
             defaults: self.defaults,
             portals: self.portals,
         };
-        Ok((desc, self.warnings))
+        Ok((desc, self.warnings.list))
     }
 }
 

@@ -55,10 +55,57 @@ impl PbrtError {
     }
 }
 
-/// Something the file asks for that fenestra does not do, counted over the whole scene.
+/// What part of a scene a warning is about, for grouping.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Topic {
+    /// Shapes and meshes.
+    Geometry,
+    /// Materials.
+    Materials,
+    /// Textures.
+    Textures,
+    /// Light sources.
+    Lights,
+    /// Camera, film and pixel filter.
+    Camera,
+    /// Integrator, media, colour spaces and options.
+    Rendering,
+}
+
+impl Topic {
+    /// The topic of a directive's own parameters.
+    pub(crate) fn of_directive(name: &str) -> Topic {
+        match name {
+            "Shape" | "ObjectBegin" | "ObjectInstance" => Topic::Geometry,
+            "Material" | "MakeNamedMaterial" => Topic::Materials,
+            "Texture" => Topic::Textures,
+            "LightSource" | "AreaLightSource" => Topic::Lights,
+            "Camera" | "Film" | "PixelFilter" | "Sampler" => Topic::Camera,
+            _ => Topic::Rendering,
+        }
+    }
+}
+
+impl fmt::Display for Topic {
+    fn fmt(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str(match self {
+            Topic::Geometry => "geometry",
+            Topic::Materials => "materials",
+            Topic::Textures => "textures",
+            Topic::Lights => "lights",
+            Topic::Camera => "camera and film",
+            Topic::Rendering => "rendering",
+        })
+    }
+}
+
+/// Something the file asks for that fenestra does not do, or does in its own way, counted
+/// over the whole scene.
 #[derive(Clone, Debug)]
 pub struct Warning {
-    /// What is not supported.
+    /// What part of the scene it concerns.
+    pub topic: Topic,
+    /// What is not supported and what stands in for it.
     pub what: String,
     /// How many times the scene asks for it.
     pub count: usize,
@@ -80,8 +127,12 @@ impl fmt::Display for Warning {
 pub struct Loaded {
     /// The scene.
     pub desc: SceneDesc,
-    /// What it asks for that fenestra does not do.
+    /// What it asks for that fenestra does not do, and what stands in for it (refused in
+    /// strict mode).
     pub warnings: Vec<Warning>,
+    /// What fenestra renders in its own documented way (docs/scenes.md), such as analytic
+    /// layered materials where pbrt-v4 simulates the layers: the picture differs a little.
+    pub notes: Vec<Warning>,
     /// Every file read: the scene file, what it includes, PLY meshes and images.
     pub files: Vec<PathBuf>,
 }
@@ -108,6 +159,7 @@ pub fn load_bytes(bytes: &[u8], path: &Path, strict: bool) -> Result<Loaded, Pbr
         .map_or_else(|| "scene".into(), |s| s.to_string_lossy().into_owned());
     let mut files = vec![path.to_path_buf()];
     files.append(&mut b.files);
+    let notes = std::mem::take(&mut b.notes.list);
     let (desc, warnings) = b.finish(name)?;
     if strict && !warnings.is_empty() {
         let w = &warnings[0];
@@ -123,6 +175,7 @@ pub fn load_bytes(bytes: &[u8], path: &Path, strict: bool) -> Result<Loaded, Pbr
     Ok(Loaded {
         desc,
         warnings,
+        notes,
         files,
     })
 }

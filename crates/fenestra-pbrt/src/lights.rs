@@ -8,7 +8,7 @@ use crate::builder::{AreaSpec, Builder};
 use crate::params::ParamList;
 use crate::parser::Directive;
 use crate::spectra;
-use crate::{Loc, PbrtError};
+use crate::{Loc, PbrtError, Topic};
 use fenestra_core::image::Image;
 use fenestra_core::{Rgb, Vec3, PI};
 use fenestra_scene::light::{EnvironmentDesc, LightDesc};
@@ -71,13 +71,21 @@ impl Builder {
             }
             "infinite" => self.infinite(d, dir, scale)?,
             other => {
-                self.warn(format!("LightSource \"{other}\" (skipped)"), &d.loc);
+                self.warn(
+                    Topic::Lights,
+                    format!("LightSource \"{other}\" (skipped)"),
+                    &d.loc,
+                );
                 p.use_all();
                 return Ok(());
             }
         };
         if self.object.is_some() {
-            self.warn("light sources inside object definitions (skipped)", &d.loc);
+            self.warn(
+                Topic::Lights,
+                "light sources inside object definitions (skipped)",
+                &d.loc,
+            );
             return Ok(());
         }
         if let Some(what) = light.problem() {
@@ -120,6 +128,11 @@ impl Builder {
         let path = dir.join(&file);
         let img = self.image(&path, &d.loc)?;
         let latlong = if img.width == img.height {
+            self.note(
+                Topic::Lights,
+                "equal-area environment map resampled to latitude-longitude (bilinear; detail finer than a texel softens)",
+                &d.loc,
+            );
             Arc::new(equal_area_to_latlong(&img))
         } else if img.width == 2 * img.height {
             img
@@ -163,6 +176,7 @@ impl Builder {
         let p = &d.params;
         if d.str(0) != "diffuse" {
             self.warn(
+                Topic::Lights,
                 format!("AreaLightSource \"{}\" (skipped)", d.str(0)),
                 &d.loc,
             );
@@ -170,7 +184,11 @@ impl Builder {
             return Ok(());
         }
         if p.has("filename") {
-            self.warn("image area lights (\"filename\"; L is used)", &d.loc);
+            self.warn(
+                Topic::Lights,
+                "image area lights (\"filename\"; L is used)",
+                &d.loc,
+            );
             p.string("filename")?;
         }
         let radiance = spectrum(p, "L", &d.loc)? * p.float("scale", 1.0)?;

@@ -14,9 +14,13 @@
 use crate::builder::{Builder, Tex};
 use crate::params::ParamList;
 use crate::spectra;
-use crate::{Loc, PbrtError};
+use crate::{Loc, PbrtError, Topic};
 use fenestra_core::Rgb;
 use fenestra_scene::Material;
+
+/// The note on coated materials.
+const ANALYTIC_LAYERS: &str = "coated materials as analytic layers where pbrt-v4 simulates them \
+    stochastically (energy-conserving; highlights through the coat and light between the layers differ slightly)";
 
 /// pbrt-v4 treats microfacet distributions with alpha below this as perfectly smooth.
 const SMOOTH_ALPHA: f32 = 1e-3;
@@ -63,6 +67,7 @@ impl Builder {
                 let eta = p.float("eta", 1.5)?;
                 let alpha = self.alpha(p, loc)?.max(SMOOTH_ALPHA);
                 layer_simulation_parameters(p)?;
+                self.note(Topic::Materials, ANALYTIC_LAYERS, loc);
                 Material::CoatedDiffuse {
                     reflectance: r,
                     texture,
@@ -93,6 +98,7 @@ impl Builder {
                 let (au, av) = self.prefixed_alphas(p, "conductor.", loc)?;
                 let (iu, iv) = self.prefixed_alphas(p, "interface.", loc)?;
                 layer_simulation_parameters(p)?;
+                self.note(Topic::Materials, ANALYTIC_LAYERS, loc);
                 Material::CoatedConductor {
                     interface_eta: p.float("interface.eta", 1.5)?,
                     interface_alpha: (iu * iv).sqrt().max(SMOOTH_ALPHA),
@@ -108,7 +114,11 @@ impl Builder {
                     Some((s, l)) => {
                         let c = spectra::to_rgb(&s).map_err(|e| PbrtError::at(&l, e))?;
                         if c.max_component() - c.r.min(c.g).min(c.b) > 1e-6 {
-                            self.warn("dispersive (spectral) eta (the mean index is used)", &l);
+                            self.warn(
+                                Topic::Materials,
+                                "dispersive (spectral) eta (the mean index is used)",
+                                &l,
+                            );
                         }
                         c.average()
                     }
@@ -134,6 +144,7 @@ impl Builder {
                         Some(Tex::Rgb(c)) => c,
                         Some(Tex::Image(t)) => {
                             self.warn(
+                                Topic::Materials,
                                 format!("diffusetransmission {name} texture (its mean is used)"),
                                 loc,
                             );
@@ -168,6 +179,11 @@ impl Builder {
                 };
                 let materials = [index(a)?, index(b)?];
                 let amount = self.float_or_texture(p, "amount", loc)?.unwrap_or(0.5);
+                self.note(
+                    Topic::Materials,
+                    "mix chosen per point by a hash of the position (the same mixture as pbrt-v4, another dither pattern)",
+                    loc,
+                );
                 if materials.contains(&INTERFACE) {
                     return Err(PbrtError::at(&at, "mix with an interface material"));
                 }
@@ -190,6 +206,7 @@ impl Builder {
             "" => return Ok(0),
             other => {
                 self.warn(
+                    Topic::Materials,
                     format!("Material \"{other}\" (replaced by diffuse 0.5)"),
                     loc,
                 );
@@ -219,7 +236,11 @@ impl Builder {
         if r.max_component() > 1.0 {
             // pbrt-v4 clamps reflectances to [0, 1]; a surface reflecting more than it
             // receives would make light out of nothing.
-            self.warn("reflectance above 1 (clamped to 1, as pbrt-v4 does)", loc);
+            self.warn(
+                Topic::Materials,
+                "reflectance above 1 (clamped to 1, as pbrt-v4 does)",
+                loc,
+            );
         }
         Ok(Reflectance::Value(r.map(|c| c.min(1.0))))
     }
@@ -249,7 +270,7 @@ impl Builder {
             Some(v) => format!("float texture for \"{name}\" (its average, {v}, is used)"),
             None => format!("float texture for \"{name}\" (the default is used)"),
         };
-        self.warn(what, loc);
+        self.warn(Topic::Materials, what, loc);
         Ok(value)
     }
 

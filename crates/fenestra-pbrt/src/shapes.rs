@@ -3,7 +3,7 @@
 
 use crate::builder::{place, Builder};
 use crate::parser::Directive;
-use crate::{Loc, PbrtError};
+use crate::{Loc, PbrtError, Topic};
 use fenestra_core::{Vec2, Vec3};
 use fenestra_scene::light::Emission;
 use fenestra_scene::mesh::grid;
@@ -52,7 +52,7 @@ impl Builder {
                     return Err(PbrtError::at(&d.loc, "plymesh needs \"string filename\""));
                 };
                 if p.has("displacement") {
-                    self.warn("plymesh displacement", &d.loc);
+                    self.warn(Topic::Geometry, "plymesh displacement", &d.loc);
                     p.use_all();
                 }
                 let path = dir.join(&file);
@@ -62,7 +62,14 @@ impl Builder {
                 ShapeKind::Mesh(mesh)
             }
             "bilinearmesh" => ShapeKind::Mesh(bilinear_mesh(d)?),
-            "loopsubdiv" => ShapeKind::Mesh(loop_subdivision(d)?),
+            "loopsubdiv" => {
+                self.note(
+                    Topic::Geometry,
+                    "loopsubdiv shading normals from the limit mesh's faces (pbrt-v4 uses the limit surface's tangents)",
+                    &d.loc,
+                );
+                ShapeKind::Mesh(loop_subdivision(d)?)
+            }
             "sphere" => {
                 let radius = p.float("radius", 1.0)?;
                 let (zmin, zmax, phimax) = (
@@ -72,6 +79,7 @@ impl Builder {
                 );
                 if zmin > -radius || zmax < radius || phimax < 360.0 {
                     self.warn(
+                        Topic::Geometry,
                         "partial sphere (zmin, zmax, phimax; the full sphere is used)",
                         &d.loc,
                     );
@@ -87,6 +95,7 @@ impl Builder {
                 positive_size(radius, "disk radius", &d.loc)?;
                 if p.float("innerradius", 0.0)? > 0.0 || p.float("phimax", 360.0)? < 360.0 {
                     self.warn(
+                        Topic::Geometry,
                         "partial disk (innerradius, phimax; the full disk is used)",
                         &d.loc,
                     );
@@ -98,7 +107,11 @@ impl Builder {
                 }
             }
             other => {
-                self.warn(format!("Shape \"{other}\" (skipped)"), &d.loc);
+                self.warn(
+                    Topic::Geometry,
+                    format!("Shape \"{other}\" (skipped)"),
+                    &d.loc,
+                );
                 p.use_all();
                 return Ok(());
             }
@@ -111,6 +124,7 @@ impl Builder {
         if let Some(area) = self.gs.area.clone() {
             if self.object.is_some() {
                 self.warn(
+                    Topic::Lights,
                     "area lights inside object instances (emission dropped)",
                     &d.loc,
                 );

@@ -604,7 +604,9 @@ fn unsupported_input_is_counted_and_strict_refuses_it() {
         "{w:?}"
     );
     assert!(
-        w[1].contains("5:37: unsupported: parameter \"texture alpha\" of Shape \"sphere\""),
+        w[1].contains(
+            "5:37: unsupported: parameter \"texture alpha\" of Shape \"sphere\" (ignored)"
+        ),
         "{w:?}"
     );
     assert!(w[2].contains("Material \"hair\""), "{w:?}");
@@ -844,4 +846,38 @@ fn messages_say_what_was_wanted_and_empty_meshes_are_empty() {
             "the sphere is hit ({backend:?})"
         );
     }
+}
+
+#[test]
+fn motion_blur_renders_the_scene_as_the_shutter_opens() {
+    // killeroo-moving.pbrt: StartTime transforms place the object, EndTime ones do not.
+    let s = load(
+        r#"WorldBegin
+        AttributeBegin
+          ActiveTransform StartTime
+          Translate 1 0 0
+          ActiveTransform EndTime
+          Translate 0 5 0
+          ActiveTransform All
+          Translate 0 0 2
+          Shape "sphere"
+        AttributeEnd
+        Shape "sphere""#,
+    )
+    .expect("load");
+    let centers: Vec<Vec3> = s
+        .desc
+        .shapes
+        .iter()
+        .map(|sh| match sh.kind {
+            ShapeKind::Sphere { center, .. } => center,
+            ref other => panic!("sphere expected, found {other:?}"),
+        })
+        .collect();
+    assert_eq!(centers, [Vec3::new(1.0, 0.0, 2.0), Vec3::ZERO]);
+    let w: Vec<String> = s.warnings.iter().map(ToString::to_string).collect();
+    assert!(
+        w.len() == 1 && w[0].contains("motion blur") && w[0].contains("(3 times)"),
+        "{w:?}"
+    );
 }

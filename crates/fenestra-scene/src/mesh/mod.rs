@@ -31,15 +31,32 @@ fn fan(poly: &[u32], out: &mut Vec<[u32; 3]>) {
     }
 }
 
-/// A mesh file (OBJ or PLY) staged for viewing: Y up as most such files are, a camera in
+/// A scene file's format from its name, lower case, looking through a `.gz` suffix:
+/// "pbrt" for `Scene.PBRT.gz`, "ply" for `m.ply`.
+pub fn format_of(path: &Path) -> Option<String> {
+    let name = path.file_name()?.to_string_lossy().to_ascii_lowercase();
+    let name = name.strip_suffix(".gz").unwrap_or(&name);
+    Path::new(name)
+        .extension()
+        .map(|e| e.to_string_lossy().into_owned())
+}
+
+/// A mesh file (OBJ or PLY, the PLY perhaps gzip-compressed) staged for viewing: Y up as most such files are, a camera in
 /// front of its bounding sphere, lit by its emissive materials or, without any, as in a
 /// studio: a grey floor under it, a key light from above front left that casts its shadow
 /// there, and a dim sky as fill. Returns the scene and loading warnings.
 pub fn viewer_scene(path: &Path) -> Result<(SceneDesc, Vec<String>), MeshError> {
-    let ext = path
-        .extension()
-        .map(|e| e.to_string_lossy().to_ascii_lowercase());
-    let (mut shapes, mut materials, warnings) = match ext.as_deref() {
+    let (mut shapes, mut materials, warnings) = match format_of(path).as_deref() {
+        Some("obj")
+            if path
+                .extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case("gz")) =>
+        {
+            return Err(MeshError {
+                path: path.to_path_buf(),
+                reason: "gzip-compressed OBJ files are not read: decompress it first".into(),
+            })
+        }
         Some("obj") => {
             let model = obj::read(path)?;
             let shapes: Vec<Shape> = model
