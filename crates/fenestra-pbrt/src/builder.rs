@@ -223,7 +223,7 @@ impl Builder {
                     d.name,
                     d.str(0)
                 );
-                self.warn(Topic::of_directive(&d.name), what, &p.loc);
+                self.warn(Topic::of_directive(d.name), what, &p.loc);
             }
         }
         Ok(())
@@ -270,7 +270,7 @@ impl Builder {
             "ConcatTransform",
             "CoordSysTransform",
         ];
-        if self.gs.end_time_only && TRANSFORMS.contains(&&*d.name) {
+        if self.gs.end_time_only && TRANSFORMS.contains(&d.name) {
             self.warn(Topic::Camera, MOTION_BLUR, &d.loc);
             return Ok(());
         }
@@ -374,7 +374,7 @@ impl Builder {
             "Accelerator" => d.params.use_all(),
             "ColorSpace" if d.str(0) == "srgb" => {}
             "ColorSpace" | "Option" | "Attribute" | "MakeNamedMedium" | "MediumInterface" => {
-                let effect = match d.name.as_ref() {
+                let effect = match d.name {
                     "ColorSpace" => "colours are taken as sRGB",
                     "MakeNamedMedium" | "MediumInterface" => {
                         "participating media: light passes as through vacuum"
