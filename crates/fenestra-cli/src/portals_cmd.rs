@@ -120,8 +120,8 @@ pub struct PortalsArgs {
     /// may be given several times.
     #[arg(long)]
     export: Vec<PathBuf>,
-    /// Picture of photons, clusters and portals on XY, XZ and YZ (default: beside the
-    /// output, with .png).
+    /// Picture of photons, clusters and portals on XY, XZ and YZ, with axes in metres, as
+    /// SVG (default: beside the output, with .svg).
     #[arg(long)]
     plot: Option<PathBuf>,
     /// Worker threads (default: all cores).
@@ -156,7 +156,13 @@ pub fn run(args: PortalsArgs) -> Result<()> {
     let plot_path = args
         .plot
         .clone()
-        .unwrap_or_else(|| args.output.with_extension("png"));
+        .unwrap_or_else(|| args.output.with_extension("svg"));
+    if plot_path.extension().and_then(|e| e.to_str()) != Some("svg") {
+        bail!(
+            "--plot {}: the picture is SVG, name it .svg",
+            plot_path.display()
+        );
+    }
     let mut files = crate::files::Files::default();
     files
         .inputs(&loaded.files, "scene file")

@@ -873,7 +873,13 @@ fn portals_command_writes_json_picture_and_exports_that_render_reads_back() {
         serde_json::from_str(&std::fs::read_to_string(&json).expect("json")).expect("parse");
     assert_eq!(doc["portals"].as_array().map(Vec::len), Some(4));
     assert_eq!(doc["estimation"]["clusters"], 4);
-    assert!(image_size(&dir.join("p.png")).0 > 0, "picture");
+    // The picture: SVG with its axes in metres and a dot per photon.
+    let svg = std::fs::read_to_string(dir.join("p.svg")).expect("picture");
+    for label in ["x (m)", "y (m)", "z (m)", "XY PROJECTION"] {
+        assert!(svg.contains(label), "no '{label}' in the picture");
+    }
+    let photons = doc["estimation"]["photons"].as_u64().expect("photon count");
+    assert_eq!(svg.matches("h0").count() as u64, 3 * photons);
     let obj_text = std::fs::read_to_string(&obj).expect("obj");
     assert_eq!(obj_text.matches("\nf ").count(), 4);
     // The pbrt export is invisible to light: the scene with it included renders the same.
@@ -942,6 +948,17 @@ fn portals_command_writes_json_picture_and_exports_that_render_reads_back() {
             "builtin:box-hole",
             "-o",
             &p(&json),
+            "--plot",
+            &p(&dir.join("x.png")),
+        ],
+        "the picture is SVG, name it .svg",
+    );
+    assert_clear_error(
+        &[
+            "portals",
+            "builtin:box-hole",
+            "-o",
+            &p(&json),
             "--export",
             &p(&dir.join("x.stl")),
         ],
@@ -970,15 +987,6 @@ fn portals_command_writes_json_picture_and_exports_that_render_reads_back() {
         "unknown deposit rule 'glass'",
     );
     let _ = std::fs::remove_dir_all(&dir);
-}
-
-fn image_size(path: &Path) -> (u32, u32) {
-    let bytes = std::fs::read(path).expect("png");
-    // PNG: width and height are big-endian u32 at bytes 16..24.
-    (
-        u32::from_be_bytes([bytes[16], bytes[17], bytes[18], bytes[19]]),
-        u32::from_be_bytes([bytes[20], bytes[21], bytes[22], bytes[23]]),
-    )
 }
 
 #[test]

@@ -27,6 +27,9 @@ pub enum PortalError {
         /// What is wrong with it.
         reason: String,
     },
+    /// The picture could not be drawn.
+    #[error("cannot draw the portal picture: {0}")]
+    Plot(String),
     /// An output could not be written.
     #[error(transparent)]
     Write(#[from] WriteError),

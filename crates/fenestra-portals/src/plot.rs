@@ -1,30 +1,31 @@
 //! A picture of an estimate (seed 000 Fig. 5.6): the fitted portals' outlines in black under
-//! the photons coloured by cluster (noise in grey), projected on the XY, XZ and YZ planes side by side.
+//! the photons coloured by cluster (noise in grey), projected on the XY, XZ and YZ planes side
+//! by side, each with its axes in metres and the scene's bounding box in light grey. SVG,
+//! drawn with plotters, so the axis labels need no font files.
 
 use crate::error::PortalError;
 use crate::estimate::Estimate;
 use crate::portal::Portal;
 use fenestra_core::fs::write_atomically;
 use fenestra_core::Vec3;
-use image::{Rgb, RgbImage};
+use plotters::prelude::*;
 use std::path::Path;
 
-const PANEL: u32 = 420;
-const MARGIN: u32 = 24;
+/// Pixels of one panel's plotting area, square so that the projections keep their shape.
+const PANEL: u32 = 400;
 
-const PALETTE: [[u8; 3]; 8] = [
-    [31, 119, 180],
-    [255, 127, 14],
-    [44, 160, 44],
-    [214, 39, 40],
-    [148, 103, 189],
-    [140, 86, 75],
-    [227, 119, 194],
-    [188, 189, 34],
+const PALETTE: [RGBColor; 8] = [
+    RGBColor(31, 119, 180),
+    RGBColor(255, 127, 14),
+    RGBColor(44, 160, 44),
+    RGBColor(214, 39, 40),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(188, 189, 34),
 ];
-const NOISE: [u8; 3] = [190, 190, 190];
-const OUTLINE: [u8; 3] = [0, 0, 0];
-const BOUNDS: [u8; 3] = [215, 215, 215];
+const NOISE: RGBColor = RGBColor(190, 190, 190);
+const BOUNDS: RGBColor = RGBColor(200, 200, 200);
 
 /// Points along a portal's border (closed).
 pub fn outline(p: &Portal) -> Vec<Vec3> {
@@ -42,28 +43,50 @@ pub fn outline(p: &Portal) -> Vec<Vec3> {
     }
 }
 
-/// Writes the three projections of `estimate` to `path` (PNG, atomically), framed by the
-/// scene's bounding box `bounds` (drawn in light grey).
+/// Writes the three projections of `estimate` to `path` (SVG, atomically), framed by the
+/// scene's bounding box `bounds`.
 pub fn write_projections(
     estimate: &Estimate,
     bounds: (Vec3, Vec3),
     path: &Path,
 ) -> Result<(), PortalError> {
-    let (lo3, hi3) = bounds;
-    let corners: Vec<Vec3> = (0..8)
-        .map(|k| {
-            Vec3::new(
-                if k & 1 == 0 { lo3.x } else { hi3.x },
-                if k & 2 == 0 { lo3.y } else { hi3.y },
-                if k & 4 == 0 { lo3.z } else { hi3.z },
-            )
-        })
+    let mut svg = String::new();
+    let dots = draw(estimate, bounds, &mut svg).map_err(|e| PortalError::Plot(e.to_string()))?;
+    // Thousands of photons as one path per colour of zero-length round-capped segments: a
+    // tenth of the size of an element per dot.
+    let mut layer = String::new();
+    for (colour, path) in dots.iter().filter(|(_, p)| !p.is_empty()) {
+        let RGBColor(r, g, b) = colour;
+        layer.push_str(&format!(
+            "<path d=\"{path}\" stroke=\"#{r:02x}{g:02x}{b:02x}\" stroke-width=\"2.5\" stroke-linecap=\"round\" fill=\"none\"/>\n"
+        ));
+    }
+    let end = svg.rfind("</svg>").unwrap_or(svg.len());
+    svg.insert_str(end, &layer);
+    Ok(write_atomically(path, |tmp| std::fs::write(tmp, &svg))?)
+}
+
+/// Draws panels, axes, bounds and outlines into `svg`; returns the photons' dots as SVG path
+/// data per colour, in picture coordinates.
+fn draw<'a>(
+    estimate: &Estimate,
+    (lo3, hi3): (Vec3, Vec3),
+    svg: &'a mut String,
+) -> Result<Vec<(RGBColor, String)>, Box<dyn std::error::Error + 'a>> {
+    let (label_x, label_y, caption) = (44, 60, 28);
+    let size = (3 * (PANEL + label_y + 16), PANEL + label_x + caption + 16);
+    let root = SVGBackend::with_string(svg, size).into_drawing_area();
+    root.fill(&WHITE)?;
+    // Dots by colour: one per cluster (by palette slot) and the noise.
+    let mut dots: Vec<(RGBColor, String)> = PALETTE
+        .iter()
+        .chain(&[NOISE])
+        .map(|&c| (c, String::new()))
         .collect();
-    let mut img = RgbImage::from_pixel(3 * PANEL + 4 * MARGIN, PANEL + 2 * MARGIN, Rgb([255; 3]));
-    let mut colour = vec![NOISE; estimate.photons.points.len()];
+    let mut slot = vec![PALETTE.len(); estimate.photons.points.len()];
     for (k, c) in estimate.clusters.iter().enumerate() {
         for &i in c {
-            colour[i] = PALETTE[k % PALETTE.len()];
+            slot[i] = k % PALETTE.len();
         }
     }
     let outlines: Vec<Vec<Vec3>> = estimate
@@ -71,112 +94,63 @@ pub fn write_projections(
         .iter()
         .map(|e| outline(&e.portal))
         .collect();
-    for (panel, (axes, name)) in [((0, 1), "XY"), ((0, 2), "XZ"), ((1, 2), "YZ")]
-        .into_iter()
-        .enumerate()
-    {
-        let x0 = MARGIN + panel as u32 * (PANEL + MARGIN);
-        let project = |p: Vec3| [p[axes.0], p[axes.1]];
-        let all = estimate
+    let panels = root.split_evenly((1, 3));
+    for (area, (axes, names)) in panels.iter().zip([
+        ((0, 1), ("x", "y")),
+        ((0, 2), ("x", "z")),
+        ((1, 2), ("y", "z")),
+    ]) {
+        let project = |p: Vec3| (f64::from(p[axes.0]), f64::from(p[axes.1]));
+        // A square window around everything drawn, so that lengths compare across axes.
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        let drawn = estimate
             .photons
             .points
             .iter()
-            .chain(outlines.iter().flatten())
-            .chain(&corners)
-            .map(|&p| project(p));
-        let (mut lo, mut hi) = ([f32::INFINITY; 2], [f32::NEG_INFINITY; 2]);
-        for q in all {
-            for k in 0..2 {
-                lo[k] = lo[k].min(q[k]);
-                hi[k] = hi[k].max(q[k]);
-            }
+            .chain(outlines.iter().flatten());
+        for q in drawn.chain(&[lo3, hi3]).map(|&p| project(p)) {
+            (lo[0], hi[0]) = (lo[0].min(q.0), hi[0].max(q.0));
+            (lo[1], hi[1]) = (lo[1].min(q.1), hi[1].max(q.1));
         }
-        let extent = (hi[0] - lo[0]).max(hi[1] - lo[1]).max(1e-6) * 1.1;
-        let mid = [(lo[0] + hi[0]) * 0.5, (lo[1] + hi[1]) * 0.5];
-        let to_pixel = |p: Vec3| {
-            let q = project(p);
-            let s = PANEL as f32 / extent;
-            (
-                x0 as f32 + PANEL as f32 * 0.5 + (q[0] - mid[0]) * s,
-                MARGIN as f32 + PANEL as f32 * 0.5 - (q[1] - mid[1]) * s,
+        let half = 0.55 * (hi[0] - lo[0]).max(hi[1] - lo[1]).max(1e-6);
+        let mid = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
+        let mut chart = ChartBuilder::on(area)
+            .caption(
+                format!("{}{} projection", names.0, names.1).to_uppercase(),
+                ("sans-serif", 16),
             )
-        };
-        frame(&mut img, x0, MARGIN);
-        let (a, b) = (to_pixel(lo3), to_pixel(hi3));
-        for (p, q) in [
-            ((a.0, a.1), (b.0, a.1)),
-            ((b.0, a.1), (b.0, b.1)),
-            ((b.0, b.1), (a.0, b.1)),
-            ((a.0, b.1), (a.0, a.1)),
-        ] {
-            line(&mut img, p, q, BOUNDS);
-        }
-        label(&mut img, x0, MARGIN - 14, name);
+            .margin(8)
+            .x_label_area_size(label_x)
+            .y_label_area_size(label_y)
+            .build_cartesian_2d(mid[0] - half..mid[0] + half, mid[1] - half..mid[1] + half)?;
+        // As many decimals as a tenth of the window needs; "+ 0.0" turns -0 into 0.
+        let decimals = (-(0.2 * half).log10().floor()).max(0.0) as usize;
+        let tick = |v: &f64| format!("{:.*}", decimals, v + 0.0);
+        chart
+            .configure_mesh()
+            .disable_mesh()
+            .x_desc(format!("{} (m)", names.0))
+            .y_desc(format!("{} (m)", names.1))
+            .x_label_formatter(&tick)
+            .y_label_formatter(&tick)
+            .draw()?;
+        let (a, b) = (project(lo3), project(hi3));
+        chart.draw_series(std::iter::once(Rectangle::new(
+            [a, b],
+            BOUNDS.stroke_width(1),
+        )))?;
         for o in &outlines {
-            for k in 0..o.len() {
-                let (a, b) = (to_pixel(o[k]), to_pixel(o[(k + 1) % o.len()]));
-                line(&mut img, a, b, OUTLINE);
-            }
+            let closed = o.iter().chain(o.first()).map(|&p| project(p));
+            chart.draw_series(std::iter::once(PathElement::new(
+                closed.collect::<Vec<_>>(),
+                BLACK.stroke_width(2),
+            )))?;
         }
-        for (p, c) in estimate.photons.points.iter().zip(&colour) {
-            let (x, y) = to_pixel(*p);
-            dot(&mut img, x, y, *c);
-        }
-    }
-    Ok(write_atomically(path, |tmp| {
-        img.save_with_format(tmp, image::ImageFormat::Png)
-    })?)
-}
-
-fn put(img: &mut RgbImage, x: i64, y: i64, c: [u8; 3]) {
-    if x >= 0 && y >= 0 && (x as u32) < img.width() && (y as u32) < img.height() {
-        img.put_pixel(x as u32, y as u32, Rgb(c));
-    }
-}
-
-fn dot(img: &mut RgbImage, x: f32, y: f32, c: [u8; 3]) {
-    let (x, y) = (x.round() as i64, y.round() as i64);
-    for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
-        put(img, x + dx, y + dy, c);
-    }
-}
-
-/// A 2-pixel-wide segment, stepped along its longer axis.
-fn line(img: &mut RgbImage, a: (f32, f32), b: (f32, f32), c: [u8; 3]) {
-    let steps = (b.0 - a.0).abs().max((b.1 - a.1).abs()).ceil().max(1.0) as i64;
-    for s in 0..=steps {
-        let t = s as f32 / steps as f32;
-        dot(img, a.0 + (b.0 - a.0) * t, a.1 + (b.1 - a.1) * t, c);
-    }
-}
-
-fn frame(img: &mut RgbImage, x0: u32, y0: u32) {
-    let grey = [120, 120, 120];
-    for k in 0..=PANEL as i64 {
-        for (x, y) in [(k, 0), (k, PANEL as i64), (0, k), (PANEL as i64, k)] {
-            put(img, x0 as i64 + x, y0 as i64 + y, grey);
+        for (p, &k) in estimate.photons.points.iter().zip(&slot) {
+            let (x, y) = chart.backend_coord(&project(*p));
+            dots[k].1.push_str(&format!("M{x} {y}h0"));
         }
     }
-}
-
-/// The axis names in a 5x7 bitmap font (X, Y and Z are all a label needs).
-fn label(img: &mut RgbImage, x0: u32, y0: u32, text: &str) {
-    const GLYPHS: [(char, [u8; 7]); 3] = [
-        ('X', [0x11, 0x11, 0x0a, 0x04, 0x0a, 0x11, 0x11]),
-        ('Y', [0x11, 0x11, 0x0a, 0x04, 0x04, 0x04, 0x04]),
-        ('Z', [0x1f, 0x01, 0x02, 0x04, 0x08, 0x10, 0x1f]),
-    ];
-    for (i, ch) in text.chars().enumerate() {
-        let Some((_, rows)) = GLYPHS.iter().find(|(g, _)| *g == ch) else {
-            continue;
-        };
-        for (r, bits) in rows.iter().enumerate() {
-            for col in 0..5 {
-                if bits & (0x10 >> col) != 0 {
-                    let (x, y) = (x0 as i64 + i as i64 * 7 + col, y0 as i64 + r as i64);
-                    put(img, x, y, [0, 0, 0]);
-                }
-            }
-        }
-    }
+    root.present()?;
+    Ok(dots)
 }
