@@ -157,12 +157,6 @@ pub fn run(args: PortalsArgs) -> Result<()> {
         .plot
         .clone()
         .unwrap_or_else(|| args.output.with_extension("svg"));
-    if plot_path.extension().and_then(|e| e.to_str()) != Some("svg") {
-        bail!(
-            "--plot {}: the picture is SVG, name it .svg",
-            plot_path.display()
-        );
-    }
     let mut files = crate::files::Files::default();
     files
         .inputs(&loaded.files, "scene file")
@@ -172,6 +166,12 @@ pub fn run(args: PortalsArgs) -> Result<()> {
         files.output(path, "export");
     }
     files.check()?;
+    if plot_path.extension().and_then(|e| e.to_str()) != Some("svg") {
+        bail!(
+            "--plot {}: the picture is SVG, name it .svg",
+            plot_path.display()
+        );
+    }
     let pool = crate::thread_pool(args.threads)?;
     let cancel = interrupt::on_ctrl_c("fitting portals to the photons gathered so far");
     let params = args.estimate.params();
