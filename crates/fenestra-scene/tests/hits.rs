@@ -133,3 +133,26 @@ fn copies_of_one_square_are_hit() {
         }
     }
 }
+
+#[test]
+fn directions_with_negative_zero_components_hit() {
+    // -Vec3::Z is (-0, -0, -1): obvhs read -0 as a positive octant with a -inf slab and
+    // missed every node, so a ray straight down missed the floor.
+    let floor = TriangleMesh::quad(Vec3::ZERO, Vec3::X, Vec3::Y);
+    let shapes = vec![Shape::new(ShapeKind::Mesh(floor), 0)];
+    for backend in Backend::available() {
+        let scene = backend.build(&shapes).expect("builds");
+        for d in [
+            -Vec3::Z,
+            Vec3::new(-0.0, 0.0, -1.0),
+            Vec3::new(0.0, -0.0, -1.0),
+        ] {
+            for o in [Vec3::new(-0.5, 0.0, 1.0), Vec3::new(0.3, 0.6, 2.0)] {
+                let ray = Ray::new(o, d);
+                let hit = scene.intersect(&ray, f32::INFINITY).map(|h| h.t);
+                assert_eq!(hit, Some(o.z), "{} from {o} along {d:?}", backend.name());
+                assert!(scene.occluded(&ray, 10.0), "{} occluded", backend.name());
+            }
+        }
+    }
+}

@@ -213,8 +213,11 @@ impl ObvhsScene {
     ) {
         // Nodes see the ray from BACK_OFF behind its origin, primitives from the origin.
         let o = ray.o - BACK_OFF * ray.d;
-        let mut oray = obvhs::ray::Ray::new(o.into(), ray.d.into(), 0.0, tmax + BACK_OFF);
-        let mut state = Walk::new(bvh, stack, ray.d);
+        // obvhs takes a component's octant from `d < 0` but its slab from 1/d: for -0 they
+        // disagree (positive octant, -inf) and every node is missed. Adding +0 makes -0 +0.
+        let d = ray.d + Vec3::ZERO;
+        let mut oray = obvhs::ray::Ray::new(o.into(), d.into(), 0.0, tmax + BACK_OFF);
+        let mut state = Walk::new(bvh, stack, d);
         let mut node;
         'walk: {
             traverse!(
