@@ -41,6 +41,7 @@ pub fn kitchen(with_sky: bool) -> SceneDesc {
         k: Rgb::new(9.224, 6.270, 4.837),
         alpha_x: 0.2,
         alpha_y: 0.2,
+        roughness: None,
     });
     let pot = a.material(Material::Phong {
         diffuse: Rgb::new(0.5, 0.08, 0.05),

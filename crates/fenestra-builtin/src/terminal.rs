@@ -34,6 +34,7 @@ pub fn terminal() -> SceneDesc {
         k: Rgb::new(3.695, 2.765, 1.829),
         alpha_x: 0.25,
         alpha_y: 0.25,
+        roughness: None,
     });
     let glow = a.material(Material::diffuse(0.8));
 

@@ -77,6 +77,26 @@ impl Tally {
 /// Texels along a check of a checkerboard texture.
 const CHECK_TEXELS: usize = 64;
 
+/// A named float texture.
+#[derive(Clone, Debug)]
+pub(crate) enum FloatTex {
+    /// A value where a material takes a constant (a constant, a checkerboard's mean), or
+    /// `None` for a class fenestra does not read.
+    Value(Option<f32>),
+    /// An image, which rough conductors look up at each hit.
+    Image(Arc<ImageTexture>),
+}
+
+impl FloatTex {
+    /// The value a material that takes constants uses: the image's mean.
+    pub fn average(&self) -> Option<f32> {
+        match self {
+            FloatTex::Value(v) => *v,
+            FloatTex::Image(t) => Some(t.average().average()),
+        }
+    }
+}
+
 /// A named texture.
 #[derive(Clone, Debug)]
 pub(super) enum Tex {
@@ -101,9 +121,8 @@ pub(super) struct Builder {
     named_coords: HashMap<String, DMat4>,
     pub named_materials: HashMap<String, usize>,
     pub textures: HashMap<String, Tex>,
-    /// Float textures by name: their average (fenestra's materials take constants), or
-    /// `None` for a class fenestra does not read.
-    pub float_textures: HashMap<String, Option<f32>>,
+    /// Float textures by name.
+    pub float_textures: HashMap<String, FloatTex>,
     images: HashMap<PathBuf, Arc<Image>>,
     objects: HashMap<String, Vec<Shape>>,
     /// The instance being defined (ObjectBegin .. ObjectEnd) and its shapes.
@@ -529,12 +548,12 @@ impl Builder {
         let p = &d.params;
         if ty == "float" {
             let value = match class {
-                "constant" => Some(p.float("value", 1.0)?),
-                "imagemap" => Some(self.image_texture(d, dir)?.average().average()),
+                "constant" => FloatTex::Value(Some(p.float("value", 1.0)?)),
+                "imagemap" => FloatTex::Image(Arc::new(self.image_texture(d, dir)?)),
                 "checkerboard" => {
                     let (a, b) = (p.float("tex1", 1.0)?, p.float("tex2", 0.0)?);
                     p.use_all();
-                    Some(0.5 * (a + b))
+                    FloatTex::Value(Some(0.5 * (a + b)))
                 }
                 _ => {
                     self.warn(Topic::Textures,
@@ -542,7 +561,7 @@ impl Builder {
                         &d.loc,
                     );
                     p.use_all();
-                    None
+                    FloatTex::Value(None)
                 }
             };
             self.float_textures.insert(name.into(), value);

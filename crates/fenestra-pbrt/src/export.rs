@@ -8,7 +8,9 @@ use fenestra_core::image::Image;
 use fenestra_core::{Rgb, Vec3};
 use fenestra_scene::filter::{FilterShape, PixelFilter};
 use fenestra_scene::light::{EnvironmentDesc, LightDesc};
-use fenestra_scene::{Camera, FieldOfView, Material, SceneDesc, ShapeKind, TriangleMesh};
+use fenestra_scene::{
+    Camera, FieldOfView, ImageTexture, Material, SceneDesc, ShapeKind, TriangleMesh,
+};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -88,9 +90,24 @@ pub fn write(desc: &SceneDesc, path: &Path) -> Result<Exported, ExportError> {
     camera(&mut s, &desc.camera, d.width, d.height);
     s.push_str("\nWorldBegin\n\n");
     for (i, m) in desc.materials.iter().enumerate() {
+        // Texel values as loaded (linear), whatever files they came from.
+        let mut textures: Vec<(String, &str, &ImageTexture)> = Vec::new();
         if let Some(texture) = m.texture() {
-            // The texel values as loaded (linear), whatever file they came from.
-            let file = data(format!("texture-{i}.exr"), &|tmp| {
+            textures.push((format!("t{i}"), "spectrum", texture));
+        }
+        if let Material::RoughConductor {
+            roughness: Some(map),
+            ..
+        } = m
+        {
+            for (axis, t) in [("u", &map.u), ("v", &map.v)] {
+                if let Some(t) = t {
+                    textures.push((format!("r{i}{axis}"), "float", t));
+                }
+            }
+        }
+        for (name, kind, texture) in textures {
+            let file = data(format!("texture-{}.exr", &name[1..]), &|tmp| {
                 texture
                     .image
                     .write_exr(tmp, &Default::default())
@@ -98,7 +115,7 @@ pub fn write(desc: &SceneDesc, path: &Path) -> Result<Exported, ExportError> {
             })?;
             let _ = writeln!(
                 s,
-                "Texture \"t{i}\" \"spectrum\" \"imagemap\" \"string filename\" \"{file}\" \"float scale\" [ {} ] \"bool invert\" {} \"float uscale\" [ {} ] \"float vscale\" [ {} ] \"float udelta\" [ {} ] \"float vdelta\" [ {} ]",
+                "Texture \"{name}\" \"{kind}\" \"imagemap\" \"string filename\" \"{file}\" \"float scale\" [ {} ] \"bool invert\" {} \"float uscale\" [ {} ] \"float vscale\" [ {} ] \"float udelta\" [ {} ] \"float vdelta\" [ {} ]",
                 texture.scale, texture.invert, texture.uscale, texture.vscale, texture.udelta, texture.vdelta
             );
         }
@@ -431,12 +448,30 @@ fn material(s: &mut String, i: usize, m: &Material) {
             k,
             alpha_x,
             alpha_y,
+            roughness,
         } => {
+            // A texture is written with its remapping; constants are alphas, so under
+            // remapping they are written squared.
+            let remap = roughness.as_ref().is_some_and(|r| r.remap);
+            let (tu, tv) = roughness
+                .as_ref()
+                .map_or((false, false), |r| (r.u.is_some(), r.v.is_some()));
+            let axis = |name: &str, textured: bool, alpha: f32| {
+                if textured {
+                    format!("\"texture {name}roughness\" \"r{i}{name}\"")
+                } else if remap {
+                    format!("\"float {name}roughness\" [ {} ]", alpha * alpha)
+                } else {
+                    format!("\"float {name}roughness\" [ {alpha} ]")
+                }
+            };
             let _ = write!(
                 s,
-                "\"string type\" \"conductor\" \"rgb eta\" [ {} ] \"rgb k\" [ {} ] \"float uroughness\" [ {alpha_x} ] \"float vroughness\" [ {alpha_y} ] \"bool remaproughness\" false",
+                "\"string type\" \"conductor\" \"rgb eta\" [ {} ] \"rgb k\" [ {} ] {} {} \"bool remaproughness\" {remap}",
                 rgb(*eta),
-                rgb(*k)
+                rgb(*k),
+                axis("u", tu, *alpha_x),
+                axis("v", tv, *alpha_y),
             );
         }
         Material::RoughDielectric { eta, alpha } => {

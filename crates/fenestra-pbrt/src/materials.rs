@@ -11,12 +11,13 @@
 //! fenestra adds two types of its own so that its exports round-trip: "phong" (rgb diffuse,
 //! rgb specular, float exponent) and "ward" (rgb diffuse, rgb specular, float alphax, alphay).
 
-use crate::builder::{Builder, Tex};
+use crate::builder::{Builder, FloatTex, Tex};
 use crate::params::ParamList;
 use crate::spectra;
 use crate::{Loc, PbrtError, Topic};
 use fenestra_core::Rgb;
-use fenestra_scene::Material;
+use fenestra_scene::{ImageTexture, Material, RoughnessTexture};
+use std::sync::Arc;
 
 /// The note on coated materials.
 const ANALYTIC_LAYERS: &str = "coated materials as analytic layers where pbrt-v4 simulates them \
@@ -77,8 +78,10 @@ impl Builder {
             }
             "conductor" => {
                 let (eta, k) = conductor_optics(p, "")?;
-                let (au, av) = self.alphas(p, loc)?;
-                if au.max(av) < SMOOTH_ALPHA {
+                let map = self.roughness_texture(p)?;
+                // With a texture, its means stand for it where one value is needed (quietly).
+                let (au, av) = self.prefixed_alphas(p, "", loc, map.is_none())?;
+                if map.is_none() && au.max(av) < SMOOTH_ALPHA {
                     let f0 =
                         |e: f32, k: f32| ((e - 1.0).powi(2) + k * k) / ((e + 1.0).powi(2) + k * k);
                     Material::Mirror {
@@ -90,13 +93,14 @@ impl Builder {
                         k,
                         alpha_x: au.max(SMOOTH_ALPHA),
                         alpha_y: av.max(SMOOTH_ALPHA),
+                        roughness: map.map(Arc::new),
                     }
                 }
             }
             "coatedconductor" => {
                 let (eta, k) = conductor_optics(p, "conductor.")?;
-                let (au, av) = self.prefixed_alphas(p, "conductor.", loc)?;
-                let (iu, iv) = self.prefixed_alphas(p, "interface.", loc)?;
+                let (au, av) = self.prefixed_alphas(p, "conductor.", loc, true)?;
+                let (iu, iv) = self.prefixed_alphas(p, "interface.", loc, true)?;
                 layer_simulation_parameters(p)?;
                 self.note(Topic::Materials, ANALYTIC_LAYERS, loc);
                 Material::CoatedConductor {
@@ -253,12 +257,23 @@ impl Builder {
         name: &str,
         loc: &Loc,
     ) -> Result<Option<f32>, PbrtError> {
+        self.float_input(p, name, loc, true)
+    }
+
+    /// [`Self::float_or_texture`], warning about a texture's average only with `warn`.
+    fn float_input(
+        &mut self,
+        p: &ParamList,
+        name: &str,
+        loc: &Loc,
+        warn: bool,
+    ) -> Result<Option<f32>, PbrtError> {
         if p.type_of(name) != Some("texture") {
             return p.opt_float(name);
         }
         let texture = p.texture(name)?.unwrap_or_default();
         let value = match self.float_textures.get(&texture) {
-            Some(&value) => value,
+            Some(t) => t.average(),
             None => {
                 return Err(PbrtError::at(
                     loc,
@@ -270,14 +285,48 @@ impl Builder {
             Some(v) => format!("float texture for \"{name}\" (its average, {v}, is used)"),
             None => format!("float texture for \"{name}\" (the default is used)"),
         };
-        self.warn(Topic::Materials, what, loc);
+        if warn || value.is_none() {
+            self.warn(Topic::Materials, what, loc);
+        }
         Ok(value)
+    }
+
+    /// A conductor's roughness from float image textures, looked up at each hit: "roughness"
+    /// for both directions unless "uroughness"/"vroughness" say otherwise.
+    fn roughness_texture(&self, p: &ParamList) -> Result<Option<RoughnessTexture>, PbrtError> {
+        let image = |name: &str| -> Result<Option<Arc<ImageTexture>>, PbrtError> {
+            if p.type_of(name) != Some("texture") {
+                return Ok(None);
+            }
+            let texture = p.texture(name)?.unwrap_or_default();
+            Ok(match self.float_textures.get(&texture) {
+                Some(FloatTex::Image(t)) => Some(t.clone()),
+                _ => None,
+            })
+        };
+        let both = image("roughness")?;
+        let either = |name: &str| -> Result<Option<Arc<ImageTexture>>, PbrtError> {
+            Ok(if p.has(name) {
+                image(name)?
+            } else {
+                both.clone()
+            })
+        };
+        let (u, v) = (either("uroughness")?, either("vroughness")?);
+        if u.is_none() && v.is_none() {
+            return Ok(None);
+        }
+        Ok(Some(RoughnessTexture {
+            u,
+            v,
+            remap: p.bool("remaproughness", true)?,
+        }))
     }
 
     /// GGX (alpha_u, alpha_v) from "roughness" or "uroughness"/"vroughness"; pbrt-v4 remaps
     /// roughness r to alpha = sqrt(r) unless "remaproughness" is false.
     fn alphas(&mut self, p: &ParamList, loc: &Loc) -> Result<(f32, f32), PbrtError> {
-        self.prefixed_alphas(p, "", loc)
+        self.prefixed_alphas(p, "", loc, true)
     }
 
     /// [`Self::alphas`] of the parameters named `prefix`roughness (a layer's, in coated
@@ -287,16 +336,17 @@ impl Builder {
         p: &ParamList,
         prefix: &str,
         loc: &Loc,
+        warn: bool,
     ) -> Result<(f32, f32), PbrtError> {
         let name = |n: &str| format!("{prefix}{n}");
         let r = self
-            .float_or_texture(p, &name("roughness"), loc)?
+            .float_input(p, &name("roughness"), loc, warn)?
             .unwrap_or(0.0);
         let u = self
-            .float_or_texture(p, &name("uroughness"), loc)?
+            .float_input(p, &name("uroughness"), loc, warn)?
             .unwrap_or(r);
         let v = self
-            .float_or_texture(p, &name("vroughness"), loc)?
+            .float_input(p, &name("vroughness"), loc, warn)?
             .unwrap_or(r);
         let remap = p.bool("remaproughness", true)?;
         let a = |x: f32| if remap { x.max(0.0).sqrt() } else { x };

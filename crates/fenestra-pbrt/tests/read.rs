@@ -272,7 +272,7 @@ fn gzip_compressed_scene_files_and_meshes_are_read() {
 }
 
 #[test]
-fn float_textures_give_their_average_where_a_material_takes_a_constant() {
+fn float_textures_vary_conductor_roughness_and_give_their_average_elsewhere() {
     // The official crown scene stopped at "roughness has type texture but float is expected".
     let dir = scratch("float-textures");
     let mut grey = fenestra_core::image::Image::new(2, 1);
@@ -303,18 +303,42 @@ fn float_textures_give_their_average_where_a_material_takes_a_constant() {
     };
     let (ax, ay) = alphas(&s.desc.materials[0]);
     assert!((ax - 0.5).abs() < 1e-6 && (ay - 0.5).abs() < 1e-6);
+    // An image on a conductor's roughness is looked up at each hit (its mean stands for it
+    // where one value is needed); the constant v roughness stays.
     let (ax, ay) = alphas(&s.desc.materials[1]);
     assert!((ax - 0.3f32.sqrt()).abs() < 1e-6 && (ay - 0.3f32.sqrt()).abs() < 1e-6);
+    let mapped = |m: &Material| match m {
+        Material::RoughConductor {
+            roughness: Some(map),
+            alpha_x,
+            alpha_y,
+            ..
+        } => [0.25, 0.75].map(|u| map.alphas(Vec2::new(u, 0.5), (*alpha_x, *alpha_y))),
+        other => panic!("textured roughness expected, found {other:?}"),
+    };
+    let at = mapped(&s.desc.materials[1]);
+    let close = |a: (f32, f32), b: (f32, f32)| (a.0 - b.0).abs() < 1e-6 && (a.1 - b.1).abs() < 1e-6;
+    assert!(close(at[0], (0.2f32.sqrt(), 0.3f32.sqrt())), "{at:?}");
+    assert!(close(at[1], (0.4f32.sqrt(), 0.3f32.sqrt())), "{at:?}");
     assert!(matches!(s.desc.materials[2], Material::Dielectric { .. }));
     let w: Vec<String> = s.warnings.iter().map(ToString::to_string).collect();
     for says in [
         "float texture for \"roughness\" (its average, 0.25, is used)",
-        "float texture for \"uroughness\" (its average, 0.3",
         "float Texture class \"mix\"",
         "float texture for \"roughness\" (the default is used)",
     ] {
         assert!(w.iter().any(|w| w.contains(says)), "{says}: {w:?}");
     }
+    assert!(!w.iter().any(|w| w.contains("uroughness")), "{w:?}");
+    // Exported and read back, the texture varies the same way.
+    let path = dir.join("export.pbrt");
+    pbrt::export::write(&s.desc, &path).expect("export");
+    let t = pbrt::load(&path, false).expect("re-read").desc;
+    let back = mapped(&t.materials[1]);
+    assert!(
+        close(back[0], at[0]) && close(back[1], at[1]),
+        "{back:?} vs {at:?}"
+    );
     let e = pbrt::load(&dir.join("s.pbrt"), true)
         .err()
         .expect("strict refuses it")

@@ -82,6 +82,18 @@ impl RenderScene {
             Material::TexturedDiffuse { texture } => Cow::Owned(Bsdf::Diffuse(bsdf::Diffuse {
                 reflectance: texture.lookup(si.uv).map(|c| c.clamp(0.0, 1.0)),
             })),
+            Material::RoughConductor {
+                eta,
+                k,
+                alpha_x,
+                alpha_y,
+                roughness: Some(map),
+            } => {
+                let (ax, ay) = map.alphas(si.uv, (*alpha_x, *alpha_y));
+                Cow::Owned(Bsdf::RoughConductor(bsdf::RoughConductor::new(
+                    *eta, *k, ax, ay,
+                )))
+            }
             Material::CoatedDiffuse {
                 texture: Some(texture),
                 ..
@@ -102,5 +114,74 @@ impl RenderScene {
             self.scene.shapes[si.shape].material,
             si.p,
         )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use fenestra_core::image::Image;
+    use fenestra_core::{Vec2, Vec3};
+    use fenestra_scene::texture::{ImageTexture, RoughnessTexture};
+    use fenestra_scene::{
+        Backend, Camera, RenderDefaults, SceneDesc, Shape, ShapeKind, TriangleMesh,
+    };
+    use std::sync::Arc;
+
+    /// A conductor whose roughness image is 0.01 on its left half and 0.25 on its right: the
+    /// BSDF at a hit is the conductor of the texel's alpha (remapped: 0.1 and 0.5).
+    #[test]
+    fn rough_conductors_look_their_roughness_up_at_each_hit() {
+        let mut img = Image::new(2, 1);
+        img.set(0, 0, Rgb::splat(0.01));
+        img.set(1, 0, Rgb::splat(0.25));
+        let texture = Arc::new(ImageTexture::new(Arc::new(img), "r.exr".into()));
+        let (eta, k) = (Rgb::new(0.2, 0.9, 1.1), Rgb::new(3.9, 2.4, 2.1));
+        let material = |alpha: f32, roughness| Material::RoughConductor {
+            eta,
+            k,
+            alpha_x: alpha,
+            alpha_y: alpha,
+            roughness,
+        };
+        let map = RoughnessTexture {
+            u: Some(texture.clone()),
+            v: Some(texture),
+            remap: true,
+        };
+        let desc = SceneDesc {
+            name: "plate".into(),
+            shapes: vec![Shape::new(
+                ShapeKind::Mesh(TriangleMesh::quad(Vec3::ZERO, Vec3::X, Vec3::Y)),
+                0,
+            )],
+            materials: vec![material(0.3, Some(Arc::new(map)))],
+            lights: vec![],
+            camera: Camera::look_at(Vec3::Z * 3.0, Vec3::ZERO, Vec3::Y, 60.0).expect("camera"),
+            defaults: RenderDefaults::default(),
+            portals: Vec::new(),
+        };
+        let scene = RenderScene::new(Scene::build(desc, Backend::Obvhs).expect("scene"));
+        let (wo, wi) = (
+            Vec3::new(0.3, 0.1, 0.95).normalize(),
+            Vec3::new(-0.25, -0.1, 0.96).normalize(),
+        );
+        // x = -0.5 is u = 0.25 (the left texel), x = 0.5 is u = 0.75.
+        for (x, alpha) in [(-0.5, 0.1), (0.5, 0.5)] {
+            let ray = Ray::new(Vec3::new(x, 0.0, 1.0), -Vec3::Z);
+            let hit = scene.scene.intersect(&ray, 10.0).expect("hit");
+            let si = scene.scene.interaction(&ray, &hit);
+            assert!(
+                (si.uv - Vec2::new(x + 0.5, 0.5)).length() < 1e-5,
+                "{:?}",
+                si.uv
+            );
+            let want = Bsdf::from_material(&material(alpha, None)).eval(wo, wi);
+            let got = scene.bsdf_at(&si).eval(wo, wi);
+            assert!(
+                (got - want).max_component().abs() < 1e-4 * want.max_component(),
+                "x {x}: {got:?} vs {want:?}"
+            );
+        }
     }
 }

@@ -241,6 +241,7 @@ fn ggx_conductor_dielectric_and_coated_diffuse_match_their_pdfs() {
         k: Rgb::new(3.983, 2.385, 1.603),
         alpha_x: ax,
         alpha_y: ay,
+        roughness: None,
     };
     let cases = [
         ("conductor 0.2", gold(0.2, 0.2)),

@@ -106,7 +106,7 @@ fn analytic_coats_match_simulated_layers() {
         (_, true) => (-0.04, 0.08, 0.60),
         (_, false) => (-0.04, 0.40, 0.80),
     };
-    let mut check = |material: &str, alpha: f32, err: f64, l1: f64| {
+    let check = |material: &str, alpha: f32, err: f64, l1: f64| {
         let (lo, hi, lobe) = bounds(material, f64::from(alpha));
         assert!(
             (lo..hi).contains(&err) && l1 < lobe,
@@ -141,6 +141,7 @@ fn analytic_coats_match_simulated_layers() {
             k: Rgb::splat(3.983),
             alpha_x: a,
             alpha_y: a,
+            roughness: None,
         };
         let coated = Material::CoatedConductor {
             interface_eta: 1.5,

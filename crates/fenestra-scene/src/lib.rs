@@ -24,4 +24,4 @@ pub use light::{Emission, EnvironmentDesc, LightDesc};
 pub use material::Material;
 pub use scene::{RenderDefaults, Scene, SceneDesc, SceneError};
 pub use shape::{Shape, ShapeKind, TriangleMesh};
-pub use texture::ImageTexture;
+pub use texture::{ImageTexture, RoughnessTexture};

@@ -1,6 +1,6 @@
 //! Materials as parameters; the render crate's bsdf module evaluates and samples them.
 
-use crate::texture::ImageTexture;
+use crate::texture::{ImageTexture, RoughnessTexture};
 use fenestra_core::sampler::hash_combine;
 use fenestra_core::{Rgb, Vec3};
 use std::sync::Arc;
@@ -64,6 +64,9 @@ pub enum Material {
         alpha_x: f32,
         /// GGX roughness along the bitangent.
         alpha_y: f32,
+        /// Roughness varying over the surface, overriding `alpha_x`/`alpha_y` where given
+        /// (those then hold its mean).
+        roughness: Option<Arc<RoughnessTexture>>,
     },
     /// GGX microfacet dielectric (Walter et al. 2007).
     RoughDielectric {
@@ -249,6 +252,7 @@ impl Material {
                 k,
                 alpha_x,
                 alpha_y,
+                ..
             } => {
                 if !rgb_ok(eta) || !rgb_ok(k) {
                     Some("conductor eta and k must be finite and non-negative".into())

@@ -1,4 +1,4 @@
-//! Image textures for reflectance (pbrt-v4's "imagemap").
+//! Image textures for reflectance and roughness (pbrt-v4's "imagemap").
 
 use fenestra_core::image::Image;
 use fenestra_core::{Rgb, Vec2};
@@ -72,6 +72,36 @@ impl ImageTexture {
     /// The texture's mean value (used where a single reflectance is needed).
     pub fn average(&self) -> Rgb {
         self.finish(self.image.mean())
+    }
+}
+
+/// GGX roughness varying over a surface: pbrt-v4's float image textures on a conductor's
+/// "roughness", "uroughness" or "vroughness", looked up at each hit.
+#[derive(Clone, Debug)]
+pub struct RoughnessTexture {
+    /// Roughness along the tangent, if a texture gives it.
+    pub u: Option<Arc<ImageTexture>>,
+    /// Roughness along the bitangent, if a texture gives it.
+    pub v: Option<Arc<ImageTexture>>,
+    /// pbrt-v4's "remaproughness": alpha = sqrt(roughness) when true.
+    pub remap: bool,
+}
+
+/// GGX alpha below which pbrt-v4 treats a surface as smooth; the least a texture gives.
+pub const MIN_ALPHA: f32 = 1e-3;
+
+impl RoughnessTexture {
+    /// (alpha_x, alpha_y) at `uv`: each texture's value (the mean of its channels), remapped
+    /// and at least [`MIN_ALPHA`]; `constant` where no texture is given.
+    pub fn alphas(&self, uv: Vec2, constant: (f32, f32)) -> (f32, f32) {
+        let alpha = |t: &Option<Arc<ImageTexture>>, c: f32| match t {
+            Some(t) => {
+                let r = t.lookup(uv).average().max(0.0);
+                (if self.remap { r.sqrt() } else { r }).max(MIN_ALPHA)
+            }
+            None => c,
+        };
+        (alpha(&self.u, constant.0), alpha(&self.v, constant.1))
     }
 }
 

@@ -137,6 +137,7 @@ impl Bsdf {
                 k,
                 alpha_x,
                 alpha_y,
+                ..
             } => Bsdf::RoughConductor(RoughConductor::new(eta, k, alpha_x, alpha_y)),
             Material::RoughDielectric { eta, alpha } => {
                 Bsdf::RoughDielectric(RoughDielectric::new(eta, alpha))
