@@ -172,7 +172,7 @@ mod tests {
             let hit = scene.scene.intersect(&ray, 10.0).expect("hit");
             let si = scene.scene.interaction(&ray, &hit);
             assert!(
-                (si.uv - Vec2::new(x + 0.5, 0.5)).length() < 1e-5,
+                (si.uv - Vec2::new(0.5 * (x + 1.0), 0.5)).length() < 1e-5,
                 "{:?}",
                 si.uv
             );
