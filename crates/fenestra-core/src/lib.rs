@@ -9,6 +9,7 @@ pub mod fs;
 pub mod image;
 pub mod mis;
 pub mod name;
+pub mod palette;
 pub mod ray;
 pub mod rgb;
 pub mod rng;

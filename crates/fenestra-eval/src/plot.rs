@@ -12,15 +12,6 @@ pub struct Series {
     pub points: Vec<(f64, f64)>,
 }
 
-const COLOURS: [RGBColor; 6] = [
-    RGBColor(31, 119, 180),
-    RGBColor(255, 127, 14),
-    RGBColor(44, 160, 44),
-    RGBColor(214, 39, 40),
-    RGBColor(148, 103, 189),
-    RGBColor(140, 86, 75),
-];
-
 /// Writes a log-log line plot of `series` to `path` (SVG).
 pub fn loglog(
     path: &Path,
@@ -66,7 +57,8 @@ pub fn loglog(
         .draw()
         .map_err(|e| err(e.to_string()))?;
     for (i, s) in series.iter().enumerate() {
-        let colour = COLOURS[i % COLOURS.len()];
+        let [r, g, b] = fenestra_core::palette::category(i);
+        let colour = RGBColor(r, g, b);
         let points: Vec<(f64, f64)> = s
             .points
             .iter()

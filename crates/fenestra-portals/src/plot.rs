@@ -7,6 +7,7 @@ use crate::error::PortalError;
 use crate::estimate::Estimate;
 use crate::portal::Portal;
 use fenestra_core::fs::write_atomically;
+use fenestra_core::palette::CATEGORIES;
 use fenestra_core::Vec3;
 use plotters::prelude::*;
 use std::path::Path;
@@ -14,16 +15,6 @@ use std::path::Path;
 /// Pixels of one panel's plotting area, square so that the projections keep their shape.
 const PANEL: u32 = 400;
 
-const PALETTE: [RGBColor; 8] = [
-    RGBColor(31, 119, 180),
-    RGBColor(255, 127, 14),
-    RGBColor(44, 160, 44),
-    RGBColor(214, 39, 40),
-    RGBColor(148, 103, 189),
-    RGBColor(140, 86, 75),
-    RGBColor(227, 119, 194),
-    RGBColor(188, 189, 34),
-];
 const NOISE: RGBColor = RGBColor(190, 190, 190);
 const BOUNDS: RGBColor = RGBColor(200, 200, 200);
 
@@ -78,15 +69,16 @@ fn draw<'a>(
     let root = SVGBackend::with_string(svg, size).into_drawing_area();
     root.fill(&WHITE)?;
     // Dots by colour: one per cluster (by palette slot) and the noise.
-    let mut dots: Vec<(RGBColor, String)> = PALETTE
+    let mut dots: Vec<(RGBColor, String)> = CATEGORIES
         .iter()
-        .chain(&[NOISE])
-        .map(|&c| (c, String::new()))
+        .map(|&[r, g, b]| RGBColor(r, g, b))
+        .chain([NOISE])
+        .map(|c| (c, String::new()))
         .collect();
-    let mut slot = vec![PALETTE.len(); estimate.photons.points.len()];
+    let mut slot = vec![CATEGORIES.len(); estimate.photons.points.len()];
     for (k, c) in estimate.clusters.iter().enumerate() {
         for &i in c {
-            slot[i] = k % PALETTE.len();
+            slot[i] = k % CATEGORIES.len();
         }
     }
     let outlines: Vec<Vec<Vec3>> = estimate
