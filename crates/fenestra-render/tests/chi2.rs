@@ -7,7 +7,7 @@ use fenestra_core::image::Image;
 use fenestra_core::Rng;
 use fenestra_core::{warp, Frame, Ray, Rgb, Vec2, Vec3, PI};
 use fenestra_render::bsdf::Bsdf;
-use fenestra_render::light::{LightHit, Lights};
+use fenestra_render::light::{Light, LightHit, Lights};
 use fenestra_scene::light::Emission;
 use fenestra_scene::{
     Backend, Camera, EnvironmentDesc, LightDesc, Material, RenderDefaults, Scene, SceneDesc, Shape,
@@ -20,7 +20,7 @@ const THETA_BINS: usize = 20;
 const PHI_BINS: usize = 40;
 const SAMPLES: usize = 1_000_000;
 /// Number of chi-square tests in this file, for the Sidak correction.
-const TESTS: f64 = 43.0;
+const TESTS: f64 = 44.0;
 
 fn bin_of(w: Vec3) -> usize {
     let z = ((w.z.clamp(-1.0, 1.0) + 1.0) * 0.5 * THETA_BINS as f32) as usize;
@@ -394,12 +394,15 @@ fn light_scene(shapes: Vec<Shape>, lights: Vec<LightDesc>) -> Scene {
     Scene::build(desc, Backend::Obvhs).expect("scene")
 }
 
-/// Checks a light's direction sampling from `p` against pdf_li, finding the emitter point of
-/// a direction by tracing the scene (which holds only the light).
+/// Checks each light's direction sampling from `p` against pdf_li, finding the emitter
+/// point of a direction by tracing the scene (which holds only the emitter).
 fn check_light(name: &str, scene: &Scene, p: Vec3) {
-    let lights = Lights::new(scene);
-    assert_eq!(lights.lights.len(), 1, "{name}: one light");
-    let light = &lights.lights[0];
+    for (i, light) in Lights::new(scene).lights.iter().enumerate() {
+        check_one_light(&format!("{name} {i}"), scene, light, p);
+    }
+}
+
+fn check_one_light(name: &str, scene: &Scene, light: &Light, p: Vec3) {
     chi2_test(
         name,
         |rng| light.sample_li(scene, p, rng.next_2d()).map(|s| s.wi),

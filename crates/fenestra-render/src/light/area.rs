@@ -1,45 +1,51 @@
-//! Diffuse area emitter on any shape: triangles picked by area, spheres by the cone they
-//! subtend, disks uniformly by area.
+//! Diffuse area emitters: one per emissive triangle, sphere or disk (as pbrt-v4 makes every
+//! emissive triangle a light), so that light selection chooses among the parts of an
+//! emitting mesh. Spheres are sampled by the cone they subtend, triangles and disks by area.
 
 use super::LightSample;
-use fenestra_core::distribution::Distribution1D;
 use fenestra_core::ray::{robust_length, robust_normalize};
 use fenestra_core::{warp, Frame, Rgb, Vec2, Vec3, PI};
 use fenestra_scene::light::Emission;
 use fenestra_scene::{Scene, ShapeKind, SurfaceInteraction};
 
-/// A diffuse area emitter on a shape.
+/// A diffuse emitter: one triangle of a mesh, or a whole sphere or disk.
 #[derive(Clone, Debug)]
 pub struct AreaLight {
     shape: usize,
+    /// The triangle (0 for spheres and disks).
+    prim: usize,
     emission: Emission,
     area: f32,
-    /// Triangle selection by area (meshes only).
-    triangles: Option<Distribution1D>,
 }
 
 impl AreaLight {
-    /// The emitter of shape `shape` of `scene`.
-    pub fn new(scene: &Scene, shape: usize, emission: Emission) -> Self {
+    /// The emitter of primitive `prim` of shape `shape` of `scene` (a triangle's index, 0 for
+    /// spheres and disks).
+    pub fn new(scene: &Scene, shape: usize, prim: usize, emission: Emission) -> Self {
         let s = &scene.shapes[shape];
-        let triangles = match &s.kind {
-            ShapeKind::Mesh(m) => Some(Distribution1D::new(
-                &(0..m.indices.len())
-                    .map(|i| m.triangle_area(i))
-                    .collect::<Vec<_>>(),
-            )),
-            _ => None,
+        let area = match &s.kind {
+            ShapeKind::Mesh(m) => m.triangle_area(prim),
+            _ => s.area(),
         };
         AreaLight {
             shape,
+            prim,
             emission,
-            area: s.area(),
-            triangles,
+            area,
         }
     }
 
-    /// Radiance leaving the emitter point `si` in direction `w`.
+    /// The shape it lies on and its primitive there.
+    pub fn location(&self) -> (usize, usize) {
+        (self.shape, self.prim)
+    }
+
+    /// Radiance leaving the emitter point `si` in direction `w` (zero where `si` is not on
+    /// this emitter).
     pub fn le(&self, si: &SurfaceInteraction, w: Vec3) -> Rgb {
+        if (si.shape, si.prim) != (self.shape, self.prim) {
+            return Rgb::ZERO;
+        }
         if self.emission.two_sided || si.ng.dot(w) > 0.0 {
             self.emission.radiance
         } else {
@@ -85,6 +91,10 @@ impl AreaLight {
 
     /// A direction from `p` towards a point of the emitter: triangles by area, spheres by the cone they subtend, disks by area.
     pub fn sample_li(&self, scene: &Scene, p: Vec3, u: Vec2) -> Option<LightSample> {
+        // A degenerate triangle of an emitting mesh is a light that emits nothing.
+        if self.area <= 0.0 {
+            return None;
+        }
         let shape = &scene.shapes[self.shape];
         let (si, pdf) = match &shape.kind {
             ShapeKind::Sphere { center, radius }
@@ -146,18 +156,13 @@ impl AreaLight {
         (n != Vec3::ZERO).then_some(super::EmittedRay { origin: si.p, dir })
     }
 
-    /// Uniform point on the shape by area: (primitive, point, barycentrics).
+    /// Uniform point on the emitter by area: (primitive, point, barycentrics).
     fn sample_area(&self, kind: &ShapeKind, u: Vec2) -> (usize, Vec3, Vec2) {
         match kind {
             ShapeKind::Mesh(m) => {
-                let dist = self
-                    .triangles
-                    .as_ref()
-                    .unwrap_or_else(|| unreachable!("meshes have a triangle distribution"));
-                let (tri, _, ux) = dist.sample_discrete(u.x);
-                let b = warp::square_to_triangle(Vec2::new(ux, u.y));
-                let [p0, p1, p2] = m.triangle(tri);
-                (tri, p0 * (1.0 - b.x - b.y) + p1 * b.x + p2 * b.y, b)
+                let b = warp::square_to_triangle(u);
+                let [p0, p1, p2] = m.triangle(self.prim);
+                (self.prim, p0 * (1.0 - b.x - b.y) + p1 * b.x + p2 * b.y, b)
             }
             ShapeKind::Sphere { center, radius } => (
                 0,
@@ -187,6 +192,9 @@ impl AreaLight {
             }
         }
         let d = si.p - p;
+        if self.area <= 0.0 || (si.shape, si.prim) != (self.shape, self.prim) {
+            return 0.0;
+        }
         warp::area_to_solid_angle(
             1.0 / self.area,
             d.length_squared(),

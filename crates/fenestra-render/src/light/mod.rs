@@ -17,7 +17,7 @@ pub use sampler::{
 pub use spot::SpotLight;
 
 use fenestra_core::{Rgb, Vec2, Vec3};
-use fenestra_scene::{Emission, LightDesc, Scene, SurfaceInteraction};
+use fenestra_scene::{Emission, LightDesc, Scene, ShapeKind, SurfaceInteraction};
 
 /// Incident light sampled at a point.
 #[derive(Clone, Copy, Debug)]
@@ -154,10 +154,12 @@ impl Light {
 
 /// All lights of a scene, with the maps the integrators need.
 pub struct Lights {
-    /// Every light: the scene's lights first, then one per emitting shape.
+    /// Every light: the scene's lights first, then one per emissive triangle, sphere and
+    /// disk, shape by shape.
     pub lights: Vec<Light>,
-    /// For each shape, the index of its area light if it emits.
-    pub area_of_shape: Vec<Option<usize>>,
+    /// For each shape that emits, the index of the light of its primitive 0; primitive k's
+    /// light follows k places later.
+    pub first_area_light: Vec<Option<usize>>,
     /// Indices of environment lights (seen by rays that escape).
     pub environments: Vec<usize>,
     /// Whether any light is a Dirac one (point, spot, distant).
@@ -199,7 +201,7 @@ impl Lights {
             };
             lights.push(light);
         }
-        let area_of_shape = scene
+        let first_area_light = scene
             .shapes
             .iter()
             .enumerate()
@@ -207,8 +209,15 @@ impl Lights {
                 // An emitter without area (an empty mesh) emits nothing.
                 let emits = |e: &Emission| !e.radiance.is_black() && s.area() > 0.0;
                 s.emission.filter(emits).map(|e| {
-                    lights.push(Light::Area(AreaLight::new(scene, i, e)));
-                    lights.len() - 1
+                    let first = lights.len();
+                    let prims = match &s.kind {
+                        ShapeKind::Mesh(m) => m.indices.len(),
+                        _ => 1,
+                    };
+                    for prim in 0..prims {
+                        lights.push(Light::Area(AreaLight::new(scene, i, prim, e)));
+                    }
+                    first
                 })
             })
             .collect();
@@ -217,7 +226,7 @@ impl Lights {
             .any(|l| matches!(l, Light::Point(_) | Light::Spot(_) | Light::Distant(_)));
         Lights {
             lights,
-            area_of_shape,
+            first_area_light,
             environments,
             has_delta,
         }
@@ -226,7 +235,7 @@ impl Lights {
     /// The area light of the surface hit at `si`, if it emits, and its radiance arriving
     /// along `wi` (zero on its back side).
     pub fn surface_emission(&self, si: &SurfaceInteraction, wi: Vec3) -> Option<(usize, Rgb)> {
-        let i = self.area_of_shape[si.shape]?;
+        let i = self.first_area_light[si.shape]? + si.prim;
         Some((i, self.lights[i].le(LightHit::Surface(si), wi)))
     }
 }
