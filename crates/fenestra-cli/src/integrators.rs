@@ -7,11 +7,14 @@ use crate::portals_cmd::EstimateOpts;
 use anyhow::{bail, Result};
 use clap::{Args, ValueEnum};
 use fenestra_core::mis::MisHeuristic;
+use fenestra_manylights::LightBvh;
 use fenestra_portals::estimate::Model;
 use fenestra_portals::{PortalChoice, PortalOptions, PortalSampling, PortalSource, Portals};
-use fenestra_render::integrator::{af_hf, hf, IntegratorError, PathOptions};
+use fenestra_render::integrator::{
+    af_hf, hf, Integrator, IntegratorError, LightNextEvent, PathOptions, PathTracer,
+};
 use fenestra_render::light::LightSelection;
-use fenestra_render::Registry;
+use fenestra_render::{Registry, RenderScene};
 use std::path::Path;
 
 /// Which integrator, and every integrator's options.
@@ -56,9 +59,47 @@ pub struct PathArgs {
 /// Options of light sampling.
 #[derive(Args, Clone, Debug)]
 pub struct LightArgs {
-    /// How next-event estimation picks a light: power or uniform.
-    #[arg(long, default_value = "power")]
-    light_selection: LightSelection,
+    /// How next-event estimation picks a light: power (in proportion to emitted power),
+    /// uniform, or bvh (a light tree that weighs lights by their power, distance and
+    /// orientation at each point; af_hf only).
+    #[arg(long, value_enum, default_value = "power")]
+    light_selection: LightChoice,
+}
+
+/// The light samplers on offer.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+enum LightChoice {
+    Power,
+    Uniform,
+    Bvh,
+}
+
+impl LightArgs {
+    /// af_hf with the chosen light sampler.
+    fn af_hf(&self, options: PathOptions) -> Box<dyn Integrator> {
+        match self.light_selection {
+            LightChoice::Power => Box::new(af_hf(options, LightSelection::Power)),
+            LightChoice::Uniform => Box::new(af_hf(options, LightSelection::Uniform)),
+            LightChoice::Bvh => Box::new(PathTracer::new(
+                "af_hf",
+                LightNextEvent::with_sampler("bvh", |s: &RenderScene| {
+                    Box::new(LightBvh::new(&s.scene, &s.lights))
+                }),
+                options,
+            )),
+        }
+    }
+
+    /// The fixed selection lp_hf takes for the lights beyond its portals.
+    fn fixed(&self) -> Result<LightSelection, IntegratorError> {
+        match self.light_selection {
+            LightChoice::Power => Ok(LightSelection::Power),
+            LightChoice::Uniform => Ok(LightSelection::Uniform),
+            LightChoice::Bvh => Err(IntegratorError::Options(
+                "--light-selection bvh is for af_hf; lp_hf picks its other lights by power or uniform".into(),
+            )),
+        }
+    }
 }
 
 /// Options of lp_hf.
@@ -144,13 +185,13 @@ pub fn registry<'a>() -> Registry<Config<'a>> {
         .register(
             "af_hf",
             "path tracing that also aims at the lights, the usual default (seed 000's AF_HF)",
-            |c: &Config| Ok(Box::new(af_hf(c.path, c.args.lights.light_selection))),
+            |c: &Config| Ok(c.args.lights.af_hf(c.path)),
         )
         .register(
             "lp_hf",
             "path tracing that aims through windows and openings (light portals; seed 000's LP_HF)",
             |c: &Config| {
-                let options = c.args.portals.options(c.args.lights.light_selection)?;
+                let options = c.args.portals.options(c.args.lights.fixed()?)?;
                 Ok(Box::new(fenestra_portals::lp_hf(c.path, options)?))
             },
         )

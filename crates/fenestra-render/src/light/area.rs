@@ -40,6 +40,11 @@ impl AreaLight {
         (self.shape, self.prim)
     }
 
+    /// What it emits.
+    pub fn emission(&self) -> Emission {
+        self.emission
+    }
+
     /// Radiance leaving the emitter point `si` in direction `w` (zero where `si` is not on
     /// this emitter).
     pub fn le(&self, si: &SurfaceInteraction, w: Vec3) -> Rgb {

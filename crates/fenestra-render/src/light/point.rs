@@ -24,6 +24,11 @@ impl PointLight {
         self.position
     }
 
+    /// Radiant intensity.
+    pub fn intensity(&self) -> Rgb {
+        self.intensity
+    }
+
     /// The direction from `p` to the light and the radiance-like I/d^2.
     pub fn sample_li(&self, p: Vec3) -> Option<LightSample> {
         let (wi, d2) = super::toward(self.position, p)?;

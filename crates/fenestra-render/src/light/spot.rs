@@ -39,6 +39,18 @@ impl SpotLight {
         }
     }
 
+    /// Position, unit axis, cosines of the falloff's start and of the cone's edge, and the
+    /// intensity on the axis.
+    pub fn cone(&self) -> (Vec3, Vec3, f32, f32, Rgb) {
+        (
+            self.position,
+            self.direction,
+            self.cos_start,
+            self.cos_end,
+            self.intensity,
+        )
+    }
+
     /// A ray leaving the spot in a direction uniform within its outer cone.
     pub fn sample_ray(&self, u: Vec2) -> super::EmittedRay {
         let local = warp::square_to_uniform_cone(u, 1.0 - self.cos_end);

@@ -1,0 +1,12 @@
+//! Many-light sampling (seed 004 and its baselines). The light BVH of Conty Estevez and Kulla
+//! (2018), as pbrt-v4's BVHLightSampler uses it: lights clustered by position and emission
+//! direction, picked at each shading point by descending the tree with probabilities from
+//! each cluster's importance bound. It is a [`LightSampler`](fenestra_render::light::LightSampler)
+//! usable by af_hf at every path vertex (`--light-selection bvh`).
+#![warn(missing_docs)]
+
+pub mod bounds;
+pub mod bvh;
+
+pub use bounds::{DirectionCone, LightBounds};
+pub use bvh::LightBvh;
