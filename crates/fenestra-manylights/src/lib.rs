@@ -2,11 +2,14 @@
 //! (2018), as pbrt-v4's BVHLightSampler uses it: lights clustered by position and emission
 //! direction, picked at each shading point by descending the tree with probabilities from
 //! each cluster's importance bound. It is a [`LightSampler`](fenestra_render::light::LightSampler)
-//! usable by af_hf at every path vertex (`--light-selection bvh`).
+//! usable by af_hf at every path vertex (`--light-selection bvh`). The seed's light-cluster
+//! forest and its per-point cuts ([`forest`]) are what its adaptive sampler will stand on.
 #![warn(missing_docs)]
 
 pub mod bounds;
 pub mod bvh;
+pub mod forest;
 
 pub use bounds::{DirectionCone, LightBounds};
 pub use bvh::LightBvh;
+pub use forest::{Cluster, Forest, Sphere, CUT_SOLID_ANGLE};

@@ -27,7 +27,7 @@ fn many_lights() -> SceneDesc {
     let mut lights = vec![LightDesc::Environment(EnvironmentDesc::Constant(
         Rgb::splat(0.05),
     ))];
-    let mut at = |rng: &mut Rng| {
+    let at = |rng: &mut Rng| {
         Vec3::new(
             8.0 * rng.next_f32() - 4.0,
             8.0 * rng.next_f32() - 4.0,
