@@ -7,7 +7,8 @@ use crate::portals_cmd::EstimateOpts;
 use anyhow::{bail, Result};
 use clap::{Args, ValueEnum};
 use fenestra_core::mis::MisHeuristic;
-use fenestra_manylights::LightBvh;
+use fenestra_manylights::ias::Combine;
+use fenestra_manylights::{Ias, IasOptions, LightBvh};
 use fenestra_portals::estimate::Model;
 use fenestra_portals::{PortalChoice, PortalOptions, PortalSampling, PortalSource, Portals};
 use fenestra_render::integrator::{
@@ -30,6 +31,33 @@ pub struct IntegratorArgs {
     pub lights: LightArgs,
     #[command(flatten, next_help_heading = "Light portals (lp_hf)")]
     pub portals: PortalArgs,
+    #[command(flatten, next_help_heading = "Iterative adaptive sampling (ias)")]
+    pub ias: IasArgs,
+}
+
+/// Options of ias (seed 004).
+#[derive(Args, Clone, Debug)]
+pub struct IasArgs {
+    /// Relative variance at which a pixel is done (the seed's t; 1e-3 is a relative standard
+    /// error of about 3%).
+    #[arg(long, default_value_t = 1e-3)]
+    ias_threshold: f32,
+    /// Most passes per 8x8 block.
+    #[arg(long, default_value_t = 15)]
+    ias_max_passes: u32,
+    /// Largest solid angle of a light cluster in a cut, in steradians.
+    #[arg(long, default_value_t = 0.02)]
+    ias_solid_angle: f32,
+    /// How a pixel's passes are combined: samples (every shadow ray weighs the same;
+    /// unbiased) or inverse-variance (the seed's eq. 3.3-3.4; less noise, slightly dark).
+    #[arg(long, value_enum, default_value = "samples")]
+    ias_combine: IasCombine,
+}
+
+#[derive(Clone, Copy, Debug, ValueEnum)]
+enum IasCombine {
+    Samples,
+    InverseVariance,
 }
 
 #[derive(Clone, Copy, ValueEnum, Debug)]
@@ -186,6 +214,22 @@ pub fn registry<'a>() -> Registry<Config<'a>> {
             "af_hf",
             "path tracing that also aims at the lights, the usual default (seed 000's AF_HF)",
             |c: &Config| Ok(c.args.lights.af_hf(c.path)),
+        )
+        .register(
+            "ias",
+            "direct light for scenes with many lights, learnt block by block in passes until each pixel is within a set noise (seed 004)",
+            |c: &Config| {
+                let a = &c.args.ias;
+                Ok(Box::new(Ias::new(IasOptions {
+                    threshold: a.ias_threshold,
+                    max_passes: a.ias_max_passes,
+                    solid_angle: a.ias_solid_angle,
+                    combine: match a.ias_combine {
+                        IasCombine::Samples => Combine::Samples,
+                        IasCombine::InverseVariance => Combine::InverseVariance,
+                    },
+                })?))
+            },
         )
         .register(
             "lp_hf",

@@ -72,7 +72,12 @@ pub struct Cluster {
     pub children: Option<[u32; 2]>,
     /// Leaf: the light's index in the scene's `Lights`.
     pub light: u32,
+    /// The cluster it belongs to ([`NO_PARENT`] for a root).
+    pub parent: u32,
 }
+
+/// The parent of a root.
+pub const NO_PARENT: u32 = u32::MAX;
 
 /// The seven trees over a scene's lights, and its lights at infinity.
 pub struct Forest {
@@ -130,6 +135,7 @@ impl Forest {
                 power: light.power(scene),
                 children: None,
                 light: i as u32,
+                parent: NO_PARENT,
             });
         }
         let mut forest = Forest {
@@ -223,9 +229,13 @@ impl Forest {
             power: x.power + y.power,
             children: Some([a, b]),
             light: u32::MAX,
+            parent: NO_PARENT,
         };
+        let node = self.nodes.len() as u32;
         self.nodes.push(cluster);
-        (self.nodes.len() - 1) as u32
+        self.nodes[a as usize].parent = node;
+        self.nodes[b as usize].parent = node;
+        node
     }
 
     /// The cut at point `p` with normal `n` (zero: a point lit from every side): every tree
@@ -247,6 +257,26 @@ impl Forest {
                 _ => out.push(i),
             }
         }
+    }
+
+    /// A light below node `i` picked in proportion to power by `u` in [0, 1): the light's
+    /// node and its probability given `i`.
+    pub fn pick_by_power(&self, mut i: u32, mut u: f32) -> (u32, f32) {
+        let mut p = 1.0;
+        while let Some([a, b]) = self.nodes[i as usize].children {
+            let (pa, pb) = (self.nodes[a as usize].power, self.nodes[b as usize].power);
+            let first = if pa + pb > 0.0 { pa / (pa + pb) } else { 0.5 };
+            if u < first {
+                u = (u / first).min(1.0 - f32::EPSILON);
+                p *= first;
+                i = a;
+            } else {
+                u = ((u - first) / (1.0 - first)).min(1.0 - f32::EPSILON);
+                p *= 1.0 - first;
+                i = b;
+            }
+        }
+        (i, p)
     }
 
     /// The lights below node `i`.
@@ -338,6 +368,7 @@ mod tests {
             power: 1.0,
             children: None,
             light: 0,
+            parent: NO_PARENT,
         };
         let (p, n) = (Vec3::ZERO, Vec3::Z);
         // Above the point, facing down onto it: reaches.

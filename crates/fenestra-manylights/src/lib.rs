@@ -9,7 +9,9 @@
 pub mod bounds;
 pub mod bvh;
 pub mod forest;
+pub mod ias;
 
 pub use bounds::{DirectionCone, LightBounds};
 pub use bvh::LightBvh;
 pub use forest::{Cluster, Forest, Sphere, CUT_SOLID_ANGLE};
+pub use ias::{Ias, IasOptions};

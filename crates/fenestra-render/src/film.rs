@@ -25,6 +25,22 @@ impl Pixel {
         self.count += 1;
     }
 
+    /// Sets the pixel to an estimate `mean` whose mean has the variance `variance` (per
+    /// channel), for estimators that combine their samples otherwise than by averaging
+    /// (seed 004's inverse-variance weighting of passes): stored as the two samples
+    /// mean +- sqrt(variance), whose mean and variance of the mean are exactly these.
+    pub fn set_estimate(&mut self, mean: [f64; 3], variance: [f64; 3]) {
+        *self = Pixel::default();
+        for sign in [1.0, -1.0] {
+            for i in 0..3 {
+                let v = mean[i] + sign * variance[i].max(0.0).sqrt();
+                self.sum[i] += v;
+                self.sum_sq[i] += v * v;
+            }
+            self.count += 1;
+        }
+    }
+
     /// The sample mean, per channel.
     pub fn mean(&self) -> [f64; 3] {
         let n = self.count.max(1) as f64;
