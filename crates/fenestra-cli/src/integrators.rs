@@ -22,7 +22,8 @@ use std::path::Path;
 #[derive(Args, Clone, Debug)]
 pub struct IntegratorArgs {
     /// Integrator (`fenestra list` shows them): hf (BSDF sampling), af_hf (light and BSDF
-    /// sampling with MIS) or lp_hf (light-portal and BSDF sampling with MIS).
+    /// sampling with MIS), lp_hf (light-portal and BSDF sampling with MIS) or ias (adaptive
+    /// direct light for many lights).
     #[arg(long, default_value = "af_hf")]
     pub integrator: String,
     #[command(flatten, next_help_heading = "Path tracing (hf, af_hf, lp_hf)")]

@@ -161,7 +161,33 @@ fn bad_input_gets_a_clear_error() {
             "-o",
             o,
         ],
-        "unknown integrator 'bdpt' (available: hf, af_hf, lp_hf)",
+        "unknown integrator 'bdpt' (available: hf, af_hf, ias, lp_hf)",
+    );
+    assert_clear_error(
+        &[
+            "render",
+            "builtin:kitchen-72",
+            "--integrator",
+            "ias",
+            "--ias-threshold",
+            "0",
+            "-o",
+            o,
+        ],
+        "the ias threshold must be positive, got 0",
+    );
+    assert_clear_error(
+        &[
+            "render",
+            "builtin:box-hole",
+            "--integrator",
+            "lp_hf",
+            "--light-selection",
+            "bvh",
+            "-o",
+            o,
+        ],
+        "--light-selection bvh is for af_hf",
     );
     assert_clear_error(
         &["render", "builtin:box-hole", "--spp", "0", "-o", o],
