@@ -681,12 +681,10 @@ impl BlockRender<'_> {
                     p.shadow_rays += 1;
                     p.seen_light |= s.visible;
                     sums[i].add(s.value);
-                    if let Some(leaf) = s.leaf {
-                        let pixel = p.stats.iter_mut().find(|(c, _)| *c == q.class);
-                        let stat = (leaf, s.contribution, s.power, s.visible);
-                        let pixel = pixel.map(|(_, st)| st.as_mut_slice());
-                        self.record(pixel, q.class, stat, slot, pass_block);
-                    }
+                    let pixel = p.stats.iter_mut().find(|(c, _)| *c == q.class);
+                    let stat = (s.leaf, s.contribution, s.power, s.visible);
+                    let pixel = pixel.map(|(_, st)| st.as_mut_slice());
+                    self.record(pixel, q.class, stat, slot, pass_block);
                 }
                 drawn += n;
             }
@@ -803,7 +801,7 @@ impl BlockRender<'_> {
         let mut eval = LightEval {
             value: Rgb::ZERO,
             visible: false,
-            leaf: Some(leaf),
+            leaf,
             contribution: 0.0,
             power,
         };
@@ -901,7 +899,7 @@ struct LightEval {
     /// Whether the shadow ray reached the light.
     visible: bool,
     /// The light's node (for the statistics).
-    leaf: Option<u32>,
+    leaf: u32,
     /// The light's own contribution estimate (luminance, occlusion included).
     contribution: f64,
     /// The light's power.
