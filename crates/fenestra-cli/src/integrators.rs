@@ -32,7 +32,10 @@ pub struct IntegratorArgs {
     pub lights: LightArgs,
     #[command(flatten, next_help_heading = "Light portals (lp_hf)")]
     pub portals: PortalArgs,
-    #[command(flatten, next_help_heading = "Iterative adaptive sampling (ias)")]
+    #[command(
+        flatten,
+        next_help_heading = "Iterative adaptive sampling (ias, ias_reference)"
+    )]
     pub ias: IasArgs,
 }
 
@@ -229,8 +232,14 @@ pub fn registry<'a>() -> Registry<Config<'a>> {
                         IasCombine::Samples => Combine::Samples,
                         IasCombine::InverseVariance => Combine::InverseVariance,
                     },
+                    ..IasOptions::default()
                 })?))
             },
+        )
+        .register(
+            "ias_reference",
+            "the reference seed 004 measures ias against: lights picked by unoccluded irradiance, rays until each pixel is within --ias-threshold",
+            |c: &Config| Ok(Box::new(Ias::new(IasOptions::reference(c.args.ias.ias_threshold))?)),
         )
         .register(
             "lp_hf",

@@ -65,6 +65,17 @@ pub enum Combine {
     Samples,
 }
 
+/// Where the PDFs over a point's lights come from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Pdf {
+    /// The seed's adaptive PDFs over light clusters (eq. 3.2).
+    Adaptive,
+    /// The seed's reference (§4.2): over single lights, in proportion to their unoccluded
+    /// irradiance at the point (their bounds' importance), the same throughout; 100 rays a
+    /// pass, at most 20,000 a pixel, black after 2,500 rays without a visible light.
+    Irradiance,
+}
+
 /// The seed's parameters.
 #[derive(Clone, Copy, Debug)]
 pub struct IasOptions {
@@ -76,6 +87,8 @@ pub struct IasOptions {
     pub solid_angle: f32,
     /// How the passes' estimates of a pixel are combined.
     pub combine: Combine,
+    /// Adaptive (ias) or the seed's reference.
+    pub pdf: Pdf,
 }
 
 impl Default for IasOptions {
@@ -85,9 +98,36 @@ impl Default for IasOptions {
             max_passes: 15,
             solid_angle: CUT_SOLID_ANGLE,
             combine: Combine::Samples,
+            pdf: Pdf::Adaptive,
         }
     }
 }
+
+impl IasOptions {
+    /// The seed's reference estimator with termination threshold `threshold`: every light
+    /// its own cluster, PDFs by unoccluded irradiance, every ray weighing the same.
+    pub fn reference(threshold: f32) -> Self {
+        IasOptions {
+            threshold,
+            max_passes: REFERENCE_MAX_RAYS / REFERENCE_PASS_RAYS,
+            solid_angle: f32::MIN_POSITIVE,
+            combine: Combine::Samples,
+            pdf: Pdf::Irradiance,
+        }
+    }
+
+    /// Shadow rays without a visible light after which a pixel is black (§4.6.4).
+    fn black_after(&self) -> u32 {
+        match self.pdf {
+            Pdf::Adaptive => 250,
+            Pdf::Irradiance => 2500,
+        }
+    }
+}
+
+/// The reference's rays per pass and its cap per pixel (§4.2, §4.6.4).
+const REFERENCE_PASS_RAYS: u32 = 100;
+const REFERENCE_MAX_RAYS: u32 = 20_000;
 
 /// The `ias` integrator.
 pub struct Ias {
@@ -287,7 +327,10 @@ struct BlockResult {
 
 impl Integrator for Ias {
     fn name(&self) -> &str {
-        "ias"
+        match self.options.pdf {
+            Pdf::Adaptive => "ias",
+            Pdf::Irradiance => "ias_reference",
+        }
     }
 
     fn settings(&self) -> serde_json::Value {
@@ -295,6 +338,10 @@ impl Integrator for Ias {
             "threshold": self.options.threshold,
             "max_passes": self.options.max_passes,
             "solid_angle": self.options.solid_angle,
+            "pdf": match self.options.pdf {
+                Pdf::Adaptive => "adaptive",
+                Pdf::Irradiance => "irradiance",
+            },
             "combine": match self.options.combine {
                 Combine::InverseVariance => "inverse-variance",
                 Combine::Samples => "samples",
@@ -654,6 +701,10 @@ impl BlockRender<'_> {
         if pass > 0 {
             budget = budget.min(150);
         }
+        let adaptive = options.pdf == Pdf::Adaptive;
+        if !adaptive {
+            budget = REFERENCE_PASS_RAYS;
+        }
         // Each point's samples this pass.
         let mut sums: Vec<PointSums> = vec![PointSums::default(); p.points.len()];
         let pdfs: Vec<Vec<f32>> = (0..p.points.len())
@@ -664,7 +715,8 @@ impl BlockRender<'_> {
         let mut round = budget;
         loop {
             for (i, q) in p.points.iter().enumerate() {
-                if q.cut.is_empty() {
+                // No light can reach the point (the reference's PDF may say so exactly).
+                if pdfs[i].iter().sum::<f32>() <= 0.0 {
                     continue;
                 }
                 let n = ((round as f32 * q.area).round() as u32).max(1);
@@ -695,7 +747,7 @@ impl BlockRender<'_> {
             let (mean, var) = p.with_pass(estimate, s2, w);
             let relative = var / (mean * mean).max(f64::MIN_POSITIVE);
             let t = f64::from(options.threshold);
-            if relative >= t && relative < 2.0 * t && drawn < 4 * budget {
+            if adaptive && relative >= t && relative < 2.0 * t && drawn < 4 * budget {
                 round = 25;
                 continue;
             }
@@ -745,7 +797,7 @@ impl BlockRender<'_> {
         // Termination on relative variance (§3.5.3); samples all alike and lit are exact.
         let converged = m > 0.0 && var / (m * m) < f64::from(options.threshold);
         // The black-pixel rule (§4.6.4).
-        let black = !p.seen_light && p.passes >= 3 && p.shadow_rays >= 250;
+        let black = !p.seen_light && p.passes >= 3 && p.shadow_rays >= options.black_after();
         p.done = converged || black || p.passes >= options.max_passes;
     }
 
@@ -759,6 +811,9 @@ impl BlockRender<'_> {
         block: &[Vec<Stat>],
         slot: &[u32],
     ) -> Vec<f32> {
+        if self.ias.options.pdf == Pdf::Irradiance {
+            return self.irradiance_pdf(q);
+        }
         let of = |stats: &[Stat]| -> Vec<Stat> {
             q.cut
                 .iter()
@@ -772,6 +827,47 @@ impl BlockRender<'_> {
             component(&of(&block[q.class]), true),
             pixel.and_then(|(_, s)| component(&of(s), false)),
         )
+    }
+
+    /// The reference's PDF over a point's lights (§4.2): in proportion to each light's
+    /// unoccluded irradiance bound at the point; lights at infinity, whose irradiance the
+    /// bounds do not give, share the probability of one more light with the rest.
+    fn irradiance_pdf(&self, q: &Point) -> Vec<f32> {
+        let forest = self.forest;
+        let n = if q.bsdf.is_transmissive() {
+            Vec3::ZERO
+        } else {
+            q.n
+        };
+        let mut w: Vec<f64> = q
+            .cut
+            .iter()
+            .map(|&c| match forest.nodes.get(c as usize) {
+                Some(node) => f64::from(node.bounds.importance(q.si.p, n)),
+                None => 0.0,
+            })
+            .collect();
+        let finite: f64 = w.iter().sum();
+        let infinite = q
+            .cut
+            .iter()
+            .filter(|&&c| c as usize >= forest.nodes.len())
+            .count();
+        let share = match (infinite, finite > 0.0) {
+            (0, _) => 0.0,
+            (k, true) => 1.0 / (k + 1) as f64,
+            (_, false) => 1.0,
+        };
+        for (wi, &c) in w.iter_mut().zip(&q.cut) {
+            *wi = if c as usize >= forest.nodes.len() {
+                share / infinite as f64
+            } else if finite > 0.0 {
+                *wi / finite * (1.0 - share)
+            } else {
+                0.0
+            };
+        }
+        w.into_iter().map(|v| v as f32).collect()
     }
 
     /// One light sample at point `q`.
