@@ -56,6 +56,10 @@ pub struct IasArgs {
     /// unbiased) or inverse-variance (the seed's eq. 3.3-3.4; less noise, slightly dark).
     #[arg(long, value_enum, default_value = "samples")]
     ias_combine: IasCombine,
+    /// Regions an environment is cut into, each a cluster of the cuts (the seed's 300; 0
+    /// takes the environment whole).
+    #[arg(long, default_value_t = 300)]
+    ias_sky_regions: usize,
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -232,6 +236,7 @@ pub fn registry<'a>() -> Registry<Config<'a>> {
                         IasCombine::Samples => Combine::Samples,
                         IasCombine::InverseVariance => Combine::InverseVariance,
                     },
+                    sky_regions: a.ias_sky_regions,
                     ..IasOptions::default()
                 })?))
             },

@@ -2,27 +2,29 @@
 //!
 //! The image is rendered in 8x8 pixel blocks, each independently to completion (§3.3.2): its
 //! pixels' points are found once, as sub-pixel regions of similar eye-ray hits (the adaptive
-//! anti-aliasing of §3.6), with a cut through the light-cluster forest at each (§3.5.1). Then passes: at
-//! each point a PDF over the clusters of its cut blends uniform, block and pixel statistics
-//! (eq. 3.2) in proportion to C / sqrt(u) (eq. 3.7, App. A.2), kept per normal class
-//! (§3.5.4); lights inside a cluster are picked by power; 1.5 N_C shadow rays per pixel per
-//! pass (at least 50, at most 150 after pass 0; §4.6.1). Each pass's pixel estimate and its
-//! conservative variance (App. A.1) are combined over passes by inverse variance (eq. 3.3-3.4)
-//! until the relative variance falls below the threshold, with a top-up in steps of 25 rays
-//! near it (§4.6.1), the undersampling guard (§4.6.2), at most 15 passes and the black-pixel
-//! rule (3 passes and 250 shadow rays without a visible light; §4.6.4).
+//! anti-aliasing of §3.6), with a cut through the light-cluster forest at each (§3.5.1);
+//! environments join the cuts as 300 regions of directions (module `sky`), distant lights as
+//! one cluster each. Then passes: at each point a PDF over the clusters of its cut blends
+//! uniform, block and pixel statistics (eq. 3.2) in proportion to C / sqrt(u) (eq. 3.7, App.
+//! A.2), kept per normal class (§3.5.4); lights inside a cluster are picked by power; 1.5 N_C
+//! shadow rays per pixel per pass (at least 50, at most 150 after pass 0; §4.6.1). Each
+//! pass's pixel estimate and its conservative variance (App. A.1) are combined over passes
+//! (by inverse variance, eq. 3.3-3.4, or by rays) until the relative variance falls below the
+//! threshold, with a top-up in steps of 25 rays near it (§4.6.1), the undersampling guard
+//! (§4.6.2), at most 15 passes and the black-pixel rule (3 passes and 250 shadow rays
+//! without a visible light; §4.6.4).
 //!
-//! Not yet: the environment's 300 regions (a light at infinity is one cluster of every cut), the
-//! visualisations. Direct light only, as the seed: a camera ray that meets a mirror or glass
-//! gets nothing beyond what it sees emitted.
+//! Not yet: the visualisations. Direct light only, as the seed: a camera ray that meets a
+//! mirror or glass gets nothing beyond what it sees emitted.
 
 use crate::forest::{Forest, CUT_SOLID_ANGLE, NO_PARENT};
+use crate::sky::{self, SkyRegion, SKY_REGIONS};
 use fenestra_core::stats::{RayCounters, RenderStats};
 use fenestra_core::{Ray, Rgb, Sampler, Vec2, Vec3};
 use fenestra_render::bsdf::Bsdf;
 use fenestra_render::control::RenderControl;
 use fenestra_render::integrator::{Integrator, IntegratorError};
-use fenestra_render::light::LightHit;
+use fenestra_render::light::{LightHit, LightSample};
 use fenestra_render::{Film, RenderScene, RenderSettings};
 use fenestra_scene::SurfaceInteraction;
 use rayon::prelude::*;
@@ -89,6 +91,9 @@ pub struct IasOptions {
     pub combine: Combine,
     /// Adaptive (ias) or the seed's reference.
     pub pdf: Pdf,
+    /// Regions an environment is cut into for the adaptive sampler (the seed's 300; 0
+    /// takes each environment whole, as one cluster).
+    pub sky_regions: usize,
 }
 
 impl Default for IasOptions {
@@ -99,6 +104,7 @@ impl Default for IasOptions {
             solid_angle: CUT_SOLID_ANGLE,
             combine: Combine::Samples,
             pdf: Pdf::Adaptive,
+            sky_regions: SKY_REGIONS,
         }
     }
 }
@@ -113,6 +119,7 @@ impl IasOptions {
             solid_angle: f32::MIN_POSITIVE,
             combine: Combine::Samples,
             pdf: Pdf::Irradiance,
+            sky_regions: 0,
         }
     }
 
@@ -133,6 +140,16 @@ const REFERENCE_MAX_RAYS: u32 = 20_000;
 pub struct Ias {
     options: IasOptions,
     forest: Option<Forest>,
+    /// The clusters outside the forest, numbered after its nodes.
+    far: Vec<Far>,
+}
+
+/// A cluster outside the forest: a light at infinity taken whole, or a region of an
+/// environment's directions.
+#[derive(Clone, Copy, Debug)]
+enum Far {
+    Light(usize),
+    Region(SkyRegion),
 }
 
 impl Ias {
@@ -153,6 +170,7 @@ impl Ias {
         Ok(Ias {
             options,
             forest: None,
+            far: Vec::new(),
         })
     }
 }
@@ -338,6 +356,7 @@ impl Integrator for Ias {
             "threshold": self.options.threshold,
             "max_passes": self.options.max_passes,
             "solid_angle": self.options.solid_angle,
+            "sky_regions": self.options.sky_regions,
             "pdf": match self.options.pdf {
                 Pdf::Adaptive => "adaptive",
                 Pdf::Irradiance => "irradiance",
@@ -350,7 +369,23 @@ impl Integrator for Ias {
     }
 
     fn prepare(&mut self, scene: &RenderScene, _: &RenderControl) -> Result<(), IntegratorError> {
-        self.forest = Some(Forest::new(&scene.scene, &scene.lights));
+        let forest = Forest::new(&scene.scene, &scene.lights);
+        // The adaptive sampler sees environments as the seed's 300 regions; the reference
+        // takes them whole.
+        let lights = &scene.lights;
+        self.far = match self.options.pdf {
+            Pdf::Adaptive if self.options.sky_regions > 0 => {
+                let others = forest.infinite.iter().copied();
+                let others = others.filter(|l| !lights.environments.contains(l));
+                sky::regions(lights, self.options.sky_regions)
+                    .into_iter()
+                    .map(Far::Region)
+                    .chain(others.map(Far::Light))
+                    .collect()
+            }
+            _ => forest.infinite.iter().map(|&l| Far::Light(l)).collect(),
+        };
+        self.forest = Some(forest);
         Ok(())
     }
 
@@ -464,7 +499,7 @@ impl BlockRender<'_> {
         }
         // Slots of every cut node of the block (node ids past the forest's nodes are lights
         // at infinity).
-        let node_count = self.forest.nodes.len() + self.forest.infinite.len();
+        let node_count = self.forest.nodes.len() + self.ias.far.len();
         let mut slot = vec![u32::MAX; node_count];
         let mut nodes: Vec<u32> = Vec::new();
         for p in &pixels {
@@ -619,8 +654,15 @@ impl BlockRender<'_> {
             if !bsdf.is_delta() {
                 self.forest
                     .cut(si.p, receiver, self.ias.options.solid_angle, &mut cut);
-                let first_infinite = self.forest.nodes.len() as u32;
-                cut.extend((0..self.forest.infinite.len() as u32).map(|i| first_infinite + i));
+                let first_far = self.forest.nodes.len() as u32;
+                for (k, far) in self.ias.far.iter().enumerate() {
+                    if let Far::Region(r) = far {
+                        if !r.above(receiver) {
+                            continue;
+                        }
+                    }
+                    cut.push(first_far + k as u32);
+                }
             }
             regions.push(Region {
                 shape: si.shape,
@@ -886,13 +928,17 @@ impl BlockRender<'_> {
         let node = q.cut[i];
         let forest = self.forest;
         let u_light = sampler.next_1d();
-        let (leaf, light, p_light, power) = if (node as usize) < forest.nodes.len() {
+        let (leaf, target, p_light, power) = if (node as usize) < forest.nodes.len() {
             let (leaf, p) = forest.pick_by_power(node, u_light);
             let c = &forest.nodes[leaf as usize];
-            (leaf, c.light as usize, p, c.power)
+            (leaf, Far::Light(c.light as usize), p, c.power)
         } else {
-            let l = forest.infinite[node as usize - forest.nodes.len()];
-            (node, l, 1.0, 1.0)
+            (
+                node,
+                self.ias.far[node as usize - forest.nodes.len()],
+                1.0,
+                1.0,
+            )
         };
         let mut eval = LightEval {
             value: Rgb::ZERO,
@@ -902,8 +948,25 @@ impl BlockRender<'_> {
             power,
         };
         let scene = self.scene;
-        let light = &scene.lights.lights[light];
-        let Some(s) = light.sample_li(&scene.scene, q.si.p, sampler.next_2d()) else {
+        let s = match target {
+            Far::Light(l) => {
+                scene.lights.lights[l].sample_li(&scene.scene, q.si.p, sampler.next_2d())
+            }
+            // A direction uniform in solid angle over the region (§3.5.1's environment
+            // regions).
+            Far::Region(r) => {
+                let wi = r.sample(sampler.next_2d());
+                let li = scene.lights.lights[r.light].le(LightHit::Escaped, wi);
+                Some(LightSample {
+                    wi,
+                    li,
+                    pdf: 1.0 / r.solid_angle(),
+                    point: None,
+                    delta: false,
+                })
+            }
+        };
+        let Some(s) = s else {
             return eval;
         };
         let frame = q.si.shading_frame();

@@ -10,6 +10,7 @@ pub mod bounds;
 pub mod bvh;
 pub mod forest;
 pub mod ias;
+pub mod sky;
 
 pub use bounds::{DirectionCone, LightBounds};
 pub use bvh::LightBvh;

@@ -93,3 +93,46 @@ fn a_larger_solid_angle_bound_gives_smaller_cuts() {
     assert!(sizes.windows(2).all(|w| w[0] >= w[1]), "{sizes:?}");
     assert!(sizes[0] > sizes[3], "{sizes:?}");
 }
+
+#[test]
+fn sky_regions_tile_the_sphere_and_hold_the_skys_power() {
+    use fenestra_manylights::sky::{regions, SKY_REGIONS};
+    // ponderosa-138's sky: the regions cover every direction once, and their pre-integrated
+    // powers add up to the sky's radiance integrated over the sphere.
+    let scene = Scene::build(
+        builtin::load("ponderosa-138").expect("builtin"),
+        Backend::Obvhs,
+    )
+    .expect("scene");
+    let lights = Lights::new(&scene);
+    assert_eq!(lights.environments.len(), 1);
+    let sky = regions(&lights, SKY_REGIONS);
+    assert_eq!(sky.len(), SKY_REGIONS);
+    let solid: f32 = sky.iter().map(|r| r.solid_angle()).sum();
+    assert!((solid - 4.0 * std::f32::consts::PI).abs() < 1e-3, "{solid}");
+    let env = &lights.lights[lights.environments[0]];
+    let mut rng = Rng::new(11);
+    let (n, mut integral) = (200_000, 0.0f64);
+    for _ in 0..n {
+        let d = fenestra_core::warp::square_to_uniform_sphere(rng.next_2d());
+        let le = env
+            .le(fenestra_render::light::LightHit::Escaped, d)
+            .luminance();
+        integral += f64::from(le) * 4.0 * std::f64::consts::PI / n as f64;
+    }
+    let power: f64 = sky.iter().map(|r| f64::from(r.power)).sum();
+    assert!(
+        (power / integral - 1.0).abs() < 0.02,
+        "{power} vs {integral}"
+    );
+    // Brighter parts get smaller regions: the region of the most power per solid angle is
+    // smaller than the mean.
+    let densest = sky
+        .iter()
+        .max_by(|a, b| (a.power / a.solid_angle()).total_cmp(&(b.power / b.solid_angle())))
+        .expect("regions");
+    assert!(
+        densest.solid_angle() < solid / SKY_REGIONS as f32,
+        "{densest:?}"
+    );
+}
