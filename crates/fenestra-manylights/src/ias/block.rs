@@ -1,36 +1,19 @@
-//! Iterative adaptive sampling of direct light (seed 004 ch. 3-4): integrator `ias`.
-//!
-//! The image is rendered in 8x8 pixel blocks, each independently to completion (§3.3.2): its
-//! pixels' points are found once, as sub-pixel regions of similar eye-ray hits (the adaptive
-//! anti-aliasing of §3.6), with a cut through the light-cluster forest at each (§3.5.1);
-//! environments join the cuts as 300 regions of directions (module `sky`), distant lights as
-//! one cluster each. Then passes: at each point a PDF over the clusters of its cut blends
-//! uniform, block and pixel statistics (eq. 3.2) in proportion to C / sqrt(u) (eq. 3.7, App.
-//! A.2), kept per normal class (§3.5.4); lights inside a cluster are picked by power; 1.5 N_C
-//! shadow rays per pixel per pass (at least 50, at most 150 after pass 0; §4.6.1). Each
-//! pass's pixel estimate and its conservative variance (App. A.1) are combined over passes
-//! (by inverse variance, eq. 3.3-3.4, or by rays) until the relative variance falls below the
-//! threshold, with a top-up in steps of 25 rays near it (§4.6.1), the undersampling guard
-//! (§4.6.2), at most 15 passes and the black-pixel rule (3 passes and 250 shadow rays
-//! without a visible light; §4.6.4).
-//!
-//! Not yet: the visualisations. Direct light only, as the seed: a camera ray that meets a
-//! mirror or glass gets nothing beyond what it sees emitted.
+//! One 8x8 block rendered to completion (seed 004 Fig. 3.4): its pixels' points and cuts,
+//! then passes of light samples with feedback between them.
 
-use crate::forest::{Forest, CUT_SOLID_ANGLE, NO_PARENT};
-use crate::sky::{self, SkyRegion, SKY_REGIONS};
-use fenestra_core::stats::{RayCounters, RenderStats};
+use super::estimate::{luminance, pass_estimate, PointSums};
+use super::feedback::{blend, component, normal_class, Stat};
+use super::{BlockResult, Combine, Far, Ias, Pdf, REFERENCE_PASS_RAYS};
+use crate::forest::{Forest, NO_PARENT};
+use fenestra_core::stats::RayCounters;
 use fenestra_core::{Ray, Rgb, Sampler, Vec2, Vec3};
 use fenestra_render::bsdf::Bsdf;
-use fenestra_render::control::RenderControl;
-use fenestra_render::integrator::{Integrator, IntegratorError};
 use fenestra_render::light::{LightHit, LightSample};
-use fenestra_render::{Film, RenderScene, RenderSettings};
+use fenestra_render::RenderScene;
 use fenestra_scene::SurfaceInteraction;
-use rayon::prelude::*;
 
 /// Side of a block.
-const BLOCK: u32 = 8;
+pub(super) const BLOCK: u32 = 8;
 /// Most eye rays a pixel takes (three surfaces' worth at 25 each); its shadow rays' sample
 /// streams come after them.
 const MAX_EYE_RAYS: u32 = 75;
@@ -55,232 +38,19 @@ struct Region {
     point: Point,
 }
 
-/// How a pixel's pass estimates are combined.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Combine {
-    /// By inverse variance (eq. 3.3, 3.4): the seed's, least variance, but the variances
-    /// come from the same samples as the estimates, so a pass that missed a bright light
-    /// (low estimate, low variance) weighs more: the image comes out darker (measured in
-    /// docs/manylights.md).
-    InverseVariance,
-    /// By shadow rays: every ray weighs the same, whatever pass it came in; unbiased.
-    Samples,
-}
-
-/// Where the PDFs over a point's lights come from.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Pdf {
-    /// The seed's adaptive PDFs over light clusters (eq. 3.2).
-    Adaptive,
-    /// The seed's reference (§4.2): over single lights, in proportion to their unoccluded
-    /// irradiance at the point (their bounds' importance), the same throughout; 100 rays a
-    /// pass, at most 20,000 a pixel, black after 2,500 rays without a visible light.
-    Irradiance,
-}
-
-/// The seed's parameters.
-#[derive(Clone, Copy, Debug)]
-pub struct IasOptions {
-    /// Relative variance of a pixel at which it is done (t of §3.5.3).
-    pub threshold: f32,
-    /// Most passes per block.
-    pub max_passes: u32,
-    /// Cluster size bound of the cuts, in steradians.
-    pub solid_angle: f32,
-    /// How the passes' estimates of a pixel are combined.
-    pub combine: Combine,
-    /// Adaptive (ias) or the seed's reference.
-    pub pdf: Pdf,
-    /// Regions an environment is cut into for the adaptive sampler (the seed's 300; 0
-    /// takes each environment whole, as one cluster).
-    pub sky_regions: usize,
-}
-
-impl Default for IasOptions {
-    fn default() -> Self {
-        IasOptions {
-            threshold: 1e-3,
-            max_passes: 15,
-            solid_angle: CUT_SOLID_ANGLE,
-            combine: Combine::Samples,
-            pdf: Pdf::Adaptive,
-            sky_regions: SKY_REGIONS,
-        }
-    }
-}
-
-impl IasOptions {
-    /// The seed's reference estimator with termination threshold `threshold`: every light
-    /// its own cluster, PDFs by unoccluded irradiance, every ray weighing the same.
-    pub fn reference(threshold: f32) -> Self {
-        IasOptions {
-            threshold,
-            max_passes: REFERENCE_MAX_RAYS / REFERENCE_PASS_RAYS,
-            solid_angle: f32::MIN_POSITIVE,
-            combine: Combine::Samples,
-            pdf: Pdf::Irradiance,
-            sky_regions: 0,
-        }
-    }
-
-    /// Shadow rays without a visible light after which a pixel is black (§4.6.4).
-    fn black_after(&self) -> u32 {
-        match self.pdf {
-            Pdf::Adaptive => 250,
-            Pdf::Irradiance => 2500,
-        }
-    }
-}
-
-/// The reference's rays per pass and its cap per pixel (§4.2, §4.6.4).
-const REFERENCE_PASS_RAYS: u32 = 100;
-const REFERENCE_MAX_RAYS: u32 = 20_000;
-
-/// The `ias` integrator.
-pub struct Ias {
-    options: IasOptions,
-    forest: Option<Forest>,
-    /// The clusters outside the forest, numbered after its nodes.
-    far: Vec<Far>,
-}
-
-/// A cluster outside the forest: a light at infinity taken whole, or a region of an
-/// environment's directions.
-#[derive(Clone, Copy, Debug)]
-enum Far {
-    Light(usize),
-    Region(SkyRegion),
-}
-
-impl Ias {
-    /// `ias` with `options`.
-    pub fn new(options: IasOptions) -> Result<Self, IntegratorError> {
-        let o = options;
-        if !(o.threshold > 0.0 && o.threshold.is_finite()) {
-            return Err(IntegratorError::Options(format!(
-                "the ias threshold must be positive, got {}",
-                o.threshold
-            )));
-        }
-        if o.max_passes == 0 || !(o.solid_angle > 0.0 && o.solid_angle.is_finite()) {
-            return Err(IntegratorError::Options(
-                "ias needs at least one pass and a positive cluster solid angle".into(),
-            ));
-        }
-        Ok(Ias {
-            options,
-            forest: None,
-            far: Vec::new(),
-        })
-    }
-}
-
-/// Weights (uniform, block, pixel) of the PDFs combined in pass `j` (eq. 3.2): uniform only
-/// at first, then mostly the block, then mostly the pixel (the shape of the seed's Fig. 3.5,
-/// whose values the text does not give); the uniform part never vanishes.
-fn weights(pass: u32) -> [f32; 3] {
-    match pass {
-        0 => [1.0, 0.0, 0.0],
-        1 => [0.3, 0.5, 0.2],
-        2 => [0.2, 0.45, 0.35],
-        3 => [0.15, 0.35, 0.5],
-        4 => [0.1, 0.25, 0.65],
-        _ => [0.1, 0.15, 0.75],
-    }
-}
-
-/// A feedback PDF over a cut from its clusters' statistics (eq. 3.8): in proportion to
-/// F = C / sqrt(u). With `guard` (the block PDF, §4.6.2), a cluster without samples, or with
-/// fewer than four all occluded, gets the mean F of the others instead of its own. `None`
-/// when nothing has weight yet.
-fn component(stats: &[Stat], guard: bool) -> Option<Vec<f64>> {
-    let raw: Vec<Option<f64>> = stats
-        .iter()
-        .map(|s| {
-            if guard && (s.count == 0 || s.count < 4 && s.visible == 0) {
-                None
-            } else {
-                Some(s.weight().unwrap_or(0.0))
-            }
-        })
-        .collect();
-    let known: Vec<f64> = raw.iter().flatten().copied().collect();
-    let mean = if known.is_empty() {
-        0.0
-    } else {
-        known.iter().sum::<f64>() / known.len() as f64
-    };
-    let f: Vec<f64> = raw.iter().map(|r| r.unwrap_or(mean)).collect();
-    let total: f64 = f.iter().sum();
-    (total > 0.0 && total.is_finite()).then(|| f.iter().map(|v| v / total).collect())
-}
-
-/// The PDF of pass `pass` over `n` clusters (eq. 3.2): the uniform, block and pixel PDFs by
-/// the pass's weights, a missing feedback PDF's weight given to the uniform one. Every
-/// cluster keeps at least the uniform part's probability.
-fn blend(n: usize, pass: u32, block: Option<Vec<f64>>, pixel: Option<Vec<f64>>) -> Vec<f32> {
-    let [mut cu, cb, cp] = weights(pass).map(f64::from);
-    if block.is_none() {
-        cu += cb;
-    }
-    if pixel.is_none() {
-        cu += cp;
-    }
-    (0..n)
-        .map(|i| {
-            let b = block.as_ref().map_or(0.0, |b| cb * b[i]);
-            let p = pixel.as_ref().map_or(0.0, |p| cp * p[i]);
-            (cu / n as f64 + b + p) as f32
-        })
-        .collect()
-}
-
-/// Which of six classes a normal falls in (the cube face it points to, §3.5.4).
-fn normal_class(n: Vec3) -> usize {
-    let a = n.abs();
-    let axis = if a.x >= a.y && a.x >= a.z {
-        0
-    } else if a.y >= a.z {
-        1
-    } else {
-        2
-    };
-    2 * axis + usize::from(n[axis] < 0.0)
-}
-
-/// Running sums of the evaluations of one cluster (eq. 3.6 and the visible fraction u).
-#[derive(Clone, Copy, Debug, Default)]
-struct Stat {
-    sum: f64,
-    count: u32,
-    visible: u32,
-}
-
-impl Stat {
-    /// F = C / sqrt(u) (eq. 3.7), `None` without samples.
-    fn weight(&self) -> Option<f64> {
-        if self.count == 0 {
-            return None;
-        }
-        let c = self.sum / self.count as f64;
-        let u = self.visible as f64 / self.count as f64;
-        Some(if u > 0.0 { c / u.sqrt() } else { 0.0 })
-    }
-}
-
 /// A point to shade: where an eye ray met a surface.
-struct Point {
-    si: SurfaceInteraction,
-    bsdf: Bsdf,
+pub(super) struct Point {
+    pub(super) si: SurfaceInteraction,
+    pub(super) bsdf: Bsdf,
     /// Towards the eye.
-    wo: Vec3,
+    pub(super) wo: Vec3,
     /// Normal on the eye's side.
-    n: Vec3,
-    class: usize,
+    pub(super) n: Vec3,
+    pub(super) class: usize,
     /// Share of the pixel.
-    area: f32,
+    pub(super) area: f32,
     /// The clusters of its cut (forest nodes; past the forest's nodes, lights at infinity).
-    cut: Vec<u32>,
+    pub(super) cut: Vec<u32>,
 }
 
 /// One pixel of the block.
@@ -332,164 +102,19 @@ impl PixelState {
     }
 }
 
-/// What a block's render gives back.
-struct BlockResult {
-    pixels: Vec<(u32, u32, [f64; 3], [f64; 3])>,
-    rays: RayCounters,
-    passes: u64,
-    shadow_rays: u64,
-    cut_sizes: u64,
-    points: u64,
-    max_passes: u32,
-}
-
-impl Integrator for Ias {
-    fn name(&self) -> &str {
-        match self.options.pdf {
-            Pdf::Adaptive => "ias",
-            Pdf::Irradiance => "ias_reference",
-        }
-    }
-
-    fn settings(&self) -> serde_json::Value {
-        serde_json::json!({
-            "threshold": self.options.threshold,
-            "max_passes": self.options.max_passes,
-            "solid_angle": self.options.solid_angle,
-            "sky_regions": self.options.sky_regions,
-            "pdf": match self.options.pdf {
-                Pdf::Adaptive => "adaptive",
-                Pdf::Irradiance => "irradiance",
-            },
-            "combine": match self.options.combine {
-                Combine::InverseVariance => "inverse-variance",
-                Combine::Samples => "samples",
-            },
-        })
-    }
-
-    fn prepare(&mut self, scene: &RenderScene, _: &RenderControl) -> Result<(), IntegratorError> {
-        let forest = Forest::new(&scene.scene, &scene.lights);
-        // The adaptive sampler sees environments as the seed's 300 regions; the reference
-        // takes them whole.
-        let lights = &scene.lights;
-        self.far = match self.options.pdf {
-            Pdf::Adaptive if self.options.sky_regions > 0 => {
-                let others = forest.infinite.iter().copied();
-                let others = others.filter(|l| !lights.environments.contains(l));
-                sky::regions(lights, self.options.sky_regions)
-                    .into_iter()
-                    .map(Far::Region)
-                    .chain(others.map(Far::Light))
-                    .collect()
-            }
-            _ => forest.infinite.iter().map(|&l| Far::Light(l)).collect(),
-        };
-        self.forest = Some(forest);
-        Ok(())
-    }
-
-    fn render(
-        &self,
-        scene: &RenderScene,
-        film: &mut Film,
-        settings: &RenderSettings,
-        control: &RenderControl,
-    ) -> RenderStats {
-        let empty = Forest {
-            nodes: Vec::new(),
-            roots: Vec::new(),
-            infinite: Vec::new(),
-        };
-        let forest = self.forest.as_ref().unwrap_or(&empty);
-        let (width, height) = (film.width, film.height);
-        let (bx, by) = (width.div_ceil(BLOCK), height.div_ceil(BLOCK));
-        control.progress.start(Some(u64::from(bx * by)));
-        let results: Vec<Option<BlockResult>> = (0..bx * by)
-            .into_par_iter()
-            .map(|b| {
-                if control.cancelled() {
-                    return None;
-                }
-                let r = BlockRender {
-                    ias: self,
-                    forest,
-                    scene,
-                    seed: settings.seed,
-                    width,
-                    height,
-                }
-                .render((b % bx) * BLOCK, (b / bx) * BLOCK);
-                control.progress.advance(1);
-                Some(r)
-            })
-            .collect();
-        let mut stats = RenderStats {
-            scene: scene.scene.name.clone(),
-            backend: scene.scene.backend.name().to_string(),
-            width,
-            height,
-            seed: settings.seed,
-            threads: rayon::current_num_threads(),
-            max_depth: Some(2),
-            ..Default::default()
-        };
-        let (mut passes, mut shadow, mut cuts, mut points) = (0u64, 0u64, 0u64, 0u64);
-        for r in &results {
-            let Some(r) = r else {
-                stats.interrupted = true;
-                continue;
-            };
-            for &(x, y, mean, var) in &r.pixels {
-                film.pixels[(y * width + x) as usize].set_estimate(mean, var);
-            }
-            stats.rays += r.rays;
-            passes += r.passes;
-            shadow += r.shadow_rays;
-            cuts += r.cut_sizes;
-            points += r.points;
-        }
-        let pixels = f64::from(width * height).max(1.0);
-        stats.passes = results
-            .iter()
-            .flatten()
-            .map(|r| r.max_passes)
-            .max()
-            .unwrap_or(0);
-        // Eye rays per pixel stand for samples per pixel.
-        let eye = stats.rays.camera as f64 / pixels;
-        stats.spp = eye.round() as u32;
-        stats.spp_max = stats.spp;
-        stats.extra.insert("eye_rays_per_pixel".into(), eye);
-        stats
-            .extra
-            .insert("passes_per_pixel".into(), passes as f64 / pixels);
-        stats
-            .extra
-            .insert("shadow_rays_per_pixel".into(), shadow as f64 / pixels);
-        stats.extra.insert(
-            "clusters_per_cut".into(),
-            cuts as f64 / points.max(1) as f64,
-        );
-        stats.time_s = control.elapsed();
-        stats.derive_rates();
-        stats
-    }
-}
-
 /// Everything a block's render reads.
-struct BlockRender<'a> {
-    ias: &'a Ias,
-    forest: &'a Forest,
-    scene: &'a RenderScene,
-    seed: u64,
-    width: u32,
-    height: u32,
+pub(super) struct BlockRender<'a> {
+    pub(super) ias: &'a Ias,
+    pub(super) forest: &'a Forest,
+    pub(super) scene: &'a RenderScene,
+    pub(super) seed: u64,
+    pub(super) width: u32,
+    pub(super) height: u32,
 }
 
 impl BlockRender<'_> {
     /// Renders the block at (x0, y0) to completion.
-    fn render(&self, x0: u32, y0: u32) -> BlockResult {
+    pub(super) fn render(&self, x0: u32, y0: u32) -> BlockResult {
         let mut rays = RayCounters::default();
         let mut pixels = Vec::new();
         for y in y0..(y0 + BLOCK).min(self.height) {
@@ -1033,24 +658,6 @@ impl BlockRender<'_> {
     }
 }
 
-/// A point's samples in a pass: sums of the values and of their squares per channel.
-#[derive(Clone, Copy, Debug, Default)]
-struct PointSums {
-    sum: [f64; 3],
-    sq: [f64; 3],
-    n: u32,
-}
-
-impl PointSums {
-    fn add(&mut self, v: Rgb) {
-        for (c, x) in v.to_array().into_iter().enumerate() {
-            self.sum[c] += f64::from(x);
-            self.sq[c] += f64::from(x) * f64::from(x);
-        }
-        self.n += 1;
-    }
-}
-
 /// What one light sample gives.
 struct LightEval {
     /// Its contribution over its probability (the point's estimator).
@@ -1063,152 +670,4 @@ struct LightEval {
     contribution: f64,
     /// The light's power.
     power: f32,
-}
-
-fn luminance(c: [f64; 3]) -> f64 {
-    0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]
-}
-
-/// The seed's conservative estimate of the variance of a mean `m` of `n` samples whose
-/// squares sum to `sum_sq` (App. A.1, eq. A.3): with V = sum x^2 / N^2 and
-/// E = m / N - 3 sqrt(V) / N^2, s^2 = V if E < 0, else V - N E^2.
-fn conservative_variance(m: f64, sum_sq: f64, n: f64) -> f64 {
-    let v = sum_sq / (n * n);
-    let e = m / n - 3.0 * v.sqrt() / (n * n);
-    if e < 0.0 {
-        v
-    } else {
-        (v - n * e * e).max(0.0)
-    }
-}
-
-/// The pixel's estimate for a pass, I = sum over points of area x mean, and the
-/// conservative variance of its mean (App. A.1, eq. A.3) in luminance and per channel. As
-/// pixel values, the N samples of the pass are x_i = value x area x N / n_point, so that
-/// their mean is I.
-fn pass_estimate(points: &[Point], sums: &[PointSums]) -> ([f64; 3], f64, [f64; 3]) {
-    let n: u32 = sums.iter().map(|s| s.n).sum();
-    if n == 0 {
-        return ([0.0; 3], 0.0, [0.0; 3]);
-    }
-    let big_n = f64::from(n);
-    let (mut estimate, mut second) = ([0.0f64; 3], [0.0f64; 3]);
-    for (q, s) in points.iter().zip(sums).filter(|(_, s)| s.n > 0) {
-        let scale = f64::from(q.area) * big_n / f64::from(s.n);
-        for c in 0..3 {
-            estimate[c] += s.sum[c] * scale / big_n;
-            second[c] += s.sq[c] * scale * scale;
-        }
-    }
-    let conservative = |m: f64, sq: f64| conservative_variance(m, sq, big_n);
-    let channels: [f64; 3] = std::array::from_fn(|c| conservative(estimate[c], second[c]));
-    // The luminance's second moment needs the cross terms; its samples' squares are bounded
-    // by the channels' (luminance is a convex combination), so this stays conservative.
-    let lum_second = 0.2126 * second[0] + 0.7152 * second[1] + 0.0722 * second[2];
-    (
-        estimate,
-        conservative(luminance(estimate), lum_second),
-        channels,
-    )
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The variance of one sample of two lights of exitant radiance L_i, visible fractions
-    /// u_i, the first picked with probability p (App. A.2, eq. A.4).
-    fn variance(p: f64, l: [f64; 2], u: [f64; 2]) -> f64 {
-        let second = u[0] * l[0] * l[0] / p + u[1] * l[1] * l[1] / (1.0 - p);
-        let mean = u[0] * l[0] + u[1] * l[1];
-        second - mean * mean
-    }
-
-    #[test]
-    fn c_over_sqrt_u_minimises_the_variance_of_partly_visible_lights() {
-        for (l, u) in [
-            ([1.0, 1.0], [1.0, 0.25]),
-            ([3.0, 1.0], [0.1, 0.9]),
-            ([0.5, 2.0], [0.6, 0.05]),
-        ] {
-            // The statistics such lights leave: C = u L as the mean contribution, u the
-            // visible share (1000 samples each).
-            let stat = |i: usize| Stat {
-                sum: 1000.0 * u[i] * l[i],
-                count: 1000,
-                visible: (1000.0 * u[i]) as u32,
-            };
-            let pdf = component(&[stat(0), stat(1)], false).expect("weights");
-            // The numerical minimum over p, on a fine grid.
-            let best = (1..10_000)
-                .map(|k| k as f64 / 10_000.0)
-                .min_by(|&a, &b| variance(a, l, u).total_cmp(&variance(b, l, u)))
-                .expect("grid");
-            assert!(
-                (pdf[0] - best).abs() < 2e-3,
-                "L {l:?} u {u:?}: C/sqrt(u) gives {} where the variance is least at {best}",
-                pdf[0]
-            );
-            // Proportional to contribution alone would be worse wherever u differ.
-            let by_c = u[0] * l[0] / (u[0] * l[0] + u[1] * l[1]);
-            assert!(variance(pdf[0], l, u) <= variance(by_c, l, u) + 1e-12);
-        }
-    }
-
-    #[test]
-    fn no_cluster_ever_gets_zero_probability() {
-        // A cluster the feedback says is dark (sampled, never visible) still keeps the
-        // uniform share of every pass: the estimator stays unbiased if the feedback is wrong.
-        let dark = Stat {
-            sum: 0.0,
-            count: 40,
-            visible: 0,
-        };
-        let lit = Stat {
-            sum: 40.0,
-            count: 40,
-            visible: 40,
-        };
-        let stats = [lit, dark, lit];
-        for pass in 0..20 {
-            let pdf = blend(3, pass, component(&stats, true), component(&stats, false));
-            let total: f32 = pdf.iter().sum();
-            assert!((total - 1.0).abs() < 1e-5, "pass {pass}: sums to {total}");
-            assert!(pdf[1] >= 0.1 / 3.0 - 1e-6, "pass {pass}: {pdf:?}");
-        }
-        // The guard: a cluster with under four samples, all occluded, is not trusted yet.
-        let barely = Stat {
-            sum: 0.0,
-            count: 3,
-            visible: 0,
-        };
-        let pdf = component(&[lit, barely], true).expect("weights");
-        assert!(
-            (pdf[0] - 0.5).abs() < 1e-9 && (pdf[1] - 0.5).abs() < 1e-9,
-            "{pdf:?}"
-        );
-        assert_eq!(component(&[lit, barely], false).expect("weights")[1], 0.0);
-    }
-
-    #[test]
-    fn the_conservative_variance_is_at_least_the_plain_variance_of_the_mean() {
-        // eq. A.3 against (1/N^2) sum (x - m)^2 for random sample sets, and above it by the
-        // 3 sqrt(V) term where that matters: few samples.
-        let mut rng = fenestra_core::Rng::new(8);
-        for _ in 0..200 {
-            let n = 2 + (rng.next_f32() * 60.0) as usize;
-            let xs: Vec<f64> = (0..n).map(|_| f64::from(rng.next_f32()).powi(3)).collect();
-            let big_n = n as f64;
-            let m = xs.iter().sum::<f64>() / big_n;
-            let unbiased =
-                xs.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (big_n * (big_n - 1.0));
-            let sum_sq = xs.iter().map(|x| x * x).sum::<f64>();
-            let s2 = conservative_variance(m, sum_sq, big_n);
-            let plain = unbiased * (big_n - 1.0) / big_n;
-            assert!(s2 >= plain * (1.0 - 1e-9), "{s2} < {plain}");
-            if n <= 4 && m > 0.0 {
-                assert!(s2 > plain, "{n} samples: {s2} not above {plain}");
-            }
-        }
-    }
 }
