@@ -11,6 +11,7 @@ use fenestra_eval::hash::debug_hash;
 use fenestra_eval::metrics;
 use fenestra_eval::run::{ReferenceSummary, REFERENCE_SEED_OFFSET};
 use fenestra_render::control::PassHook;
+use fenestra_render::integrator::WorkMap;
 use fenestra_render::{
     output, Film, Integrator, RenderControl, RenderScene, RenderSettings, RenderStats,
 };
@@ -73,6 +74,11 @@ pub struct RenderArgs {
     /// Also write OUT.var.exr, the per-pixel variance of the mean.
     #[arg(long)]
     variance: bool,
+    /// Also write pictures of the integrator's own work, if it makes any (ias: passes,
+    /// shadow rays, visible share, clusters per cut, anti-aliasing regions per pixel) into
+    /// the folder OUT-maps, as false-colour PNGs with their scale in the file name.
+    #[arg(long)]
+    maps: bool,
     /// Output EXR; the PNG and JSON sidecar are written beside it.
     #[arg(short, long)]
     output: PathBuf,
@@ -197,7 +203,7 @@ impl RenderOpts {
 
     /// Builds the scene, prepares the integrator and renders, on a pool of --threads workers,
     /// with Ctrl-C stopping it cleanly.
-    fn run(&self, job: Job, hook: Option<PassHook>) -> Result<(RenderStats, Film)> {
+    fn run(&self, job: Job, hook: Option<PassHook>) -> Result<(RenderStats, Film, Vec<WorkMap>)> {
         let pool = crate::thread_pool(self.threads)?;
         let cancel = interrupt::on_ctrl_c("writing the samples taken so far");
         let Job {
@@ -224,7 +230,7 @@ impl RenderOpts {
                 &control,
             );
             bar.finish();
-            Ok((stats?, film))
+            Ok((stats?, film, integrator.work_maps()))
         })
     }
 
@@ -312,6 +318,10 @@ pub fn run(args: RenderArgs) -> Result<bool> {
     if let Some(r) = &args.reference {
         files.input(r, "reference");
     }
+    let maps_dir = maps_folder(&args.output);
+    if args.maps {
+        files.folder(&maps_dir, "work maps folder");
+    }
     render_outputs(&mut files, &args.output, args.variance).check()?;
     let reference = match &args.reference {
         Some(p) => {
@@ -347,7 +357,7 @@ pub fn run(args: RenderArgs) -> Result<bool> {
         }
         args.target_rel_mse.is_none_or(|t| m.rel_mse > t)
     };
-    let (mut stats, film) = args.opts.run(job, Some(&hook))?;
+    let (mut stats, film, maps) = args.opts.run(job, Some(&hook))?;
     if stats.interrupted && stats.spp_max == 0 {
         // Stopped before the first sample (while the scene was being built): a black image
         // would only replace whatever was there.
@@ -363,7 +373,63 @@ pub fn run(args: RenderArgs) -> Result<bool> {
         args.variance,
     )?;
     args.opts.report(&args.output, &stats)?;
+    if args.maps {
+        write_maps(&maps_dir, &maps, film.width, film.height, &stats.integrator)?;
+    }
     Ok(stats.interrupted)
+}
+
+/// Where `--maps` writes for OUT.exr: the folder OUT-maps beside it.
+fn maps_folder(exr: &Path) -> PathBuf {
+    let stem = exr
+        .file_stem()
+        .map_or_else(|| "render".into(), |s| s.to_string_lossy().into_owned());
+    exr.with_file_name(format!("{stem}-maps"))
+}
+
+/// Writes each work map as a false-colour PNG (inferno from 0 to its largest value, which
+/// the file name gives), atomically.
+fn write_maps(
+    dir: &Path,
+    maps: &[WorkMap],
+    width: u32,
+    height: u32,
+    integrator: &str,
+) -> Result<()> {
+    if maps.is_empty() {
+        eprintln!("note: {integrator} makes no work maps; --maps wrote nothing");
+        return Ok(());
+    }
+    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    for m in maps {
+        let top = m.values.iter().copied().fold(0.0f32, f32::max);
+        let mut img = image::RgbImage::new(width, height);
+        for (i, v) in m.values.iter().enumerate() {
+            let t = if top > 0.0 { v / top } else { 0.0 };
+            let (x, y) = (i as u32 % width, i as u32 / width);
+            img.put_pixel(x, y, image::Rgb(fenestra_eval::colormap::inferno(t)));
+        }
+        let path = dir.join(format!("{}-0-to-{}.png", m.name, scale_label(top)));
+        fenestra_core::fs::write_atomically(&path, |tmp| {
+            img.save_with_format(tmp, image::ImageFormat::Png)
+        })?;
+        println!(
+            "wrote {} ({}, black 0, yellow {})",
+            path.display(),
+            m.what,
+            scale_label(top)
+        );
+    }
+    Ok(())
+}
+
+/// A map's largest value as a file name piece: 3 significant digits.
+fn scale_label(v: f32) -> String {
+    if v >= 100.0 || v == v.round() {
+        format!("{v:.0}")
+    } else {
+        format!("{v:.3}")
+    }
 }
 
 /// Renders a reference into the cache, or finds it there; prints where it is.
@@ -398,7 +464,7 @@ pub fn reference(args: ReferenceArgs) -> Result<()> {
         check_exr(&path)?;
         let mut files = std::mem::take(&mut job.inputs);
         render_outputs(&mut files, &path, true).check()?;
-        let (mut stats, film) = args.opts.run(job, None)?;
+        let (mut stats, film, _) = args.opts.run(job, None)?;
         if stats.interrupted {
             bail!("reference interrupted: nothing cached");
         }

@@ -1196,3 +1196,59 @@ fn real_scenes_match_their_reference_renders() {
         );
     }
 }
+
+#[test]
+fn ias_writes_its_work_maps_on_request() {
+    let dir = tmp("maps");
+    std::fs::create_dir_all(&dir).expect("dir");
+    let out = dir.join("k.exr");
+    let o = fenestra(&[
+        "render",
+        "builtin:kitchen-72",
+        "--integrator",
+        "ias",
+        "--resolution",
+        "16x12",
+        "--maps",
+        "-q",
+        "-o",
+        out.to_str().expect("utf-8"),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let mut names: Vec<String> = std::fs::read_dir(dir.join("k-maps"))
+        .expect("maps folder")
+        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    let kinds: Vec<&str> = names
+        .iter()
+        .map(|n| n.split("-0-to-").next().unwrap_or(""))
+        .collect();
+    assert_eq!(
+        kinds,
+        ["clusters", "passes", "regions", "shadow-rays", "visible"],
+        "{names:?}"
+    );
+    for n in &names {
+        let img = Image::read(&dir.join("k-maps").join(n)).expect("png");
+        assert_eq!((img.width, img.height), (16, 12), "{n}");
+    }
+    // An integrator without maps says so and writes none.
+    let plain = dir.join("plain.exr");
+    let o = fenestra(&[
+        "render",
+        "builtin:box-hole",
+        "--spp",
+        "1",
+        "--resolution",
+        "8x8",
+        "--maps",
+        "-q",
+        "-o",
+        plain.to_str().expect("utf-8"),
+    ]);
+    assert!(o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("af_hf makes no work maps"));
+    assert!(!dir.join("plain-maps").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}

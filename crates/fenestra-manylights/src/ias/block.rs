@@ -3,7 +3,7 @@
 
 use super::estimate::{luminance, pass_estimate, PointSums};
 use super::feedback::{blend, component, normal_class, Stat};
-use super::{BlockResult, Combine, Far, Ias, Pdf, REFERENCE_PASS_RAYS};
+use super::{BlockResult, Combine, Far, Ias, Pdf, PixelOut, REFERENCE_PASS_RAYS};
 use crate::forest::{Forest, NO_PARENT};
 use fenestra_core::stats::RayCounters;
 use fenestra_core::{Ray, Rgb, Sampler, Vec2, Vec3};
@@ -72,6 +72,7 @@ struct PixelState {
     shadow_rays: u32,
     rays_before: u32,
     seen_light: bool,
+    visible_rays: u32,
     done: bool,
     /// Next index of the pixel's sample stream.
     next_sample: u32,
@@ -185,7 +186,18 @@ impl BlockRender<'_> {
                 mean[1] + e.g as f64,
                 mean[2] + e.b as f64,
             ];
-            out.push((p.x, p.y, mean, variance));
+            let regions = p.points.len() as u32;
+            out.push(PixelOut {
+                x: p.x,
+                y: p.y,
+                mean,
+                variance,
+                passes: p.passes,
+                shadow_rays: p.shadow_rays,
+                visible_rays: p.visible_rays,
+                regions,
+                clusters: p.points.iter().map(|q| q.area * q.cut.len() as f32).sum(),
+            });
             passes += u64::from(p.passes);
             shadow += u64::from(p.shadow_rays);
         }
@@ -337,6 +349,7 @@ impl BlockRender<'_> {
             shadow_rays: 0,
             rays_before: 0,
             seen_light: false,
+            visible_rays: 0,
             next_sample: MAX_EYE_RAYS,
             stats: Vec::new(),
         }
@@ -399,6 +412,7 @@ impl BlockRender<'_> {
                     let s = self.sample(q, &pdfs[i], cdf, &mut sampler, rays);
                     p.shadow_rays += 1;
                     p.seen_light |= s.visible;
+                    p.visible_rays += u32::from(s.visible);
                     sums[i].add(s.value);
                     let pixel = p.stats.iter_mut().find(|(c, _)| *c == q.class);
                     let stat = (s.leaf, s.contribution, s.power, s.visible);

@@ -14,8 +14,10 @@
 //! (§4.6.2), at most 15 passes and the black-pixel rule (3 passes and 250 shadow rays
 //! without a visible light; §4.6.4).
 //!
-//! Not yet: the visualisations. Direct light only, as the seed: a camera ray that meets a
-//! mirror or glass gets nothing beyond what it sees emitted.
+//! After a render it offers maps of its work (passes, shadow rays, visible share, clusters
+//! per cut, regions per pixel; the seed's Fig. 4.9 and 4.11) for `render --maps`. Direct
+//! light only, as the seed: a camera ray that meets a mirror or glass gets nothing beyond
+//! what it sees emitted.
 
 mod block;
 mod estimate;
@@ -26,9 +28,10 @@ use crate::sky::{self, SkyRegion, SKY_REGIONS};
 use block::{BlockRender, BLOCK};
 use fenestra_core::stats::{RayCounters, RenderStats};
 use fenestra_render::control::RenderControl;
-use fenestra_render::integrator::{Integrator, IntegratorError};
+use fenestra_render::integrator::{Integrator, IntegratorError, WorkMap};
 use fenestra_render::{Film, RenderScene, RenderSettings};
 use rayon::prelude::*;
+use std::sync::Mutex;
 
 /// How a pixel's pass estimates are combined.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -117,6 +120,8 @@ pub struct Ias {
     forest: Option<Forest>,
     /// The clusters outside the forest, numbered after its nodes.
     far: Vec<Far>,
+    /// The last render's work maps (the seed's Fig. 4.9 and 4.11).
+    maps: Mutex<Vec<WorkMap>>,
 }
 
 /// A cluster outside the forest: a light at infinity taken whole, or a region of an
@@ -146,13 +151,27 @@ impl Ias {
             options,
             forest: None,
             far: Vec::new(),
+            maps: Mutex::new(Vec::new()),
         })
     }
 }
 
+/// A finished pixel: its estimate and variance, and what it took.
+struct PixelOut {
+    x: u32,
+    y: u32,
+    mean: [f64; 3],
+    variance: [f64; 3],
+    passes: u32,
+    shadow_rays: u32,
+    visible_rays: u32,
+    regions: u32,
+    clusters: f32,
+}
+
 /// What a block's render gives back.
 struct BlockResult {
-    pixels: Vec<(u32, u32, [f64; 3], [f64; 3])>,
+    pixels: Vec<PixelOut>,
     rays: RayCounters,
     passes: u64,
     shadow_rays: u64,
@@ -253,13 +272,20 @@ impl Integrator for Ias {
             ..Default::default()
         };
         let (mut passes, mut shadow, mut cuts, mut points) = (0u64, 0u64, 0u64, 0u64);
+        let mut maps = vec![vec![0.0f32; (width * height) as usize]; 5];
         for r in &results {
             let Some(r) = r else {
                 stats.interrupted = true;
                 continue;
             };
-            for &(x, y, mean, var) in &r.pixels {
-                film.pixels[(y * width + x) as usize].set_estimate(mean, var);
+            for px in &r.pixels {
+                let i = (px.y * width + px.x) as usize;
+                film.pixels[i].set_estimate(px.mean, px.variance);
+                maps[0][i] = px.passes as f32;
+                maps[1][i] = px.shadow_rays as f32;
+                maps[2][i] = px.visible_rays as f32 / px.shadow_rays.max(1) as f32;
+                maps[3][i] = px.clusters;
+                maps[4][i] = px.regions as f32;
             }
             stats.rays += r.rays;
             passes += r.passes;
@@ -289,8 +315,30 @@ impl Integrator for Ias {
             "clusters_per_cut".into(),
             cuts as f64 / points.max(1) as f64,
         );
+        let names = [
+            ("passes", "passes per pixel (the seed's Fig. 4.11)"),
+            ("shadow-rays", "shadow rays per pixel"),
+            (
+                "visible",
+                "share of shadow rays that reached their light (the seed's Fig. 4.9)",
+            ),
+            ("clusters", "clusters per cut"),
+            ("regions", "anti-aliasing regions per pixel"),
+        ];
+        let made = names
+            .into_iter()
+            .zip(maps)
+            .map(|((name, what), values)| WorkMap { name, what, values })
+            .collect();
+        if let Ok(mut m) = self.maps.lock() {
+            *m = made;
+        }
         stats.time_s = control.elapsed();
         stats.derive_rates();
         stats
+    }
+
+    fn work_maps(&self) -> Vec<WorkMap> {
+        self.maps.lock().map(|m| m.clone()).unwrap_or_default()
     }
 }

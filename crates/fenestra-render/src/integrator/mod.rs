@@ -41,6 +41,17 @@ pub enum IntegratorError {
     Prepare(Box<dyn std::error::Error + Send + Sync>),
 }
 
+/// A picture an integrator made of its own work: one value per pixel, row-major.
+#[derive(Clone, Debug)]
+pub struct WorkMap {
+    /// File name without extension (`passes`).
+    pub name: &'static str,
+    /// What the values are, for people (`passes per pixel`).
+    pub what: &'static str,
+    /// The values.
+    pub values: Vec<f32>,
+}
+
 /// A way of rendering an image.
 pub trait Integrator: Send + Sync {
     /// The name it is known by (`af_hf`).
@@ -60,6 +71,12 @@ pub trait Integrator: Send + Sync {
         _control: &RenderControl,
     ) -> Result<(), IntegratorError> {
         Ok(())
+    }
+
+    /// Pictures of its own work in the last render (seed 004's passes per pixel, ...), one
+    /// value per pixel, row-major; none by default.
+    fn work_maps(&self) -> Vec<WorkMap> {
+        Vec::new()
     }
 
     /// Renders the whole image into `film`, once prepared.
