@@ -76,7 +76,7 @@ pub struct RenderArgs {
     variance: bool,
     /// Also write pictures of the integrator's own work, if it makes any (ias: passes,
     /// shadow rays, visible share, clusters per cut, anti-aliasing regions per pixel) into
-    /// the folder OUT-maps, as false-colour PNGs with their scale in the file name.
+    /// the folder OUT-maps, as false-colour PNGs with their scales in scales.json.
     #[arg(long)]
     maps: bool,
     /// Output EXR; the PNG and JSON sidecar are written beside it.
@@ -387,8 +387,9 @@ fn maps_folder(exr: &Path) -> PathBuf {
     exr.with_file_name(format!("{stem}-maps"))
 }
 
-/// Writes each work map as a false-colour PNG (inferno from 0 to its largest value, which
-/// the file name gives), atomically.
+/// Writes each work map as a false-colour PNG NAME.png (inferno, from 0 to the map's
+/// largest value) and, in scales.json, what each shows and its largest value; each file
+/// atomically, under the same names every time.
 fn write_maps(
     dir: &Path,
     maps: &[WorkMap],
@@ -401,6 +402,7 @@ fn write_maps(
         return Ok(());
     }
     std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    let mut scales = serde_json::Map::new();
     for m in maps {
         let top = m.values.iter().copied().fold(0.0f32, f32::max);
         let mut img = image::RgbImage::new(width, height);
@@ -409,17 +411,23 @@ fn write_maps(
             let (x, y) = (i as u32 % width, i as u32 / width);
             img.put_pixel(x, y, image::Rgb(fenestra_eval::colormap::inferno(t)));
         }
-        let path = dir.join(format!("{}-0-to-{}.png", m.name, scale_label(top)));
+        let path = dir.join(format!("{}.png", m.name));
         fenestra_core::fs::write_atomically(&path, |tmp| {
             img.save_with_format(tmp, image::ImageFormat::Png)
         })?;
         println!(
-            "wrote {} ({}, black 0, yellow {})",
+            "wrote {} ({}; black 0, yellow {})",
             path.display(),
             m.what,
             scale_label(top)
         );
+        scales.insert(
+            m.name.into(),
+            serde_json::json!({ "what": m.what, "max": top }),
+        );
     }
+    let json = serde_json::to_string_pretty(&scales)?;
+    fenestra_core::fs::write_text_atomically(&dir.join("scales.json"), &json)?;
     Ok(())
 }
 

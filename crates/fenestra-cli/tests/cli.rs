@@ -179,6 +179,19 @@ fn bad_input_gets_a_clear_error() {
     assert_clear_error(
         &[
             "render",
+            "builtin:kitchen-72",
+            "--integrator",
+            "ias",
+            "--ias-sky-regions",
+            "100000",
+            "-o",
+            o,
+        ],
+        "ias cuts an environment into at most 4096 regions, asked for 100000",
+    );
+    assert_clear_error(
+        &[
+            "render",
             "builtin:box-hole",
             "--integrator",
             "lp_hf",
@@ -1220,16 +1233,27 @@ fn ias_writes_its_work_maps_on_request() {
         .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
         .collect();
     names.sort();
-    let kinds: Vec<&str> = names
-        .iter()
-        .map(|n| n.split("-0-to-").next().unwrap_or(""))
-        .collect();
     assert_eq!(
-        kinds,
-        ["clusters", "passes", "regions", "shadow-rays", "visible"],
-        "{names:?}"
+        names,
+        [
+            "clusters.png",
+            "passes.png",
+            "regions.png",
+            "scales.json",
+            "shadow-rays.png",
+            "visible.png"
+        ]
     );
-    for n in &names {
+    let scales: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.join("k-maps/scales.json")).expect("scales"),
+    )
+    .expect("json");
+    let passes = scales["passes"]["max"].as_f64();
+    assert!(
+        passes.is_some_and(|m| (1.0..=15.0).contains(&m)),
+        "{scales}"
+    );
+    for n in names.iter().filter(|n| n.ends_with(".png")) {
         let img = Image::read(&dir.join("k-maps").join(n)).expect("png");
         assert_eq!((img.width, img.height), (16, 12), "{n}");
     }

@@ -110,6 +110,9 @@ impl IasOptions {
     }
 }
 
+/// Most environment regions (each is a cluster of every cut).
+const MAX_SKY_REGIONS: usize = 4096;
+
 /// The reference's rays per pass and its cap per pixel (§4.2, §4.6.4).
 const REFERENCE_PASS_RAYS: u32 = 100;
 const REFERENCE_MAX_RAYS: u32 = 20_000;
@@ -146,6 +149,12 @@ impl Ias {
             return Err(IntegratorError::Options(
                 "ias needs at least one pass and a positive cluster solid angle".into(),
             ));
+        }
+        if o.sky_regions > MAX_SKY_REGIONS {
+            return Err(IntegratorError::Options(format!(
+                "ias cuts an environment into at most {MAX_SKY_REGIONS} regions, asked for {}",
+                o.sky_regions
+            )));
         }
         Ok(Ias {
             options,
@@ -233,6 +242,11 @@ impl Integrator for Ias {
         settings: &RenderSettings,
         control: &RenderControl,
     ) -> RenderStats {
+        if settings.time_limit.is_some() {
+            control.progress.note(
+                "ias decides its own samples and stops on --ias-threshold: --time is not used",
+            );
+        }
         let empty = Forest {
             nodes: Vec::new(),
             roots: Vec::new(),
