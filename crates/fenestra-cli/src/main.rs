@@ -5,7 +5,10 @@ mod compare;
 mod files;
 mod integrators;
 mod interrupt;
+mod job;
 mod lpca;
+mod merge_cmd;
+mod pieces;
 mod portals_cmd;
 mod progress;
 mod prt;
@@ -13,6 +16,7 @@ mod raybench;
 mod render;
 mod scene_arg;
 mod scene_cmd;
+mod split_cmd;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -35,6 +39,12 @@ enum Command {
     /// Render a high-sample reference, or reuse the cached one made with the same scene
     /// content, settings and resolution.
     Reference(render::ReferenceArgs),
+    /// Merge the pieces of a split render (`render --samples`, `--crop`) into the image one
+    /// render of them all makes, bit for bit.
+    Merge(merge_cmd::MergeArgs),
+    /// Cut a render into parts (sample ranges or tiles) and write it as a job for a
+    /// distributed engine: Open Job Description or Slurm; its last step merges the parts.
+    Split(split_cmd::SplitArgs),
     /// Error, relative error and efficiency of images against a reference.
     Compare(compare::CompareArgs),
     /// Run a bench suite (TOML) and write its report (HTML, plots, tables).
@@ -83,6 +93,8 @@ fn main() -> ExitCode {
             other => other.map(|_| ()),
         },
         Command::Reference(args) => render::reference(args),
+        Command::Merge(args) => merge_cmd::run(args),
+        Command::Split(args) => split_cmd::run(args),
         Command::Compare(args) => compare::run(args),
         Command::Bench(args) => match bench::run(args) {
             Ok(true) => return ExitCode::from(130),

@@ -2,7 +2,7 @@
 
 use crate::files::Files;
 use crate::integrators::{self, Config, IntegratorArgs};
-use crate::{interrupt, progress::Bar, scene_arg};
+use crate::{interrupt, pieces, progress::Bar, scene_arg};
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use fenestra_core::image::Image;
@@ -11,7 +11,9 @@ use fenestra_eval::hash::debug_hash;
 use fenestra_eval::metrics;
 use fenestra_eval::run::{ReferenceSummary, REFERENCE_SEED_OFFSET};
 use fenestra_render::control::PassHook;
-use fenestra_render::integrator::WorkMap;
+use fenestra_render::film::Window;
+use fenestra_render::film_file::{FilmHeader, SampleRange};
+use fenestra_render::integrator::{Split, WorkMap};
 use fenestra_render::{
     output, Film, Integrator, RenderControl, RenderScene, RenderSettings, RenderStats,
 };
@@ -79,6 +81,16 @@ pub struct RenderArgs {
     /// the folder OUT-maps, as false-colour PNGs with their scales in scales.json.
     #[arg(long)]
     maps: bool,
+    /// Render only the sample indices A to B-1 of every pixel: one piece of a render split
+    /// across machines. Writes OUT.film too, the exact sums that `fenestra merge` adds into
+    /// the image one render of all the samples makes. Not with --spp or --time.
+    #[arg(long, value_name = "A..B")]
+    samples: Option<String>,
+    /// Render only columns X0 to X1-1 and rows Y0 to Y1-1 (a tile of a render split across
+    /// machines); writes OUT.film for `fenestra merge`. ias needs corners on the 8-pixel
+    /// block grid (or the image's edge).
+    #[arg(long, value_name = "X0,Y0,X1,Y1")]
+    crop: Option<String>,
     /// Output EXR; the PNG and JSON sidecar are written beside it.
     #[arg(short, long)]
     output: PathBuf,
@@ -107,9 +119,10 @@ fn parse_resolution(s: &str) -> Result<(u32, u32)> {
     if w == 0 || h == 0 || w > 65536 || h > 65536 {
         bail!(bad());
     }
-    // The film keeps 56 bytes per pixel (sums and squares in f64, a count).
-    if w as u64 * h as u64 > 1 << 28 {
-        bail!("resolution {w}x{h} is too large: at most 268 million pixels (about 15 GB of film)");
+    // The film keeps 112 bytes per pixel (exact sums and squares in 128-bit integers, a
+    // count).
+    if w as u64 * h as u64 > 1 << 27 {
+        bail!("resolution {w}x{h} is too large: at most 134 million pixels (about 15 GB of film)");
     }
     Ok((w, h))
 }
@@ -123,22 +136,70 @@ struct Job {
     height: u32,
     integrator: Box<dyn Integrator>,
     settings: RenderSettings,
+    /// The part of the image to render (all of it unless --crop).
+    window: Window,
 }
 
 impl Job {
-    /// Everything that changes the picture: the reference cache key.
-    fn key(&self, backend: Backend) -> u64 {
+    /// Everything that changes the picture but the sample count and the window: what the
+    /// pieces of a split render share.
+    fn picture_key(&self, backend: Backend) -> u64 {
         debug_hash(&(
             &self.desc,
             self.integrator.name(),
             self.integrator.settings().to_string(),
             self.width,
             self.height,
-            self.settings.spp,
             self.settings.seed,
             backend.name(),
             env!("CARGO_PKG_VERSION"),
         ))
+    }
+
+    /// Everything that changes the picture: the reference cache key.
+    fn key(&self, backend: Backend) -> u64 {
+        debug_hash(&(self.picture_key(backend), self.settings.spp))
+    }
+
+    /// Makes the job one piece of a split render: `--samples` and `--crop`. Returns what the
+    /// piece's film-state file says of it, if it is one.
+    fn cut(
+        &mut self,
+        samples: Option<&str>,
+        crop: Option<&str>,
+        opts: &RenderOpts,
+    ) -> Result<Option<FilmHeader>> {
+        if samples.is_none() && crop.is_none() {
+            return Ok(None);
+        }
+        let split = self.integrator.split();
+        let range = samples.map(pieces::parse_samples).transpose()?;
+        if let Some(r) = range {
+            if opts.spp.is_some() {
+                bail!("--samples {r} says how many samples to take: not with --spp");
+            }
+            if split == Split::BlockTiles {
+                bail!(
+                    "{} decides how many samples each pixel takes: split it by tiles (--crop), not by --samples",
+                    self.integrator.name()
+                );
+            }
+            self.settings.first_sample = r.start;
+            self.settings.spp = r.end - r.start;
+        }
+        if let Some(c) = crop {
+            self.window = pieces::parse_crop(c, self.width, self.height, split)?;
+        }
+        let samples = (split == Split::SamplesOrTiles).then_some(SampleRange {
+            start: self.settings.first_sample,
+            end: self.settings.first_sample + self.settings.spp,
+        });
+        Ok(Some(FilmHeader {
+            key: format!("{:016x}", self.picture_key(opts.bvh.unwrap_or_default())),
+            samples,
+            window: self.window,
+            stats: RenderStats::default(),
+        }))
     }
 }
 
@@ -187,6 +248,7 @@ impl RenderOpts {
             None => self.spp.unwrap_or(desc.defaults.spp),
         };
         let settings = RenderSettings {
+            first_sample: 0,
             spp,
             time_limit: time,
             seed: self.seed,
@@ -198,6 +260,7 @@ impl RenderOpts {
             height,
             integrator,
             settings,
+            window: Window::full(width, height),
         })
     }
 
@@ -209,16 +272,17 @@ impl RenderOpts {
         let Job {
             desc,
             inputs: _,
-            width,
-            height,
+            width: _,
+            height: _,
             mut integrator,
             settings,
+            window,
         } = job;
         pool.install(|| -> Result<_> {
             let scene =
                 Scene::build(desc, self.bvh.unwrap_or_default()).context("invalid scene")?;
             let scene = RenderScene::new(scene);
-            let mut film = Film::new(width, height);
+            let mut film = Film::cropped(window);
             let bar = Bar::new(self.quiet || self.json);
             let mut control = RenderControl::new(&cancel, &bar);
             control.on_pass = hook;
@@ -251,6 +315,60 @@ impl RenderOpts {
     }
 }
 
+/// What `fenestra split` needs to know of a render given as `fenestra render` arguments.
+pub struct RenderShape {
+    /// The scene's name.
+    pub scene: String,
+    /// The integrator's name.
+    pub integrator: String,
+    /// Samples per pixel (asked for, or the scene's).
+    pub spp: u32,
+    /// Image width.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// How the integrator's renders split.
+    pub split: Split,
+}
+
+/// Checks `args` (a scene and `fenestra render` options, without an output) as `render`
+/// would, loading the scene, and says what the render would be.
+pub fn shape(args: &[String]) -> Result<RenderShape> {
+    #[derive(clap::Parser)]
+    #[command(name = "fenestra render", no_binary_name = true)]
+    struct Render {
+        #[command(flatten)]
+        args: RenderArgs,
+    }
+    for (flag, why) in [
+        ("-o", "the job names the parts' outputs"),
+        ("--output", "the job names the parts' outputs"),
+        ("--time", "the parts take fixed samples"),
+        ("--samples", "the job cuts the samples"),
+        ("--crop", "the job cuts the tiles"),
+        ("--reference", "measure the merged image instead"),
+    ] {
+        if args
+            .iter()
+            .any(|a| a == flag || a.starts_with(&format!("{flag}=")))
+        {
+            bail!("{flag} is not for split ({why})");
+        }
+    }
+    let parsed = <Render as clap::Parser>::try_parse_from(
+        args.iter().map(String::as_str).chain(["-o", "split.exr"]),
+    )?;
+    let job = parsed.args.opts.job(None)?;
+    Ok(RenderShape {
+        scene: job.desc.name.clone(),
+        integrator: job.integrator.name().to_string(),
+        spp: job.settings.spp,
+        width: job.width,
+        height: job.height,
+        split: job.integrator.split(),
+    })
+}
+
 /// Checks a cached reference before serving it: its sidecar names `key` and a finished
 /// render, and its image and variance image read back at the render's size.
 fn verify_reference(path: &Path, key: &str, width: u32, height: u32) -> Result<()> {
@@ -271,9 +389,14 @@ fn verify_reference(path: &Path, key: &str, width: u32, height: u32) -> Result<(
     Ok(())
 }
 
-/// Adds the files a render writes for OUT.exr: OUT.png, OUT.json and, with `variance`,
-/// OUT.var.exr.
-fn render_outputs<'a>(files: &'a mut Files, exr: &Path, variance: bool) -> &'a mut Files {
+/// Adds the files a render writes for OUT.exr: OUT.png, OUT.json, with `variance`
+/// OUT.var.exr and with `state` OUT.film.
+pub fn render_outputs<'a>(
+    files: &'a mut Files,
+    exr: &Path,
+    variance: bool,
+    state: bool,
+) -> &'a mut Files {
     let (png, json) = output::companion_paths(exr);
     files
         .output(exr, "image")
@@ -282,10 +405,13 @@ fn render_outputs<'a>(files: &'a mut Files, exr: &Path, variance: bool) -> &'a m
     if variance {
         files.output(&output::variance_path(exr), "variance image");
     }
+    if state {
+        files.output(&output::film_state_path(exr), "film state");
+    }
     files
 }
 
-fn check_exr(path: &Path) -> Result<()> {
+pub fn check_exr(path: &Path) -> Result<()> {
     if path
         .extension()
         .and_then(|e| e.to_str())
@@ -314,6 +440,13 @@ pub fn run(args: RenderArgs) -> Result<bool> {
         }
     }
     let mut job = args.opts.job(args.time)?;
+    let piece = job.cut(args.samples.as_deref(), args.crop.as_deref(), &args.opts)?;
+    if piece.is_some() && args.time.is_some() {
+        bail!("a piece of a split render takes a fixed set of samples: not with --time");
+    }
+    if piece.is_some() && args.reference.is_some() {
+        bail!("--reference measures whole renders: measure the merged image instead");
+    }
     let mut files = std::mem::take(&mut job.inputs);
     if let Some(r) = &args.reference {
         files.input(r, "reference");
@@ -322,7 +455,7 @@ pub fn run(args: RenderArgs) -> Result<bool> {
     if args.maps {
         files.folder(&maps_dir, "work maps folder");
     }
-    render_outputs(&mut files, &args.output, args.variance).check()?;
+    render_outputs(&mut files, &args.output, args.variance, piece.is_some()).check()?;
     let reference = match &args.reference {
         Some(p) => {
             let r = Image::read(p)?;
@@ -365,12 +498,17 @@ pub fn run(args: RenderArgs) -> Result<bool> {
         return Ok(true);
     }
     stats.convergence = curve.into_inner().unwrap_or_default();
+    let state = piece.map(|header| FilmHeader {
+        stats: stats.clone(),
+        ..header
+    });
     output::write_render(
         &args.output,
         &film,
         &stats,
         args.opts.exposure,
         args.variance,
+        state.as_ref(),
     )?;
     args.opts.report(&args.output, &stats)?;
     if args.maps {
@@ -471,13 +609,13 @@ pub fn reference(args: ReferenceArgs) -> Result<()> {
     if !cached {
         check_exr(&path)?;
         let mut files = std::mem::take(&mut job.inputs);
-        render_outputs(&mut files, &path, true).check()?;
+        render_outputs(&mut files, &path, true, false).check()?;
         let (mut stats, film, _) = args.opts.run(job, None)?;
         if stats.interrupted {
             bail!("reference interrupted: nothing cached");
         }
         stats.reference_key = Some(format!("{key:016x}"));
-        output::write_render(&path, &film, &stats, args.opts.exposure, true)?;
+        output::write_render(&path, &film, &stats, args.opts.exposure, true, None)?;
         if !args.opts.json {
             println!("{}", stats.summary());
         }

@@ -16,7 +16,8 @@ pub struct RayCounters {
     pub bounce: u64,
     /// Visibility rays of next-event estimation (shadow, light and portal rays).
     pub shadow: u64,
-    /// Samples that were NaN or infinite and never reached the film.
+    /// Samples that were NaN, infinite or beyond the film's range (2^31) and never reached
+    /// the film.
     pub dropped: u64,
 }
 

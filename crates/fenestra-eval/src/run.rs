@@ -1,6 +1,8 @@
 //! Running a suite: each reference and each run is a separate `fenestra` process, so one
 //! technique's crash loses nothing else. Finished runs are appended to `results.jsonl` at
-//! once; running the suite again skips them (resume after an interruption).
+//! once; running the suite again skips them (resume after an interruption). A selection of
+//! runs (the task of a job on a farm) records each of its runs in a file of its own,
+//! `results.d/ID.jsonl`, so that tasks on many machines never write the same file.
 
 use crate::metrics::{self, Metrics};
 use crate::suite::{slug, RunSpec, Suite};
@@ -86,6 +88,10 @@ pub struct Runner<'a> {
     pub cache: PathBuf,
     /// Worker threads of each render (all cores by default).
     pub threads: Option<usize>,
+    /// Run only these runs (by id; all when empty), recording each in results.d/.
+    pub only: Vec<String>,
+    /// Render (or find) the selected runs' references, and no run.
+    pub references_only: bool,
 }
 
 /// What `fenestra reference --json` prints.
@@ -218,12 +224,27 @@ impl Runner<'_> {
         let runs_dir = self.out.join("runs");
         std::fs::create_dir_all(&runs_dir).map_err(|e| file_error(&runs_dir, e))?;
         let results_path = self.out.join("results.jsonl");
-        let mut done = read_results(&results_path)?;
-        let mut file = std::fs::OpenOptions::new()
-            .create(true)
-            .append(true)
-            .open(&results_path)
-            .map_err(|e| file_error(&results_path, e))?;
+        let mut done = read_results(&self.out)?;
+        let selected = |spec: &RunSpec| self.only.is_empty() || self.only.contains(&spec.id);
+        let record = |record: &RunRecord| -> Result<(), EvalError> {
+            let line = serde_json::to_string(record).map_err(|e| file_error(&results_path, e))?;
+            if self.only.is_empty() {
+                let mut file = std::fs::OpenOptions::new()
+                    .create(true)
+                    .append(true)
+                    .open(&results_path)
+                    .map_err(|e| file_error(&results_path, e))?;
+                file.write_all(format!("{line}\n").as_bytes())
+                    .and_then(|_| file.flush())
+                    .map_err(|e| file_error(&results_path, e))
+            } else {
+                let dir = self.out.join("results.d");
+                let path = dir.join(format!("{}.jsonl", record.spec.id));
+                std::fs::create_dir_all(&dir).map_err(|e| file_error(&dir, e))?;
+                fenestra_core::fs::write_text_atomically(&path, &format!("{line}\n"))
+                    .map_err(|e| file_error(&path, e))
+            }
+        };
         let mut references: HashMap<(String, u32), ReferenceRecord> = HashMap::new();
         let runs = self.suite.runs();
         let mut failed = Vec::new();
@@ -235,7 +256,7 @@ impl Runner<'_> {
         };
         // A stop request reaches the child being run too (Ctrl-C signals the process group):
         // what it left unfinished is neither recorded nor counted as failed.
-        for (i, spec) in runs.iter().enumerate() {
+        for (i, spec) in runs.iter().enumerate().filter(|(_, s)| selected(s)) {
             if stop.load(Ordering::SeqCst) {
                 interrupted = true;
                 break;
@@ -255,18 +276,14 @@ impl Runner<'_> {
                     Err(e) => return Err(e),
                 };
             }
-            if done.iter().any(|r| current(r, spec, &references[&key])) {
+            if self.references_only || done.iter().any(|r| current(r, spec, &references[&key])) {
                 continue;
             }
             report(&format!("[{}/{}] {}", i + 1, runs.len(), spec.id));
             match self.run(spec, &references[&key]) {
-                Ok(record) => {
-                    let line =
-                        serde_json::to_string(&record).map_err(|e| file_error(&results_path, e))?;
-                    writeln!(file, "{line}")
-                        .and_then(|_| file.flush())
-                        .map_err(|e| file_error(&results_path, e))?;
-                    done.push(record);
+                Ok(r) => {
+                    record(&r)?;
+                    done.push(r);
                 }
                 Err(_) if stop.load(Ordering::SeqCst) => {
                     interrupted = true;
@@ -300,14 +317,26 @@ impl Runner<'_> {
     }
 }
 
-/// The runs recorded so far (a truncated last line, from an interrupted write, is ignored).
-pub fn read_results(path: &Path) -> Result<Vec<RunRecord>, EvalError> {
-    match std::fs::read_to_string(path) {
-        Ok(text) => Ok(text
-            .lines()
-            .filter_map(|l| serde_json::from_str(l).ok())
-            .collect()),
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(Vec::new()),
-        Err(e) => Err(file_error(path, e)),
+/// The runs recorded so far in the report folder `out`: results.jsonl, then results.d/ in
+/// name order (a truncated last line, from an interrupted write, is ignored).
+pub fn read_results(out: &Path) -> Result<Vec<RunRecord>, EvalError> {
+    let mut files = vec![out.join("results.jsonl")];
+    let dir = out.join("results.d");
+    if let Ok(entries) = std::fs::read_dir(&dir) {
+        let mut more: Vec<PathBuf> = entries
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| p.extension().is_some_and(|e| e == "jsonl"))
+            .collect();
+        more.sort();
+        files.extend(more);
     }
+    let mut records = Vec::new();
+    for path in files {
+        match std::fs::read_to_string(&path) {
+            Ok(text) => records.extend(text.lines().filter_map(|l| serde_json::from_str(l).ok())),
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
+            Err(e) => return Err(file_error(&path, e)),
+        }
+    }
+    Ok(records)
 }

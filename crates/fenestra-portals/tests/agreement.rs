@@ -16,6 +16,7 @@ const SIZE: u32 = 32;
 fn render(desc: SceneDesc, integrator: &mut dyn Integrator, spp: u32) -> Film {
     let scene = RenderScene::new(Scene::build(desc, Backend::default()).expect("scene"));
     let settings = RenderSettings {
+        first_sample: 0,
         spp,
         time_limit: None,
         seed: 11,
@@ -148,6 +149,7 @@ fn lp_hf_refuses_a_scene_without_portals_and_a_bad_mixture() {
         .expect("scene"),
     );
     let settings = RenderSettings {
+        first_sample: 0,
         spp: 1,
         time_limit: None,
         seed: 0,

@@ -1,82 +1,218 @@
-//! The film: per-pixel f64 sums of samples and of their squares (box filter over the pixel),
-//! so that the image and the variance of each pixel's mean come out of one render.
+//! The film: per-pixel sums of samples and of their squares (box filter over the pixel), so
+//! that the image and the variance of each pixel's mean come out of one render.
+//!
+//! The sums are exact: every sample is held in fixed point with 64 fractional bits (every
+//! f32 of magnitude at least 2^-41 exactly, smaller ones to within 2^-65) and summed in
+//! 128-bit integers. Integer addition does not depend on order, so pieces of a render (sample
+//! ranges, tiles) rendered apart and merged give the very sums, and so the very image, that
+//! one render makes.
 
 use fenestra_core::image::{Estimate, Image};
 use fenestra_core::Rgb;
 
+/// Scale of the fixed-point sums: 2^64 units per unit of radiance.
+const ONE: f64 = 18_446_744_073_709_551_616.0;
+
+/// Largest magnitude a sample may have in any channel: 2^31, so that 2^32 samples of it sum
+/// within the 128-bit accumulators. Larger samples are dropped and counted, as non-finite
+/// ones are.
+pub const MAX_SAMPLE: f32 = 2_147_483_648.0;
+
+/// `x` in units of 2^-64, rounded to nearest (ties away from zero), for |x| < 2^63: read off
+/// the float's bits with integer shifts, several times faster than a float-to-i128 cast.
+fn fixed(x: f64) -> i128 {
+    let bits = x.to_bits();
+    let exponent = ((bits >> 52) & 0x7ff) as i32;
+    let fraction = (bits & ((1 << 52) - 1)) as i128;
+    let mantissa = if exponent == 0 {
+        fraction
+    } else {
+        fraction | 1 << 52
+    };
+    // x = mantissa * 2^(e - 1075) with e the exponent (1 for subnormals): in units of 2^-64,
+    // mantissa * 2^(e - 1011).
+    let shift = exponent.max(1) - 1011;
+    let q = if shift >= 0 {
+        mantissa << shift
+    } else if shift > -54 {
+        (mantissa + (1 << (-shift - 1))) >> -shift
+    } else {
+        0
+    };
+    if bits >> 63 == 1 {
+        -q
+    } else {
+        q
+    }
+}
+
 /// One pixel's accumulators.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Pixel {
-    /// Sum of the samples, per channel.
-    pub sum: [f64; 3],
-    /// Sum of their squares, per channel.
-    pub sum_sq: [f64; 3],
+    /// Sum of the samples, per channel, in units of 2^-64.
+    pub sum: [i128; 3],
+    /// Sum of their squares, per channel, in units of 2^-64; it saturates (at about
+    /// 1.8e19), which makes the pixel's variance infinite rather than wrong.
+    pub sum_sq: [u128; 3],
     /// Samples added.
     pub count: u32,
 }
 
 impl Pixel {
-    /// Adds one sample.
+    /// Whether the film takes `c`: finite, and within [`MAX_SAMPLE`] in every channel.
+    pub fn accepts(c: Rgb) -> bool {
+        c.to_array().iter().all(|v| v.abs() < MAX_SAMPLE)
+    }
+
+    /// Adds one sample, which the film must accept ([`Pixel::accepts`]).
     pub fn add(&mut self, c: Rgb) {
+        debug_assert!(Pixel::accepts(c));
         for (i, v) in c.to_array().into_iter().enumerate() {
-            self.sum[i] += v as f64;
-            self.sum_sq[i] += v as f64 * v as f64;
+            self.add_value(i, v as f64);
         }
         self.count += 1;
+    }
+
+    fn add_value(&mut self, channel: usize, v: f64) {
+        // An f32's square is exact in f64.
+        self.sum[channel] += fixed(v);
+        self.sum_sq[channel] = self.sum_sq[channel].saturating_add(fixed(v * v) as u128);
     }
 
     /// Sets the pixel to an estimate `mean` whose mean has the variance `variance` (per
     /// channel), for estimators that combine their samples otherwise than by averaging
     /// (seed 004's inverse-variance weighting of passes): stored as the two samples
-    /// mean +- sqrt(variance), whose mean and variance of the mean are exactly these.
+    /// mean +- sqrt(variance), whose mean and variance of the mean are these (to within the
+    /// fixed point's resolution).
     pub fn set_estimate(&mut self, mean: [f64; 3], variance: [f64; 3]) {
         *self = Pixel::default();
         for sign in [1.0, -1.0] {
             for i in 0..3 {
                 let v = mean[i] + sign * variance[i].max(0.0).sqrt();
-                self.sum[i] += v;
-                self.sum_sq[i] += v * v;
+                self.add_value(i, v.clamp(-f64::from(MAX_SAMPLE), f64::from(MAX_SAMPLE)));
             }
             self.count += 1;
         }
     }
 
+    /// Adds the samples of `other`, taken apart (another sample range of the same pixel).
+    pub fn merge(&mut self, other: &Pixel) {
+        for i in 0..3 {
+            self.sum[i] += other.sum[i];
+            self.sum_sq[i] = self.sum_sq[i].saturating_add(other.sum_sq[i]);
+        }
+        self.count += other.count;
+    }
+
     /// The sample mean, per channel.
     pub fn mean(&self) -> [f64; 3] {
         let n = self.count.max(1) as f64;
-        self.sum.map(|s| s / n)
+        self.sum.map(|s| s as f64 / ONE / n)
     }
 
-    /// Variance of the pixel mean (sample variance / n), per channel.
+    /// Variance of the pixel mean (sample variance / n), per channel: infinite when the sum
+    /// of squares saturated.
     pub fn variance_of_mean(&self) -> [f64; 3] {
         let n = self.count as f64;
         if n < 2.0 {
             return [0.0; 3];
         }
         std::array::from_fn(|i| {
-            let mean = self.sum[i] / n;
-            ((self.sum_sq[i] / n - mean * mean) * n / (n - 1.0)).max(0.0) / n
+            if self.sum_sq[i] == u128::MAX {
+                return f64::INFINITY;
+            }
+            let mean = self.sum[i] as f64 / ONE / n;
+            let mean_sq = self.sum_sq[i] as f64 / ONE / n;
+            ((mean_sq - mean * mean) * n / (n - 1.0)).max(0.0) / n
         })
     }
 }
 
-/// The image being rendered: one [`Pixel`] of accumulators per pixel, row-major.
+/// The part of the image a film holds: the rectangle [x0, x1) x [y0, y1) of a
+/// `full_width` x `full_height` image (all of it unless the render is cropped).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct Window {
+    /// Width of the whole image.
+    pub full_width: u32,
+    /// Height of the whole image.
+    pub full_height: u32,
+    /// First column.
+    pub x0: u32,
+    /// First row (0 at the top).
+    pub y0: u32,
+    /// One past the last column.
+    pub x1: u32,
+    /// One past the last row.
+    pub y1: u32,
+}
+
+impl Window {
+    /// The whole of a `width` x `height` image.
+    pub fn full(width: u32, height: u32) -> Self {
+        Window {
+            full_width: width,
+            full_height: height,
+            x0: 0,
+            y0: 0,
+            x1: width,
+            y1: height,
+        }
+    }
+
+    /// Width of the window.
+    pub fn width(&self) -> u32 {
+        self.x1 - self.x0
+    }
+
+    /// Height of the window.
+    pub fn height(&self) -> u32 {
+        self.y1 - self.y0
+    }
+
+    /// Whether it is the whole image.
+    pub fn is_full(&self) -> bool {
+        *self == Window::full(self.full_width, self.full_height)
+    }
+
+    /// Whether the two windows share a pixel.
+    pub fn overlaps(&self, other: &Window) -> bool {
+        self.x0 < other.x1 && other.x0 < self.x1 && self.y0 < other.y1 && other.y0 < self.y1
+    }
+}
+
+impl std::fmt::Display for Window {
+    fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        write!(f, "{},{},{},{}", self.x0, self.y0, self.x1, self.y1)
+    }
+}
+
+/// The image being rendered: one [`Pixel`] of accumulators per pixel of its window,
+/// row-major.
 #[derive(Clone, Debug)]
 pub struct Film {
-    /// Width in pixels.
+    /// Width in pixels (of the window).
     pub width: u32,
-    /// Height in pixels.
+    /// Height in pixels (of the window).
     pub height: u32,
+    /// Which part of the image it holds.
+    pub window: Window,
     /// Row-major, top row first.
     pub pixels: Vec<Pixel>,
 }
 
 impl Film {
-    /// An empty film.
+    /// An empty film for a whole `width` x `height` image.
     pub fn new(width: u32, height: u32) -> Self {
+        Film::cropped(Window::full(width, height))
+    }
+
+    /// An empty film for a window of an image.
+    pub fn cropped(window: Window) -> Self {
+        let (width, height) = (window.width(), window.height());
         Film {
             width,
             height,
+            window,
             pixels: vec![Pixel::default(); width as usize * height as usize],
         }
     }
@@ -113,5 +249,89 @@ impl Film {
         let min = self.pixels.iter().map(|p| p.count).min().unwrap_or(0);
         let max = self.pixels.iter().map(|p| p.count).max().unwrap_or(0);
         (min, max)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn samples() -> Vec<Rgb> {
+        let mut rng = fenestra_core::rng::Rng::new(7);
+        (0..1000)
+            .map(|i| {
+                let scale = [1e-7, 1.0, 3e4][i % 3];
+                Rgb::new(
+                    rng.next_f32() * scale,
+                    rng.next_f32(),
+                    -rng.next_f32() * 0.5,
+                )
+            })
+            .collect()
+    }
+
+    #[test]
+    fn fixed_point_is_the_value_rounded_to_units_of_2_to_the_minus_64() {
+        let mut rng = fenestra_core::rng::Rng::new(3);
+        for _ in 0..100_000 {
+            let x = (rng.next_f64() - 0.5) * 2f64.powi(rng.below(100) as i32 - 70);
+            assert_eq!(fixed(x), (x * ONE).round() as i128, "{x}");
+        }
+        for x in [
+            0.0,
+            -0.0,
+            1.0,
+            -1.0,
+            2f64.powi(-65),
+            2f64.powi(62),
+            f64::MIN_POSITIVE,
+        ] {
+            assert_eq!(fixed(x), (x * ONE).round() as i128, "{x}");
+        }
+    }
+
+    #[test]
+    fn sums_do_not_depend_on_order_or_on_splitting() {
+        let s = samples();
+        let mut whole = Pixel::default();
+        s.iter().for_each(|&c| whole.add(c));
+        let mut backwards = Pixel::default();
+        s.iter().rev().for_each(|&c| backwards.add(c));
+        assert_eq!(whole, backwards);
+        let (mut a, mut b) = (Pixel::default(), Pixel::default());
+        s[..377].iter().for_each(|&c| a.add(c));
+        s[377..].iter().for_each(|&c| b.add(c));
+        b.merge(&a);
+        assert_eq!(whole, b);
+        // An f64 running sum would differ in its last bits between these orders.
+        let exact: f64 = s.iter().map(|c| c.r as f64).sum::<f64>() / s.len() as f64;
+        assert!((whole.mean()[0] - exact).abs() <= 1e-12 * exact.abs());
+    }
+
+    #[test]
+    fn mean_and_variance_match_the_textbook_formulas() {
+        let s = samples();
+        let mut p = Pixel::default();
+        s.iter().for_each(|&c| p.add(c));
+        let n = s.len() as f64;
+        let g: Vec<f64> = s.iter().map(|c| c.g as f64).collect();
+        let mean = g.iter().sum::<f64>() / n;
+        let var = g.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0) / n;
+        assert!((p.mean()[1] - mean).abs() < 1e-15);
+        assert!((p.variance_of_mean()[1] / var - 1.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn out_of_range_samples_are_refused_and_saturated_squares_read_as_infinite_variance() {
+        assert!(!Pixel::accepts(Rgb::new(f32::NAN, 0.0, 0.0)));
+        assert!(!Pixel::accepts(Rgb::new(0.0, 3e9, 0.0)));
+        assert!(Pixel::accepts(Rgb::new(0.0, 2e9, -2e9)));
+        let mut p = Pixel::default();
+        for _ in 0..8 {
+            p.add(Rgb::new(2e9, 1.0, 1.0));
+        }
+        assert_eq!(p.variance_of_mean()[0], f64::INFINITY);
+        assert!((p.mean()[0] / 2e9 - 1.0).abs() < 1e-7);
+        assert_eq!(p.variance_of_mean()[1], 0.0);
     }
 }

@@ -1,6 +1,7 @@
 //! Writing a render: linear EXR with metadata, tone-mapped PNG beside it, JSON sidecar.
 
 use crate::film::Film;
+use crate::film_file::{self, FilmHeader};
 use fenestra_core::fs::{FileSet, WriteError};
 use fenestra_core::image::ImageError;
 use fenestra_core::stats::RenderStats;
@@ -38,20 +39,27 @@ pub fn exr_metadata(stats: &RenderStats) -> BTreeMap<String, String> {
     m
 }
 
+/// The film-state file written beside OUT.exr by pieces of a split render: OUT.film.
+pub fn film_state_path(exr_path: &Path) -> PathBuf {
+    exr_path.with_extension("film")
+}
+
 /// The variance image written beside OUT.exr: OUT.var.exr.
 pub fn variance_path(exr_path: &Path) -> PathBuf {
     exr_path.with_extension("var.exr")
 }
 
-/// Writes OUT.exr, OUT.png and the JSON sidecar OUT.json (the statistics) and, with
-/// `variance`, OUT.var.exr, the per-pixel variance of the mean: as one set, so that a failure
-/// or an interruption leaves the previous files of the set as they were.
+/// Writes OUT.exr, OUT.png and the JSON sidecar OUT.json (the statistics), with `variance`
+/// OUT.var.exr, the per-pixel variance of the mean, and with `state` OUT.film, the film's
+/// exact accumulators: as one set, so that a failure or an interruption leaves the previous
+/// files of the set as they were.
 pub fn write_render(
     exr_path: &Path,
     film: &Film,
     stats: &RenderStats,
     exposure: Option<f32>,
     variance: bool,
+    state: Option<&FilmHeader>,
 ) -> Result<(), ImageError> {
     let image = film.image();
     let metadata = exr_metadata(stats);
@@ -61,6 +69,11 @@ pub fn write_render(
         let var = film.variance_image();
         set.stage(&variance_path(exr_path), |tmp| {
             var.write_exr_to(tmp, &metadata)
+        })?;
+    }
+    if let Some(header) = state {
+        set.stage(&film_state_path(exr_path), |tmp| {
+            film_file::write(tmp, header, film)
         })?;
     }
     let (png, json) = companion_paths(exr_path);

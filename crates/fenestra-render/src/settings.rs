@@ -6,6 +6,10 @@ pub struct RenderSettings {
     /// Samples per pixel (an upper bound when `time_limit` is set; adaptive integrators
     /// read it as their budget).
     pub spp: u32,
+    /// Index of every pixel's first sample: a render of `spp` samples from `first_sample`
+    /// is one piece of a render split by sample ranges (scale-out), and merges exactly with
+    /// the other pieces. 0 for a whole render.
+    pub first_sample: u32,
     /// Stop after about this many seconds of rendering, at a pass boundary. Preparation
     /// (portal estimation, caches) comes on top: equal-time comparisons give every technique
     /// the same sampling time and charge the preparation in the statistics' total time.

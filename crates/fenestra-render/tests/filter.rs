@@ -40,6 +40,7 @@ fn edge_row(filter: PixelFilter) -> Vec<f32> {
         },
     );
     let settings = RenderSettings {
+        first_sample: 0,
         spp: 1024,
         time_limit: None,
         seed: 1,

@@ -23,6 +23,7 @@ fn render(desc: SceneDesc, backend: Backend, name: &str, depth: u32, spp: u32, s
         ..Default::default()
     };
     let settings = RenderSettings {
+        first_sample: 0,
         spp,
         time_limit: None,
         seed,

@@ -28,7 +28,7 @@ use crate::sky::{self, SkyRegion, SKY_REGIONS};
 use block::{BlockRender, BLOCK};
 use fenestra_core::stats::{RayCounters, RenderStats};
 use fenestra_render::control::RenderControl;
-use fenestra_render::integrator::{Integrator, IntegratorError, WorkMap};
+use fenestra_render::integrator::{Integrator, IntegratorError, Split, WorkMap};
 use fenestra_render::{Film, RenderScene, RenderSettings};
 use rayon::prelude::*;
 use std::sync::Mutex;
@@ -235,6 +235,10 @@ impl Integrator for Ias {
         Ok(())
     }
 
+    fn split(&self) -> Split {
+        Split::BlockTiles
+    }
+
     fn render(
         &self,
         scene: &RenderScene,
@@ -253,7 +257,10 @@ impl Integrator for Ias {
             infinite: Vec::new(),
         };
         let forest = self.forest.as_ref().unwrap_or(&empty);
+        // A cropped film renders the blocks of its window (which split() keeps on the block
+        // grid); pixels, samples and rays are the whole image's.
         let (width, height) = (film.width, film.height);
+        let window = film.window;
         let (bx, by) = (width.div_ceil(BLOCK), height.div_ceil(BLOCK));
         control.progress.start(Some(u64::from(bx * by)));
         let results: Vec<Option<BlockResult>> = (0..bx * by)
@@ -267,10 +274,10 @@ impl Integrator for Ias {
                     forest,
                     scene,
                     seed: settings.seed,
-                    width,
-                    height,
+                    width: window.full_width,
+                    height: window.full_height,
                 }
-                .render((b % bx) * BLOCK, (b / bx) * BLOCK);
+                .render(window.x0 + (b % bx) * BLOCK, window.y0 + (b / bx) * BLOCK);
                 control.progress.advance(1);
                 Some(r)
             })
@@ -293,7 +300,7 @@ impl Integrator for Ias {
                 continue;
             };
             for px in &r.pixels {
-                let i = (px.y * width + px.x) as usize;
+                let i = ((px.y - window.y0) * width + px.x - window.x0) as usize;
                 film.pixels[i].set_estimate(px.mean, px.variance);
                 maps[0][i] = px.passes as f32;
                 maps[1][i] = px.shadow_rays as f32;

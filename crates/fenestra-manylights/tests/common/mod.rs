@@ -103,6 +103,7 @@ pub fn bvh_af_hf(options: PathOptions) -> PathTracer<LightNextEvent> {
 pub fn render(desc: SceneDesc, integrator: &mut dyn Integrator, spp: u32, threads: usize) -> Film {
     let scene = RenderScene::new(Scene::build(desc, Backend::Obvhs).expect("scene"));
     let settings = RenderSettings {
+        first_sample: 0,
         spp,
         time_limit: None,
         seed: 5,

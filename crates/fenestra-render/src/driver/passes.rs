@@ -10,7 +10,7 @@
 
 use super::{Blocks, SampleContext, BLOCK_SIZE};
 use crate::control::RenderControl;
-use crate::film::{Film, Pixel};
+use crate::film::{Film, Pixel, Window};
 use crate::render_scene::RenderScene;
 use crate::settings::RenderSettings;
 use fenestra_core::stats::{RayCounters, RenderStats};
@@ -32,15 +32,16 @@ pub struct PassInfo {
 /// A pixel as the estimator sees it before a pass.
 #[derive(Clone, Copy, Debug)]
 pub struct PixelState<'a> {
-    /// Pixel column.
+    /// Pixel column in the image.
     pub x: u32,
-    /// Pixel row.
+    /// Pixel row in the image.
     pub y: u32,
     /// The pixel's 8x8 block.
     pub block: u32,
     /// The pass about to render.
     pub pass: u32,
-    /// Samples the pixel has taken (its next sample's index).
+    /// Its next sample's index: the samples it has taken, after the render's first
+    /// ([`RenderSettings::first_sample`]).
     pub taken: u32,
     /// What the film holds for it (sums, squares, count): its estimate and variance.
     pub film: &'a Pixel,
@@ -66,8 +67,8 @@ pub trait PassEstimator: Sync {
     /// How many samples the pixel takes in this pass (0: none).
     fn samples(&self, pixel: &PixelState) -> u32;
 
-    /// One sample of the pixel in `ctx`: its radiance (non-finite values are dropped and
-    /// counted). The estimator makes its own camera ray ([`SampleContext::camera_ray`]).
+    /// One sample of the pixel in `ctx`: its radiance (non-finite values, and values the film
+    /// does not take, are dropped and counted). The estimator makes its own camera ray ([`SampleContext::camera_ray`]).
     fn sample(
         &self,
         scene: &RenderScene,
@@ -94,7 +95,7 @@ pub fn render_passes<E: PassEstimator>(
 ) -> RenderStats {
     let (width, height) = (film.width, film.height);
     let blocks = Blocks::new(width, height);
-    let mut taken = vec![0u32; film.pixels.len()];
+    let mut taken = vec![settings.first_sample; film.pixels.len()];
     let started = Instant::now();
     control
         .progress
@@ -114,8 +115,7 @@ pub fn render_passes<E: PassEstimator>(
         let shared = &*estimator;
         let pass = Pass {
             index: passes,
-            width,
-            height,
+            window: film.window,
             seed: settings.seed,
         };
         let rendered: Vec<(E::BlockStats, RayCounters)> =
@@ -201,8 +201,9 @@ impl<'a> BlockView<'a> {
 /// What every block of one pass shares.
 struct Pass {
     index: u32,
-    width: u32,
-    height: u32,
+    /// The film's window of the image: block and pixel positions are the film's, samples
+    /// and camera rays the image's.
+    window: Window,
     seed: u64,
 }
 
@@ -225,9 +226,9 @@ impl Pass {
         let mut samples = 0u64;
         for (dy, row) in view.rows.into_iter().enumerate() {
             let Some((pixels, taken)) = row else { continue };
-            let y = view.y0 + dy as u32;
+            let y = self.window.y0 + view.y0 + dy as u32;
             for (dx, (pixel, taken)) in pixels.iter_mut().zip(taken.iter_mut()).enumerate() {
-                let x = view.x0 + dx as u32;
+                let x = self.window.x0 + view.x0 + dx as u32;
                 let first = *taken;
                 let n = estimator.samples(&PixelState {
                     x,
@@ -241,8 +242,8 @@ impl Pass {
                 let mut ctx = SampleContext {
                     x,
                     y,
-                    width: self.width,
-                    height: self.height,
+                    width: self.window.full_width,
+                    height: self.window.full_height,
                     block,
                     pass: self.index,
                     index: first,
@@ -251,7 +252,7 @@ impl Pass {
                     ctx.index = s;
                     let mut sampler = Sampler::new(self.seed, ctx.pixel(), s);
                     let l = estimator.sample(scene, &ctx, &mut sampler, &mut stats, &mut counters);
-                    if l.is_finite() {
+                    if Pixel::accepts(l) {
                         pixel.add(l);
                     } else {
                         counters.dropped += 1;

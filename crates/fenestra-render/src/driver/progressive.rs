@@ -150,6 +150,7 @@ mod tests {
     #[test]
     fn non_finite_samples_are_dropped_and_counted() {
         let settings = RenderSettings {
+            first_sample: 0,
             spp: 16,
             time_limit: None,
             seed: 3,

@@ -52,6 +52,16 @@ pub struct WorkMap {
     pub values: Vec<f32>,
 }
 
+/// How a render can be cut into pieces that render apart and merge exactly (scale-out).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Split {
+    /// By sample ranges ([`RenderSettings::first_sample`]) or by tiles of any size.
+    SamplesOrTiles,
+    /// Only by tiles whose corners lie on the 8x8 block grid: integrators that decide how
+    /// many samples each pixel of a block takes.
+    BlockTiles,
+}
+
 /// A way of rendering an image.
 pub trait Integrator: Send + Sync {
     /// The name it is known by (`af_hf`).
@@ -79,7 +89,12 @@ pub trait Integrator: Send + Sync {
         Vec::new()
     }
 
-    /// Renders the whole image into `film`, once prepared.
+    /// How its renders split across machines.
+    fn split(&self) -> Split {
+        Split::SamplesOrTiles
+    }
+
+    /// Renders the film's window of the image (all of it, unless cropped), once prepared.
     fn render(
         &self,
         scene: &RenderScene,

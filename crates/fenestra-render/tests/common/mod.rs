@@ -25,6 +25,7 @@ pub fn render(
 ) -> (Film, RenderStats) {
     let scene = RenderScene::new(Scene::build(desc, Backend::default()).expect("scene"));
     let settings = RenderSettings {
+        first_sample: 0,
         spp,
         time_limit: None,
         seed,

@@ -1,0 +1,271 @@
+//! The film-state file (`.film`): a render's exact accumulators, so that pieces of one render
+//! made on different machines (sample ranges, tiles) merge into the image one machine would
+//! have made, bit for bit. docs/scale-out.md documents the format:
+//!
+//! ```text
+//! magic    "FENESTRA-FILM\n"                       14 bytes
+//! version  u32 little-endian (1)
+//! length   u32 little-endian: bytes of the header
+//! header   JSON (FilmHeader): what was rendered, the window, the sample range, statistics
+//! pixels   per pixel of the window, row-major, 100 bytes each, little-endian:
+//!          count u32, sums 3 x i128, sums of squares 3 x u128 (units of 2^-64)
+//! crc      u32 little-endian: CRC-32 of every byte before it
+//! ```
+
+use crate::film::{Film, Pixel, Window};
+use fenestra_core::stats::RenderStats;
+use serde::{Deserialize, Serialize};
+use std::io::{BufReader, BufWriter, Read, Write};
+use std::path::{Path, PathBuf};
+
+const MAGIC: &[u8; 14] = b"FENESTRA-FILM\n";
+const VERSION: u32 = 1;
+/// Bytes of one pixel's record.
+const PIXEL_BYTES: usize = 4 + 3 * 16 + 3 * 16;
+/// Largest header accepted (a corrupt length must not allocate gigabytes).
+const MAX_HEADER: u32 = 16 << 20;
+
+/// Sample indices `start..end` of every pixel.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct SampleRange {
+    /// First sample index.
+    pub start: u32,
+    /// One past the last.
+    pub end: u32,
+}
+
+impl std::fmt::Display for SampleRange {
+    fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        write!(f, "{}..{}", self.start, self.end)
+    }
+}
+
+/// What a film-state file holds besides its pixels.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FilmHeader {
+    /// Hash of everything that changes the picture but the samples and the window (scene
+    /// content, integrator and its settings, seed, resolution, ray backend, version): parts
+    /// merge only when theirs are equal.
+    pub key: String,
+    /// The sample indices every pixel took; none for integrators that decide their own
+    /// samples (adaptive ones split by tiles only).
+    pub samples: Option<SampleRange>,
+    /// The part of the image it holds.
+    pub window: Window,
+    /// The render's statistics (scene, integrator, settings, rays, time).
+    pub stats: RenderStats,
+}
+
+/// Why a film-state file could not be read.
+#[derive(Debug, thiserror::Error)]
+pub enum FilmFileError {
+    /// Reading failed.
+    #[error("cannot read {path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// Not a film-state file, a newer version, or damaged.
+    #[error("{path} is not a usable film-state file: {reason}")]
+    Invalid {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong.
+        reason: String,
+    },
+}
+
+/// Writes `film` with `header` to `path` (the caller makes it atomic: [`crate::output`]
+/// stages it with the render's other files).
+pub fn write(path: &Path, header: &FilmHeader, film: &Film) -> std::io::Result<()> {
+    let mut out = Crc(
+        BufWriter::new(std::fs::File::create(path)?),
+        crc32fast::Hasher::new(),
+    );
+    let json = serde_json::to_vec(header)?;
+    out.write_all(MAGIC)?;
+    out.write_all(&VERSION.to_le_bytes())?;
+    out.write_all(&(json.len() as u32).to_le_bytes())?;
+    out.write_all(&json)?;
+    for p in &film.pixels {
+        out.write_all(&encode(p))?;
+    }
+    let crc = out.1.clone().finalize();
+    out.0.write_all(&crc.to_le_bytes())?;
+    out.0.into_inner().map_err(|e| e.into_error())?.sync_all()
+}
+
+/// Reads only the header of the film-state file at `path` (to check parts before merging).
+pub fn read_header(path: &Path) -> Result<FilmHeader, FilmFileError> {
+    Ok(FilmReader::open(path)?.header)
+}
+
+/// Reads the film-state file at `path`: its header and its film, checked whole.
+pub fn read(path: &Path) -> Result<(FilmHeader, Film), FilmFileError> {
+    let mut reader = FilmReader::open(path)?;
+    let mut film = Film::cropped(reader.header.window);
+    reader.pixels(|i, p| film.pixels[i] = p)?;
+    Ok((reader.header, film))
+}
+
+/// Adds the pixels of the film-state file at `path` into `film`, whose window contains the
+/// file's: merging without holding the part in memory. The file is checked whole: on an
+/// error `film` holds a partial sum and must be dropped.
+pub fn add_into(path: &Path, film: &mut Film) -> Result<FilmHeader, FilmFileError> {
+    let mut reader = FilmReader::open(path)?;
+    let (inner, outer) = (reader.header.window, film.window);
+    if !(inner.full_width == outer.full_width
+        && inner.full_height == outer.full_height
+        && outer.x0 <= inner.x0
+        && outer.y0 <= inner.y0
+        && inner.x1 <= outer.x1
+        && inner.y1 <= outer.y1)
+    {
+        return Err(reader.invalid(format!("its window {inner} is outside {outer}")));
+    }
+    let w = inner.width() as usize;
+    reader.pixels(|i, p| {
+        let (x, y) = (inner.x0 as usize + i % w, inner.y0 as usize + i / w);
+        let at = (y - outer.y0 as usize) * film.width as usize + (x - outer.x0 as usize);
+        film.pixels[at].merge(&p);
+    })?;
+    Ok(reader.header)
+}
+
+struct FilmReader {
+    path: PathBuf,
+    input: Crc<BufReader<std::fs::File>>,
+    header: FilmHeader,
+}
+
+impl FilmReader {
+    fn open(path: &Path) -> Result<FilmReader, FilmFileError> {
+        let io = |source| FilmFileError::Io {
+            path: path.to_path_buf(),
+            source,
+        };
+        let file = std::fs::File::open(path).map_err(io)?;
+        let size = file.metadata().map_err(io)?.len();
+        let mut input = Crc(BufReader::new(file), crc32fast::Hasher::new());
+        let invalid = |reason: String| FilmFileError::Invalid {
+            path: path.to_path_buf(),
+            reason,
+        };
+        let mut magic = [0u8; 14];
+        let mut word = [0u8; 4];
+        if input.read_exact(&mut magic).is_err() || &magic != MAGIC {
+            return Err(invalid("it does not start with FENESTRA-FILM".into()));
+        }
+        input.read_exact(&mut word).map_err(io)?;
+        let version = u32::from_le_bytes(word);
+        if version != VERSION {
+            return Err(invalid(format!(
+                "format version {version}, this fenestra reads version {VERSION}"
+            )));
+        }
+        input.read_exact(&mut word).map_err(io)?;
+        let length = u32::from_le_bytes(word);
+        if length > MAX_HEADER || u64::from(length) + 22 > size {
+            return Err(invalid(format!(
+                "truncated or corrupt: a header of {length} bytes in a file of {size}"
+            )));
+        }
+        let mut json = vec![0u8; length as usize];
+        input.read_exact(&mut json).map_err(io)?;
+        let header: FilmHeader = serde_json::from_slice(&json)
+            .map_err(|e| invalid(format!("its header does not parse: {e}")))?;
+        let w = header.window;
+        if w.x0 >= w.x1 || w.y0 >= w.y1 || w.x1 > w.full_width || w.y1 > w.full_height {
+            return Err(invalid(format!(
+                "its window {w} does not fit a {}x{} image",
+                w.full_width, w.full_height
+            )));
+        }
+        let expected = 22
+            + u64::from(length)
+            + u64::from(w.width()) * u64::from(w.height()) * PIXEL_BYTES as u64
+            + 4;
+        if size != expected {
+            return Err(invalid(format!(
+                "truncated or corrupt: {size} bytes where its header promises {expected}"
+            )));
+        }
+        Ok(FilmReader {
+            path: path.to_path_buf(),
+            input,
+            header,
+        })
+    }
+
+    fn invalid(&self, reason: String) -> FilmFileError {
+        FilmFileError::Invalid {
+            path: self.path.clone(),
+            reason,
+        }
+    }
+
+    /// Hands every pixel record, in order, to `each`, then checks the CRC.
+    fn pixels(&mut self, mut each: impl FnMut(usize, Pixel)) -> Result<(), FilmFileError> {
+        let path = self.path.clone();
+        let io = |source| FilmFileError::Io {
+            path: path.clone(),
+            source,
+        };
+        let w = self.header.window;
+        let mut record = [0u8; PIXEL_BYTES];
+        for i in 0..w.width() as usize * w.height() as usize {
+            self.input.read_exact(&mut record).map_err(io)?;
+            each(i, decode(&record));
+        }
+        let crc = self.input.1.clone().finalize();
+        let mut word = [0u8; 4];
+        self.input.0.read_exact(&mut word).map_err(io)?;
+        if u32::from_le_bytes(word) != crc {
+            return Err(self.invalid("corrupt: its checksum does not match its content".into()));
+        }
+        Ok(())
+    }
+}
+
+fn encode(p: &Pixel) -> [u8; PIXEL_BYTES] {
+    let mut out = [0u8; PIXEL_BYTES];
+    out[..4].copy_from_slice(&p.count.to_le_bytes());
+    for c in 0..3 {
+        out[4 + 16 * c..20 + 16 * c].copy_from_slice(&p.sum[c].to_le_bytes());
+        out[52 + 16 * c..68 + 16 * c].copy_from_slice(&p.sum_sq[c].to_le_bytes());
+    }
+    out
+}
+
+fn decode(b: &[u8; PIXEL_BYTES]) -> Pixel {
+    let word = |at: usize| -> [u8; 16] { b[at..at + 16].try_into().expect("16 bytes") };
+    Pixel {
+        count: u32::from_le_bytes(b[..4].try_into().expect("4 bytes")),
+        sum: std::array::from_fn(|c| i128::from_le_bytes(word(4 + 16 * c))),
+        sum_sq: std::array::from_fn(|c| u128::from_le_bytes(word(52 + 16 * c))),
+    }
+}
+
+/// A reader or writer that keeps the CRC-32 of the bytes passing through.
+struct Crc<T>(T, crc32fast::Hasher);
+
+impl<T: Write> Write for Crc<T> {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        let n = self.0.write(buf)?;
+        self.1.update(&buf[..n]);
+        Ok(n)
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.0.flush()
+    }
+}
+
+impl<T: Read> Read for Crc<T> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let n = self.0.read(buf)?;
+        self.1.update(&buf[..n]);
+        Ok(n)
+    }
+}
