@@ -179,6 +179,8 @@ fn write_job(
             .chain(extra.iter().map(|s| s.to_string()))
             .collect(),
         pieces,
+        // Timings compare only when a run has the machine to itself.
+        whole_machine: true,
     };
     let job = Job {
         title: format!("bench {} ({} runs)", suite.name, runs.len()),

@@ -31,6 +31,8 @@ pub struct Step {
     pub args: Vec<String>,
     /// The pieces; none for a single task.
     pub pieces: Vec<String>,
+    /// Each task takes a whole machine (Slurm `--exclusive`): renders use every core.
+    pub whole_machine: bool,
 }
 
 /// A job: steps run in order by one fenestra executable; its files go to `dir`.
@@ -154,6 +156,9 @@ impl Job {
                 "#!/bin/bash\n# {}: step {}, written by fenestra.\n#SBATCH --job-name=fenestra-{name}\n",
                 self.title, step.name
             );
+            if step.whole_machine {
+                text += "#SBATCH --exclusive\n";
+            }
             let args: Vec<String> = step.args.iter().map(|a| shell_word(a)).collect();
             if step.pieces.is_empty() {
                 text += &format!("#SBATCH --output={}/{name}.log\n", quote_path(&logs));

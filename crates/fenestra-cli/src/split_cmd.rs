@@ -124,11 +124,13 @@ fn plan(args: &SplitArgs, shape: &RenderShape) -> Result<job::Job> {
                 name: "Render",
                 args: render,
                 pieces,
+                whole_machine: true,
             },
             Step {
                 name: "Merge",
                 args: merge,
                 pieces: Vec::new(),
+                whole_machine: false,
             },
         ],
     })
