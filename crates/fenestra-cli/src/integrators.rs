@@ -7,6 +7,8 @@ use crate::portals_cmd::EstimateOpts;
 use anyhow::{bail, Result};
 use clap::{Args, ValueEnum};
 use fenestra_core::mis::MisHeuristic;
+use fenestra_eval::hash::debug_hash;
+use fenestra_eval::suite::slug;
 use fenestra_manylights::ias::Combine;
 use fenestra_manylights::{Ias, IasOptions, LightBvh};
 use fenestra_portals::estimate::Model;
@@ -16,7 +18,8 @@ use fenestra_render::integrator::{
 };
 use fenestra_render::light::LightSelection;
 use fenestra_render::{Registry, RenderScene};
-use std::path::Path;
+use fenestra_scene::SceneDesc;
+use std::path::{Path, PathBuf};
 
 /// Which integrator, and every integrator's options.
 #[derive(Args, Clone, Debug)]
@@ -161,6 +164,14 @@ pub struct PortalArgs {
     /// pca; see `fenestra portals --model`).
     #[arg(long, default_value = "smallest")]
     portal_model: Model,
+    /// With --portals auto: the folder where estimated portals are kept, by scene content and
+    /// parameters, so that the next render of the same scene reads them instead of estimating
+    /// again (default: $XDG_CACHE_HOME/fenestra/portals, else ~/.cache/fenestra/portals).
+    #[arg(long)]
+    portal_cache: Option<PathBuf>,
+    /// With --portals auto: estimate every time and cache nothing.
+    #[arg(long, conflicts_with = "portal_cache")]
+    no_portal_cache: bool,
 }
 
 impl PathArgs {
@@ -184,11 +195,26 @@ impl PathArgs {
 }
 
 impl PortalArgs {
-    /// lp_hf's options: the portals file is read here, before the scene is built.
-    fn options(&self, light_selection: LightSelection) -> Result<PortalOptions, IntegratorError> {
+    /// lp_hf's options for `scene`: the portals file is read here, before the scene is built.
+    fn options(
+        &self,
+        light_selection: LightSelection,
+        scene: &SceneDesc,
+    ) -> Result<PortalOptions, IntegratorError> {
         let source = match self.portals.as_deref() {
             None => PortalSource::Scene,
-            Some("auto") => PortalSource::Estimated(EstimateOpts::defaults_with(self.portal_model)),
+            Some("auto") => {
+                let params = EstimateOpts::defaults_with(self.portal_model);
+                let cache = self.cache_folder().map(|dir| {
+                    let key = debug_hash(&(
+                        scene,
+                        serde_json::to_string(&params).ok(),
+                        env!("CARGO_PKG_VERSION"),
+                    ));
+                    dir.join(format!("{}-{key:016x}.json", slug(&scene.name)))
+                });
+                PortalSource::Estimated { params, cache }
+            }
             Some(file) => PortalSource::Given(Portals::read_json(Path::new(file))?),
         };
         Ok(PortalOptions {
@@ -199,6 +225,21 @@ impl PortalArgs {
             light_selection,
         })
     }
+
+    /// Where estimated portals are cached, unless --no-portal-cache.
+    fn cache_folder(&self) -> Option<PathBuf> {
+        if self.no_portal_cache {
+            return None;
+        }
+        if let Some(dir) = &self.portal_cache {
+            return Some(dir.clone());
+        }
+        let base = std::env::var_os("XDG_CACHE_HOME")
+            .filter(|v| !v.is_empty())
+            .map(PathBuf::from)
+            .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".cache")))?;
+        Some(base.join("fenestra/portals"))
+    }
 }
 
 /// What an integrator is built from: the path tracers' options (resolved against the
@@ -208,6 +249,8 @@ pub struct Config<'a> {
     pub path: PathOptions,
     /// Everything from the command line.
     pub args: &'a IntegratorArgs,
+    /// The scene to be rendered (keys caches by its content).
+    pub scene: &'a SceneDesc,
 }
 
 /// Every integrator of this binary.
@@ -250,7 +293,7 @@ pub fn registry<'a>() -> Registry<Config<'a>> {
             "lp_hf",
             "path tracing that aims through windows and openings (light portals; seed 000's LP_HF)",
             |c: &Config| {
-                let options = c.args.portals.options(c.args.lights.fixed()?)?;
+                let options = c.args.portals.options(c.args.lights.fixed()?, c.scene)?;
                 Ok(Box::new(fenestra_portals::lp_hf(c.path, options)?))
             },
         )

@@ -241,6 +241,7 @@ impl RenderOpts {
         let config = Config {
             path: self.integrator.path.options(desc.defaults.max_depth)?,
             args: &self.integrator,
+            scene: &desc,
         };
         let integrator = integrators::registry().build(&self.integrator.integrator, &config)?;
         let spp = match time {

@@ -1276,3 +1276,66 @@ fn ias_writes_its_work_maps_on_request() {
     assert!(!dir.join("plain-maps").exists());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `--portals auto` keeps its estimate in the cache, keyed by scene content and parameters:
+/// the next render of the scene reads it (same portals, same image) instead of estimating;
+/// a damaged cache file is estimated again and replaced.
+#[test]
+fn estimated_portals_are_cached_and_the_next_render_reads_them() {
+    let dir = tmp("portal-cache");
+    let cache = dir.join("cache");
+    let s = |p: &Path| p.to_str().expect("utf-8").to_string();
+    let render = |name: &str, extra: &[&str]| -> serde_json::Value {
+        let out = dir.join(name);
+        let mut args = vec![
+            "render".to_string(),
+            "builtin:box-hole".into(),
+            "--integrator".into(),
+            "lp_hf".into(),
+            "--portals".into(),
+            "auto".into(),
+            "--spp".into(),
+            "2".into(),
+            "--resolution".into(),
+            "16x16".into(),
+            "--json".into(),
+            "-q".into(),
+            "-o".into(),
+            s(&out),
+        ];
+        args.extend(extra.iter().map(|a| a.to_string()));
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let o = fenestra(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        serde_json::from_slice(&o.stdout).expect("--json prints JSON")
+    };
+    let with_cache = ["--portal-cache", cache.to_str().expect("utf-8")];
+    let first = render("a.exr", &with_cache);
+    assert!(first["extra"]["portal_estimation_s"].as_f64() > Some(0.0));
+    assert!(first["extra"].get("portals_cached").is_none());
+    let files: Vec<PathBuf> = std::fs::read_dir(&cache)
+        .expect("cache folder")
+        .map(|e| e.expect("entry").path())
+        .collect();
+    assert_eq!(files.len(), 1, "{files:?}");
+    let second = render("b.exr", &with_cache);
+    assert_eq!(second["extra"]["portals_cached"], 1.0);
+    assert!(second["extra"].get("portal_estimation_s").is_none());
+    let pixels = |n: &str| Image::read(&dir.join(n)).expect("exr").pixels;
+    assert_eq!(
+        pixels("a.exr"),
+        pixels("b.exr"),
+        "the cached portals are the estimated ones"
+    );
+    std::fs::write(&files[0], "{ not json").expect("damage");
+    let third = render("c.exr", &with_cache);
+    assert!(third["extra"].get("portal_estimation_s").is_some());
+    assert_eq!(pixels("a.exr"), pixels("c.exr"));
+    let fourth = render("d.exr", &with_cache);
+    assert_eq!(
+        fourth["extra"]["portals_cached"], 1.0,
+        "the damaged file was replaced"
+    );
+    let none = render("e.exr", &["--no-portal-cache"]);
+    assert!(none["extra"].get("portal_estimation_s").is_some());
+}

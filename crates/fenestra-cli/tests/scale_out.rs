@@ -287,6 +287,44 @@ fn install_openjd() -> Result<PathBuf, String> {
     Ok(bin)
 }
 
+/// Checks the OpenJD template and runs its steps up to `step` on this machine; false (and a
+/// message) where openjd-cli cannot be installed.
+fn openjd_runs(template: &Path, step: &str) -> bool {
+    let bin = match openjd() {
+        Ok(bin) => bin,
+        Err(why) => {
+            eprintln!("SKIPPED: openjd-cli cannot be installed from PyPI here ({why})");
+            return false;
+        }
+    };
+    ok(Command::new(&bin)
+        .arg("check")
+        .arg(template)
+        .output()
+        .expect("openjd"));
+    ok(Command::new(&bin)
+        .args(["run", s(template), "--step", step, "--run-dependencies"])
+        .output()
+        .expect("openjd"));
+    true
+}
+
+/// Asserts that bash parses each script in `dir`.
+fn assert_bash_parses(dir: &Path, scripts: &[&str]) {
+    for script in scripts {
+        let o = Command::new("bash")
+            .arg("-n")
+            .arg(dir.join(script))
+            .output()
+            .expect("bash");
+        assert!(
+            o.status.success(),
+            "{script}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+    }
+}
+
 #[test]
 fn split_writes_jobs_that_openjd_and_slurm_accept_and_that_render_the_single_image() {
     let d = dir("split");
@@ -311,18 +349,7 @@ fn split_writes_jobs_that_openjd_and_slurm_accept_and_that_render_the_single_ima
     ];
     args.extend_from_slice(&render_args);
     ok(fenestra(&args));
-    for script in ["render.sbatch", "merge.sbatch", "submit.sh"] {
-        let o = Command::new("bash")
-            .arg("-n")
-            .arg(slurm.join(script))
-            .output()
-            .expect("bash");
-        assert!(
-            o.status.success(),
-            "{script}: {}",
-            String::from_utf8_lossy(&o.stderr)
-        );
-    }
+    assert_bash_parses(&slurm, &["render.sbatch", "merge.sbatch", "submit.sh"]);
     let text = std::fs::read_to_string(slurm.join("render.sbatch")).expect("script");
     assert!(text.contains("#SBATCH --array=0-2") && text.contains("pieces=(0..3 3..6 6..9)"));
     let submit = std::fs::read_to_string(slurm.join("submit.sh")).expect("script");
@@ -345,23 +372,9 @@ fn split_writes_jobs_that_openjd_and_slurm_accept_and_that_render_the_single_ima
     let mut args = vec!["split", "--parts", "3", "--engine", "openjd", "-o", s(&job)];
     args.extend_from_slice(&render_args);
     ok(fenestra(&args));
-    let bin = match openjd() {
-        Ok(bin) => bin,
-        Err(why) => {
-            eprintln!("SKIPPED: openjd-cli cannot be installed from PyPI here ({why})");
-            return;
-        }
-    };
-    let template = job.join("template.json");
-    ok(Command::new(&bin)
-        .arg("check")
-        .arg(&template)
-        .output()
-        .expect("openjd"));
-    ok(Command::new(&bin)
-        .args(["run", s(&template), "--step", "Merge", "--run-dependencies"])
-        .output()
-        .expect("openjd"));
+    if !openjd_runs(&job.join("template.json"), "Merge") {
+        return;
+    }
     let single = d.join("single.exr");
     render("builtin:box-hole", "af_hf", &single, &["--samples", "0..9"]);
     assert_same(&single, &job.join("merged.exr"));
@@ -396,50 +409,22 @@ fn a_bench_suite_runs_as_a_job_of_references_runs_and_report() {
     };
     let slurm = d.join("slurm");
     job("slurm", &slurm);
-    for script in [
-        "references.sbatch",
-        "runs.sbatch",
-        "report.sbatch",
-        "submit.sh",
-    ] {
-        let o = Command::new("bash")
-            .arg("-n")
-            .arg(slurm.join(script))
-            .output()
-            .expect("bash");
-        assert!(
-            o.status.success(),
-            "{script}: {}",
-            String::from_utf8_lossy(&o.stderr)
-        );
-    }
+    assert_bash_parses(
+        &slurm,
+        &[
+            "references.sbatch",
+            "runs.sbatch",
+            "report.sbatch",
+            "submit.sh",
+        ],
+    );
     let runs = std::fs::read_to_string(slurm.join("runs.sbatch")).expect("script");
     assert!(runs.contains("#SBATCH --array=0-3"), "{runs}");
     let openjd_job = d.join("openjd");
     job("openjd", &openjd_job);
-    let bin = match openjd() {
-        Ok(bin) => bin,
-        Err(why) => {
-            eprintln!("SKIPPED: openjd-cli cannot be installed from PyPI here ({why})");
-            return;
-        }
-    };
-    let template = openjd_job.join("template.json");
-    ok(Command::new(&bin)
-        .arg("check")
-        .arg(&template)
-        .output()
-        .expect("openjd"));
-    ok(Command::new(&bin)
-        .args([
-            "run",
-            s(&template),
-            "--step",
-            "Report",
-            "--run-dependencies",
-        ])
-        .output()
-        .expect("openjd"));
+    if !openjd_runs(&openjd_job.join("template.json"), "Report") {
+        return;
+    }
     let records = std::fs::read_dir(out.join("results.d"))
         .expect("records")
         .count();

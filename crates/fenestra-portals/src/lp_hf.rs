@@ -10,7 +10,7 @@
 
 use crate::error::PortalError;
 use crate::estimate::{estimate, EstimateParams};
-use crate::portal::{PortalChoice, PortalRecord, PortalSampling, Portals, Side};
+use crate::portal::{PortalChoice, PortalFile, PortalRecord, PortalSampling, Portals, Side};
 use fenestra_core::mis::MisHeuristic;
 use fenestra_core::stats::{RayCounters, RenderStats};
 use fenestra_core::{Ray, Rgb, Sampler, Vec3};
@@ -21,6 +21,7 @@ use fenestra_render::integrator::{
 use fenestra_render::light::{LightHit, LightSelection};
 use fenestra_render::{IntegratorError, RenderControl, RenderScene};
 use serde_json::json;
+use std::path::{Path, PathBuf};
 
 /// Where lp_hf's portals come from.
 #[derive(Clone, Debug)]
@@ -30,8 +31,15 @@ pub enum PortalSource {
     Scene,
     /// Given, for example read from a portals.json file.
     Given(Portals),
-    /// Estimated from the scene (seed 000 ch. 4) with these parameters when prepared.
-    Estimated(EstimateParams),
+    /// Estimated from the scene (seed 000 ch. 4) with `params` when prepared, or read from
+    /// `cache`, the portals.json an earlier estimate of the same scene with the same
+    /// parameters left there (and written there after estimating).
+    Estimated {
+        /// The pipeline's parameters.
+        params: EstimateParams,
+        /// The cache file for this scene and these parameters, if any.
+        cache: Option<PathBuf>,
+    },
 }
 
 /// lp_hf's own options.
@@ -91,8 +99,31 @@ pub struct PortalNextEvent {
     /// The portals, with the sampling and choice rules (set when prepared).
     portals: Portals,
     lights: LightNextEvent,
-    /// Photons and seconds of the estimate, when the portals were estimated.
-    estimated: Option<(usize, f64)>,
+    /// How the portals were estimated, when they were.
+    estimated: Option<Estimation>,
+}
+
+/// Where estimated portals came from.
+#[derive(Clone, Copy, Debug)]
+enum Estimation {
+    /// Estimated now: photons gathered, seconds taken.
+    Made { photons: usize, seconds: f64 },
+    /// Read from the cache.
+    Cached,
+}
+
+/// The portals cached at `path` by an estimate with `params`, if there are (any other file,
+/// or an estimate with other parameters, does not count).
+fn cached<'a>(path: &'a Path, params: &EstimateParams) -> Option<(&'a Path, Portals)> {
+    let file = PortalFile::read(path).ok()?;
+    let record = file.estimation.as_ref()?;
+    let same =
+        serde_json::to_value(&record.parameters).ok()? == serde_json::to_value(params).ok()?;
+    (same && !record.interrupted)
+        .then(|| file.portals(path).ok())
+        .flatten()
+        .filter(|p| !p.is_empty())
+        .map(|p| (path, p))
 }
 
 /// What lp_hf keeps of a shading vertex: which side light may arrive from, and the portals'
@@ -211,7 +242,7 @@ impl NextEvent for PortalNextEvent {
                 .iter()
                 .map(PortalRecord::new)
                 .collect::<Vec<_>>()),
-            PortalSource::Estimated(params) => json!({ "estimated": params }),
+            PortalSource::Estimated { params, .. } => json!({ "estimated": params }),
         };
         let mut s = json!({
             "portals": portals,
@@ -236,14 +267,38 @@ impl NextEvent for PortalNextEvent {
         let portals = match &self.options.source {
             PortalSource::Scene => Portals::from_quads(&scene.scene.portals),
             PortalSource::Given(p) => p.clone(),
-            PortalSource::Estimated(params) => {
-                let e = estimate(scene, params, control.cancel, control.progress)?;
-                control.progress.note(&format!("portals: {}", e.summary()));
-                if e.portals.is_empty() {
-                    return Err(PortalError::NoneFound.into());
+            PortalSource::Estimated { params, cache } => {
+                if let Some((path, portals)) = cache.as_deref().and_then(|c| cached(c, params)) {
+                    control.progress.note(&format!(
+                        "portals: {} from the cache {}",
+                        portals.portals().len(),
+                        path.display()
+                    ));
+                    self.estimated = Some(Estimation::Cached);
+                    portals
+                } else {
+                    let e = estimate(scene, params, control.cancel, control.progress)?;
+                    control.progress.note(&format!("portals: {}", e.summary()));
+                    if e.portals.is_empty() {
+                        return Err(PortalError::NoneFound.into());
+                    }
+                    // Rendered as the cache holds them (portals.json records rebuild them to
+                    // within float rounding), so that a render from the cache is the same.
+                    let file = e.file(&scene.scene.name, params);
+                    if let (Some(path), false) = (cache, control.cancelled()) {
+                        if let Some(dir) = path.parent() {
+                            let _ = std::fs::create_dir_all(dir);
+                        }
+                        if let Err(why) = file.write(path) {
+                            control.progress.note(&format!("portals not cached: {why}"));
+                        }
+                    }
+                    self.estimated = Some(Estimation::Made {
+                        photons: e.photons.points.len(),
+                        seconds: e.timings.total(),
+                    });
+                    file.portals(Path::new("--portals auto"))?
                 }
-                self.estimated = Some((e.photons.points.len(), e.timings.total()));
-                e.portals()
             }
         };
         if portals.is_empty() {
@@ -305,9 +360,15 @@ impl NextEvent for PortalNextEvent {
         stats
             .extra
             .insert("portals".into(), self.portals.portals().len() as f64);
-        if let Some((photons, seconds)) = self.estimated {
-            stats.extra.insert("portal_photons".into(), photons as f64);
-            stats.extra.insert("portal_estimation_s".into(), seconds);
+        match self.estimated {
+            Some(Estimation::Made { photons, seconds }) => {
+                stats.extra.insert("portal_photons".into(), photons as f64);
+                stats.extra.insert("portal_estimation_s".into(), seconds);
+            }
+            Some(Estimation::Cached) => {
+                stats.extra.insert("portals_cached".into(), 1.0);
+            }
+            None => {}
         }
     }
 }
