@@ -1313,6 +1313,10 @@ fn estimated_portals_are_cached_and_the_next_render_reads_them() {
     let first = render("a.exr", &with_cache);
     assert!(first["extra"]["portal_estimation_s"].as_f64() > Some(0.0));
     assert!(first["extra"].get("portals_cached").is_none());
+    let found = first["settings"]["portals"]["found"]
+        .as_array()
+        .expect("the portals found");
+    assert_eq!(found.len(), 1, "box-hole has one opening");
     let files: Vec<PathBuf> = std::fs::read_dir(&cache)
         .expect("cache folder")
         .map(|e| e.expect("entry").path())

@@ -160,6 +160,41 @@ fn tiles_merge_into_the_single_render_for_path_tracers_and_ias() {
         s(&merged),
     ]));
     assert_same(&single, &merged);
+    // A real scene (Bitterli's Cornell box, pbrt-v4) in four tiles of two sample ranges.
+    let scene =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/scenes/cornell-box/scene-v4.pbrt");
+    let single = d.join("real.exr");
+    render(s(&scene), "af_hf", &single, &["--samples", "0..4"]);
+    let mut parts = Vec::new();
+    for (i, (crop, samples)) in [
+        ("0,0,20,6", "0..4"),
+        ("0,6,20,14", "0..1"),
+        ("0,6,20,14", "1..4"),
+    ]
+    .iter()
+    .enumerate()
+    {
+        let p = d.join(format!("real{i}.exr"));
+        render(
+            s(&scene),
+            "af_hf",
+            &p,
+            &["--samples", samples, "--crop", crop],
+        );
+        parts.push(p);
+    }
+    let merged = d.join("real-merged.exr");
+    ok(fenestra(&[
+        "merge",
+        s(&parts[1]),
+        s(&parts[2]),
+        s(&parts[0]),
+        "--total",
+        "4",
+        "-o",
+        s(&merged),
+    ]));
+    assert_same(&single, &merged);
     // ias renders 8x8 blocks as wholes: bands on the block grid, and the whole as one tile.
     let single = d.join("ias.exr");
     render(

@@ -112,6 +112,15 @@ enum Estimation {
     Cached,
 }
 
+/// The portals as portals.json records.
+fn records(portals: &Portals) -> serde_json::Value {
+    json!(portals
+        .portals()
+        .iter()
+        .map(PortalRecord::new)
+        .collect::<Vec<_>>())
+}
+
 /// The portals cached at `path` by an estimate with `params`, if there are (any other file,
 /// or an estimate with other parameters, does not count).
 fn cached<'a>(path: &'a Path, params: &EstimateParams) -> Option<(&'a Path, Portals)> {
@@ -237,11 +246,11 @@ impl NextEvent for PortalNextEvent {
         let o = &self.options;
         let portals = match &o.source {
             PortalSource::Scene => json!("scene"),
-            PortalSource::Given(p) => json!(p
-                .portals()
-                .iter()
-                .map(PortalRecord::new)
-                .collect::<Vec<_>>()),
+            PortalSource::Given(p) => records(p),
+            // Once prepared, the sidecar also says which portals the estimate found.
+            PortalSource::Estimated { params, .. } if !self.portals.is_empty() => {
+                json!({ "estimated": params, "found": records(&self.portals) })
+            }
             PortalSource::Estimated { params, .. } => json!({ "estimated": params }),
         };
         let mut s = json!({

@@ -240,8 +240,11 @@ fn mismatch(a: &FilmHeader, b: &FilmHeader) -> Option<String> {
 /// add their rays and their times (seconds of all machines together); the integrator's own
 /// per-pixel figures (`extra`) are averaged over the parts, weighted by their pixels.
 pub fn merge(parts: &[Part], plan: &Plan) -> Result<(Film, RenderStats), MergeError> {
+    let Some(first) = parts.first() else {
+        return Err(MergeError::Parts("no parts to merge".into()));
+    };
     let mut film = Film::cropped(plan.window);
-    let mut stats = parts[0].header.stats.clone();
+    let mut stats = first.header.stats.clone();
     stats.rays = Default::default();
     stats.time_s = 0.0;
     stats.prepare_s = 0.0;
