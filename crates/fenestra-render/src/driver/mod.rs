@@ -35,7 +35,8 @@ pub struct SampleContext {
     pub width: u32,
     /// Image height in pixels.
     pub height: u32,
-    /// Index of the pixel's block, row-major over blocks.
+    /// Index of the pixel's block, row-major over the film's blocks (the image's, unless the
+    /// render is cropped).
     pub block: u32,
     /// The pass, from 0.
     pub pass: u32,

@@ -68,7 +68,8 @@ pub trait PassEstimator: Sync {
     fn samples(&self, pixel: &PixelState) -> u32;
 
     /// One sample of the pixel in `ctx`: its radiance (non-finite values, and values the film
-    /// does not take, are dropped and counted). The estimator makes its own camera ray ([`SampleContext::camera_ray`]).
+    /// does not take, are dropped and counted). The estimator makes its own camera ray
+    /// ([`SampleContext::camera_ray`]).
     fn sample(
         &self,
         scene: &RenderScene,
