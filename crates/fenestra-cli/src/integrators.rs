@@ -13,9 +13,7 @@ use fenestra_manylights::ias::Combine;
 use fenestra_manylights::{Ias, IasOptions, LightBvh};
 use fenestra_portals::estimate::Model;
 use fenestra_portals::{PortalChoice, PortalOptions, PortalSampling, PortalSource, Portals};
-use fenestra_render::integrator::{
-    af_hf, hf, Integrator, IntegratorError, LightNextEvent, PathOptions, PathTracer,
-};
+use fenestra_render::integrator::{hf, IntegratorError, LightNextEvent, PathOptions, PathTracer};
 use fenestra_render::light::LightSelection;
 use fenestra_render::{Registry, RenderScene};
 use fenestra_scene::SceneDesc;
@@ -100,7 +98,7 @@ pub struct PathArgs {
 pub struct LightArgs {
     /// How next-event estimation picks a light: power (in proportion to emitted power),
     /// uniform, or bvh (a light tree that weighs lights by their power, distance and
-    /// orientation at each point; af_hf only).
+    /// orientation at each point).
     #[arg(long, value_enum, default_value = "power")]
     light_selection: LightChoice,
 }
@@ -114,29 +112,15 @@ enum LightChoice {
 }
 
 impl LightArgs {
-    /// af_hf with the chosen light sampler.
-    fn af_hf(&self, options: PathOptions) -> Box<dyn Integrator> {
+    /// Light sampling with the chosen light sampler (af_hf's next event; lp_hf's for its share
+    /// of light sampling and for Dirac lights).
+    fn next_event(&self) -> LightNextEvent {
         match self.light_selection {
-            LightChoice::Power => Box::new(af_hf(options, LightSelection::Power)),
-            LightChoice::Uniform => Box::new(af_hf(options, LightSelection::Uniform)),
-            LightChoice::Bvh => Box::new(PathTracer::new(
-                "af_hf",
-                LightNextEvent::with_sampler("bvh", |s: &RenderScene| {
-                    Box::new(LightBvh::new(&s.scene, &s.lights))
-                }),
-                options,
-            )),
-        }
-    }
-
-    /// The fixed selection lp_hf takes for the lights beyond its portals.
-    fn fixed(&self) -> Result<LightSelection, IntegratorError> {
-        match self.light_selection {
-            LightChoice::Power => Ok(LightSelection::Power),
-            LightChoice::Uniform => Ok(LightSelection::Uniform),
-            LightChoice::Bvh => Err(IntegratorError::Options(
-                "--light-selection bvh is for af_hf; lp_hf picks its other lights by power or uniform".into(),
-            )),
+            LightChoice::Power => LightNextEvent::new(LightSelection::Power),
+            LightChoice::Uniform => LightNextEvent::new(LightSelection::Uniform),
+            LightChoice::Bvh => LightNextEvent::with_sampler("bvh", |s: &RenderScene| {
+                Box::new(LightBvh::new(&s.scene, &s.lights))
+            }),
         }
     }
 }
@@ -196,11 +180,7 @@ impl PathArgs {
 
 impl PortalArgs {
     /// lp_hf's options for `scene`: the portals file is read here, before the scene is built.
-    fn options(
-        &self,
-        light_selection: LightSelection,
-        scene: &SceneDesc,
-    ) -> Result<PortalOptions, IntegratorError> {
+    fn options(&self, scene: &SceneDesc) -> Result<PortalOptions, IntegratorError> {
         let source = match self.portals.as_deref() {
             None => PortalSource::Scene,
             Some("auto") => {
@@ -222,7 +202,6 @@ impl PortalArgs {
             sampling: self.portal_sampling,
             choice: self.portal_choice,
             light_mix: self.portal_light_mix,
-            light_selection,
         })
     }
 
@@ -264,7 +243,13 @@ pub fn registry<'a>() -> Registry<Config<'a>> {
         .register(
             "af_hf",
             "path tracing that also aims at the lights, the usual default (seed 000's AF_HF)",
-            |c: &Config| Ok(c.args.lights.af_hf(c.path)),
+            |c: &Config| {
+                Ok(Box::new(PathTracer::new(
+                    "af_hf",
+                    c.args.lights.next_event(),
+                    c.path,
+                )))
+            },
         )
         .register(
             "ias",
@@ -293,8 +278,12 @@ pub fn registry<'a>() -> Registry<Config<'a>> {
             "lp_hf",
             "path tracing that aims through windows and openings (light portals; seed 000's LP_HF)",
             |c: &Config| {
-                let options = c.args.portals.options(c.args.lights.fixed()?, c.scene)?;
-                Ok(Box::new(fenestra_portals::lp_hf(c.path, options)?))
+                let options = c.args.portals.options(c.scene)?;
+                Ok(Box::new(fenestra_portals::lp_hf(
+                    c.path,
+                    options,
+                    c.args.lights.next_event(),
+                )?))
             },
         )
 }

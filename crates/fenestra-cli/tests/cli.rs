@@ -190,19 +190,6 @@ fn bad_input_gets_a_clear_error() {
         "ias cuts an environment into at most 4096 regions, asked for 100000",
     );
     assert_clear_error(
-        &[
-            "render",
-            "builtin:box-hole",
-            "--integrator",
-            "lp_hf",
-            "--light-selection",
-            "bvh",
-            "-o",
-            o,
-        ],
-        "--light-selection bvh is for af_hf",
-    );
-    assert_clear_error(
         &["render", "builtin:box-hole", "--spp", "0", "-o", o],
         "--spp must be at least 1",
     );

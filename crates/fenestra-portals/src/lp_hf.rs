@@ -18,7 +18,7 @@ use fenestra_render::driver::SampleContext;
 use fenestra_render::integrator::{
     Found, LightNextEvent, NextEvent, PathOptions, PathTracer, Scattered, Shading,
 };
-use fenestra_render::light::{LightHit, LightSelection};
+use fenestra_render::light::LightHit;
 use fenestra_render::{IntegratorError, RenderControl, RenderScene};
 use serde_json::json;
 use std::path::{Path, PathBuf};
@@ -53,8 +53,6 @@ pub struct PortalOptions {
     pub choice: PortalChoice,
     /// Probability that a sample comes from light sampling instead (0: portals only).
     pub light_mix: f32,
-    /// The light sampler for that mixture and for Dirac lights.
-    pub light_selection: LightSelection,
 }
 
 impl Default for PortalOptions {
@@ -64,15 +62,17 @@ impl Default for PortalOptions {
             sampling: PortalSampling::SolidAngle,
             choice: PortalChoice::Contribution,
             light_mix: 0.0,
-            light_selection: LightSelection::Power,
         }
     }
 }
 
-/// The lp_hf integrator: the shared path loop with portal sampling as its next event.
+/// The lp_hf integrator: the shared path loop with portal sampling as its next event, and
+/// `lights` (any light sampler: by power, uniform, a light tree) for the share of light
+/// sampling and for Dirac lights.
 pub fn lp_hf(
     path: PathOptions,
     options: PortalOptions,
+    lights: LightNextEvent,
 ) -> Result<PathTracer<PortalNextEvent>, PortalError> {
     if !(0.0..=1.0).contains(&options.light_mix) {
         return Err(PortalError::Parameters(format!(
@@ -80,7 +80,6 @@ pub fn lp_hf(
             options.light_mix
         )));
     }
-    let lights = LightNextEvent::new(options.light_selection);
     Ok(PathTracer::new(
         "lp_hf",
         PortalNextEvent {

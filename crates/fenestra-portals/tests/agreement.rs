@@ -1,12 +1,14 @@
 //! lp_hf must agree with af_hf within their standard errors, whatever the portals: exact,
 //! half-size (BSDF sampling covers the rest), four times too large (a wrong MIS weight on
-//! either technique would show), mixed with light sampling, and behind thin glass.
+//! either technique would show), mixed with light sampling (by power or by the light BVH),
+//! and behind thin glass.
 
 use fenestra_builtin as builtin;
 use fenestra_core::mis::MisHeuristic;
 use fenestra_core::Vec3;
+use fenestra_manylights::LightBvh;
 use fenestra_portals::{lp_hf, PortalChoice, PortalOptions, PortalSampling};
-use fenestra_render::integrator::{af_hf, hf, PathOptions};
+use fenestra_render::integrator::{af_hf, hf, LightNextEvent, PathOptions};
 use fenestra_render::light::LightSelection;
 use fenestra_render::{render_image, Film, Integrator, RenderScene, RenderSettings};
 use fenestra_scene::{Backend, Scene, SceneDesc};
@@ -35,7 +37,12 @@ fn path(mis: MisHeuristic, depth: u32) -> PathOptions {
 }
 
 fn portals(options: PortalOptions, mis: MisHeuristic, depth: u32) -> impl Integrator {
-    lp_hf(path(mis, depth), options).expect("lp_hf")
+    lp_hf(
+        path(mis, depth),
+        options,
+        LightNextEvent::new(LightSelection::Power),
+    )
+    .expect("lp_hf")
 }
 
 fn assert_agree(label: &str, a: &Film, b: &Film) {
@@ -112,6 +119,21 @@ fn lp_hf_agrees_with_af_hf_with_exact_small_and_large_portals() {
                     &lp,
                 );
             }
+            // The light share drawn from the light BVH instead of by power.
+            let bvh = LightNextEvent::with_sampler("bvh", |s: &RenderScene| {
+                Box::new(LightBvh::new(&s.scene, &s.lights))
+            });
+            let options = PortalOptions {
+                light_mix: 0.5,
+                ..Default::default()
+            };
+            let mut lp = lp_hf(path(power, depth), options, bvh).expect("lp_hf");
+            let lp = render(scaled(load(), 0.5), &mut lp, 512);
+            assert_agree(
+                &format!("{scene}: af_hf vs lp_hf mixed with the light BVH, depth {depth}"),
+                &af,
+                &lp,
+            );
         }
     }
 }
@@ -166,7 +188,11 @@ fn lp_hf_refuses_a_scene_without_portals_and_a_bad_mixture() {
         light_mix: 1.5,
         ..Default::default()
     };
-    let Err(e) = lp_hf(PathOptions::default(), bad) else {
+    let Err(e) = lp_hf(
+        PathOptions::default(),
+        bad,
+        LightNextEvent::new(LightSelection::Power),
+    ) else {
         panic!("a mixture of 1.5 was accepted");
     };
     assert!(e.to_string().contains("must lie in [0, 1], got 1.5"), "{e}");
