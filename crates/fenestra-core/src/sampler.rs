@@ -2,6 +2,8 @@
 //! dimension), never on the thread that draws them.
 
 use glam::Vec2;
+use sobol_burley::parts::{self, Int4};
+use std::sync::LazyLock;
 
 /// Owen-scrambled Sobol points (Burley 2020), padded: dimensions are taken four at a time
 /// from the 4D Sobol set, each group with its own scrambling seed, which keeps 4D
@@ -61,7 +63,7 @@ impl Sampler {
             self.group_index = d / 4;
             let block = self.index / SOBOL_LENGTH;
             let seed = hash_combine(hash_combine(self.pixel_seed, d / 4), block);
-            self.group = sobol_burley::sample_4d(self.index % SOBOL_LENGTH, 0, seed);
+            self.group = sobol_4d(self.index % SOBOL_LENGTH, seed);
         }
         self.group[(d % 4) as usize]
     }
@@ -76,9 +78,59 @@ impl Sampler {
     }
 }
 
+/// The unscrambled 4D Sobol points (bit-reversed, as sobol_burley keeps them) of the
+/// reversed indices `b << 24` (first 256) and `b << 16` (last 256).
+static SOBOL_BYTES: LazyLock<[[u32; 4]; 512]> = LazyLock::new(|| {
+    let mut t = [[0; 4]; 512];
+    for b in 0..256u32 {
+        t[b as usize] = parts::sobol_int4_rev(b << 24, 0).into();
+        t[256 + b as usize] = parts::sobol_int4_rev(b << 16, 0).into();
+    }
+    t
+});
+
+/// `sobol_burley::sample_4d(index, 0, seed)`, bit for bit, with the Sobol matrix product
+/// replaced by two table lookups: the product is linear over GF(2), so the point of a
+/// 16-bit index is the XOR of the points of its two bytes. The crate's loop over the
+/// index's set bits took a sixth of an af_hf render's time.
+fn sobol_4d(index: u32, seed: u32) -> [f32; 4] {
+    debug_assert!(index < SOBOL_LENGTH);
+    // Burley's index shuffle: a nested uniform scramble of the reversed index.
+    let shuffled_rev =
+        parts::owen_scramble_rev(index.reverse_bits(), parts::hash(seed ^ 0x79c6_8e4a));
+    let t = &*SOBOL_BYTES;
+    let high: Int4 = t[(shuffled_rev >> 24) as usize].into();
+    let low: Int4 = t[256 + ((shuffled_rev >> 16) & 0xff) as usize].into();
+    let s = seed.wrapping_mul(0x9c8f_2d3b);
+    let scramble: Int4 = [
+        s ^ 0x912f_69ba,
+        s ^ 0x174f_18ab,
+        s ^ 0x691e_72ca,
+        s ^ 0xb40c_c1b8,
+    ]
+    .into();
+    parts::owen_scramble_int4_rev(high ^ low, parts::hash_int4(scramble))
+        .reverse_bits()
+        .to_f32_norm()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn table_sobol_equals_the_crates() {
+        for seed in [0, 1, 0xdead_beef, 12345] {
+            for index in (0..SOBOL_LENGTH).step_by(7) {
+                let seed = hash_u32(seed ^ index);
+                assert_eq!(
+                    sobol_4d(index, seed),
+                    sobol_burley::sample_4d(index, 0, seed),
+                    "index {index} seed {seed}"
+                );
+            }
+        }
+    }
 
     #[test]
     fn streams_are_reproducible_and_distinct() {

@@ -18,6 +18,8 @@ pub struct RenderScene {
     pub bsdfs: Vec<Bsdf>,
     /// Every light, emissive shapes included.
     pub lights: Lights,
+    /// Whether any material is thin glass: without it a visibility ray is an any-hit query.
+    thin_glass: bool,
 }
 
 impl RenderScene {
@@ -34,10 +36,12 @@ impl RenderScene {
             bsdfs.push(b);
         }
         let lights = Lights::new(&scene);
+        let thin_glass = bsdfs.iter().any(|b| matches!(b, Bsdf::ThinDielectric(_)));
         RenderScene {
             scene,
             bsdfs,
             lights,
+            thin_glass,
         }
     }
 
@@ -67,6 +71,13 @@ impl RenderScene {
     /// Transmittance of the segment from the ray's origin to `tmax` (zero when anything but
     /// thin glass blocks it).
     pub fn transmittance(&self, ray: Ray, tmax: f32) -> Rgb {
+        if !self.thin_glass {
+            return if self.scene.occluded(&ray, tmax) {
+                Rgb::ZERO
+            } else {
+                Rgb::ONE
+            };
+        }
         match self.through_glass(ray, tmax) {
             (tr, None) => tr,
             (_, Some(_)) => Rgb::ZERO,

@@ -1,6 +1,6 @@
 //! The local geometry at a ray hit.
 
-use crate::shape::{Shape, ShapeKind};
+use crate::shape::{Shape, ShapeKind, TriangleMesh};
 use crate::Hit;
 use fenestra_core::ray::{offset_distance, offset_origin, robust_normalize};
 use fenestra_core::{Frame, Ray, Vec2, Vec3, INV_2PI, INV_PI};
@@ -66,16 +66,10 @@ impl SurfaceInteraction {
         let prim = hit.prim as usize;
         let (p, mut ng, mut ns, dpdu, uv, offset) = match &shape.kind {
             ShapeKind::Mesh(m) => {
+                let (b1, b2) = (hit.u, hit.v);
+                let MeshPoint { p, ng, ns, offset } = MeshPoint::new(m, prim, b1, b2);
                 let [i0, i1, i2] = m.indices[prim].map(|i| i as usize);
                 let [p0, p1, p2] = [m.positions[i0], m.positions[i1], m.positions[i2]];
-                let (b1, b2) = (hit.u, hit.v);
-                let b0 = 1.0 - b1 - b2;
-                let p = p0 * b0 + p1 * b1 + p2 * b2;
-                // Rounding of the interpolation (pbrt's bound, as a scalar): it moves p off the
-                // triangle's plane by at most a few ulps of the terms summed.
-                let scale = (p0 * b0).abs() + (p1 * b1).abs() + (p2 * b2).abs();
-                let offset = offset_distance(scale.max_element());
-                let mut ng = robust_normalize((p1 - p0).cross(p2 - p0));
                 let (uv, dpdu) = match &m.uvs {
                     Some(uv) => {
                         let [t0, t1, t2] = [uv[i0], uv[i1], uv[i2]];
@@ -87,24 +81,10 @@ impl SurfaceInteraction {
                         } else {
                             p1 - p0
                         };
+                        let b0 = 1.0 - b1 - b2;
                         (t0 * b0 + t1 * b1 + t2 * b2, dpdu)
                     }
                     None => (Vec2::new(b1, b2), p1 - p0),
-                };
-                let ns = match &m.normals {
-                    Some(n) => {
-                        let ns = robust_normalize(n[i0] * b0 + n[i1] * b1 + n[i2] * b2);
-                        if ns == Vec3::ZERO {
-                            ng
-                        } else {
-                            // pbrt's convention: vertex normals say which side is outside.
-                            if ng.dot(ns) < 0.0 {
-                                ng = -ng;
-                            }
-                            ns
-                        }
-                    }
-                    None => ng,
                 };
                 (p, ng, ns, dpdu, uv, offset)
             }
@@ -151,5 +131,64 @@ impl SurfaceInteraction {
             t: hit.t,
             offset,
         }
+    }
+}
+
+/// A point of a triangle given by barycentrics: what a ray hit there would see of its
+/// position and normals, without the parametrisation (light sampling needs no more).
+pub struct MeshPoint {
+    /// The point.
+    pub p: Vec3,
+    /// Geometric normal, on the side the vertex normals call outside (not yet flipped by
+    /// the shape's `flip_normals`).
+    pub ng: Vec3,
+    /// Shading normal (`ng` without vertex normals).
+    pub ns: Vec3,
+    /// Rounding bound of `p` (see [`SurfaceInteraction::offset`]).
+    pub offset: f32,
+}
+
+impl MeshPoint {
+    /// Triangle `prim` of `m` at barycentrics (b1, b2) of its 2nd and 3rd vertex.
+    pub fn new(m: &TriangleMesh, prim: usize, b1: f32, b2: f32) -> Self {
+        let [i0, i1, i2] = m.indices[prim].map(|i| i as usize);
+        let [p0, p1, p2] = [m.positions[i0], m.positions[i1], m.positions[i2]];
+        let b0 = 1.0 - b1 - b2;
+        let p = p0 * b0 + p1 * b1 + p2 * b2;
+        // Rounding of the interpolation (pbrt's bound, as a scalar): it moves p off the
+        // triangle's plane by at most a few ulps of the terms summed.
+        let scale = (p0 * b0).abs() + (p1 * b1).abs() + (p2 * b2).abs();
+        let offset = offset_distance(scale.max_element());
+        let mut ng = robust_normalize((p1 - p0).cross(p2 - p0));
+        let ns = match &m.normals {
+            Some(n) => {
+                let ns = robust_normalize(n[i0] * b0 + n[i1] * b1 + n[i2] * b2);
+                if ns == Vec3::ZERO {
+                    ng
+                } else {
+                    // pbrt's convention: vertex normals say which side is outside.
+                    if ng.dot(ns) < 0.0 {
+                        ng = -ng;
+                    }
+                    ns
+                }
+            }
+            None => ng,
+        };
+        MeshPoint { p, ng, ns, offset }
+    }
+
+    /// The point of the mesh shape `shape` (`None` for analytic shapes), its normals on the
+    /// side a ray hit there would report.
+    pub fn on_shape(shape: &Shape, prim: usize, b1: f32, b2: f32) -> Option<Self> {
+        let ShapeKind::Mesh(m) = &shape.kind else {
+            return None;
+        };
+        let mut point = Self::new(m, prim, b1, b2);
+        if shape.flip_normals {
+            point.ng = -point.ng;
+            point.ns = -point.ns;
+        }
+        Some(point)
     }
 }

@@ -11,7 +11,7 @@ use crate::light::{LightContext, LightHit};
 use crate::render_scene::RenderScene;
 use fenestra_core::mis::MisHeuristic;
 use fenestra_core::stats::{RayCounters, RenderStats};
-use fenestra_core::{Rgb, Sampler, Vec3};
+use fenestra_core::{Frame, Rgb, Sampler, Vec3};
 use fenestra_scene::SurfaceInteraction;
 
 /// A shading point as next-event strategies see it.
@@ -21,6 +21,8 @@ pub struct Shading<'a> {
     pub si: &'a SurfaceInteraction,
     /// Its BSDF.
     pub bsdf: &'a Bsdf,
+    /// Its shading frame (computed once per vertex, used by every light sample).
+    pub frame: Frame,
     /// Direction towards where the path came from (world).
     pub wo: Vec3,
     /// `wo` in the shading frame.
@@ -49,7 +51,7 @@ impl Shading<'_> {
     /// The BSDF for light arriving from `wi` (world): the local direction and f, or `None`
     /// when the sides disagree or f vanishes.
     pub fn bsdf_toward(&self, wi: Vec3) -> Option<(Vec3, Rgb)> {
-        let wi_local = self.si.shading_frame().to_local(wi);
+        let wi_local = self.frame.to_local(wi);
         if !self.sides_agree(wi, wi_local.z) {
             return None;
         }

@@ -183,6 +183,7 @@ impl<N: NextEvent> PathEstimator for PathTracer<N> {
             let shading = Shading {
                 si: &si,
                 bsdf,
+                frame,
                 wo,
                 wo_local: frame.to_local(wo),
                 sample: ctx,

@@ -5,8 +5,9 @@
 use super::LightSample;
 use fenestra_core::ray::{robust_length, robust_normalize};
 use fenestra_core::{warp, Frame, Rgb, Vec2, Vec3, PI};
+use fenestra_scene::interaction::MeshPoint;
 use fenestra_scene::light::Emission;
-use fenestra_scene::{Scene, ShapeKind, SurfaceInteraction};
+use fenestra_scene::{Scene, Shape, ShapeKind, SurfaceInteraction};
 
 /// A diffuse emitter: one triangle of a mesh, or a whole sphere or disk.
 #[derive(Clone, Debug)]
@@ -51,7 +52,12 @@ impl AreaLight {
         if (si.shape, si.prim) != (self.shape, self.prim) {
             return Rgb::ZERO;
         }
-        if self.emission.two_sided || si.ng.dot(w) > 0.0 {
+        self.emitted(si.ng, w)
+    }
+
+    /// Radiance leaving the emitter's surface of geometric normal `ng` towards `w`.
+    fn emitted(&self, ng: Vec3, w: Vec3) -> Rgb {
+        if self.emission.two_sided || ng.dot(w) > 0.0 {
             self.emission.radiance
         } else {
             Rgb::ZERO
@@ -101,41 +107,53 @@ impl AreaLight {
             return None;
         }
         let shape = &scene.shapes[self.shape];
-        let (si, pdf) = match &shape.kind {
+        let (q, ng, pdf) = match &shape.kind {
             ShapeKind::Sphere { center, radius }
                 if Self::sphere_cone(*center, *radius, p).is_some() =>
             {
                 let cone = Self::sphere_cone(*center, *radius, p)?;
                 let q = Self::sample_sphere(*center, *radius, p, cone, u);
                 let si = SurfaceInteraction::on_surface(shape, self.shape, 0, q, 0.0, 0.0);
-                (si, warp::uniform_cone_pdf(cone.1))
+                (si.p, si.ng, warp::uniform_cone_pdf(cone.1))
             }
             _ => {
-                let (prim, point, b) = self.sample_area(&shape.kind, u);
-                let si = SurfaceInteraction::on_surface(shape, self.shape, prim, point, b.x, b.y);
-                let d = si.p - p;
+                let (q, ng) = self.sample_point(shape, u);
+                let d = q - p;
                 let pdf = warp::area_to_solid_angle(
                     1.0 / self.area,
                     d.length_squared(),
-                    si.ng.dot(d.normalize_or_zero()),
+                    ng.dot(d.normalize_or_zero()),
                 );
-                (si, pdf)
+                (q, ng, pdf)
             }
         };
-        let d = si.p - p;
+        let d = q - p;
         let dist = d.length();
         if pdf <= 0.0 || dist == 0.0 {
             return None;
         }
         let wi = d / dist;
-        let li = self.le(&si, -wi);
+        let li = self.emitted(ng, -wi);
         (!li.is_black()).then_some(LightSample {
             wi,
             li,
             pdf,
-            point: Some(si.p),
+            point: Some(q),
             delta: false,
         })
+    }
+
+    /// A point uniform by area on the emitter and its geometric normal, as a ray hitting it
+    /// there would see them.
+    fn sample_point(&self, shape: &Shape, u: Vec2) -> (Vec3, Vec3) {
+        let (prim, point, b) = self.sample_area(&shape.kind, u);
+        match MeshPoint::on_shape(shape, prim, b.x, b.y) {
+            Some(m) => (m.p, m.ng),
+            None => {
+                let si = SurfaceInteraction::on_surface(shape, self.shape, prim, point, b.x, b.y);
+                (si.p, si.ng)
+            }
+        }
     }
 
     /// A ray leaving the emitter: a point uniform by area, a cosine-weighted direction on its
@@ -147,9 +165,7 @@ impl AreaLight {
         mut u_dir: Vec2,
     ) -> Option<super::EmittedRay> {
         let shape = &scene.shapes[self.shape];
-        let (prim, point, b) = self.sample_area(&shape.kind, u_pos);
-        let si = SurfaceInteraction::on_surface(shape, self.shape, prim, point, b.x, b.y);
-        let mut n = si.ng;
+        let (origin, mut n) = self.sample_point(shape, u_pos);
         if self.emission.two_sided {
             u_dir.x *= 2.0;
             if u_dir.x >= 1.0 {
@@ -158,7 +174,7 @@ impl AreaLight {
             }
         }
         let dir = Frame::from_normal(n).to_world(warp::square_to_cosine_hemisphere(u_dir));
-        (n != Vec3::ZERO).then_some(super::EmittedRay { origin: si.p, dir })
+        (n != Vec3::ZERO).then_some(super::EmittedRay { origin, dir })
     }
 
     /// Uniform point on the emitter by area: (primitive, point, barycentrics).
