@@ -146,9 +146,11 @@ def triangle_mesh(params, path, index, folder):
     return name
 
 
-def convert(path, spp, max_depth, rr_depth, folder):
+def convert(path, spp, max_depth, rr_depth, folder, resolution=None):
     """Mitsuba scene dictionary of the pbrt file at `path`, and the replacements made.
 
+    `resolution` (width, height) replaces the file's, as fenestra's --resolution does (the
+    field of view stays that of the shorter side).
     Triangle meshes are written as PLY files into `folder`; max_depth counts path segments
     (2 = direct light), as fenestra's --max-depth and Mitsuba's path integrator do.
     """
@@ -221,6 +223,8 @@ def convert(path, spp, max_depth, rr_depth, folder):
                 raise Unsupported(f"directive {word}")
         except Unsupported as e:
             raise Unsupported(f"{where}: {e} (not in what fenestra's exporter writes)") from None
+    if resolution:
+        width, height = resolution
     # pbrt's camera looks down +z with +x to the image's right; Mitsuba's +x is the image's left.
     to_world = np.linalg.inv(camera_from_world) @ np.diag([-1.0, 1.0, 1.0, 1.0])
     import mitsuba as mi
@@ -235,15 +239,29 @@ def convert(path, spp, max_depth, rr_depth, folder):
     return scene, sorted(replaced)
 
 
+def ply_has_normals(filename):
+    with open(filename, "rb") as f:
+        header = b""
+        while not header.endswith(b"end_header\n"):
+            line = f.readline()
+            if not line:
+                raise Unsupported(f"{filename}: not a PLY file")
+            header += line
+    return b"property float nx" in header
+
+
 def shape_dict(kind, params, base, index, folder, ctm):
     import mitsuba as mi
     to_world = mi.ScalarTransform4f(ctm.tolist())
-    if kind == "trianglemesh":
-        return {"type": "ply", "filename": triangle_mesh(params, base, index, folder),
-                "to_world": to_world}
-    if kind == "plymesh":
-        return {"type": "ply", "filename": os.path.join(base, params["filename"][1][0]),
-                "to_world": to_world}
+    if kind in ("trianglemesh", "plymesh"):
+        if kind == "trianglemesh":
+            filename = triangle_mesh(params, base, index, folder)
+        else:
+            filename = os.path.join(base, params["filename"][1][0])
+        # Without vertex normals fenestra (and pbrt) shade with the face normal; Mitsuba would
+        # compute smooth vertex normals unless told not to.
+        return {"type": "ply", "filename": filename, "to_world": to_world,
+                "face_normals": not ply_has_normals(filename)}
     if kind == "sphere":
         return {"type": "sphere", "radius": floats(params, "radius", [1.0])[0],
                 "to_world": to_world}
