@@ -35,6 +35,10 @@ pub struct EstimateOpts {
     /// Give up after this many beams if the photons are not gathered.
     #[arg(long, default_value_t = 1 << 22)]
     max_beams: u64,
+    /// Stop tracing photons once portals fitted to 1.5 times as many photons lie within this
+    /// fraction of their size of the previous fit's (0: trace to the photon target).
+    #[arg(long, default_value_t = 0.01)]
+    settle: f64,
     /// DBSCAN: neighbourhood radius eps, metres.
     #[arg(long, default_value_t = 0.125)]
     eps: f32,
@@ -92,6 +96,7 @@ impl EstimateOpts {
         p.photons.deposit = self.deposit;
         p.photons.target = self.photons;
         p.photons.max_beams = self.max_beams;
+        p.settle = (self.settle != 0.0).then_some(self.settle);
         p.photons.seed = self.seed;
         p.dbscan.eps = self.eps;
         p.dbscan.min_points = self.min_points;

@@ -62,6 +62,11 @@ pub struct EstimateParams {
     pub mvce_eps: f64,
     /// The shape fitted to each cluster.
     pub model: Model,
+    /// Stop tracing photons once the portals fitted to them settle: when the portals of
+    /// 1.5 times as many photons lie within this fraction of their size of the previous ones
+    /// (`None`, as in estimates made before it existed: trace to the target).
+    #[serde(default)]
+    pub settle: Option<f64>,
 }
 
 impl Default for EstimateParams {
@@ -72,6 +77,7 @@ impl Default for EstimateParams {
             ransac: Ransac::default(),
             mvce_eps: 1e-3,
             model: Model::Smallest,
+            settle: Some(0.01),
         }
     }
 }
@@ -149,6 +155,7 @@ impl Estimate {
                 rays: self.photons.rays,
                 deposit: self.photons.deposit,
                 interrupted: self.photons.interrupted,
+                settled: self.photons.settled,
                 clusters: self.clusters.len(),
                 time_s: self.timings,
             }),
@@ -167,6 +174,8 @@ impl Estimate {
             ph.rays,
             if ph.interrupted {
                 ", interrupted".to_string()
+            } else if ph.settled {
+                format!(" (portals settled before the {} aimed at)", ph.target)
             } else if ph.points.len() < ph.target {
                 format!(" (the beam limit came before the {} aimed at)", ph.target)
             } else {
@@ -212,20 +221,49 @@ pub fn estimate(
     progress: &dyn Progress,
 ) -> Result<Estimate, PortalError> {
     let t0 = Instant::now();
-    let photons = {
-        params.validate()?;
-        trace(scene, &params.photons, cancel, progress)?
+    params.validate()?;
+    let mut settling = Settling {
+        scene,
+        params,
+        deposit: crate::photon::deposit_rule(scene, &params.photons),
+        next_fit: FIRST_FIT,
+        last: None,
     };
+    let photons = trace(scene, &params.photons, cancel, progress, &mut |points| {
+        settling.settled(points)
+    })?;
     let t1 = Instant::now();
-    let clusters = dbscan(&photons.points, params.dbscan);
+    let (clusters, portals, fit_timings) =
+        fit_portals(scene, &photons.points, photons.deposit, params);
+    Ok(Estimate {
+        photons,
+        clusters,
+        portals,
+        timings: Timings {
+            photons: (t1 - t0).as_secs_f64(),
+            ..fit_timings
+        },
+    })
+}
+
+/// DBSCAN clusters of the photons (largest first), a portal fitted to each, and the seconds
+/// each stage took (photon tracing's left zero).
+fn fit_portals(
+    scene: &RenderScene,
+    points: &[Vec3],
+    deposit: Deposit,
+    params: &EstimateParams,
+) -> (Vec<Vec<usize>>, Vec<Estimated>, Timings) {
+    let t1 = Instant::now();
+    let clusters = dbscan(points, params.dbscan);
     let t2 = Instant::now();
+    let ring = deposit == Deposit::Depth;
     let portals = clusters
         .iter()
         .enumerate()
         .filter_map(|(k, c)| {
-            let points: Vec<Vec3> = c.iter().map(|&i| photons.points[i]).collect();
-            let ring = photons.deposit == Deposit::Depth;
-            fit_cluster(&points, params, ring).map(|mut e| {
+            let cluster: Vec<Vec3> = c.iter().map(|&i| points[i]).collect();
+            fit_cluster(&cluster, params, ring).map(|mut e| {
                 e.cluster = k;
                 if ring {
                     e.portal = snap_to_opening(&scene.scene, &e.portal);
@@ -235,16 +273,58 @@ pub fn estimate(
         })
         .collect();
     let t3 = Instant::now();
-    Ok(Estimate {
-        photons,
-        clusters,
-        portals,
-        timings: Timings {
-            photons: (t1 - t0).as_secs_f64(),
-            clustering: (t2 - t1).as_secs_f64(),
-            fitting: (t3 - t2).as_secs_f64(),
-        },
-    })
+    let timings = Timings {
+        photons: 0.0,
+        clustering: (t2 - t1).as_secs_f64(),
+        fitting: (t3 - t2).as_secs_f64(),
+    };
+    (clusters, portals, timings)
+}
+
+/// Photons before the first fit of the settling test.
+const FIRST_FIT: usize = 64;
+
+/// The settling test of [`EstimateParams::settle`]: portals fitted to the photons each time
+/// their number has grown by half, compared with the previous fit.
+struct Settling<'a> {
+    scene: &'a RenderScene,
+    params: &'a EstimateParams,
+    deposit: Deposit,
+    next_fit: usize,
+    last: Option<Vec<Portal>>,
+}
+
+impl Settling<'_> {
+    fn settled(&mut self, points: &[Vec3]) -> bool {
+        let Some(tolerance) = self.params.settle else {
+            return false;
+        };
+        if points.len() < self.next_fit {
+            return false;
+        }
+        self.next_fit = points.len() + points.len() / 2;
+        let (_, fitted, _) = fit_portals(self.scene, points, self.deposit, self.params);
+        let portals: Vec<Portal> = fitted.into_iter().map(|e| e.portal).collect();
+        let settled = !portals.is_empty()
+            && self.last.as_ref().is_some_and(|last| {
+                last.len() == portals.len()
+                    && portals
+                        .iter()
+                        .all(|p| last.iter().any(|q| same_portal(p, q, tolerance)))
+            });
+        self.last = Some(portals);
+        settled
+    }
+}
+
+/// Whether two portals cover the same opening: parallel, centres and sizes within
+/// `tolerance` times the portal's size (square root of its area).
+fn same_portal(a: &Portal, b: &Portal, tolerance: f64) -> bool {
+    let size = (a.area() as f64).sqrt();
+    let parallel = (a.normal().dot(b.normal()) as f64).abs() >= 1.0 - tolerance * tolerance;
+    let centres = (a.center() - b.center()).length() as f64 <= tolerance * size;
+    let sizes = ((b.area() as f64).sqrt() - size).abs() <= tolerance * size;
+    parallel && centres && sizes
 }
 
 impl EstimateParams {
@@ -254,6 +334,12 @@ impl EstimateParams {
             return Err(PortalError::Parameters(
                 "DBSCAN needs eps > 0 and m >= 1".into(),
             ));
+        }
+        if self.settle.is_some_and(|t| !(t > 0.0 && t < 1.0)) {
+            return Err(PortalError::Parameters(format!(
+                "the settling tolerance must lie in (0, 1), not {}",
+                self.settle.unwrap_or_default()
+            )));
         }
         if !(self.ransac.eps > 0.0) || !(0.0..=1.0).contains(&self.ransac.tau) {
             return Err(PortalError::Parameters(

@@ -91,6 +91,8 @@ pub struct Photons {
     pub target: usize,
     /// Tracing stopped by the user before the target was reached.
     pub interrupted: bool,
+    /// Tracing stopped before the target because the caller found the photons enough.
+    pub settled: bool,
 }
 
 /// Beams traced between checks of the target and of Ctrl-C; the photons of a batch are added
@@ -100,12 +102,14 @@ const BATCH: u64 = 8192;
 const CHUNK: u64 = 256;
 
 /// Traces cone-beams from the scene's lights until the target number of photons is gathered,
-/// `params.max_beams` beams are spent or `cancel` is set (then the photons so far are kept).
+/// `params.max_beams` beams are spent, `enough` says so of the photons so far (asked after
+/// each batch) or `cancel` is set (then the photons so far are kept).
 pub fn trace(
     scene: &RenderScene,
     params: &PhotonParams,
     cancel: &AtomicBool,
     progress: &dyn Progress,
+    enough: &mut dyn FnMut(&[Vec3]) -> bool,
 ) -> Result<Photons, PortalError> {
     let lights = &scene.lights.lights;
     let powers: Vec<f32> = lights.iter().map(|l| l.power(&scene.scene)).collect();
@@ -131,17 +135,8 @@ pub fn trace(
             "a beam needs at least one ray and a non-negative rejection radius".into(),
         ));
     }
-    let glass: Vec<bool> = scene
-        .scene
-        .shapes
-        .iter()
-        .map(|s| scene.bsdfs[s.material].is_transmissive())
-        .collect();
-    let deposit = params.deposit.unwrap_or(if glass.iter().any(|&g| g) {
-        Deposit::Material
-    } else {
-        Deposit::Depth
-    });
+    let glass = glass_shapes(scene);
+    let deposit = deposit_rule(scene, params);
     let target = params.target.unwrap_or(match deposit {
         Deposit::Depth => 8192,
         Deposit::Material => 32768,
@@ -162,6 +157,7 @@ pub fn trace(
         rays: 0,
         deposit,
         interrupted: false,
+        settled: false,
     };
     while photons.points.len() < target && photons.beams < params.max_beams {
         if cancel.load(Ordering::Relaxed) {
@@ -191,8 +187,34 @@ pub fn trace(
         photons.beams = end;
         photons.points.truncate(target);
         progress.advance((photons.points.len() - before) as u64);
+        if photons.points.len() < target && enough(&photons.points) {
+            photons.settled = true;
+            break;
+        }
     }
     Ok(photons)
+}
+
+/// Which shapes are glass (transmissive materials).
+fn glass_shapes(scene: &RenderScene) -> Vec<bool> {
+    scene
+        .scene
+        .shapes
+        .iter()
+        .map(|s| scene.bsdfs[s.material].is_transmissive())
+        .collect()
+}
+
+/// The deposit rule `trace` uses: the parameters', else material when the scene has glass,
+/// depth discontinuities otherwise.
+pub fn deposit_rule(scene: &RenderScene, params: &PhotonParams) -> Deposit {
+    params
+        .deposit
+        .unwrap_or(if glass_shapes(scene).iter().any(|&g| g) {
+            Deposit::Material
+        } else {
+            Deposit::Depth
+        })
 }
 
 struct BeamTracer<'a> {

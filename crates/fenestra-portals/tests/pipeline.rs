@@ -10,16 +10,45 @@ use fenestra_scene::{Backend, Scene};
 use std::sync::atomic::AtomicBool;
 
 fn run(name: &str) -> (RenderScene, Estimate) {
+    run_with(name, &EstimateParams::default())
+}
+
+fn run_with(name: &str, params: &EstimateParams) -> (RenderScene, Estimate) {
     let desc = builtin::load(name).expect("builtin");
     let scene = RenderScene::new(Scene::build(desc, Backend::Obvhs).expect("scene"));
-    let e = estimate(
-        &scene,
-        &EstimateParams::default(),
-        &AtomicBool::new(false),
-        &NoProgress,
-    )
-    .expect("estimate");
+    let e = estimate(&scene, params, &AtomicBool::new(false), &NoProgress).expect("estimate");
     (scene, e)
+}
+
+#[test]
+fn settled_portals_are_those_of_the_full_photon_target() {
+    // box-4holes reaches its 8192 photons; settling stops well before with the same portals.
+    let full = EstimateParams {
+        settle: None,
+        ..EstimateParams::default()
+    };
+    let (_, all) = run_with("box-4holes", &full);
+    let (_, early) = run("box-4holes");
+    assert!(!all.photons.settled && early.photons.settled);
+    assert!(
+        early.photons.beams * 2 <= all.photons.beams,
+        "settling traced {} of {} beams",
+        early.photons.beams,
+        all.photons.beams
+    );
+    assert_eq!(early.portals.len(), all.portals.len());
+    for p in &all.portals {
+        let (c, a) = (p.portal.center(), p.portal.area());
+        assert!(
+            early
+                .portals
+                .iter()
+                .any(|q| (q.portal.center() - c).length() < 1e-4
+                    && (q.portal.area() - a).abs() < 1e-4 * a),
+            "no settled portal matches {:?}",
+            p.portal
+        );
+    }
 }
 
 /// Whether `portal` covers the quad `hole` (corners in order): every corner, pulled 0.1 mm
@@ -116,8 +145,16 @@ fn photons_do_not_depend_on_the_thread_count() {
             .num_threads(threads)
             .build()
             .expect("pool");
-        pool.install(|| trace(&scene, &params, &AtomicBool::new(false), &NoProgress))
-            .expect("photons")
+        pool.install(|| {
+            trace(
+                &scene,
+                &params,
+                &AtomicBool::new(false),
+                &NoProgress,
+                &mut |_| false,
+            )
+        })
+        .expect("photons")
     };
     let (one, three) = (with(1), with(3));
     assert_eq!(one.points.len(), 3000);

@@ -63,6 +63,9 @@ pub struct EstimationRecord {
     pub deposit: Deposit,
     /// Whether photon tracing was stopped by the user.
     pub interrupted: bool,
+    /// Whether photon tracing stopped early because the portals had settled.
+    #[serde(default)]
+    pub settled: bool,
     /// Clusters found.
     pub clusters: usize,
     /// Seconds per stage.
