@@ -10,7 +10,7 @@
 
 use crate::error::PortalError;
 use crate::estimate::{estimate, EstimateParams};
-use crate::portal::{PortalChoice, PortalFile, PortalRecord, PortalSampling, Portals, Side};
+use crate::portal::{PickWeights, PortalChoice, PortalFile, PortalRecord, PortalSampling, Portals};
 use fenestra_core::mis::MisHeuristic;
 use fenestra_core::stats::{RayCounters, RenderStats};
 use fenestra_core::{Ray, Rgb, Sampler, Vec3};
@@ -134,13 +134,12 @@ fn cached<'a>(path: &'a Path, params: &EstimateParams) -> Option<(&'a Path, Port
         .map(|p| (path, p))
 }
 
-/// What lp_hf keeps of a shading vertex: which side light may arrive from, and the portals'
-/// total pick weight there (computed once per vertex, used by the sample and by the MIS
-/// weight of the next BSDF-sampled ray).
+/// What lp_hf keeps of a shading vertex: the portals' pick weights there, for the side light
+/// may arrive from (computed once per vertex, used by the sample and by the MIS weight of the
+/// next BSDF-sampled ray).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct PortalVertex {
-    side: Side,
-    total: f32,
+    weights: PickWeights,
 }
 
 impl PortalNextEvent {
@@ -170,20 +169,20 @@ impl PortalNextEvent {
         let light_sampler = self.lights.sampler();
         // The light sampled in light mode: only it may be found along the ray (as a shadow
         // ray would have it), so the mixture density counts that light's density alone.
-        let (wi, sampled) = if by_light {
+        let (wi, sampled, portal_pdf) = if by_light {
             let Some((index, _)) = light_sampler.sample(&ctx, u_pick) else {
                 return Rgb::ZERO;
             };
             match scene.lights.lights[index].sample_li(&scene.scene, si.p, u) {
                 // Dirac lights have their own estimator.
-                Some(ls) if !ls.delta => (ls.wi, Some(index)),
+                Some(ls) if !ls.delta => (ls.wi, Some(index), None),
                 _ => return Rgb::ZERO,
             }
         } else {
-            let Some(ps) = self.portals.sample(si.p, v.side, v.total, u_pick, u) else {
+            let Some(ps) = self.portals.sample(&v.weights, u_pick, u) else {
                 return Rgb::ZERO;
             };
-            (ps.wi, None)
+            (ps.wi, None, Some(ps.pdf))
         };
         let seen = |index: usize| sampled.is_none_or(|s| s == index);
         let Some((wi_local, f)) = s.bsdf_toward(wi) else {
@@ -228,8 +227,8 @@ impl PortalNextEvent {
         if li.is_black() {
             return Rgb::ZERO;
         }
-        let pdf =
-            (1.0 - light_mix) * self.portals.pdf(si.p, v.side, v.total, wi) + light_mix * light_pdf;
+        let portal_pdf = portal_pdf.unwrap_or_else(|| self.portals.pdf(&v.weights, wi));
+        let pdf = (1.0 - light_mix) * portal_pdf + light_mix * light_pdf;
         if !(pdf > 0.0) {
             return Rgb::ZERO;
         }
@@ -321,8 +320,7 @@ impl NextEvent for PortalNextEvent {
         // from both.
         let side = (!s.bsdf.is_transmissive()).then(|| s.si.ng * s.si.ng.dot(s.wo).signum());
         PortalVertex {
-            side,
-            total: self.portals.total_weight(s.si.p, side),
+            weights: self.portals.pick_weights(s.si.p, side),
         }
     }
 
@@ -354,7 +352,7 @@ impl NextEvent for PortalNextEvent {
     ) -> f32 {
         let v = &from.vertex;
         let light_mix = self.options.light_mix;
-        let mut p = (1.0 - light_mix) * self.portals.pdf(from.p, v.side, v.total, wi);
+        let mut p = (1.0 - light_mix) * self.portals.pdf(&v.weights, wi);
         if light_mix > 0.0 {
             p += light_mix
                 * self

@@ -52,6 +52,9 @@ impl RenderScene {
     /// counts no vertex for the straight-through part, so both techniques see the same
     /// light (MIS stays consistent).
     pub fn through_glass(&self, mut ray: Ray, mut tmax: f32) -> (Rgb, Option<Hit>) {
+        if !self.thin_glass {
+            return (Rgb::ONE, self.scene.intersect(&ray, tmax));
+        }
         let mut tr = Rgb::ONE;
         for _ in 0..MAX_PANES {
             let Some(hit) = self.scene.intersect(&ray, tmax) else {

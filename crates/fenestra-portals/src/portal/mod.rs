@@ -306,6 +306,19 @@ impl Portal {
 /// arrive from the front (opaque surfaces), `None` when it transmits.
 pub type Side = Option<Vec3>;
 
+/// Pick weights kept per shading point; more portals have theirs evaluated again when needed.
+const KEPT_WEIGHTS: usize = 8;
+
+/// The portals' pick weights at a shading point ([`Portals::pick_weights`]): the sample and
+/// the densities of later directions from the point all need them.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct PickWeights {
+    x: Vec3,
+    side: Side,
+    total: f32,
+    first: [f32; KEPT_WEIGHTS],
+}
+
 impl Portals {
     /// `portals`, sampled by solid angle and picked by contribution.
     pub fn new(portals: Vec<Portal>) -> Self {
@@ -375,41 +388,56 @@ impl Portals {
         }
     }
 
-    /// The sum of the pick weights at `x` (computed once per shading point and passed to
-    /// [`Portals::sample`] and [`Portals::pdf`]).
-    pub fn total_weight(&self, x: Vec3, side: Side) -> f32 {
-        self.geometry.iter().map(|g| self.weight(g, x, side)).sum()
+    /// The pick weights at `x` on the surface `side`, computed once per shading point and
+    /// passed to [`Portals::sample`] and [`Portals::pdf`].
+    pub fn pick_weights(&self, x: Vec3, side: Side) -> PickWeights {
+        let mut w = PickWeights {
+            x,
+            side,
+            total: 0.0,
+            first: [0.0; KEPT_WEIGHTS],
+        };
+        for (k, g) in self.geometry.iter().enumerate() {
+            let weight = self.weight(g, x, side);
+            if k < KEPT_WEIGHTS {
+                w.first[k] = weight;
+            }
+            w.total += weight;
+        }
+        w
+    }
+
+    /// Portal `k`'s pick weight at `w`'s point: kept, or evaluated again past the first
+    /// [`KEPT_WEIGHTS`] portals.
+    fn weight_at(&self, w: &PickWeights, k: usize, g: &Geometry) -> f32 {
+        match w.first.get(k) {
+            Some(&weight) => weight,
+            None => self.weight(g, w.x, w.side),
+        }
     }
 
     /// Picks a portal (by the choice rule) and a point on it (by the sampling rule); `None`
-    /// when no portal can be seen or the direction is degenerate. `total` is
-    /// [`Portals::total_weight`] at `x`.
-    pub fn sample(
-        &self,
-        x: Vec3,
-        side: Side,
-        total: f32,
-        u_pick: f32,
-        u: Vec2,
-    ) -> Option<PortalSample> {
-        if !(total > 0.0) {
+    /// when no portal can be seen or the direction is degenerate.
+    pub fn sample(&self, weights: &PickWeights, u_pick: f32, u: Vec2) -> Option<PortalSample> {
+        let x = weights.x;
+        if !(weights.total > 0.0) {
             return None;
         }
         // Walk the weights to the picked one (no allocation per sample).
-        let target = u_pick * total;
+        let target = u_pick * weights.total;
         let mut acc = 0.0;
         let mut picked = None;
-        for (p, g) in self.portals.iter().zip(&self.geometry) {
-            let w = self.weight(g, x, side);
+        for (k, (p, g)) in self.portals.iter().zip(&self.geometry).enumerate() {
+            let w = self.weight_at(weights, k, g);
             acc += w;
             if w > 0.0 {
-                picked = Some((p, g));
+                picked = Some((k, p, g));
                 if target < acc {
                     break;
                 }
             }
         }
-        let (portal, g) = picked?;
+        let (k, portal, g) = picked?;
         let spherical = (self.sampling == PortalSampling::SolidAngle && g.rectangle)
             .then(|| portal.spherical(x))
             .flatten();
@@ -421,29 +449,46 @@ impl Portals {
         if wi == Vec3::ZERO {
             return None;
         }
-        let pdf = self.pdf(x, side, total, wi);
+        let pdf = self.pdf_knowing(weights, wi, Some((k, spherical)));
         (pdf > 0.0 && pdf.is_finite()).then_some(PortalSample { wi, pdf })
     }
 
     /// Solid-angle density of sampling direction `wi` at `x`: the sum over the portals the
     /// ray crosses of the pick probability times that portal's density (area sampling:
-    /// (1/A) t^2 / |cos|, seed 000 ch. 4, p(Psi); solid-angle sampling: 1/S). `total` is
-    /// [`Portals::total_weight`] at `x`.
-    pub fn pdf(&self, x: Vec3, side: Side, total: f32, wi: Vec3) -> f32 {
+    /// (1/A) t^2 / |cos|, seed 000 ch. 4, p(Psi); solid-angle sampling: 1/S), from the point
+    /// of `weights`.
+    pub fn pdf(&self, weights: &PickWeights, wi: Vec3) -> f32 {
+        self.pdf_knowing(weights, wi, None)
+    }
+
+    /// [`Portals::pdf`], with portal `k`'s spherical rectangle at `x` already built (by
+    /// [`Portals::sample`], which picked it).
+    fn pdf_knowing(
+        &self,
+        weights: &PickWeights,
+        wi: Vec3,
+        known: Option<(usize, Option<SphericalRectangle>)>,
+    ) -> f32 {
+        let (x, total) = (weights.x, weights.total);
         if !(total > 0.0) {
             return 0.0;
         }
         self.portals
             .iter()
             .zip(&self.geometry)
-            .filter_map(|(p, g)| {
+            .enumerate()
+            .filter_map(|(k, (p, g))| {
                 let t = p.intersect_plane(x, wi, g.normal, g.center)?;
-                let pick = self.weight(g, x, side) / total;
+                let pick = self.weight_at(weights, k, g) / total;
                 if pick == 0.0 {
                     return Some(0.0);
                 }
                 if self.sampling == PortalSampling::SolidAngle && g.rectangle {
-                    if let Some(s) = p.spherical(x) {
+                    let spherical = match known {
+                        Some((j, s)) if j == k => s,
+                        _ => p.spherical(x),
+                    };
+                    if let Some(s) = spherical {
                         return Some(pick / s.solid_angle);
                     }
                 }
@@ -562,8 +607,8 @@ mod tests {
                             uniform(i, 0),
                             uniform(i, 0x9e37_79b9),
                         ));
-                        let total = portals.total_weight(x, side);
-                        sum += portals.pdf(x, side, total, d) as f64 * 4.0 * std::f64::consts::PI;
+                        let weights = portals.pick_weights(x, side);
+                        sum += portals.pdf(&weights, d) as f64 * 4.0 * std::f64::consts::PI;
                     }
                     let integral = sum / n as f64;
                     let what = format!("{sampling:?}, {choice:?}, side {side:?}");
@@ -571,11 +616,11 @@ mod tests {
                     // Sampled directions carry the density pdf() gives them.
                     for i in 0..200 {
                         let u = Vec2::new(uniform(i, 7), uniform(i, 8));
-                        let total = portals.total_weight(x, side);
-                        let Some(s) = portals.sample(x, side, total, uniform(i, 9), u) else {
+                        let weights = portals.pick_weights(x, side);
+                        let Some(s) = portals.sample(&weights, uniform(i, 9), u) else {
                             panic!("{what}: no sample for {u} {}", uniform(i, 9));
                         };
-                        let p = portals.pdf(x, side, total, s.wi);
+                        let p = portals.pdf(&weights, s.wi);
                         assert!((s.pdf / p - 1.0).abs() < 1e-4, "{what}: {} vs {p}", s.pdf);
                     }
                 }
