@@ -233,27 +233,37 @@ pub fn estimate(
         settling.settled(points)
     })?;
     let t1 = Instant::now();
-    let (clusters, portals, fit_timings) =
-        fit_portals(scene, &photons.points, photons.deposit, params);
+    let mut tracing = (t1 - t0).as_secs_f64();
+    // Settled: the last test's fit, made while tracing, is that of all the photons.
+    let (clusters, portals, fit_timings) = match settling.last.take() {
+        Some(fit) if photons.settled => {
+            tracing -= fit.2.clustering + fit.2.fitting;
+            fit
+        }
+        _ => fit_portals(scene, &photons.points, photons.deposit, params),
+    };
     Ok(Estimate {
         photons,
         clusters,
         portals,
         timings: Timings {
-            photons: (t1 - t0).as_secs_f64(),
+            photons: tracing,
             ..fit_timings
         },
     })
 }
 
-/// DBSCAN clusters of the photons (largest first), a portal fitted to each, and the seconds
-/// each stage took (photon tracing's left zero).
+/// DBSCAN clusters of photons (largest first), a portal fitted to each, and the seconds each
+/// stage took (photon tracing's left zero).
+type Fit = (Vec<Vec<usize>>, Vec<Estimated>, Timings);
+
+/// The [`Fit`] of `points`.
 fn fit_portals(
     scene: &RenderScene,
     points: &[Vec3],
     deposit: Deposit,
     params: &EstimateParams,
-) -> (Vec<Vec<usize>>, Vec<Estimated>, Timings) {
+) -> Fit {
     let t1 = Instant::now();
     let clusters = dbscan(points, params.dbscan);
     let t2 = Instant::now();
@@ -291,7 +301,8 @@ struct Settling<'a> {
     params: &'a EstimateParams,
     deposit: Deposit,
     next_fit: usize,
-    last: Option<Vec<Portal>>,
+    /// The previous test's fit.
+    last: Option<Fit>,
 }
 
 impl Settling<'_> {
@@ -303,16 +314,17 @@ impl Settling<'_> {
             return false;
         }
         self.next_fit = points.len() + points.len() / 2;
-        let (_, fitted, _) = fit_portals(self.scene, points, self.deposit, self.params);
-        let portals: Vec<Portal> = fitted.into_iter().map(|e| e.portal).collect();
+        let fit = fit_portals(self.scene, points, self.deposit, self.params);
+        let portals = &fit.1;
         let settled = !portals.is_empty()
-            && self.last.as_ref().is_some_and(|last| {
+            && self.last.as_ref().is_some_and(|(_, last, _)| {
                 last.len() == portals.len()
-                    && portals
-                        .iter()
-                        .all(|p| last.iter().any(|q| same_portal(p, q, tolerance)))
+                    && portals.iter().all(|p| {
+                        last.iter()
+                            .any(|q| same_portal(&p.portal, &q.portal, tolerance))
+                    })
             });
-        self.last = Some(portals);
+        self.last = Some(fit);
         settled
     }
 }
