@@ -17,7 +17,7 @@ pub mod shape;
 pub mod texture;
 pub mod transform;
 
-pub use accel::{Backend, Hit, RayQuery};
+pub use accel::{Backend, Hit, RayQuery, PACKET};
 pub use camera::{Camera, CameraError, FieldOfView};
 pub use interaction::SurfaceInteraction;
 pub use light::{Emission, EnvironmentDesc, LightDesc};

@@ -1,6 +1,6 @@
 //! A validated scene with its ray-query structure.
 
-use crate::accel::{Backend, Hit, RayQuery};
+use crate::accel::{Backend, Hit, RayQuery, PACKET};
 use crate::camera::Camera;
 use crate::interaction::SurfaceInteraction;
 use crate::light::LightDesc;
@@ -208,6 +208,16 @@ impl Scene {
     /// Whether anything lies along `ray` in (0, tmax).
     pub fn occluded(&self, ray: &Ray, tmax: f32) -> bool {
         self.accel.occluded(ray, tmax)
+    }
+
+    /// [`Scene::intersect`] of eight rays by one packet query.
+    pub fn intersect8(&self, rays: &[Ray; PACKET], tmax: [f32; PACKET]) -> [Option<Hit>; PACKET] {
+        self.accel.intersect8(rays, tmax)
+    }
+
+    /// [`Scene::occluded`] of eight rays by one packet query.
+    pub fn occluded8(&self, rays: &[Ray; PACKET], tmax: [f32; PACKET]) -> [bool; PACKET] {
+        self.accel.occluded8(rays, tmax)
     }
 
     /// The surface point of `hit` found along `ray`.

@@ -156,3 +156,71 @@ fn directions_with_negative_zero_components_hit() {
         }
     }
 }
+
+#[test]
+fn packets_find_the_hits_of_single_rays() {
+    // Meshes, a sphere and a disk (user geometry in Embree, whose callbacks then see 8-wide
+    // packets); rays from random points in all directions, with finite and infinite tmax.
+    let shapes = vec![
+        Shape::new(ShapeKind::Mesh(shell(1.0, 6)), 0),
+        Shape::new(ShapeKind::Mesh(shell(0.3, 4)), 0),
+        Shape::new(
+            ShapeKind::Sphere {
+                center: Vec3::new(0.4, 0.1, -0.2),
+                radius: 0.2,
+            },
+            0,
+        ),
+        Shape::new(
+            ShapeKind::Disk {
+                center: Vec3::new(-0.4, 0.0, 0.3),
+                normal: Vec3::Z,
+                radius: 0.25,
+            },
+            0,
+        ),
+    ];
+    for backend in Backend::available() {
+        let scene = backend.build(&shapes).expect("builds");
+        let mut kinds = [0usize; 5];
+        for packet in 0..500u64 {
+            let rays: [Ray; fenestra_scene::PACKET] = std::array::from_fn(|i| {
+                let mut s = Sampler::new(9, packet * 8 + i as u64, 0);
+                let o = Vec3::new(s.next_1d(), s.next_1d(), s.next_1d()) * 1.2 - 0.6;
+                Ray::new(o, warp::square_to_uniform_sphere(s.next_2d()))
+            });
+            let tmax = std::array::from_fn(|i| if i % 2 == 0 { f32::INFINITY } else { 0.3 });
+            let hits = scene.intersect8(&rays, tmax);
+            let blocked = scene.occluded8(&rays, tmax);
+            for i in 0..fenestra_scene::PACKET {
+                let one = scene.intersect(&rays[i], tmax[i]);
+                let name = backend.name();
+                assert_eq!(
+                    hits[i].map(|h| (h.shape, h.prim)),
+                    one.map(|h| (h.shape, h.prim)),
+                    "{name}: ray {i} of packet {packet}"
+                );
+                if let (Some(a), Some(b)) = (hits[i], one) {
+                    assert!(
+                        (a.t - b.t).abs() <= 1e-5 * b.t,
+                        "{name}: t {} against {}",
+                        a.t,
+                        b.t
+                    );
+                }
+                assert_eq!(
+                    blocked[i],
+                    scene.occluded(&rays[i], tmax[i]),
+                    "{name}: ray {i} of packet {packet}"
+                );
+                kinds[one.map_or(4, |h| h.shape as usize)] += 1;
+            }
+        }
+        // Every shape was hit by some ray, and some rays hit nothing within tmax.
+        assert!(
+            kinds.iter().all(|&k| k > 0),
+            "{}: {kinds:?}",
+            backend.name()
+        );
+    }
+}

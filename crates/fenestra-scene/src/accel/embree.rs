@@ -1,7 +1,7 @@
 //! Intel Embree 3 backend through the `embree` crate's raw bindings: native triangles, and
 //! user geometry for spheres and disks that calls our exact intersection routines.
 
-use super::{Hit, RayQuery};
+use super::{Hit, RayQuery, PACKET};
 use crate::shape::{Shape, ShapeKind};
 use embree::sys::*;
 use fenestra_core::{Ray, Vec3};
@@ -187,16 +187,104 @@ impl RayQuery for EmbreeScene {
         unsafe { rtcOccluded1(self.scene, &mut ctx, &mut r) };
         r.tfar == f32::NEG_INFINITY
     }
+
+    fn intersect8(&self, rays: &[Ray; PACKET], tmax: [f32; PACKET]) -> [Option<Hit>; PACKET] {
+        let mut rh = RTCRayHit8 {
+            ray: rtc_ray8(rays, tmax),
+            hit: RTCHit8 {
+                Ng_x: [0.0; PACKET],
+                Ng_y: [0.0; PACKET],
+                Ng_z: [0.0; PACKET],
+                u: [0.0; PACKET],
+                v: [0.0; PACKET],
+                primID: [INVALID_ID; PACKET],
+                geomID: [INVALID_ID; PACKET],
+                instID: [[INVALID_ID; PACKET]],
+            },
+        };
+        let mut ctx = context();
+        // SAFETY: committed scene, a 32-byte aligned packet (the bindings' type), all lanes
+        // valid.
+        unsafe { rtcIntersect8(VALID.as_ptr(), self.scene, &mut ctx, &mut rh) };
+        std::array::from_fn(|i| {
+            (rh.hit.geomID[i] != INVALID_ID).then_some(Hit {
+                t: rh.ray.tfar[i],
+                shape: rh.hit.geomID[i],
+                prim: rh.hit.primID[i],
+                u: rh.hit.u[i],
+                v: rh.hit.v[i],
+            })
+        })
+    }
+
+    fn occluded8(&self, rays: &[Ray; PACKET], tmax: [f32; PACKET]) -> [bool; PACKET] {
+        let mut r = rtc_ray8(rays, tmax);
+        let mut ctx = context();
+        // SAFETY: as above.
+        unsafe { rtcOccluded8(VALID.as_ptr(), self.scene, &mut ctx, &mut r) };
+        r.tfar.map(|t| t == f32::NEG_INFINITY)
+    }
 }
 
-/// Reads the single ray of a callback (we only trace with rtcIntersect1/rtcOccluded1, so N = 1
-/// and the SOA layout of RTCRayN with N = 1 is that of RTCRay).
-unsafe fn ray_of(r: *const RTCRay) -> Ray {
-    let r = unsafe { &*r };
-    Ray::new(
-        Vec3::new(r.org_x, r.org_y, r.org_z),
-        Vec3::new(r.dir_x, r.dir_y, r.dir_z),
-    )
+/// Every lane of a packet active.
+const VALID: [i32; PACKET] = [-1; PACKET];
+
+fn rtc_ray8(rays: &[Ray; PACKET], tmax: [f32; PACKET]) -> RTCRay8 {
+    RTCRay8 {
+        org_x: rays.each_ref().map(|r| r.o.x),
+        org_y: rays.each_ref().map(|r| r.o.y),
+        org_z: rays.each_ref().map(|r| r.o.z),
+        tnear: [0.0; PACKET],
+        dir_x: rays.each_ref().map(|r| r.d.x),
+        dir_y: rays.each_ref().map(|r| r.d.y),
+        dir_z: rays.each_ref().map(|r| r.d.z),
+        time: [0.0; PACKET],
+        tfar: tmax,
+        mask: [u32::MAX; PACKET],
+        id: [0; PACKET],
+        flags: [0; PACKET],
+    }
+}
+
+/// A callback's ray or ray-hit packet of N lanes: Embree's SOA layout (RTCRayN, RTCRayHitN),
+/// every field an array of N 32-bit values in the order of RTCRay's and then RTCHit's fields.
+/// N = 1 is the layout of RTCRay and RTCRayHit.
+struct Lanes {
+    base: *mut u32,
+    n: usize,
+}
+
+/// Field positions within a ray(-hit) packet.
+const ORG_X: usize = 0;
+const TNEAR: usize = 3;
+const DIR_X: usize = 4;
+const TFAR: usize = 8;
+const HIT_U: usize = 15;
+const HIT_V: usize = 16;
+const PRIM_ID: usize = 17;
+const GEOM_ID: usize = 18;
+const INST_ID: usize = 19;
+
+impl Lanes {
+    /// SAFETY: `i < n`, and `field` within the packet Embree handed over.
+    unsafe fn at(&self, field: usize, i: usize) -> *mut u32 {
+        unsafe { self.base.add(field * self.n + i) }
+    }
+    unsafe fn f32(&self, field: usize, i: usize) -> f32 {
+        f32::from_bits(unsafe { *self.at(field, i) })
+    }
+    unsafe fn set_f32(&self, field: usize, i: usize, v: f32) {
+        unsafe { *self.at(field, i) = v.to_bits() }
+    }
+    /// Lane `i`'s ray and its (tnear, tfar).
+    unsafe fn ray(&self, i: usize) -> (Ray, f32, f32) {
+        let v = |f: usize| unsafe { self.f32(f, i) };
+        let ray = Ray::new(
+            Vec3::new(v(ORG_X), v(ORG_X + 1), v(ORG_X + 2)),
+            Vec3::new(v(DIR_X), v(DIR_X + 1), v(DIR_X + 2)),
+        );
+        (ray, v(TNEAR), v(TFAR))
+    }
 }
 
 unsafe extern "C" fn bounds_fn(args: *const RTCBoundsFunctionArguments) {
@@ -210,31 +298,46 @@ unsafe extern "C" fn bounds_fn(args: *const RTCBoundsFunctionArguments) {
 
 unsafe extern "C" fn intersect_fn(args: *const RTCIntersectFunctionNArguments) {
     let args = unsafe { &*args };
-    if args.N != 1 || unsafe { *args.valid } == 0 {
-        return;
-    }
     let a = unsafe { &*(args.geometryUserPtr as *const Analytic) };
-    let rh = unsafe { &mut *(args.rayhit as *mut RTCRayHit) };
-    let ray = unsafe { ray_of(&rh.ray) };
-    if let Some((t, _, _)) = a.shape.intersect(0, &ray, rh.ray.tnear, rh.ray.tfar) {
-        rh.ray.tfar = t;
-        rh.hit.u = 0.0;
-        rh.hit.v = 0.0;
-        rh.hit.primID = args.primID;
-        rh.hit.geomID = args.geomID;
-        rh.hit.instID = [unsafe { (*args.context).instID[0] }];
+    let n = args.N as usize;
+    let lanes = Lanes {
+        base: args.rayhit as *mut u32,
+        n,
+    };
+    for i in 0..n {
+        if unsafe { *args.valid.add(i) } == 0 {
+            continue;
+        }
+        let (ray, tnear, tfar) = unsafe { lanes.ray(i) };
+        if let Some((t, _, _)) = a.shape.intersect(0, &ray, tnear, tfar) {
+            // SAFETY: lane i of the packet Embree handed over.
+            unsafe {
+                lanes.set_f32(TFAR, i, t);
+                lanes.set_f32(HIT_U, i, 0.0);
+                lanes.set_f32(HIT_V, i, 0.0);
+                *lanes.at(PRIM_ID, i) = args.primID;
+                *lanes.at(GEOM_ID, i) = args.geomID;
+                *lanes.at(INST_ID, i) = (*args.context).instID[0];
+            }
+        }
     }
 }
 
 unsafe extern "C" fn occluded_fn(args: *const RTCOccludedFunctionNArguments) {
     let args = unsafe { &*args };
-    if args.N != 1 || unsafe { *args.valid } == 0 {
-        return;
-    }
     let a = unsafe { &*(args.geometryUserPtr as *const Analytic) };
-    let r = unsafe { &mut *(args.ray as *mut RTCRay) };
-    let ray = unsafe { ray_of(r) };
-    if a.shape.intersect(0, &ray, r.tnear, r.tfar).is_some() {
-        r.tfar = f32::NEG_INFINITY;
+    let n = args.N as usize;
+    let lanes = Lanes {
+        base: args.ray as *mut u32,
+        n,
+    };
+    for i in 0..n {
+        if unsafe { *args.valid.add(i) } == 0 {
+            continue;
+        }
+        let (ray, tnear, tfar) = unsafe { lanes.ray(i) };
+        if a.shape.intersect(0, &ray, tnear, tfar).is_some() {
+            unsafe { lanes.set_f32(TFAR, i, f32::NEG_INFINITY) };
+        }
     }
 }

@@ -31,7 +31,19 @@ pub trait RayQuery: Send + Sync {
     fn intersect(&self, ray: &Ray, tmax: f32) -> Option<Hit>;
     /// Whether anything lies in (0, tmax).
     fn occluded(&self, ray: &Ray, tmax: f32) -> bool;
+    /// [`RayQuery::intersect`] of eight rays at once (a packet query where the library has
+    /// one; the same hits as one ray at a time).
+    fn intersect8(&self, rays: &[Ray; PACKET], tmax: [f32; PACKET]) -> [Option<Hit>; PACKET] {
+        std::array::from_fn(|i| self.intersect(&rays[i], tmax[i]))
+    }
+    /// [`RayQuery::occluded`] of eight rays at once.
+    fn occluded8(&self, rays: &[Ray; PACKET], tmax: [f32; PACKET]) -> [bool; PACKET] {
+        std::array::from_fn(|i| self.occluded(&rays[i], tmax[i]))
+    }
 }
+
+/// Rays per packet query.
+pub const PACKET: usize = 8;
 
 /// Which ray-query library to use.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
