@@ -4,8 +4,17 @@
 //! compared canonically (symbolic links and `..` resolved), so `./a/../scene.pbrt` is
 //! `scene.pbrt`.
 
-use anyhow::{bail, Result};
+use anyhow::{bail, Context, Result};
 use std::path::{Path, PathBuf};
+
+/// Creates the folder an output file goes into, if it is missing.
+pub fn create_output_folder(path: &Path) -> Result<()> {
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("cannot create output folder {}", dir.display()))?;
+    }
+    Ok(())
+}
 
 /// A command's inputs and outputs, each with what it is for.
 #[derive(Default)]

@@ -153,10 +153,7 @@ pub fn run(args: PortalsArgs) -> Result<()> {
             _ => bail!("--export {}: expected a .pbrt or .obj file", path.display()),
         }
     }
-    if let Some(dir) = args.output.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir)
-            .with_context(|| format!("cannot create output folder {}", dir.display()))?;
-    }
+    crate::files::create_output_folder(&args.output)?;
     let loaded = scene_arg::load(&args.scene, args.scene_options)?;
     let plot_path = args
         .plot

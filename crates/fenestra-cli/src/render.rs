@@ -425,11 +425,7 @@ pub fn check_exr(path: &Path) -> Result<()> {
             path.display()
         );
     }
-    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir)
-            .with_context(|| format!("cannot create output folder {}", dir.display()))?;
-    }
-    Ok(())
+    crate::files::create_output_folder(path)
 }
 
 /// Renders; returns whether the render was interrupted (its partial result is written).

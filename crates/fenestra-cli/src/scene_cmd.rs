@@ -63,6 +63,7 @@ pub fn run(args: SceneArgs) -> Result<()> {
                 bail!("output {} must end in .pbrt", output.display());
             }
             let loaded = scene_arg::load(&scene, options)?;
+            crate::files::create_output_folder(&output)?;
             crate::files::Files::default()
                 .inputs(&loaded.files, "scene file")
                 .output(&output, "export")

@@ -732,7 +732,8 @@ fn an_impossibly_large_film_is_refused_before_allocating() {
 fn scene_files_export_render_and_report_what_they_cannot_represent() {
     let dir = tmp("scenes");
     std::fs::create_dir_all(&dir).expect("dir");
-    let pbrt = dir.join("cornell.pbrt");
+    // Into a folder that does not exist yet: the export creates it.
+    let pbrt = dir.join("exported").join("cornell.pbrt");
     let p = pbrt.to_str().expect("utf-8");
     let o = fenestra(&["scene", "export", "builtin:cornell-box", "-o", p]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
