@@ -296,48 +296,68 @@ unsafe extern "C" fn bounds_fn(args: *const RTCBoundsFunctionArguments) {
     (b.upper_x, b.upper_y, b.upper_z) = (hi.x, hi.y, hi.z);
 }
 
-unsafe extern "C" fn intersect_fn(args: *const RTCIntersectFunctionNArguments) {
-    let args = unsafe { &*args };
-    let a = unsafe { &*(args.geometryUserPtr as *const Analytic) };
-    let n = args.N as usize;
+/// Calls `on_hit(lanes, i, t)` for each valid lane `i` of a callback's packet whose ray hits
+/// the analytic shape at distance `t` within its (tnear, tfar).
+///
+/// SAFETY: the arguments of one Embree callback: `user` an [`Analytic`], `valid` and `packet`
+/// of `n` lanes.
+unsafe fn analytic_hits(
+    user: *mut c_void,
+    valid: *const i32,
+    n: u32,
+    packet: *mut c_void,
+    on_hit: impl Fn(&Lanes, usize, f32),
+) {
+    let a = unsafe { &*(user as *const Analytic) };
     let lanes = Lanes {
-        base: args.rayhit as *mut u32,
-        n,
+        base: packet as *mut u32,
+        n: n as usize,
     };
-    for i in 0..n {
-        if unsafe { *args.valid.add(i) } == 0 {
+    for i in 0..lanes.n {
+        if unsafe { *valid.add(i) } == 0 {
             continue;
         }
         let (ray, tnear, tfar) = unsafe { lanes.ray(i) };
         if let Some((t, _, _)) = a.shape.intersect(0, &ray, tnear, tfar) {
-            // SAFETY: lane i of the packet Embree handed over.
-            unsafe {
+            on_hit(&lanes, i, t);
+        }
+    }
+}
+
+unsafe extern "C" fn intersect_fn(args: *const RTCIntersectFunctionNArguments) {
+    let args = unsafe { &*args };
+    let (prim, geom) = (args.primID, args.geomID);
+    let inst = unsafe { (*args.context).instID[0] };
+    let user = args.geometryUserPtr;
+    unsafe {
+        analytic_hits(
+            user,
+            args.valid,
+            args.N,
+            args.rayhit as *mut c_void,
+            |lanes, i, t| {
+                // SAFETY: lane i of the packet Embree handed over.
                 lanes.set_f32(TFAR, i, t);
                 lanes.set_f32(HIT_U, i, 0.0);
                 lanes.set_f32(HIT_V, i, 0.0);
-                *lanes.at(PRIM_ID, i) = args.primID;
-                *lanes.at(GEOM_ID, i) = args.geomID;
-                *lanes.at(INST_ID, i) = (*args.context).instID[0];
-            }
-        }
+                *lanes.at(PRIM_ID, i) = prim;
+                *lanes.at(GEOM_ID, i) = geom;
+                *lanes.at(INST_ID, i) = inst;
+            },
+        )
     }
 }
 
 unsafe extern "C" fn occluded_fn(args: *const RTCOccludedFunctionNArguments) {
     let args = unsafe { &*args };
-    let a = unsafe { &*(args.geometryUserPtr as *const Analytic) };
-    let n = args.N as usize;
-    let lanes = Lanes {
-        base: args.ray as *mut u32,
-        n,
-    };
-    for i in 0..n {
-        if unsafe { *args.valid.add(i) } == 0 {
-            continue;
-        }
-        let (ray, tnear, tfar) = unsafe { lanes.ray(i) };
-        if a.shape.intersect(0, &ray, tnear, tfar).is_some() {
-            unsafe { lanes.set_f32(TFAR, i, f32::NEG_INFINITY) };
-        }
+    let user = args.geometryUserPtr;
+    unsafe {
+        analytic_hits(
+            user,
+            args.valid,
+            args.N,
+            args.ray as *mut c_void,
+            |lanes, i, _| lanes.set_f32(TFAR, i, f32::NEG_INFINITY),
+        )
     }
 }
