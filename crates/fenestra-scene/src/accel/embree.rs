@@ -205,7 +205,7 @@ impl RayQuery for EmbreeScene {
         let mut ctx = context();
         // SAFETY: committed scene, a 32-byte aligned packet (the bindings' type), all lanes
         // valid.
-        unsafe { rtcIntersect8(VALID.as_ptr(), self.scene, &mut ctx, &mut rh) };
+        unsafe { rtcIntersect8(VALID.0.as_ptr(), self.scene, &mut ctx, &mut rh) };
         std::array::from_fn(|i| {
             (rh.hit.geomID[i] != INVALID_ID).then_some(Hit {
                 t: rh.ray.tfar[i],
@@ -221,13 +221,15 @@ impl RayQuery for EmbreeScene {
         let mut r = rtc_ray8(rays, tmax);
         let mut ctx = context();
         // SAFETY: as above.
-        unsafe { rtcOccluded8(VALID.as_ptr(), self.scene, &mut ctx, &mut r) };
+        unsafe { rtcOccluded8(VALID.0.as_ptr(), self.scene, &mut ctx, &mut r) };
         r.tfar.map(|t| t == f32::NEG_INFINITY)
     }
 }
 
-/// Every lane of a packet active.
-const VALID: [i32; PACKET] = [-1; PACKET];
+/// Every lane of a packet active; Embree reads the mask with aligned vector loads.
+#[repr(C, align(32))]
+struct Valid([i32; PACKET]);
+static VALID: Valid = Valid([-1; PACKET]);
 
 fn rtc_ray8(rays: &[Ray; PACKET], tmax: [f32; PACKET]) -> RTCRay8 {
     RTCRay8 {
