@@ -13,7 +13,7 @@ mod path;
 
 pub use light_sampling::LightNextEvent;
 pub use next_event::{Found, NextEvent, NoNextEvent, Scattered, Shading};
-pub use path::{PathOptions, PathTracer};
+pub use path::{Gather, NoGather, PathOptions, PathTracer, Start};
 
 use crate::control::RenderControl;
 use crate::film::Film;

@@ -2,6 +2,10 @@
 //! every next-event strategy. At each non-delta vertex the strategy takes its sample; a
 //! BSDF-sampled ray that finds an emitter or escapes to the environment is weighted by MIS
 //! against the strategy's density of that direction at the vertex it left.
+//!
+//! A cache of indirect light (seed 003 ch. 2) plugs in as a [`Gather`]: at a vertex where
+//! it answers, its estimate replaces the path's continuation, and the BSDF-sampled ray only
+//! collects the emitters it finds.
 
 use super::next_event::{Found, NextEvent, Scattered, Shading};
 use super::{Integrator, IntegratorError};
@@ -15,6 +19,7 @@ use crate::settings::RenderSettings;
 use fenestra_core::mis::MisHeuristic;
 use fenestra_core::stats::{RayCounters, RenderStats};
 use fenestra_core::{Ray, Rgb, Sampler, Vec3};
+use fenestra_scene::Hit;
 
 /// Consecutive panes a path may pass straight through (as visibility rays do).
 const MAX_PANES: u32 = 16;
@@ -45,6 +50,56 @@ pub struct PathTracer<N> {
     name: &'static str,
     next_event: N,
     options: PathOptions,
+}
+
+/// Indirect light that a cache supplies at a path vertex instead of the path's continuation.
+pub trait Gather {
+    /// Light reflected at `s` towards `s.wo` that arrives from other surfaces (not from
+    /// emitters: the next-event strategy and the BSDF-sampled ray's emitter hits count that),
+    /// or `None` to let the path go on. `segments`: the path's segments up to `s`.
+    fn indirect(
+        &mut self,
+        scene: &RenderScene,
+        s: &Shading,
+        segments: u32,
+        rays: &mut RayCounters,
+    ) -> Option<Rgb>;
+}
+
+/// No cache: paths always go on.
+pub struct NoGather;
+
+impl Gather for NoGather {
+    fn indirect(
+        &mut self,
+        _: &RenderScene,
+        _: &Shading,
+        _: u32,
+        _: &mut RayCounters,
+    ) -> Option<Rgb> {
+        None
+    }
+}
+
+/// Where a traced ray starts.
+#[derive(Clone, Copy, Debug)]
+pub struct Start {
+    /// Path segments before the ray's origin (0: the camera).
+    pub segments: u32,
+    /// Whether light emitted at the ray's first hit (or from the environment, if it escapes)
+    /// counts: false for rays that gather only reflected light.
+    pub emitted: bool,
+    /// The ray's first hit, if the caller has found it already.
+    pub hit: Option<Hit>,
+}
+
+impl Start {
+    /// A camera ray.
+    pub const CAMERA: Start = Start {
+        segments: 0,
+        emitted: true,
+        hit: None,
+    };
 }
 
 impl<N: NextEvent> PathTracer<N> {
@@ -127,10 +182,28 @@ impl<N: NextEvent> PathEstimator for PathTracer<N> {
     fn li(
         &self,
         scene: &RenderScene,
-        mut ray: Ray,
+        ray: Ray,
         sampler: &mut Sampler,
         ctx: &SampleContext,
         rays: &mut RayCounters,
+    ) -> Rgb {
+        self.trace(scene, ray, Start::CAMERA, sampler, ctx, rays, &mut NoGather)
+    }
+}
+
+impl<N: NextEvent> PathTracer<N> {
+    /// Radiance arriving at `ray`'s origin along it, from a path that starts as `start` says;
+    /// `gather` may supply indirect light at the vertices it chooses.
+    #[allow(clippy::too_many_arguments)]
+    pub fn trace(
+        &self,
+        scene: &RenderScene,
+        mut ray: Ray,
+        start: Start,
+        sampler: &mut Sampler,
+        ctx: &SampleContext,
+        rays: &mut RayCounters,
+        gather: &mut impl Gather,
     ) -> Rgb {
         let max_depth = self.options.max_depth;
         let mut l = Rgb::ZERO;
@@ -140,17 +213,25 @@ impl<N: NextEvent> PathEstimator for PathTracer<N> {
         let mut from: Option<Scattered<N::Vertex>> = None;
         // `segments` counts the path's segments up to the vertex being shaded; passing
         // straight through a thin pane adds none (visibility rays pass panes too).
-        let mut segments = 0;
+        let mut segments = start.segments;
         let mut panes = 0;
-        let mut first = true;
+        let mut first = start.segments == 0;
+        let mut emitted = start.emitted;
+        let mut known = start.hit;
+        // Set once a gather has supplied the indirect light: the next hit only adds emission.
+        let mut gathered = false;
         loop {
             segments += 1;
             if !first {
                 rays.bounce += 1;
             }
             first = false;
-            let Some(hit) = scene.scene.intersect(&ray, f32::INFINITY) else {
-                for &e in &scene.lights.environments {
+            let hit = match known.take() {
+                Some(hit) => Some(hit),
+                None => scene.scene.intersect(&ray, f32::INFINITY),
+            };
+            let Some(hit) = hit else {
+                for &e in scene.lights.environments.iter().filter(|_| emitted) {
                     let found = Found {
                         light: e,
                         hit: LightHit::Escaped,
@@ -161,7 +242,11 @@ impl<N: NextEvent> PathEstimator for PathTracer<N> {
                 break;
             };
             let si = scene.scene.interaction(&ray, &hit);
-            if let Some((index, le)) = scene.lights.surface_emission(&si, ray.d) {
+            if let Some((index, le)) = scene
+                .lights
+                .surface_emission(&si, ray.d)
+                .filter(|_| emitted)
+            {
                 if !le.is_black() {
                     let found = Found {
                         light: index,
@@ -169,6 +254,10 @@ impl<N: NextEvent> PathEstimator for PathTracer<N> {
                     };
                     l += beta * le * self.bsdf_weight(scene, from.as_ref(), ray.d, found, ctx);
                 }
+            }
+            emitted = true;
+            if gathered {
+                break;
             }
             let bsdf = scene.bsdf_at(&si);
             let bsdf = bsdf.as_ref();
@@ -203,6 +292,12 @@ impl<N: NextEvent> PathEstimator for PathTracer<N> {
                         sampler,
                         rays,
                     );
+            }
+            if !bsdf.is_delta() {
+                if let Some(indirect) = gather.indirect(scene, &shading, segments, rays) {
+                    l += beta * indirect;
+                    gathered = true;
+                }
             }
             let uc = sampler.next_1d();
             let u = sampler.next_2d();
