@@ -21,6 +21,11 @@ pub struct CompareArgs {
     /// Print a JSON array, one object per image.
     #[arg(long)]
     json: bool,
+    /// Compare only the pixels where this image (EXR, same size; a work map of `render
+    /// --maps` such as sdrc's cached.exr) exceeds 0.5 in its first channel; the region error
+    /// stays over the whole image.
+    #[arg(long)]
+    mask: Option<PathBuf>,
 }
 
 /// fenestra's EXR attributes of an image (none for other files and other renderers').
@@ -58,11 +63,32 @@ fn check_pair(
 pub fn run(args: CompareArgs) -> Result<()> {
     let reference = Image::read(&args.reference)?;
     let ref_attributes = attributes(&args.reference);
+    let mask = match &args.mask {
+        None => None,
+        Some(path) => {
+            let m = Image::read(path)?;
+            if (m.width, m.height) != (reference.width, reference.height) {
+                bail!(
+                    "the mask {} is {}x{}, the reference {}x{}",
+                    path.display(),
+                    m.width,
+                    m.height,
+                    reference.width,
+                    reference.height
+                );
+            }
+            let keep: Vec<bool> = m.pixels.iter().map(|p| p.r > 0.5).collect();
+            if !keep.contains(&true) {
+                bail!("the mask {} selects no pixel", path.display());
+            }
+            Some(keep)
+        }
+    };
     let mut rows = Vec::new();
     for path in &args.images {
         let img = Image::read(path)?;
         check_pair(path, &args.reference, &ref_attributes)?;
-        let m = metrics::compare(&img, &reference)
+        let m = metrics::compare_where(&img, &reference, mask.as_deref())
             .with_context(|| format!("comparing {}", path.display()))?;
         // The sidecar is optional: images from other renderers have none.
         let sidecar: Option<RenderStats> = std::fs::read_to_string(path.with_extension("json"))

@@ -523,7 +523,7 @@ fn maps_folder(exr: &Path) -> PathBuf {
 }
 
 /// Writes each work map as a false-colour PNG NAME.png (inferno, from 0 to the map's
-/// largest value) and, in scales.json, what each shows and its largest value; each file
+/// largest value), its values as NAME.exr (grey) and, in scales.json, what each shows and its largest value; each file
 /// atomically, under the same names every time.
 fn write_maps(
     dir: &Path,
@@ -550,6 +550,12 @@ fn write_maps(
         fenestra_core::fs::write_atomically(&path, |tmp| {
             img.save_with_format(tmp, image::ImageFormat::Png)
         })?;
+        // The values themselves, for computing with (`fenestra compare --mask`).
+        let mut values = fenestra_core::image::Image::new(width as usize, height as usize);
+        for (p, &v) in values.pixels.iter_mut().zip(&m.values) {
+            *p = fenestra_core::Rgb::splat(v);
+        }
+        values.write_exr(&dir.join(format!("{}.exr", m.name)), &Default::default())?;
         println!(
             "wrote {} ({}; black 0, yellow {})",
             path.display(),

@@ -48,6 +48,16 @@ fn region_means(img: &Image) -> Vec<[f64; 3]> {
 
 /// Compares `img` with `reference` channel by channel.
 pub fn compare(img: &Image, reference: &Image) -> Result<Metrics, EvalError> {
+    compare_where(img, reference, None)
+}
+
+/// [`compare`] over the pixels `mask` keeps (all if `None`; row-major, one flag a pixel); the
+/// region error stays over the whole image.
+pub fn compare_where(
+    img: &Image,
+    reference: &Image,
+    mask: Option<&[bool]>,
+) -> Result<Metrics, EvalError> {
     if (img.width, img.height) != (reference.width, reference.height) {
         return Err(EvalError::SizeMismatch(
             img.width,
@@ -63,7 +73,16 @@ pub fn compare(img: &Image, reference: &Image) -> Result<Metrics, EvalError> {
         }
     }
     let (mut se, mut rel, mut ae, mut sum, mut ref_sum) = (0.0f64, 0.0f64, 0.0f64, 0.0f64, 0.0f64);
-    for (p, r) in img.pixels.iter().zip(&reference.pixels) {
+    let kept = |i: usize| mask.is_none_or(|m| m.get(i).copied().unwrap_or(false));
+    let mut count = 0usize;
+    for (_, (p, r)) in img
+        .pixels
+        .iter()
+        .zip(&reference.pixels)
+        .enumerate()
+        .filter(|(i, _)| kept(*i))
+    {
+        count += 1;
         for (x, r) in p.to_array().into_iter().zip(r.to_array()) {
             let (x, r) = (x as f64, r as f64);
             let d = x - r;
@@ -74,7 +93,7 @@ pub fn compare(img: &Image, reference: &Image) -> Result<Metrics, EvalError> {
             ref_sum += r;
         }
     }
-    let n = (img.pixels.len() * 3).max(1) as f64;
+    let n = (count * 3).max(1) as f64;
     let (mut region_diff, mut region_ref) = (0.0f64, 0.0f64);
     for (m, r) in region_means(img).iter().zip(region_means(reference)) {
         for (m, r) in m.iter().zip(r) {
@@ -128,6 +147,10 @@ mod tests {
             compare(&Image::new(1, 1), &r),
             Err(EvalError::SizeMismatch(1, 1, 2, 1))
         ));
+        // Only the second pixel: squared errors 0, 0.25, 0.
+        let m = compare_where(&x, &r, Some(&[false, true])).expect("same size");
+        assert!((m.mse - 0.25 / 3.0).abs() < 1e-12 && (m.mae - 0.5 / 3.0).abs() < 1e-12);
+        assert!((m.mean - 0.5 / 3.0).abs() < 1e-12 && m.ref_mean == 0.0);
     }
 
     #[test]
