@@ -6,6 +6,7 @@
 use crate::portals_cmd::EstimateOpts;
 use anyhow::{bail, Result};
 use clap::{Args, ValueEnum};
+use fenestra_cache::{Sdrc, SdrcOptions};
 use fenestra_core::mis::MisHeuristic;
 use fenestra_eval::hash::debug_hash;
 use fenestra_eval::suite::slug;
@@ -23,8 +24,9 @@ use std::path::{Path, PathBuf};
 #[derive(Args, Clone, Debug)]
 pub struct IntegratorArgs {
     /// Integrator (`fenestra list` shows them): hf (BSDF sampling), af_hf (light and BSDF
-    /// sampling with MIS), lp_hf (light-portal and BSDF sampling with MIS) or ias (adaptive
-    /// direct light for many lights).
+    /// sampling with MIS), lp_hf (light-portal and BSDF sampling with MIS), ias (adaptive
+    /// direct light for many lights) or sdrc (af_hf with cached indirect light on glossy
+    /// surfaces).
     #[arg(long, default_value = "af_hf")]
     pub integrator: String,
     #[command(flatten, next_help_heading = "Path tracing (hf, af_hf, lp_hf)")]
@@ -38,6 +40,31 @@ pub struct IntegratorArgs {
         next_help_heading = "Iterative adaptive sampling (ias, ias_reference)"
     )]
     pub ias: IasArgs,
+    #[command(flatten, next_help_heading = "Radiance caching (sdrc)")]
+    pub sdrc: SdrcArgs,
+}
+
+/// Options of sdrc (seed 003 ch. 2).
+#[derive(Args, Clone, Debug)]
+pub struct SdrcArgs {
+    /// Maximum interpolation error a of record placement (eq. 2.1; smaller: more records).
+    #[arg(long, default_value_t = 0.22)]
+    sdrc_a: f32,
+    /// Factor on a in the render passes (the seed's 1.3: smoother interpolation).
+    #[arg(long, default_value_t = 1.3)]
+    sdrc_a_scale: f32,
+    /// Rays traced to create a record (the seed's N).
+    #[arg(long, default_value_t = 512)]
+    sdrc_n: u32,
+    /// Directions per shading point (the seed's M; default N / 12).
+    #[arg(long)]
+    sdrc_m: Option<u32>,
+    /// Largest radius of a directional query in the paraboloid disc (the seed's r_max).
+    #[arg(long, default_value_t = 0.15)]
+    sdrc_r_max: f32,
+    /// Smallest reach of a record, in pixels at its point (0: as small as eq. 2.2 makes it).
+    #[arg(long, default_value_t = 4.0)]
+    sdrc_min_reach: f32,
 }
 
 /// Options of ias (seed 004).
@@ -273,6 +300,25 @@ pub fn registry<'a>() -> Registry<Config<'a>> {
             "ias_reference",
             "the reference seed 004 measures ias against: lights picked by unoccluded irradiance, rays until each pixel is within --ias-threshold",
             |c: &Config| Ok(Box::new(Ias::new(IasOptions::reference(c.args.ias.ias_threshold))?)),
+        )
+        .register(
+            "sdrc",
+            "af_hf with the first bounce of indirect light on glossy surfaces cached and interpolated (spatial directional radiance caching, seed 003)",
+            |c: &Config| {
+                let a = &c.args.sdrc;
+                let options = SdrcOptions {
+                    a: a.sdrc_a,
+                    a_scale: a.sdrc_a_scale,
+                    n: a.sdrc_n,
+                    m: a.sdrc_m.unwrap_or(0),
+                    r_max: a.sdrc_r_max,
+                    min_reach: a.sdrc_min_reach,
+                };
+                if a.sdrc_m == Some(0) {
+                    return Err(IntegratorError::Options("--sdrc-m must be at least 1".into()));
+                }
+                Ok(Box::new(Sdrc::new(options, c.path, c.args.lights.next_event())?))
+            },
         )
         .register(
             "lp_hf",

@@ -174,6 +174,12 @@ impl Window {
         *self == Window::full(self.full_width, self.full_height)
     }
 
+    /// Row-major index within the window of the image's pixel (x, y), if the window holds it.
+    pub fn index(&self, (x, y): (u32, u32)) -> Option<usize> {
+        (x >= self.x0 && x < self.x1 && y >= self.y0 && y < self.y1)
+            .then(|| ((y - self.y0) as usize) * self.width() as usize + (x - self.x0) as usize)
+    }
+
     /// Whether the two windows share a pixel.
     pub fn overlaps(&self, other: &Window) -> bool {
         self.x0 < other.x1 && other.x0 < self.x1 && self.y0 < other.y1 && other.y0 < self.y1
