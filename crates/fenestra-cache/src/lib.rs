@@ -1,5 +1,6 @@
 //! Radiance caching for fenestra (seed 003 ch. 2): spatial directional radiance caching
-//! (SDRC) of the first bounce of indirect light on glossy surfaces, as the `sdrc` integrator.
+//! (SDRC) of the first bounce of indirect light on glossy surfaces, with an irradiance cache
+//! for diffuse ones, as the `sdrc` integrator.
 //!
 //! - [`paraboloid`]: the map from the hemisphere to the disc D;
 //! - [`rgbe`]: Ward's shared-exponent radiance;
@@ -7,10 +8,14 @@
 //! - [`octree`] and [`spatial`]: the records in space, with per-block additions merged
 //!   between passes;
 //! - [`record`]: a record and its spatial weight;
-//! - `gather`: Algorithm 1 at one shading point;
+//! - `gather`: which cache serves a shading point, and what the caches share;
+//! - `glossy`: Algorithm 1 (SDRC) at a glossy point;
+//! - [`irradiance`]: the irradiance cache with gradients for diffuse points;
 //! - [`sdrc`]: the integrator.
 
 mod gather;
+mod glossy;
+pub mod irradiance;
 pub mod ltree;
 pub mod octree;
 pub mod paraboloid;
@@ -20,4 +25,5 @@ pub mod sdrc;
 pub mod spatial;
 
 pub use gather::is_glossy;
+pub use irradiance::Gradients;
 pub use sdrc::{Sdrc, SdrcOptions};

@@ -3,6 +3,7 @@
 //! 8-byte nodes (ranges of up to 8 samples are unsorted leaves); samples added later wait in a buffer, searched linearly, until it is full and
 //! the tree is rebuilt with them.
 
+use crate::record::Payload;
 use crate::rgbe::Rgbe;
 use fenestra_core::{Rgb, Vec2};
 
@@ -157,6 +158,18 @@ impl LTree {
     }
 }
 
+impl Payload for LTree {
+    type Update = Sample;
+
+    fn absorb(&mut self, s: Sample) {
+        self.insert(s);
+    }
+
+    fn bytes(&self) -> usize {
+        LTree::bytes(self)
+    }
+}
+
 /// Arranges `nodes` as an implicit kd-tree: the middle element splits the range along the
 /// axis of its larger extent, smaller coordinates before it, larger after.
 fn split(nodes: &mut [Sample]) {
@@ -184,13 +197,8 @@ mod tests {
     use super::*;
 
     fn samples(n: usize, seed: u32) -> Vec<Sample> {
-        let mut x = seed | 1;
-        let mut next = || {
-            x ^= x << 13;
-            x ^= x >> 17;
-            x ^= x << 5;
-            x as f32 / u32::MAX as f32
-        };
+        let mut rng = fenestra_core::Rng::new(seed as u64);
+        let mut next = || rng.next_f32();
         (0..n)
             .map(|i| {
                 // Clustered, as BRDF-sampled directions are, with duplicates of cells.

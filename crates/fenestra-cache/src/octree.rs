@@ -105,13 +105,8 @@ mod tests {
 
     #[test]
     fn lookups_find_every_record_whose_sphere_holds_the_point() {
-        let mut x = 77u32;
-        let mut next = || {
-            x ^= x << 13;
-            x ^= x >> 17;
-            x ^= x << 5;
-            x as f32 / u32::MAX as f32
-        };
+        let mut rng = fenestra_core::Rng::new(77);
+        let mut next = || rng.next_f32();
         let mut tree = Octree::new(Vec3::splat(-1.0), Vec3::new(1.0, 2.0, 1.0));
         let mut records = Vec::new();
         for id in 0..2000u32 {

@@ -1,7 +1,7 @@
-//! A cache record: a point's incoming radiance samples (its L-tree), where it may be reused
-//! (seed 003 eq. 2.1-2.2), and which directions it can hold.
+//! A cache record: where it is, where it may be reused (seed 003 eq. 2.1-2.2, the weight
+//! of Ward et al. 1988 that radiance caching borrows), which directions it covers, and what it
+//! holds ([`Payload`]: an L-tree of radiance samples, or irradiance with its gradients).
 
-use crate::ltree::LTree;
 use crate::paraboloid;
 use fenestra_core::{Frame, Vec2, Vec3};
 use fenestra_scene::SurfaceInteraction;
@@ -10,9 +10,21 @@ use fenestra_scene::SurfaceInteraction;
 /// 1/MIN_ERROR, not infinity.
 const MIN_ERROR: f32 = 1e-3;
 
-/// A record of the spatial cache.
+/// What a record holds, and what may be added to it after it is made.
+pub trait Payload: Send + Sync {
+    /// An addition (a new radiance sample of an L-tree).
+    type Update: Copy + Send + Sync;
+
+    /// Takes an addition in.
+    fn absorb(&mut self, update: Self::Update);
+
+    /// Bytes it takes.
+    fn bytes(&self) -> usize;
+}
+
+/// A record of the spatial cache holding `P`.
 #[derive(Clone, Debug)]
-pub struct Record {
+pub struct Record<P> {
     /// Where it is: rays that add samples leave from here.
     pub si: SurfaceInteraction,
     /// Its hemisphere: z is the shading normal on the side the record was seen from.
@@ -21,13 +33,13 @@ pub struct Record {
     pub ng: Vec3,
     /// Harmonic mean distance to the surfaces its rays found, clamped (R_i of eq. 2.2).
     pub r: f32,
-    /// Its radiance samples.
-    pub ltree: LTree,
+    /// What it holds.
+    pub payload: P,
     /// The pixel whose sample created it (for the records picture).
     pub pixel: (u32, u32),
 }
 
-impl Record {
+impl<P> Record<P> {
     /// The spatial weight w_i(p) of eq. 2.2 for a point `p` with normal `n` (on its viewer's
     /// side), if the record may serve it with maximum error `a` (eq. 2.1: w_i > 1/a) and does
     /// not lie in front of it (Ward et al. 1988's test, so that light does not leak into

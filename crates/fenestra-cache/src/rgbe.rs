@@ -53,13 +53,8 @@ mod tests {
 
     #[test]
     fn decoding_is_within_a_mantissa_step_of_the_largest_channel() {
-        let mut x = 0x1234_5678u32;
-        let mut next = || {
-            x ^= x << 13;
-            x ^= x >> 17;
-            x ^= x << 5;
-            x as f32 / u32::MAX as f32
-        };
+        let mut rng = fenestra_core::Rng::new(0x1234_5678);
+        let mut next = || rng.next_f32();
         for _ in 0..100_000 {
             let scale = 10f32.powf(next() * 30.0 - 15.0);
             let c = Rgb::new(next() * scale, next() * scale, next() * scale * next());

@@ -8,13 +8,14 @@
 //! then the image is rendered in passes of one sample per pixel with a x 1.3, adding samples
 //! to the records (lazy updates) and records where none is near.
 
-use crate::gather::{is_glossy, CacheGather};
-use crate::spatial::{Delta, SpatialCache};
+use crate::gather::{CacheGather, Caches, Work};
+use crate::irradiance::Gradients;
+use crate::spatial::{Counts, SpatialCache};
 use fenestra_core::stats::{RayCounters, RenderStats};
 use fenestra_core::{Rgb, Sampler, Vec2};
 use fenestra_render::control::RenderControl;
 use fenestra_render::driver::{
-    render_passes, PassEstimator, PassInfo, PixelState, SampleContext, BLOCK_SIZE,
+    render_passes, Budget, PassEstimator, PassInfo, PixelState, SampleContext, BLOCK_SIZE,
 };
 use fenestra_render::film::Window;
 use fenestra_render::integrator::{
@@ -34,49 +35,44 @@ const MAX_REACH_PX: f32 = 40.0;
 /// Options of `sdrc`.
 #[derive(Clone, Copy, Debug)]
 pub struct SdrcOptions {
-    /// Maximum interpolation error a (eq. 2.1) of record placement; the render passes use
-    /// `a * a_scale`.
+    /// Maximum interpolation error a (eq. 2.1) of SDRC records when they are placed; the
+    /// render passes use `a * a_scale`.
     pub a: f32,
+    /// The irradiance cache's maximum interpolation error, likewise.
+    pub irradiance_a: f32,
     /// Factor on a in the render passes (the seed's 1.3).
     pub a_scale: f32,
     /// Rays traced to create a record (N).
     pub n: u32,
-    /// Directions per pixel, shared among its samples (0: 4 N / 12, the seed's M ~ N / 12
-    /// per camera ray with its 4 camera rays per pixel).
+    /// BRDF-sampled directions per shading point (the seed's M).
     pub m: u32,
     /// Largest directional query radius in the paraboloid disc (the seed's r_max).
     pub r_max: f32,
     /// Smallest validity radius a R_i of a record, in pixel footprints at its point (0: none).
     pub min_reach: f32,
+    /// Whether diffuse surfaces take their indirect light from the irradiance cache (else
+    /// from path tracing, as af_hf).
+    pub diffuse: bool,
+    /// Rays per irradiance record.
+    pub irradiance_rays: u32,
+    /// The gradients irradiance is extrapolated by.
+    pub irradiance_gradients: Gradients,
 }
 
 impl Default for SdrcOptions {
     fn default() -> Self {
         SdrcOptions {
             a: 0.22,
+            irradiance_a: 0.15,
             a_scale: 1.3,
-            n: 512,
-            m: 0,
+            n: 256,
+            m: 2,
             r_max: 0.15,
             min_reach: 4.0,
+            diffuse: true,
+            irradiance_rays: 1024,
+            irradiance_gradients: Gradients::Rotation,
         }
-    }
-}
-
-impl SdrcOptions {
-    /// Directions per pixel.
-    pub fn directions(&self) -> u32 {
-        if self.m > 0 {
-            self.m
-        } else {
-            (4 * self.n / 12).max(1)
-        }
-    }
-
-    /// Directions per shading point when a pixel takes `spp` samples: M over the samples,
-    /// at least one.
-    pub fn directions_per_sample(&self, spp: u32) -> u32 {
-        self.directions().div_ceil(spp.max(1))
     }
 }
 
@@ -105,11 +101,20 @@ impl Sdrc {
         if !(options.a > 0.0 && options.a.is_finite()) {
             return bad("--sdrc-a must be positive");
         }
+        if !(options.irradiance_a > 0.0 && options.irradiance_a.is_finite()) {
+            return bad("--sdrc-irradiance-a must be positive");
+        }
         if !(options.a_scale >= 1.0 && options.a_scale.is_finite()) {
             return bad("--sdrc-a-scale must be at least 1");
         }
         if options.n == 0 {
             return bad("--sdrc-n must be at least 1");
+        }
+        if options.m == 0 {
+            return bad("--sdrc-m must be at least 1");
+        }
+        if options.irradiance_rays < 6 {
+            return bad("--sdrc-irradiance-rays must be at least 6 (2 rings of 3 sectors)");
         }
         if !(options.min_reach >= 0.0 && options.min_reach <= MAX_REACH_PX) {
             return bad(&format!(
@@ -165,7 +170,7 @@ impl Sdrc {
         &self,
         scene: &RenderScene,
         film: &Film,
-        cache: &mut SpatialCache,
+        caches: &mut Caches,
         seed: u64,
         control: &RenderControl,
     ) -> RayCounters {
@@ -182,13 +187,13 @@ impl Sdrc {
             // The pixels on this level's grid that no coarser level took.
             let on = |x: u32, y: u32, s: u32| x.is_multiple_of(s) && y.is_multiple_of(s);
             let level = |x: u32, y: u32| on(x, y, stride) && (stride == 8 || !on(x, y, 2 * stride));
-            let done: Vec<(Delta, RayCounters)> = (0..blocks.count() as u32)
+            let done: Vec<(Work, RayCounters)> = (0..blocks.count() as u32)
                 .into_par_iter()
                 .map(|b| {
-                    let mut delta = Delta::default();
+                    let mut work = Work::default();
                     let mut rays = RayCounters::default();
                     if control.cancelled() {
-                        return (delta, rays);
+                        return (work, rays);
                     }
                     let (bx, by) = (
                         (b % blocks.columns) * BLOCK_SIZE,
@@ -213,26 +218,25 @@ impl Sdrc {
                             };
                             let mut gather = CacheGather {
                                 sdrc: self,
-                                cache,
-                                delta: &mut delta,
-                                a: self.options.a,
+                                caches,
+                                work: &mut work,
+                                a_scale: 1.0,
                                 seed,
                                 phase: PLACEMENT,
-                                spp: 1,
                             };
                             place_at(scene, &ctx, seed, &mut gather, &mut rays);
                         }
                     }
                     control.progress.advance(pixels);
-                    (delta, rays)
+                    (work, rays)
                 })
                 .collect();
-            let mut deltas = Vec::with_capacity(done.len());
-            for (delta, r) in done {
-                deltas.push(delta);
+            let mut works = Vec::with_capacity(done.len());
+            for (work, r) in done {
+                works.push(work);
                 rays += r;
             }
-            cache.merge(deltas);
+            caches.merge(works);
         }
         rays
     }
@@ -253,9 +257,6 @@ fn place_at(
     };
     let si = scene.scene.interaction(&ray, &hit);
     let bsdf = scene.bsdf_at(&si);
-    if !is_glossy(&bsdf) || gather.sdrc.max_depth() < 3 {
-        return;
-    }
     let frame = si.shading_frame();
     let wo = -ray.d;
     let shading = Shading {
@@ -266,7 +267,9 @@ fn place_at(
         wo_local: frame.to_local(wo),
         sample: ctx,
     };
-    gather.ensure_records(scene, &shading, rays);
+    if let Some(served) = gather.served(&shading, 1) {
+        gather.ensure_records(scene, &shading, served, rays);
+    }
 }
 
 impl Integrator for Sdrc {
@@ -281,11 +284,15 @@ impl Integrator for Sdrc {
                 "sdrc".into(),
                 serde_json::json!({
                     "a": self.options.a,
+                    "irradiance_a": self.options.irradiance_a,
                     "a_scale": self.options.a_scale,
                     "n": self.options.n,
-                    "m": self.options.directions(),
+                    "m": self.options.m,
                     "r_max": self.options.r_max,
                     "min_reach": self.options.min_reach,
+                    "diffuse": self.options.diffuse,
+                    "irradiance_rays": self.options.irradiance_rays,
+                    "irradiance_gradients": self.options.irradiance_gradients,
                 }),
             );
         }
@@ -314,63 +321,58 @@ impl Integrator for Sdrc {
         let started = Instant::now();
         self.measure_camera(scene, film.window.full_width, film.window.full_height);
         let (lo, hi) = scene.scene.bounds();
-        let a_render = self.options.a * self.options.a_scale;
-        let mut cache = SpatialCache::new(lo, hi, a_render);
-        let placement_rays = self.place_records(scene, film, &mut cache, settings.seed, control);
-        let placed = cache.len();
+        let reach = |a: f32| a * self.options.a_scale;
+        let mut caches = Caches {
+            glossy: SpatialCache::new(lo, hi, reach(self.options.a)),
+            diffuse: SpatialCache::new(lo, hi, reach(self.options.irradiance_a)),
+        };
+        let placement_rays = self.place_records(scene, film, &mut caches, settings.seed, control);
+        let placed = (caches.glossy.len(), caches.diffuse.len());
         let placement_s = started.elapsed().as_secs_f64();
         let mut passes = Passes {
             sdrc: self,
-            cache,
+            caches,
             window: film.window,
             served: vec![0.0; film.pixels.len()],
-            a: a_render,
             seed: settings.seed,
-            spp: settings.spp,
-            time_limit: settings.time_limit.map(|t| (t - placement_s).max(0.0)),
-            done: 0,
-            pixel_samples: 1,
+            budget: Budget::new(
+                settings.spp,
+                settings.time_limit.map(|t| (t - placement_s).max(0.0)),
+            ),
         };
         let mut stats = render_passes(&mut passes, scene, film, settings, control);
         stats.rays += placement_rays;
         stats.max_depth = Some(self.path.max_depth);
-        let cache = passes.cache;
-        let counts = cache.counts;
-        let extra = [
-            ("sdrc_records", cache.len() as f64),
-            ("sdrc_records_placed", placed as f64),
-            ("sdrc_samples", cache.samples() as f64),
-            ("sdrc_record_rays", counts.record_rays as f64),
-            ("sdrc_update_rays", counts.update_rays as f64),
-            ("sdrc_interpolated", counts.interpolated as f64),
-            ("sdrc_rejected", counts.rejected as f64),
-            (
-                "sdrc_records_per_point",
-                counts.records_used as f64 / counts.points.max(1) as f64,
-            ),
-            ("sdrc_memory_mb", cache.bytes() as f64 / 1e6),
-            ("sdrc_placement_s", placement_s),
-        ];
-        for (k, v) in extra {
-            stats.extra.insert(k.into(), v);
-        }
+        let caches = passes.caches;
+        figures(&mut stats, "sdrc", &caches.glossy, placed.0, true);
+        figures(
+            &mut stats,
+            "sdrc_irradiance",
+            &caches.diffuse,
+            placed.1,
+            false,
+        );
+        let memory = (caches.glossy.bytes() + caches.diffuse.bytes()) as f64 / 1e6;
+        stats.extra.insert("sdrc_memory_mb".into(), memory);
+        stats.extra.insert("sdrc_placement_s".into(), placement_s);
         let mut records = vec![0.0f32; film.pixels.len()];
-        for r in cache.records() {
-            if let Some(i) = film.window.index(r.pixel) {
+        let pixels = caches.glossy.records().iter().map(|r| r.pixel);
+        for pixel in pixels.chain(caches.diffuse.records().iter().map(|r| r.pixel)) {
+            if let Some(i) = film.window.index(pixel) {
                 records[i] += 1.0;
             }
         }
-        let spp = passes.done.max(1) as f32;
+        let spp = passes.budget.done.max(1) as f32;
         let cached = passes.served.iter().map(|&n| n / spp).collect();
         *self.maps.lock().unwrap_or_else(|e| e.into_inner()) = vec![
             WorkMap {
                 name: "records",
-                what: "cache records created at the pixel",
+                what: "cache records (SDRC and irradiance) created at the pixel",
                 values: records,
             },
             WorkMap {
                 name: "cached",
-                what: "fraction of the pixel's samples whose indirect light came from the cache",
+                what: "fraction of the pixel's samples whose indirect light came from a cache",
                 values: cached,
             },
         ];
@@ -381,49 +383,28 @@ impl Integrator for Sdrc {
 /// The render passes: one sample per pixel each, the cache merged between passes.
 struct Passes<'a> {
     sdrc: &'a Sdrc,
-    cache: SpatialCache,
+    caches: Caches,
     window: Window,
     /// Samples per pixel whose indirect light the cache gave (the film's pixels).
     served: Vec<f32>,
-    a: f32,
     seed: u64,
-    spp: u32,
-    /// Seconds left for the passes once records are placed.
-    time_limit: Option<f64>,
-    done: u32,
-    /// Samples a pixel will have taken at the end of this pass, or of the render: what the
-    /// directions per sample are planned for.
-    pixel_samples: u32,
+    /// One sample per pixel a pass, within the time left once records are placed.
+    budget: Budget,
 }
 
 impl PassEstimator for Passes<'_> {
-    type BlockStats = Delta;
+    type BlockStats = Work;
 
     fn expected_samples(&self, pixels: u64) -> Option<u64> {
-        self.time_limit
-            .is_none()
-            .then_some(pixels * self.spp as u64)
+        self.budget.expected_samples(pixels)
     }
 
     fn begin_pass(&mut self, pass: &PassInfo) -> bool {
-        if self.done >= self.spp {
-            return false;
-        }
-        // Under a time limit the render's sample count is not known: plan for the samples
-        // taken by the end of this pass.
-        self.pixel_samples = match self.time_limit {
-            None => self.spp,
-            Some(_) => self.done + 1,
-        };
-        match (self.time_limit, self.done) {
-            (Some(limit), 0) => limit > 0.0,
-            (Some(limit), done) => pass.render_s + pass.render_s / done as f64 <= limit,
-            (None, _) => true,
-        }
+        self.budget.next_pass(pass, 1) > 0
     }
 
-    fn block_stats(&self, _: u32, _: u32) -> Delta {
-        Delta::default()
+    fn block_stats(&self, _: u32, _: u32) -> Work {
+        Work::default()
     }
 
     fn samples(&self, _: &PixelState) -> u32 {
@@ -435,25 +416,24 @@ impl PassEstimator for Passes<'_> {
         scene: &RenderScene,
         ctx: &SampleContext,
         sampler: &mut Sampler,
-        delta: &mut Delta,
+        work: &mut Work,
         rays: &mut RayCounters,
     ) -> Rgb {
         let ray = ctx.camera_ray(scene, sampler, rays);
         let mut gather = CacheGather {
             sdrc: self.sdrc,
-            cache: &self.cache,
-            delta,
-            a: self.a,
+            caches: &self.caches,
+            work,
+            a_scale: self.sdrc.options.a_scale,
             seed: self.seed,
             phase: 0,
-            spp: self.pixel_samples,
         };
         self.sdrc
             .tracer
             .trace(scene, ray, Start::CAMERA, sampler, ctx, rays, &mut gather)
     }
 
-    fn end_pass(&mut self, _: &RenderScene, _: &Film, mut blocks: Vec<Delta>) -> bool {
+    fn end_pass(&mut self, _: &RenderScene, _: &Film, mut blocks: Vec<Work>) -> bool {
         for b in &mut blocks {
             for pixel in b.served.drain(..) {
                 if let Some(i) = self.window.index(pixel) {
@@ -461,8 +441,33 @@ impl PassEstimator for Passes<'_> {
                 }
             }
         }
-        self.cache.merge(blocks);
-        self.done += 1;
+        self.caches.merge(blocks);
+        self.budget.done += 1;
         true
+    }
+}
+
+/// A cache's figures for the render's statistics, under `prefix`; `lazy`: the cache adds
+/// samples to its records and interpolates directions (SDRC).
+fn figures<P: crate::record::Payload>(
+    stats: &mut RenderStats,
+    prefix: &str,
+    cache: &SpatialCache<P>,
+    placed: usize,
+    lazy: bool,
+) {
+    let c: Counts = cache.counts;
+    let mut add = |what: &str, v: f64| stats.extra.insert(format!("{prefix}_{what}"), v);
+    add("records", cache.len() as f64);
+    add("records_placed", placed as f64);
+    add("record_rays", c.record_rays as f64);
+    add(
+        "records_per_point",
+        c.records_used as f64 / c.points.max(1) as f64,
+    );
+    if lazy {
+        add("update_rays", c.update_rays as f64);
+        add("interpolated", c.interpolated as f64);
+        add("rejected", c.rejected as f64);
     }
 }

@@ -4,26 +4,34 @@
 //! in block order. Renders therefore do not depend on the number of threads, though blocks
 //! of one pass do not see each other's additions.
 
-use crate::ltree::Sample;
 use crate::octree::Octree;
-use crate::record::Record;
+use crate::record::{Payload, Record};
 use fenestra_core::Vec3;
 use std::collections::HashMap;
 
 /// What a block added during a pass.
-#[derive(Debug, Default)]
-pub struct Delta {
+#[derive(Debug)]
+pub struct Delta<P: Payload> {
     /// New records; record `cache.len() + k` is the k-th.
-    records: Vec<Record>,
-    /// New samples by record.
-    samples: HashMap<u32, Vec<Sample>>,
+    records: Vec<Record<P>>,
+    /// Additions by record.
+    added: HashMap<u32, Vec<P::Update>>,
     /// Work done, for the statistics.
     pub counts: Counts,
     /// Records near the current point with their weights (scratch, kept to avoid
     /// allocating per sample).
     pub near: Vec<(u32, f32)>,
-    /// Pixels (x, y) of the samples whose indirect light the cache gave, one entry a sample.
-    pub served: Vec<(u32, u32)>,
+}
+
+impl<P: Payload> Default for Delta<P> {
+    fn default() -> Self {
+        Delta {
+            records: Vec::new(),
+            added: HashMap::new(),
+            counts: Counts::default(),
+            near: Vec::new(),
+        }
+    }
 }
 
 /// Work counted by the cache.
@@ -56,8 +64,8 @@ impl std::ops::AddAssign for Counts {
 
 /// Records and their octree.
 #[derive(Debug)]
-pub struct SpatialCache {
-    records: Vec<Record>,
+pub struct SpatialCache<P> {
+    records: Vec<Record<P>>,
     octree: Octree,
     /// Largest maximum error any lookup uses: a record reaches `reach * R_i`.
     reach: f32,
@@ -65,7 +73,7 @@ pub struct SpatialCache {
     pub counts: Counts,
 }
 
-impl SpatialCache {
+impl<P: Payload> SpatialCache<P> {
     /// An empty cache over the box `lo`..`hi` for lookups with maximum error up to `reach`.
     pub fn new(lo: Vec3, hi: Vec3, reach: f32) -> Self {
         SpatialCache {
@@ -87,12 +95,12 @@ impl SpatialCache {
     }
 
     /// The records.
-    pub fn records(&self) -> &[Record] {
+    pub fn records(&self) -> &[Record<P>] {
         &self.records
     }
 
     /// Record `id`, from the cache or from `delta`.
-    pub fn record<'a>(&'a self, delta: &'a Delta, id: u32) -> &'a Record {
+    pub fn record<'a>(&'a self, delta: &'a Delta<P>, id: u32) -> &'a Record<P> {
         let id = id as usize;
         match id.checked_sub(self.records.len()) {
             None => &self.records[id],
@@ -100,14 +108,14 @@ impl SpatialCache {
         }
     }
 
-    /// The samples `delta` added to record `id`.
-    pub fn added<'a>(&self, delta: &'a Delta, id: u32) -> &'a [Sample] {
-        delta.samples.get(&id).map_or(&[], |v| v.as_slice())
+    /// What `delta` added to record `id`.
+    pub fn added<'a>(&self, delta: &'a Delta<P>, id: u32) -> &'a [P::Update] {
+        delta.added.get(&id).map_or(&[], |v| v.as_slice())
     }
 
     /// Fills `delta.near` with the records that may serve `p` (normal `n`) with maximum
-    /// error `a` (eq. 2.1), and their weights (eq. 2.2), in id order.
-    pub fn lookup(&self, delta: &mut Delta, p: Vec3, n: Vec3, a: f32) {
+    /// error `a` (eq. 2.1), and their weights (eq. 2.2), in id order; whether there are any.
+    pub fn lookup(&self, delta: &mut Delta<P>, p: Vec3, n: Vec3, a: f32) -> bool {
         let mut near = std::mem::take(&mut delta.near);
         near.clear();
         self.octree.candidates(p, |id| {
@@ -124,23 +132,27 @@ impl SpatialCache {
         // The octree's order depends on its shape; the sum over records must not.
         near.sort_unstable_by_key(|&(id, _)| id);
         delta.near = near;
+        !delta.near.is_empty()
     }
 
-    /// Adds a record to `delta`; returns its id.
-    pub fn create(&self, delta: &mut Delta, record: Record) -> u32 {
+    /// Adds a record to `delta`, which becomes the only one near (a point gets a record where
+    /// no other serves it).
+    pub fn create(&self, delta: &mut Delta<P>, record: Record<P>) {
         delta.records.push(record);
-        (self.records.len() + delta.records.len() - 1) as u32
+        let id = (self.records.len() + delta.records.len() - 1) as u32;
+        delta.near.clear();
+        delta.near.push((id, 1.0));
     }
 
-    /// Adds a sample of record `id` to `delta`.
-    pub fn add(&self, delta: &mut Delta, id: u32, s: Sample) {
-        delta.samples.entry(id).or_default().push(s);
+    /// Adds `update` of record `id` to `delta`.
+    pub fn add(&self, delta: &mut Delta<P>, id: u32, update: P::Update) {
+        delta.added.entry(id).or_default().push(update);
     }
 
     /// Merges the blocks' additions, in block order: records get their ids, radii are clamped
     /// between neighbours (Krivanek et al.'s neighbour clamping: R_i <= R_j + |p_i - p_j|),
-    /// samples go into their records' L-trees.
-    pub fn merge(&mut self, deltas: Vec<Delta>) {
+    /// additions go into their records.
+    pub fn merge(&mut self, deltas: Vec<Delta<P>>) {
         let first = self.records.len() as u32;
         for delta in deltas {
             let base = self.records.len() as u32;
@@ -159,27 +171,22 @@ impl SpatialCache {
                 self.octree.insert(id, record.si.p, self.reach * record.r);
                 self.records.push(record);
             }
-            let mut ids: Vec<u32> = delta.samples.keys().copied().collect();
+            let mut ids: Vec<u32> = delta.added.keys().copied().collect();
             ids.sort_unstable();
             for id in ids {
-                let target = &mut self.records[remap(id) as usize].ltree;
-                for &s in &delta.samples[&id] {
-                    target.insert(s);
+                let target = &mut self.records[remap(id) as usize].payload;
+                for &u in &delta.added[&id] {
+                    target.absorb(u);
                 }
             }
         }
     }
 
-    /// Bytes the records take (L-trees and the records themselves).
+    /// Bytes the records take.
     pub fn bytes(&self) -> usize {
         self.records
             .iter()
-            .map(|r| r.ltree.bytes() + std::mem::size_of::<Record>())
+            .map(|r| r.payload.bytes() + std::mem::size_of::<Record<P>>())
             .sum()
-    }
-
-    /// Radiance samples over all records.
-    pub fn samples(&self) -> usize {
-        self.records.iter().map(|r| r.ltree.len()).sum()
     }
 }

@@ -1,13 +1,18 @@
-//! The sdrc integrator against af_hf: as the interpolation error a goes to 0 every shading
-//! point gets its own record and the cache's answer must become af_hf's; renders must not
-//! depend on the thread count; bad options are refused.
+//! The sdrc integrator against af_hf: as the interpolation errors a go to 0 every shading
+//! point gets its own records and the caches' answer must become af_hf's; the irradiance
+//! cache in a furnace gives the analytic radiance; renders do not depend on the thread
+//! count; bad options are refused.
 
 use fenestra_cache::{Sdrc, SdrcOptions};
+use fenestra_core::{Rgb, Vec3};
 use fenestra_eval::ztest::agreement;
 use fenestra_render::integrator::{af_hf, Integrator, LightNextEvent, PathOptions};
 use fenestra_render::light::LightSelection;
 use fenestra_render::{render_image, Film, RenderScene, RenderSettings};
-use fenestra_scene::{Backend, Scene};
+use fenestra_scene::light::Emission;
+use fenestra_scene::{
+    Backend, Camera, Material, RenderDefaults, Scene, SceneDesc, Shape, ShapeKind, TriangleMesh,
+};
 
 fn teapot_box() -> RenderScene {
     let desc = fenestra_builtin::load("teapot-box").expect("built-in scene");
@@ -48,8 +53,10 @@ fn with_a_vanishing_error_the_cache_gives_af_hf_answer() {
     let scene = teapot_box();
     let mut cache = sdrc(SdrcOptions {
         a: 1e-3,
+        irradiance_a: 1e-3,
         min_reach: 0.0,
         n: 64,
+        irradiance_rays: 16,
         ..Default::default()
     });
     let film = render(&mut cache, &scene, 32, 16, 1);
@@ -72,6 +79,79 @@ fn with_a_vanishing_error_the_cache_gives_af_hf_answer() {
     );
     let agree = agreement(&film.estimate(), &reference.estimate(), 0.01, 8).expect("same size");
     assert!(agree.passed(), "{agree:#?}");
+}
+
+/// A closed box whose diffuse walls (albedo `albedo`) all emit radiance 1.
+fn furnace(albedo: f32) -> RenderScene {
+    let wall = |c: Vec3, u: Vec3, v: Vec3| {
+        Shape::new(ShapeKind::Mesh(TriangleMesh::quad(c, u, v)), 0).emitting(Emission {
+            radiance: Rgb::ONE,
+            two_sided: true,
+        })
+    };
+    let (x, y, z) = (Vec3::X, Vec3::Y, Vec3::Z);
+    let desc = SceneDesc {
+        name: "furnace".into(),
+        shapes: vec![
+            wall(-x, y, z),
+            wall(x, y, z),
+            wall(-y, x, z),
+            wall(y, x, z),
+            wall(-z, x, y),
+            wall(z, x, y),
+        ],
+        materials: vec![Material::diffuse(albedo)],
+        lights: Vec::new(),
+        camera: Camera::look_at(
+            Vec3::new(-0.5, -0.6, 0.2),
+            Vec3::new(1.0, 1.0, -0.3),
+            z,
+            70.0,
+        )
+        .expect("camera"),
+        defaults: RenderDefaults::default(),
+        portals: Vec::new(),
+    };
+    RenderScene::new(Scene::build(desc, Backend::Obvhs).expect("scene"))
+}
+
+#[test]
+fn the_irradiance_cache_in_a_furnace_gives_the_analytic_radiance() {
+    // Every path of at most `max_depth` segments sees 1 + rho + ... + rho^(max_depth - 1).
+    let (albedo, max_depth) = (0.5f32, 4u32);
+    let exact: f32 = (0..max_depth).map(|k| albedo.powi(k as i32)).sum();
+    let scene = furnace(albedo);
+    let mut cache = Sdrc::new(
+        SdrcOptions {
+            irradiance_rays: 1024,
+            ..Default::default()
+        },
+        PathOptions {
+            max_depth,
+            ..Default::default()
+        },
+        LightNextEvent::new(LightSelection::Power),
+    )
+    .expect("options");
+    let film = render(&mut cache, &scene, 32, 16, 3);
+    let cached = &cache.work_maps()[1];
+    assert!(
+        cached.values.iter().all(|&v| v == 1.0),
+        "every sample cached"
+    );
+    let image = film.image();
+    let mean = image.mean();
+    for c in [mean.r, mean.g, mean.b] {
+        assert!((c - exact).abs() < 0.01 * exact, "mean {c}, exact {exact}");
+    }
+    // Nor anywhere in the image by much: 8x8-pixel regions (path tracing's next-event noise
+    // leaves them about 1% off; the translation gradient of noisy radiance, 2%).
+    let mut worst = 0.0f32;
+    for (bx, by) in (0..4).flat_map(|i| (0..4).map(move |j| (i * 8, j * 8))) {
+        let region = image.crop(bx, by, 8, 8).mean();
+        worst = worst.max((region.g - exact).abs() / exact);
+    }
+    assert!(worst < 0.015, "a region {worst} off");
 }
 
 #[test]
@@ -109,6 +189,17 @@ fn bad_options_are_refused_with_the_option_named() {
     assert!(refused(SdrcOptions { a: 0.0, ..d }).contains("--sdrc-a "));
     assert!(refused(SdrcOptions { a_scale: 0.5, ..d }).contains("--sdrc-a-scale"));
     assert!(refused(SdrcOptions { n: 0, ..d }).contains("--sdrc-n"));
+    assert!(refused(SdrcOptions { m: 0, ..d }).contains("--sdrc-m"));
+    assert!(refused(SdrcOptions {
+        irradiance_a: -1.0,
+        ..d
+    })
+    .contains("--sdrc-irradiance-a"));
+    assert!(refused(SdrcOptions {
+        irradiance_rays: 5,
+        ..d
+    })
+    .contains("--sdrc-irradiance-rays"));
     assert!(refused(SdrcOptions { r_max: 3.0, ..d }).contains("--sdrc-r-max"));
     assert!(refused(SdrcOptions {
         min_reach: -1.0,

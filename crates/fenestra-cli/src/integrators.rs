@@ -6,7 +6,7 @@
 use crate::portals_cmd::EstimateOpts;
 use anyhow::{bail, Result};
 use clap::{Args, ValueEnum};
-use fenestra_cache::{Sdrc, SdrcOptions};
+use fenestra_cache::{Gradients, Sdrc, SdrcOptions};
 use fenestra_core::mis::MisHeuristic;
 use fenestra_eval::hash::debug_hash;
 use fenestra_eval::suite::slug;
@@ -47,24 +47,52 @@ pub struct IntegratorArgs {
 /// Options of sdrc (seed 003 ch. 2).
 #[derive(Args, Clone, Debug)]
 pub struct SdrcArgs {
-    /// Maximum interpolation error a of record placement (eq. 2.1; smaller: more records).
+    /// Maximum interpolation error a of SDRC records (eq. 2.1; smaller: more records).
     #[arg(long, default_value_t = 0.22)]
     sdrc_a: f32,
     /// Factor on a in the render passes (the seed's 1.3: smoother interpolation).
     #[arg(long, default_value_t = 1.3)]
     sdrc_a_scale: f32,
     /// Rays traced to create a record (the seed's N).
-    #[arg(long, default_value_t = 512)]
+    #[arg(long, default_value_t = 256)]
     sdrc_n: u32,
-    /// Directions per shading point (the seed's M; default N / 12).
-    #[arg(long)]
-    sdrc_m: Option<u32>,
+    /// BRDF-sampled directions per shading point (the seed's M; it took N ~ 12 M with 4
+    /// samples per pixel, fenestra takes more samples and fewer directions each).
+    #[arg(long, default_value_t = 2)]
+    sdrc_m: u32,
     /// Largest radius of a directional query in the paraboloid disc (the seed's r_max).
     #[arg(long, default_value_t = 0.15)]
     sdrc_r_max: f32,
     /// Smallest reach of a record, in pixels at its point (0: as small as eq. 2.2 makes it).
     #[arg(long, default_value_t = 4.0)]
     sdrc_min_reach: f32,
+    /// Indirect light on diffuse surfaces: cache (an irradiance cache with gradients, as the
+    /// seed) or path (path tracing, as af_hf).
+    #[arg(long, value_enum, default_value = "cache")]
+    sdrc_diffuse: SdrcDiffuse,
+    /// Rays per irradiance-cache record (stratified over rings and sectors).
+    #[arg(long, default_value_t = 1024)]
+    sdrc_irradiance_rays: u32,
+    /// Gradients that extrapolate irradiance records: none, rotation, or both (rotation and
+    /// translation; the translation gradient of path-traced radiance is mostly noise).
+    #[arg(long, value_enum, default_value = "rotation")]
+    sdrc_irradiance_gradients: IrradianceGradients,
+    /// Maximum interpolation error of the irradiance cache (Ward's a).
+    #[arg(long, default_value_t = 0.15)]
+    sdrc_irradiance_a: f32,
+}
+
+#[derive(Clone, Copy, Debug, ValueEnum)]
+enum IrradianceGradients {
+    None,
+    Rotation,
+    Both,
+}
+
+#[derive(Clone, Copy, Debug, ValueEnum)]
+enum SdrcDiffuse {
+    Cache,
+    Path,
 }
 
 /// Options of ias (seed 004).
@@ -310,13 +338,18 @@ pub fn registry<'a>() -> Registry<Config<'a>> {
                     a: a.sdrc_a,
                     a_scale: a.sdrc_a_scale,
                     n: a.sdrc_n,
-                    m: a.sdrc_m.unwrap_or(0),
+                    m: a.sdrc_m,
                     r_max: a.sdrc_r_max,
                     min_reach: a.sdrc_min_reach,
+                    diffuse: matches!(a.sdrc_diffuse, SdrcDiffuse::Cache),
+                    irradiance_rays: a.sdrc_irradiance_rays,
+                    irradiance_a: a.sdrc_irradiance_a,
+                    irradiance_gradients: match a.sdrc_irradiance_gradients {
+                        IrradianceGradients::None => Gradients::None,
+                        IrradianceGradients::Rotation => Gradients::Rotation,
+                        IrradianceGradients::Both => Gradients::Both,
+                    },
                 };
-                if a.sdrc_m == Some(0) {
-                    return Err(IntegratorError::Options("--sdrc-m must be at least 1".into()));
-                }
                 Ok(Box::new(Sdrc::new(options, c.path, c.args.lights.next_event())?))
             },
         )

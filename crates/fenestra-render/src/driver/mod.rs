@@ -14,7 +14,7 @@ pub mod passes;
 pub mod progressive;
 
 pub use passes::{render_passes, PassEstimator, PassInfo, PixelState};
-pub use progressive::{render_progressive, PathEstimator};
+pub use progressive::{render_progressive, Budget, PathEstimator};
 
 use crate::render_scene::RenderScene;
 use fenestra_core::stats::RayCounters;

@@ -39,22 +39,63 @@ pub fn render_progressive(
 ) -> RenderStats {
     let mut schedule = Schedule {
         estimator,
-        spp: settings.spp,
-        time_limit: settings.time_limit,
-        done: 0,
+        budget: Budget::new(settings.spp, settings.time_limit),
         size: 1,
         current: 0,
     };
     render_passes(&mut schedule, scene, film, settings, control)
 }
 
+/// Samples per pixel a render takes when every pixel takes the same number in a pass: up to
+/// a count, or as many as fit in a time limit (of the passes, counted from their start).
+#[derive(Clone, Copy, Debug)]
+pub struct Budget {
+    /// Samples per pixel asked for.
+    pub spp: u32,
+    /// Seconds the passes may take.
+    pub time_limit: Option<f64>,
+    /// Samples per pixel of the completed passes.
+    pub done: u32,
+}
+
+impl Budget {
+    /// Nothing taken yet of `spp` samples per pixel within `time_limit`.
+    pub fn new(spp: u32, time_limit: Option<f64>) -> Self {
+        Budget {
+            spp,
+            time_limit,
+            done: 0,
+        }
+    }
+
+    /// Samples the render will take over `pixels`, if known (no time limit).
+    pub fn expected_samples(&self, pixels: u64) -> Option<u64> {
+        self.time_limit
+            .is_none()
+            .then_some(pixels * self.spp as u64)
+    }
+
+    /// How many of `wanted` samples per pixel the pass about to start may take: what is left
+    /// of the count, and, after the first pass, what fits in the time left at the rate so far
+    /// (0: the render is done).
+    pub fn next_pass(&self, pass: &PassInfo, wanted: u32) -> u32 {
+        let mut n = wanted.min(self.spp.saturating_sub(self.done));
+        match (self.time_limit, self.done) {
+            (Some(limit), 0) if limit <= 0.0 => n = 0,
+            (Some(limit), done) if done > 0 => {
+                let per_sample = pass.render_s / done as f64;
+                n = n.min(((limit - pass.render_s) / per_sample).floor().max(0.0) as u32);
+            }
+            _ => {}
+        }
+        n
+    }
+}
+
 /// The pass schedule: every pixel takes `current` samples in a pass.
 struct Schedule<'a, E> {
     estimator: &'a E,
-    spp: u32,
-    time_limit: Option<f64>,
-    /// Samples per pixel of the completed passes.
-    done: u32,
+    budget: Budget,
     /// Size of the next pass before the sample count and time limit cut it.
     size: u32,
     current: u32,
@@ -64,24 +105,14 @@ impl<E: PathEstimator> PassEstimator for Schedule<'_, E> {
     type BlockStats = ();
 
     fn expected_samples(&self, pixels: u64) -> Option<u64> {
-        self.time_limit
-            .is_none()
-            .then_some(pixels * self.spp as u64)
+        self.budget.expected_samples(pixels)
     }
 
     fn begin_pass(&mut self, pass: &PassInfo) -> bool {
-        if self.done >= self.spp {
-            return false;
-        }
-        let mut n = self.size.min(self.spp - self.done);
         // The time limit counts rendering: preparation (portal estimation, caches) comes on
         // top, and the statistics' total time shows it.
-        if let (Some(limit), true) = (self.time_limit, self.done > 0) {
-            let per_sample = pass.render_s / self.done as f64;
-            n = n.min(((limit - pass.render_s) / per_sample).floor().max(0.0) as u32);
-        }
-        self.current = n;
-        n > 0
+        self.current = self.budget.next_pass(pass, self.size);
+        self.current > 0
     }
 
     fn block_stats(&self, _: u32, _: u32) {}
@@ -103,7 +134,7 @@ impl<E: PathEstimator> PassEstimator for Schedule<'_, E> {
     }
 
     fn end_pass(&mut self, _: &RenderScene, _: &Film, _: Vec<()>) -> bool {
-        self.done += self.current;
+        self.budget.done += self.current;
         self.size = (self.size * 2).min(MAX_PASS);
         true
     }
