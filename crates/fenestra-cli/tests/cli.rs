@@ -161,7 +161,7 @@ fn bad_input_gets_a_clear_error() {
             "-o",
             o,
         ],
-        "unknown integrator 'bdpt' (available: hf, af_hf, ias, ias_reference, lp_hf)",
+        "unknown integrator 'bdpt' (available: hf, af_hf, ias, ias_reference, sdrc, lp_hf)",
     );
     assert_clear_error(
         &[
@@ -1199,6 +1199,98 @@ fn real_scenes_match_their_reference_renders() {
 }
 
 #[test]
+fn sdrc_maps_its_cache_and_compare_measures_under_its_mask() {
+    let dir = tmp("sdrc");
+    std::fs::create_dir_all(&dir).expect("dir");
+    let out = dir.join("t.exr");
+    let render = |integrator: &str, out: &Path| {
+        let o = fenestra(&[
+            "render",
+            "builtin:teapot-box",
+            "--integrator",
+            integrator,
+            "--sdrc-diffuse",
+            "path",
+            "--spp",
+            "2",
+            "--resolution",
+            "24x24",
+            "--maps",
+            "-q",
+            "-o",
+            out.to_str().expect("utf-8"),
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    };
+    render("sdrc", &out);
+    let sidecar: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("t.json")).expect("sidecar"))
+            .expect("json");
+    assert!(
+        sidecar["extra"]["sdrc_records"].as_f64() > Some(0.0),
+        "{sidecar}"
+    );
+    assert_eq!(sidecar["settings"]["sdrc"]["m"], 2, "{sidecar}");
+    // With diffuse surfaces path traced, the cache serves the teapot only.
+    let mask = dir.join("t-maps/cached.exr");
+    let cached = Image::read(&mask).expect("cached map");
+    let served = cached.pixels.iter().filter(|p| p.r > 0.5).count();
+    assert!(
+        (30..24 * 24 / 2).contains(&served),
+        "{served} pixels cached"
+    );
+    let compare = |args: &[&str]| {
+        let mut all = vec!["compare", "--ref", out.to_str().expect("utf-8"), "--json"];
+        all.extend_from_slice(args);
+        fenestra(&all)
+    };
+    let o = compare(&[
+        "--mask",
+        mask.to_str().expect("utf-8"),
+        out.to_str().expect("utf-8"),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let rows: serde_json::Value = serde_json::from_slice(&o.stdout).expect("json");
+    assert_eq!(rows[0]["mse"], 0.0);
+    // The mean under the mask is the teapot's, not the image's.
+    let image = Image::read(&out).expect("exr");
+    let teapot: f64 = image
+        .pixels
+        .iter()
+        .zip(&cached.pixels)
+        .filter(|(_, m)| m.r > 0.5)
+        .map(|(p, _)| (p.r + p.g + p.b) as f64)
+        .sum::<f64>()
+        / (3 * served) as f64;
+    let mean = rows[0]["mean"].as_f64().expect("mean");
+    assert!((mean - teapot).abs() < 1e-5 * teapot, "{mean} vs {teapot}");
+    // A mask of another size is refused, naming both sizes.
+    let small = dir.join("small.exr");
+    let o = fenestra(&[
+        "render",
+        "builtin:teapot-box",
+        "--spp",
+        "1",
+        "--resolution",
+        "8x8",
+        "-q",
+        "-o",
+        small.to_str().expect("utf-8"),
+    ]);
+    assert!(o.status.success());
+    let o = compare(&[
+        "--mask",
+        small.to_str().expect("utf-8"),
+        out.to_str().expect("utf-8"),
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        !o.status.success() && err.contains("is 8x8, the reference 24x24"),
+        "{err}"
+    );
+}
+
+#[test]
 fn ias_writes_its_work_maps_on_request() {
     let dir = tmp("maps");
     std::fs::create_dir_all(&dir).expect("dir");
@@ -1224,11 +1316,16 @@ fn ias_writes_its_work_maps_on_request() {
     assert_eq!(
         names,
         [
+            "clusters.exr",
             "clusters.png",
+            "passes.exr",
             "passes.png",
+            "regions.exr",
             "regions.png",
             "scales.json",
+            "shadow-rays.exr",
             "shadow-rays.png",
+            "visible.exr",
             "visible.png"
         ]
     );
@@ -1241,10 +1338,14 @@ fn ias_writes_its_work_maps_on_request() {
         passes.is_some_and(|m| (1.0..=15.0).contains(&m)),
         "{scales}"
     );
-    for n in names.iter().filter(|n| n.ends_with(".png")) {
-        let img = Image::read(&dir.join("k-maps").join(n)).expect("png");
+    for n in names.iter().filter(|n| !n.ends_with(".json")) {
+        let img = Image::read(&dir.join("k-maps").join(n)).expect("map image");
         assert_eq!((img.width, img.height), (16, 12), "{n}");
     }
+    // The EXR holds the values the PNG's scale names.
+    let values = Image::read(&dir.join("k-maps/passes.exr")).expect("exr");
+    let top = values.pixels.iter().map(|p| p.r).fold(0.0f32, f32::max);
+    assert_eq!(Some(top as f64), passes, "{scales}");
     // An integrator without maps says so and writes none.
     let plain = dir.join("plain.exr");
     let o = fenestra(&[
