@@ -4,6 +4,7 @@
 mod box_hole;
 mod cornell;
 mod geometry;
+mod glossy_room;
 pub mod hall;
 mod kitchen;
 mod ponderosa;
@@ -48,6 +49,10 @@ pub const SCENES: &[(&str, &str)] = &[
         "brushed-metal Utah teapot (anisotropic Ward) in a box with a checkered wall (seed 003 §2.6)",
     ),
     (
+        "glossy-room",
+        "polished floor and metal furniture in a room lit by the sun through a window (seed 003 ch. 2)",
+    ),
+    (
         "kitchen-72",
         "kitchen with 72 ceiling downlights, cabinets and a glossy floor (seed 004 Table 4.1)",
     ),
@@ -81,6 +86,7 @@ pub fn load(name: &str) -> Result<SceneDesc, UnknownScene> {
         "tunnel" => Ok(tunnel::tunnel()),
         "cornell-box" => Ok(cornell::cornell_box()),
         "teapot-box" => Ok(teapot::teapot_box()),
+        "glossy-room" => Ok(glossy_room::glossy_room()),
         "kitchen-72" => Ok(kitchen::kitchen(false)),
         "kitchen-72-env" => Ok(kitchen::kitchen(true)),
         "ponderosa-138" => Ok(ponderosa::ponderosa()),
