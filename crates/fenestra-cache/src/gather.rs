@@ -103,13 +103,21 @@ impl CacheGather<'_> {
         let a = self.a(served);
         match served {
             Served::Glossy => {
-                if !self.caches.glossy.lookup(&mut self.work.glossy, s.si.p, n, a) {
+                if !self
+                    .caches
+                    .glossy
+                    .lookup(&mut self.work.glossy, s.si.p, n, a)
+                {
                     let record = self.new_glossy_record(scene, s, n, rays);
                     self.caches.glossy.create(&mut self.work.glossy, record);
                 }
             }
             Served::Diffuse(_) => {
-                if !self.caches.diffuse.lookup(&mut self.work.diffuse, s.si.p, n, a) {
+                if !self
+                    .caches
+                    .diffuse
+                    .lookup(&mut self.work.diffuse, s.si.p, n, a)
+                {
                     let record = self.new_irradiance_record(scene, s, n, rays);
                     self.caches.diffuse.create(&mut self.work.diffuse, record);
                 }
