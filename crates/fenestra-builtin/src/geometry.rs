@@ -123,6 +123,50 @@ pub fn wall_with_openings(
     mesh
 }
 
+/// A room [0, w] x [0, d] x [0, h] whose wall at y = 0 (facing +y) has the openings
+/// `windows`, (x, z) rectangles: the floor, and the shell (ceiling, the walls at x = 0,
+/// x = w and y = d, the window wall).
+pub fn room(w: f32, d: f32, h: f32, windows: &[Rect]) -> (TriangleMesh, TriangleMesh) {
+    let floor = TriangleMesh::quad(
+        Vec3::new(w / 2.0, d / 2.0, 0.0),
+        Vec3::X * (w / 2.0),
+        Vec3::Y * (d / 2.0),
+    );
+    let mut shell = TriangleMesh::quad(
+        Vec3::new(w / 2.0, d / 2.0, h),
+        Vec3::Y * (d / 2.0),
+        Vec3::X * (w / 2.0),
+    );
+    for (centre, u, v) in [
+        (
+            Vec3::new(0.0, d / 2.0, h / 2.0),
+            Vec3::Y * (d / 2.0),
+            Vec3::Z * (h / 2.0),
+        ),
+        (
+            Vec3::new(w, d / 2.0, h / 2.0),
+            Vec3::Z * (h / 2.0),
+            Vec3::Y * (d / 2.0),
+        ),
+        (
+            Vec3::new(w / 2.0, d, h / 2.0),
+            Vec3::X * (w / 2.0),
+            Vec3::Z * (h / 2.0),
+        ),
+    ] {
+        shell.append(&TriangleMesh::quad(centre, u, v));
+    }
+    shell.append(&wall_with_openings(
+        Vec3::ZERO,
+        Vec3::Z,
+        Vec3::X,
+        ([0.0, 0.0], [h, w]),
+        // (z, x) coordinates: normal z x x = +y.
+        &transposed(windows),
+    ));
+    (floor, shell)
+}
+
 /// A vertical cylinder (open ends) of `radius` from `base` up `height`, with `flutes` grooves
 /// of relative depth `depth` (0 for a plain column).
 pub fn column(

@@ -5,7 +5,7 @@
 //! floor, a sky fills the window. Most light the glossy surfaces reflect comes from the sunlit
 //! patch and the walls it lights: indirect light.
 
-use crate::geometry::{camera, cuboid, sky, wall_with_openings, Assembler};
+use crate::geometry::{camera, cuboid, room, sky, Assembler};
 use fenestra_core::{Rgb, Vec3};
 use fenestra_scene::light::LightDesc;
 use fenestra_scene::{Material, RenderDefaults, SceneDesc, TriangleMesh};
@@ -46,42 +46,9 @@ pub fn glossy_room() -> SceneDesc {
         roughness: None,
     });
 
-    a.mesh(
-        TriangleMesh::quad(
-            Vec3::new(W / 2.0, D / 2.0, 0.0),
-            Vec3::X * (W / 2.0),
-            Vec3::Y * (D / 2.0),
-        ),
-        floor,
-    );
-    let mut walls = TriangleMesh::quad(
-        Vec3::new(W / 2.0, D / 2.0, H),
-        Vec3::Y * (D / 2.0),
-        Vec3::X * (W / 2.0),
-    );
-    walls.append(&TriangleMesh::quad(
-        Vec3::new(W / 2.0, D, H / 2.0),
-        Vec3::Z * (H / 2.0),
-        Vec3::X * (W / 2.0),
-    ));
-    walls.append(&TriangleMesh::quad(
-        Vec3::new(0.0, D / 2.0, H / 2.0),
-        Vec3::Y * (D / 2.0),
-        Vec3::Z * (H / 2.0),
-    ));
-    walls.append(&TriangleMesh::quad(
-        Vec3::new(W, D / 2.0, H / 2.0),
-        Vec3::Z * (H / 2.0),
-        Vec3::Y * (D / 2.0),
-    ));
-    // The window wall (y = 0) with a 2 x 1.4 m opening.
-    walls.append(&wall_with_openings(
-        Vec3::ZERO,
-        Vec3::X,
-        Vec3::Z,
-        ([0.0, 0.0], [W, H]),
-        &[([1.5, 0.8], [3.5, 2.2])],
-    ));
+    // The window (2 x 1.4 m) is in the wall at y = 0.
+    let (floor_mesh, walls) = room(W, D, H, &[([1.5, 0.8], [3.5, 2.2])]);
+    a.mesh(floor_mesh, floor);
     a.mesh(walls, white);
 
     // A brushed-metal table (top and four legs), a cabinet beside the window, a ball.

@@ -2,7 +2,7 @@
 //! cabinets, an island, a fridge and a range hood as occluders, a glossy floor. The windows
 //! are behind the camera; `kitchen-72-env` adds a sky seen through them (Kitchen 2).
 
-use crate::geometry::{camera, cuboid, sky, transposed, wall_with_openings, Assembler, Rect};
+use crate::geometry::{camera, cuboid, room, sky, Assembler, Rect};
 use crate::teapot::teapot_mesh;
 use fenestra_core::{Rgb, Vec3};
 use fenestra_scene::light::LightDesc;
@@ -51,46 +51,12 @@ pub fn kitchen(with_sky: bool) -> SceneDesc {
     let lamp = a.material(Material::diffuse(0.8));
 
     // Shell: floor, ceiling, three plain walls and the window wall (y = 0, facing +y).
-    a.mesh(
-        TriangleMesh::quad(
-            Vec3::new(W / 2.0, D / 2.0, 0.0),
-            Vec3::X * (W / 2.0),
-            Vec3::Y * (D / 2.0),
-        ),
-        floor,
-    );
-    let mut shell = TriangleMesh::quad(
-        Vec3::new(W / 2.0, D / 2.0, H),
-        Vec3::Y * (D / 2.0),
-        Vec3::X * (W / 2.0),
-    );
-    shell.append(&TriangleMesh::quad(
-        Vec3::new(0.0, D / 2.0, H / 2.0),
-        Vec3::Y * (D / 2.0),
-        Vec3::Z * (H / 2.0),
-    ));
-    shell.append(&TriangleMesh::quad(
-        Vec3::new(W, D / 2.0, H / 2.0),
-        Vec3::Z * (H / 2.0),
-        Vec3::Y * (D / 2.0),
-    ));
-    shell.append(&TriangleMesh::quad(
-        Vec3::new(W / 2.0, D, H / 2.0),
-        Vec3::X * (W / 2.0),
-        Vec3::Z * (H / 2.0),
-    ));
     let windows: Vec<Rect> = [1.0f32, 3.0, 5.0]
         .iter()
         .map(|&x| ([x - 0.6, 0.9], [x + 0.6, 2.1]))
         .collect();
-    shell.append(&wall_with_openings(
-        Vec3::ZERO,
-        Vec3::Z,
-        Vec3::X,
-        ([0.0, 0.0], [H, W]),
-        // (z, x) coordinates: normal z x x = +y.
-        &transposed(&windows),
-    ));
+    let (floor_mesh, shell) = room(W, D, H, &windows);
+    a.mesh(floor_mesh, floor);
     a.mesh(shell, paint);
 
     // Cabinets: lower run along the back wall and the left wall, upper run on the back wall
