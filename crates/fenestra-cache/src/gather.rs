@@ -100,9 +100,9 @@ impl CacheGather<'_> {
         rays: &mut RayCounters,
     ) {
         let n = viewer_normal(s);
-        let a = self.a(served);
         match served {
             Served::Glossy => {
+                let a = self.a_glossy();
                 if !self
                     .caches
                     .glossy
@@ -113,6 +113,7 @@ impl CacheGather<'_> {
                 }
             }
             Served::Diffuse(_) => {
+                let a = self.a_diffuse();
                 if !self
                     .caches
                     .diffuse
@@ -125,27 +126,27 @@ impl CacheGather<'_> {
         }
     }
 
-    /// The maximum interpolation error of the cache serving `served` in this phase.
-    pub fn a(&self, served: Served) -> f32 {
-        self.a_scale
-            * match served {
-                Served::Glossy => self.sdrc.options.a,
-                Served::Diffuse(_) => self.sdrc.options.irradiance_a,
-            }
+    /// SDRC's maximum interpolation error in this phase.
+    pub fn a_glossy(&self) -> f32 {
+        self.a_scale * self.sdrc.options.a
     }
 
-    /// R_i from hit distances (harmonic mean over `hits` rays with inverse-distance sum
-    /// `inverse`), limited to 1 / `relative_gradient` where the outgoing light changes faster
+    /// The irradiance cache's maximum interpolation error in this phase.
+    pub fn a_diffuse(&self) -> f32 {
+        self.a_scale * self.sdrc.options.irradiance_a
+    }
+
+    /// R_i of a record under maximum error `a` from hit distances (harmonic mean over `hits`
+    /// rays with inverse-distance sum `inverse`), limited to 1 / `relative_gradient` where the outgoing light changes faster
     /// (§2.4.6), and clamped to the pixel footprint's bounds.
     pub(crate) fn radius(
         &self,
         s: &Shading,
-        served: Served,
+        a: f32,
         hits: u32,
         inverse: f64,
         relative_gradient: Option<f32>,
     ) -> f32 {
-        let a = self.a(served);
         let (lo, hi) = self.sdrc.radius_bounds(self.sdrc.footprint(s.si.t), a);
         let mut r = if hits > 0 {
             (hits as f64 / inverse) as f32

@@ -3,7 +3,7 @@
 //! nearby records' samples (§2.4.4), samples added by tracing from a record where none is
 //! near, and the outgoing radiance (eq. 2.3).
 
-use crate::gather::{viewer_geometric_normal, CacheGather, Served};
+use crate::gather::{viewer_geometric_normal, CacheGather};
 use crate::ltree::{LTree, Sample};
 use crate::paraboloid;
 use crate::record::Record;
@@ -50,7 +50,7 @@ impl CacheGather<'_> {
             si: *s.si,
             frame,
             ng: viewer_geometric_normal(s),
-            r: self.radius(s, Served::Glossy, hits, inverse, gradient.relative()),
+            r: self.radius(s, self.a_glossy(), hits, inverse, gradient.relative()),
             payload: LTree::build(samples),
             pixel: (s.sample.x, s.sample.y),
         }

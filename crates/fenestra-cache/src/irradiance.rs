@@ -5,7 +5,7 @@
 //! hemisphere; between records it is extrapolated by the gradients and averaged with the
 //! weights of eq. 2.2.
 
-use crate::gather::{viewer_geometric_normal, CacheGather, Served};
+use crate::gather::{viewer_geometric_normal, CacheGather};
 use crate::record::{Payload, Record};
 use fenestra_core::stats::RayCounters;
 use fenestra_core::{Frame, Ray, Rgb, Vec3};
@@ -131,7 +131,7 @@ impl CacheGather<'_> {
             si: *s.si,
             frame,
             ng,
-            r: self.radius(s, Served::Diffuse(Rgb::ONE), hits, inverse, relative),
+            r: self.radius(s, self.a_diffuse(), hits, inverse, relative),
             payload: irradiance,
             pixel: (s.sample.x, s.sample.y),
         }

@@ -19,7 +19,8 @@ use fenestra_render::driver::{
 };
 use fenestra_render::film::Window;
 use fenestra_render::integrator::{
-    Integrator, IntegratorError, LightNextEvent, PathOptions, PathTracer, Shading, Start, WorkMap,
+    Integrator, IntegratorError, LightNextEvent, PathOptions, PathTracer, Shading, Split, Start,
+    WorkMap,
 };
 use fenestra_render::{Film, RenderScene, RenderSettings};
 use rayon::prelude::*;
@@ -305,6 +306,12 @@ impl Integrator for Sdrc {
         control: &RenderControl,
     ) -> Result<(), IntegratorError> {
         self.tracer.prepare(scene, control)
+    }
+
+    /// Records and their samples come from every pixel, and each pixel's estimate from the
+    /// records near it: a piece of the render would not render as in the whole.
+    fn split(&self) -> Split {
+        Split::Whole
     }
 
     fn work_maps(&self) -> Vec<WorkMap> {

@@ -173,6 +173,12 @@ impl Job {
             return Ok(None);
         }
         let split = self.integrator.split();
+        if split == Split::Whole {
+            bail!(
+                "{} builds its caches from the whole image: it renders whole, not in pieces (--samples, --crop)",
+                self.integrator.name()
+            );
+        }
         let range = samples.map(pieces::parse_samples).transpose()?;
         if let Some(r) = range {
             if opts.spp.is_some() {

@@ -81,6 +81,12 @@ fn plan(args: &SplitArgs, shape: &RenderShape) -> Result<job::Job> {
         Some(p) => p.clone(),
         None => std::env::current_exe().context("cannot find the fenestra executable")?,
     };
+    if shape.split == Split::Whole {
+        bail!(
+            "{} builds its caches from the whole image: it cannot be split",
+            shape.integrator
+        );
+    }
     let (flag, pieces, total): (_, Vec<String>, _) = match args.by {
         By::Samples if shape.split == Split::BlockTiles => bail!(
             "{} decides its own samples per pixel: split it with --by tiles",

@@ -1264,6 +1264,27 @@ fn sdrc_maps_its_cache_and_compare_measures_under_its_mask() {
         / (3 * served) as f64;
     let mean = rows[0]["mean"].as_f64().expect("mean");
     assert!((mean - teapot).abs() < 1e-5 * teapot, "{mean} vs {teapot}");
+    // Its caches span the whole image: it refuses to render a piece.
+    for piece in [["--samples", "0..2"], ["--crop", "0,0,8,8"]] {
+        let o = fenestra(&[
+            "render",
+            "builtin:teapot-box",
+            "--integrator",
+            "sdrc",
+            "--resolution",
+            "24x24",
+            piece[0],
+            piece[1],
+            "-q",
+            "-o",
+            dir.join("piece.exr").to_str().expect("utf-8"),
+        ]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(
+            !o.status.success() && err.contains("renders whole, not in pieces"),
+            "{err}"
+        );
+    }
     // A mask of another size is refused, naming both sizes.
     let small = dir.join("small.exr");
     let o = fenestra(&[
