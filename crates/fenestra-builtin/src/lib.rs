@@ -2,6 +2,7 @@
 //! docs/scenes.md shows each with a thumbnail.
 
 mod box_hole;
+mod chess;
 mod cornell;
 mod geometry;
 mod glossy_room;
@@ -49,6 +50,10 @@ pub const SCENES: &[(&str, &str)] = &[
         "brushed-metal Utah teapot (anisotropic Ward) in a box with a checkered wall (seed 003 §2.6)",
     ),
     (
+        "chess",
+        "ivory (anisotropic Ward) and ebony (Phong) chess pieces on a glossy board, 5 spots and a sky (seed 003 Fig. 2.6)",
+    ),
+    (
         "glossy-room",
         "polished floor and metal furniture in a room lit by the sun through a window (seed 003 ch. 2)",
     ),
@@ -86,6 +91,7 @@ pub fn load(name: &str) -> Result<SceneDesc, UnknownScene> {
         "tunnel" => Ok(tunnel::tunnel()),
         "cornell-box" => Ok(cornell::cornell_box()),
         "teapot-box" => Ok(teapot::teapot_box()),
+        "chess" => Ok(chess::chess()),
         "glossy-room" => Ok(glossy_room::glossy_room()),
         "kitchen-72" => Ok(kitchen::kitchen(false)),
         "kitchen-72-env" => Ok(kitchen::kitchen(true)),
