@@ -3,9 +3,10 @@
 //! [`crate::irradiance`]), record lookup and creation, and what both share (record frames,
 //! sample streams, rays that gather reflected light).
 
+use crate::harmonics::ShRadiance;
 use crate::irradiance::Irradiance;
 use crate::ltree::LTree;
-use crate::sdrc::Sdrc;
+use crate::sdrc::{GlossyCache, Sdrc};
 use crate::spatial::{Delta, SpatialCache};
 use fenestra_core::stats::RayCounters;
 use fenestra_core::{Ray, Rgb, Sampler, Vec3};
@@ -23,8 +24,10 @@ pub fn is_glossy(b: &Bsdf) -> bool {
 /// Which cache serves a surface.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Served {
-    /// SDRC (glossy).
+    /// SDRC (glossy, sdrc).
     Glossy,
+    /// SH radiance caching (glossy, shrc).
+    Harmonics(u32),
     /// The irradiance cache (Lambertian, of this albedo).
     Diffuse(Rgb),
 }
@@ -34,6 +37,8 @@ pub enum Served {
 pub struct Caches {
     /// SDRC records.
     pub glossy: SpatialCache<LTree>,
+    /// SH records (shrc).
+    pub harmonics: SpatialCache<ShRadiance>,
     /// Irradiance records.
     pub diffuse: SpatialCache<Irradiance>,
 }
@@ -41,9 +46,14 @@ pub struct Caches {
 impl Caches {
     /// Merges the blocks' additions to both caches, in block order.
     pub fn merge(&mut self, works: Vec<Work>) {
-        let (glossy, diffuse): (Vec<_>, Vec<_>) =
-            works.into_iter().map(|w| (w.glossy, w.diffuse)).unzip();
+        let (mut glossy, mut harmonics, mut diffuse) = (Vec::new(), Vec::new(), Vec::new());
+        for w in works {
+            glossy.push(w.glossy);
+            harmonics.push(w.harmonics);
+            diffuse.push(w.diffuse);
+        }
         self.glossy.merge(glossy);
+        self.harmonics.merge(harmonics);
         self.diffuse.merge(diffuse);
     }
 }
@@ -53,6 +63,8 @@ impl Caches {
 pub struct Work {
     /// Additions to the SDRC records.
     pub glossy: Delta<LTree>,
+    /// New SH records.
+    pub harmonics: Delta<ShRadiance>,
     /// Additions to the irradiance records.
     pub diffuse: Delta<Irradiance>,
     /// Pixels (x, y) of the samples whose indirect light a cache gave, one entry a sample.
@@ -85,7 +97,10 @@ impl CacheGather<'_> {
         }
         match s.bsdf {
             Bsdf::Diffuse(d) if self.sdrc.options.diffuse => Some(Served::Diffuse(d.reflectance)),
-            b if is_glossy(b) => Some(Served::Glossy),
+            b if is_glossy(b) => Some(match self.sdrc.options.glossy {
+                GlossyCache::Directional => Served::Glossy,
+                GlossyCache::Harmonics { rays } => Served::Harmonics(rays),
+            }),
             _ => None,
         }
     }
@@ -110,6 +125,19 @@ impl CacheGather<'_> {
                 {
                     let record = self.new_glossy_record(scene, s, n, rays);
                     self.caches.glossy.create(&mut self.work.glossy, record);
+                }
+            }
+            Served::Harmonics(count) => {
+                let a = self.a_glossy();
+                if !self
+                    .caches
+                    .harmonics
+                    .lookup(&mut self.work.harmonics, s.si.p, n, a)
+                {
+                    let record = self.new_sh_record(scene, s, n, count, rays);
+                    self.caches
+                        .harmonics
+                        .create(&mut self.work.harmonics, record);
                 }
             }
             Served::Diffuse(_) => {
@@ -219,12 +247,17 @@ impl Gather for CacheGather<'_> {
         self.ensure_records(scene, s, served, rays);
         self.work.served.push((s.sample.x, s.sample.y));
         let (counts, near) = match served {
+            Served::Harmonics(_) => (
+                &mut self.work.harmonics.counts,
+                self.work.harmonics.near.len(),
+            ),
             Served::Glossy => (&mut self.work.glossy.counts, self.work.glossy.near.len()),
             Served::Diffuse(_) => (&mut self.work.diffuse.counts, self.work.diffuse.near.len()),
         };
         counts.points += 1;
         counts.records_used += near as u64;
         Some(match served {
+            Served::Harmonics(_) => self.sh_outgoing(s),
             Served::Glossy => self.glossy_outgoing(scene, s, rays),
             Served::Diffuse(albedo) => albedo * self.irradiance(s) * std::f32::consts::FRAC_1_PI,
         })

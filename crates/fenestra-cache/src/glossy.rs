@@ -57,8 +57,7 @@ impl CacheGather<'_> {
     }
 
     /// Outgoing radiance at `s` from M BRDF-sampled directions (eq. 2.3), interpolated from
-    /// the records in `near` (§2.4.4) or traced from one of them. The directions of a
-    /// pixel's samples are one Sobol sequence.
+    /// the records in `near` (§2.4.4) or traced from one of them.
     pub(crate) fn glossy_outgoing(
         &mut self,
         scene: &RenderScene,
@@ -68,12 +67,11 @@ impl CacheGather<'_> {
         let m = self.sdrc.options.m;
         // The pixel's estimate so far averages this many directions.
         let pixel_m = (m as f32) * (s.sample.index as f32 + 1.0);
-        let first = s.sample.index.wrapping_mul(m);
         let near = std::mem::take(&mut self.work.glossy.near);
         let (mut sum, mut used) = (Rgb::ZERO, 0u32);
         for j in 0..m {
-            let mut sampler = Sampler::new(self.seed ^ DIRECTIONS, s.sample.pixel(), first + j);
-            let Some((w, weight, pdf)) = sample_bsdf(s, &mut sampler) else {
+            let (mut sampler, direction) = self.direction(s, j);
+            let Some((w, weight, pdf)) = direction else {
                 used += 1;
                 continue;
             };
@@ -114,6 +112,15 @@ impl CacheGather<'_> {
         } else {
             sum * (1.0 / used as f32)
         }
+    }
+
+    /// The `j`-th of the point's M BRDF-sampled directions (direction, weight f cos / pdf,
+    /// density), and its sample stream: a pixel's directions are one Sobol sequence.
+    pub(crate) fn direction(&self, s: &Shading, j: u32) -> (Sampler, Option<(Vec3, Rgb, f32)>) {
+        let first = s.sample.index.wrapping_mul(self.sdrc.options.m);
+        let mut sampler = Sampler::new(self.seed ^ DIRECTIONS, s.sample.pixel(), first + j);
+        let direction = sample_bsdf(s, &mut sampler);
+        (sampler, direction)
     }
 
     /// Incoming radiance along `w` interpolated from the samples within `radius` (in D) of

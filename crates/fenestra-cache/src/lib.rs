@@ -1,6 +1,7 @@
 //! Radiance caching for fenestra (seed 003 ch. 2): spatial directional radiance caching
 //! (SDRC) of the first bounce of indirect light on glossy surfaces, with an irradiance cache
-//! for diffuse ones, as the `sdrc` integrator.
+//! for diffuse ones, as the `sdrc` integrator; and its baseline, SH radiance caching
+//! (`shrc`).
 //!
 //! - [`paraboloid`]: the map from the hemisphere to the disc D;
 //! - [`rgbe`]: Ward's shared-exponent radiance;
@@ -11,10 +12,12 @@
 //! - `gather`: which cache serves a shading point, and what the caches share;
 //! - `glossy`: Algorithm 1 (SDRC) at a glossy point;
 //! - [`irradiance`]: the irradiance cache with gradients for diffuse points;
+//! - [`sh`] and [`harmonics`]: SH radiance caching, SDRC's baseline (integrator `shrc`);
 //! - [`sdrc`]: the integrator.
 
 mod gather;
 mod glossy;
+pub mod harmonics;
 pub mod irradiance;
 pub mod ltree;
 pub mod octree;
@@ -22,8 +25,9 @@ pub mod paraboloid;
 pub mod record;
 pub mod rgbe;
 pub mod sdrc;
+pub mod sh;
 pub mod spatial;
 
 pub use gather::is_glossy;
 pub use irradiance::Gradients;
-pub use sdrc::{Sdrc, SdrcOptions};
+pub use sdrc::{GlossyCache, Sdrc, SdrcOptions};

@@ -33,7 +33,19 @@ const PLACEMENT: u64 = 0x5d5c_0003;
 /// Largest validity radius a R_i of a record, in pixel footprints at its point.
 const MAX_REACH_PX: f32 = 40.0;
 
-/// Options of `sdrc`.
+/// What caches indirect light on glossy surfaces.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GlossyCache {
+    /// SDRC's L-trees of BRDF-sampled radiance (integrator `sdrc`).
+    Directional,
+    /// SH radiance caching from `rays` uniform rays per record (integrator `shrc`).
+    Harmonics {
+        /// Rays per record.
+        rays: u32,
+    },
+}
+
+/// Options of `sdrc` (and of `shrc`, its baseline).
 #[derive(Clone, Copy, Debug)]
 pub struct SdrcOptions {
     /// Maximum interpolation error a (eq. 2.1) of SDRC records when they are placed; the
@@ -58,6 +70,8 @@ pub struct SdrcOptions {
     pub irradiance_rays: u32,
     /// The gradients irradiance is extrapolated by.
     pub irradiance_gradients: Gradients,
+    /// The cache of glossy surfaces.
+    pub glossy: GlossyCache,
 }
 
 impl Default for SdrcOptions {
@@ -73,6 +87,7 @@ impl Default for SdrcOptions {
             diffuse: true,
             irradiance_rays: 1024,
             irradiance_gradients: Gradients::Rotation,
+            glossy: GlossyCache::Directional,
         }
     }
 }
@@ -122,11 +137,14 @@ impl Sdrc {
                 "--sdrc-min-reach must lie in [0, {MAX_REACH_PX}] pixels"
             ));
         }
+        if options.glossy == (GlossyCache::Harmonics { rays: 0 }) {
+            return bad("--shrc-rays must be at least 1");
+        }
         if !(options.r_max > 0.0 && options.r_max <= 2.0) {
             return bad("--sdrc-r-max must lie in (0, 2] (the disc's diameter)");
         }
         Ok(Sdrc {
-            tracer: PathTracer::new("sdrc", lights, path),
+            tracer: PathTracer::new(name(options.glossy), lights, path),
             options,
             path,
             camera: Mutex::new((0.0, 0.0)),
@@ -275,7 +293,7 @@ fn place_at(
 
 impl Integrator for Sdrc {
     fn name(&self) -> &str {
-        "sdrc"
+        name(self.options.glossy)
     }
 
     fn settings(&self) -> serde_json::Value {
@@ -294,6 +312,10 @@ impl Integrator for Sdrc {
                     "diffuse": self.options.diffuse,
                     "irradiance_rays": self.options.irradiance_rays,
                     "irradiance_gradients": self.options.irradiance_gradients,
+                    "sh_rays": match self.options.glossy {
+                        GlossyCache::Harmonics { rays } => Some(rays),
+                        GlossyCache::Directional => None,
+                    },
                 }),
             );
         }
@@ -331,10 +353,15 @@ impl Integrator for Sdrc {
         let reach = |a: f32| a * self.options.a_scale;
         let mut caches = Caches {
             glossy: SpatialCache::new(lo, hi, reach(self.options.a)),
+            harmonics: SpatialCache::new(lo, hi, reach(self.options.a)),
             diffuse: SpatialCache::new(lo, hi, reach(self.options.irradiance_a)),
         };
         let placement_rays = self.place_records(scene, film, &mut caches, settings.seed, control);
-        let placed = (caches.glossy.len(), caches.diffuse.len());
+        let placed = (
+            caches.glossy.len(),
+            caches.harmonics.len(),
+            caches.diffuse.len(),
+        );
         let placement_s = started.elapsed().as_secs_f64();
         let mut passes = Passes {
             sdrc: self,
@@ -351,20 +378,29 @@ impl Integrator for Sdrc {
         stats.rays += placement_rays;
         stats.max_depth = Some(self.path.max_depth);
         let caches = passes.caches;
-        figures(&mut stats, "sdrc", &caches.glossy, placed.0, true);
+        match self.options.glossy {
+            GlossyCache::Directional => figures(&mut stats, "sdrc", &caches.glossy, placed.0, true),
+            GlossyCache::Harmonics { .. } => {
+                figures(&mut stats, "shrc", &caches.harmonics, placed.1, false)
+            }
+        }
         figures(
             &mut stats,
             "sdrc_irradiance",
             &caches.diffuse,
-            placed.1,
+            placed.2,
             false,
         );
-        let memory = (caches.glossy.bytes() + caches.diffuse.bytes()) as f64 / 1e6;
+        let memory = (caches.glossy.bytes() + caches.harmonics.bytes() + caches.diffuse.bytes())
+            as f64
+            / 1e6;
         stats.extra.insert("sdrc_memory_mb".into(), memory);
         stats.extra.insert("sdrc_placement_s".into(), placement_s);
         let mut records = vec![0.0f32; film.pixels.len()];
-        let pixels = caches.glossy.records().iter().map(|r| r.pixel);
-        for pixel in pixels.chain(caches.diffuse.records().iter().map(|r| r.pixel)) {
+        let pixels = (caches.glossy.records().iter().map(|r| r.pixel))
+            .chain(caches.harmonics.records().iter().map(|r| r.pixel))
+            .chain(caches.diffuse.records().iter().map(|r| r.pixel));
+        for pixel in pixels {
             if let Some(i) = film.window.index(pixel) {
                 records[i] += 1.0;
             }
@@ -374,7 +410,7 @@ impl Integrator for Sdrc {
         *self.maps.lock().unwrap_or_else(|e| e.into_inner()) = vec![
             WorkMap {
                 name: "records",
-                what: "cache records (SDRC and irradiance) created at the pixel",
+                what: "cache records (glossy and irradiance) created at the pixel",
                 values: records,
             },
             WorkMap {
@@ -384,6 +420,14 @@ impl Integrator for Sdrc {
             },
         ];
         stats
+    }
+}
+
+/// The integrator's name for its glossy cache.
+fn name(glossy: GlossyCache) -> &'static str {
+    match glossy {
+        GlossyCache::Directional => "sdrc",
+        GlossyCache::Harmonics { .. } => "shrc",
     }
 }
 

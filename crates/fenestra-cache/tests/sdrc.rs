@@ -1,9 +1,10 @@
 //! The sdrc integrator against af_hf: as the interpolation errors a go to 0 every shading
 //! point gets its own records and the caches' answer must become af_hf's; the irradiance
-//! cache in a furnace gives the analytic radiance; renders do not depend on the thread
+//! cache in a furnace gives the analytic radiance, and SH radiance caching there agrees with
+//! path tracing; renders do not depend on the thread
 //! count; bad options are refused.
 
-use fenestra_cache::{Sdrc, SdrcOptions};
+use fenestra_cache::{GlossyCache, Sdrc, SdrcOptions};
 use fenestra_core::{Rgb, Vec3};
 use fenestra_eval::ztest::agreement;
 use fenestra_render::integrator::{af_hf, Integrator, LightNextEvent, PathOptions};
@@ -81,8 +82,9 @@ fn with_a_vanishing_error_the_cache_gives_af_hf_answer() {
     assert!(agree.passed(), "{agree:#?}");
 }
 
-/// A closed box whose diffuse walls (albedo `albedo`) all emit radiance 1.
-fn furnace(albedo: f32) -> RenderScene {
+/// A closed box whose diffuse walls (albedo `albedo`) all emit radiance 1; with a glossy
+/// (Phong) panel in its middle facing the camera if `panel`.
+fn furnace(albedo: f32, panel: bool) -> RenderScene {
     let wall = |c: Vec3, u: Vec3, v: Vec3| {
         Shape::new(ShapeKind::Mesh(TriangleMesh::quad(c, u, v)), 0).emitting(Emission {
             radiance: Rgb::ONE,
@@ -90,17 +92,31 @@ fn furnace(albedo: f32) -> RenderScene {
         })
     };
     let (x, y, z) = (Vec3::X, Vec3::Y, Vec3::Z);
+    let mut shapes = vec![
+        wall(-x, y, z),
+        wall(x, y, z),
+        wall(-y, x, z),
+        wall(y, x, z),
+        wall(-z, x, y),
+        wall(z, x, y),
+    ];
+    if panel {
+        // Facing the camera: its normal (u x v) points to -x -y.
+        let (u, v) = ((x - y) * 0.25, z * 0.25);
+        let quad = TriangleMesh::quad(Vec3::new(0.2, 0.3, -0.05), v, u);
+        shapes.push(Shape::new(ShapeKind::Mesh(quad), 1));
+    }
     let desc = SceneDesc {
         name: "furnace".into(),
-        shapes: vec![
-            wall(-x, y, z),
-            wall(x, y, z),
-            wall(-y, x, z),
-            wall(y, x, z),
-            wall(-z, x, y),
-            wall(z, x, y),
+        shapes,
+        materials: vec![
+            Material::diffuse(albedo),
+            Material::Phong {
+                diffuse: Rgb::splat(0.1),
+                specular: Rgb::splat(0.7),
+                exponent: 20.0,
+            },
         ],
-        materials: vec![Material::diffuse(albedo)],
         lights: Vec::new(),
         camera: Camera::look_at(
             Vec3::new(-0.5, -0.6, 0.2),
@@ -120,7 +136,7 @@ fn the_irradiance_cache_in_a_furnace_gives_the_analytic_radiance() {
     // Every path of at most `max_depth` segments sees 1 + rho + ... + rho^(max_depth - 1).
     let (albedo, max_depth) = (0.5f32, 4u32);
     let exact: f32 = (0..max_depth).map(|k| albedo.powi(k as i32)).sum();
-    let scene = furnace(albedo);
+    let scene = furnace(albedo, false);
     let mut cache = Sdrc::new(
         SdrcOptions {
             irradiance_rays: 1024,
@@ -152,6 +168,38 @@ fn the_irradiance_cache_in_a_furnace_gives_the_analytic_radiance() {
         worst = worst.max((region.g - exact).abs() / exact);
     }
     assert!(worst < 0.015, "a region {worst} off");
+}
+
+#[test]
+fn sh_radiance_caching_agrees_with_af_hf_where_incoming_light_is_smooth() {
+    // In the furnace the panel's incoming light is nearly uniform, which order-10 SH holds
+    // exactly: shrc's glossy panel must agree with path tracing within its noise.
+    let scene = furnace(0.5, true);
+    let path = PathOptions {
+        max_depth: 3,
+        ..Default::default()
+    };
+    let mut shrc = Sdrc::new(
+        SdrcOptions {
+            glossy: GlossyCache::Harmonics { rays: 256 },
+            ..Default::default()
+        },
+        path,
+        LightNextEvent::new(LightSelection::Power),
+    )
+    .expect("options");
+    let settings = RenderSettings {
+        spp: 16,
+        first_sample: 0,
+        time_limit: None,
+        seed: 7,
+    };
+    let (film, stats) = render_image(&mut shrc, &scene, 32, 32, &settings).expect("render");
+    let records = stats.extra["shrc_records"];
+    assert!(records >= 4.0, "{records} SH records");
+    let reference = render(&mut af_hf(path, LightSelection::Power), &scene, 32, 256, 8);
+    let agree = agreement(&film.estimate(), &reference.estimate(), 0.01, 8).expect("same size");
+    assert!(agree.passed(), "{agree:#?}");
 }
 
 #[test]
@@ -201,6 +249,11 @@ fn bad_options_are_refused_with_the_option_named() {
     })
     .contains("--sdrc-irradiance-rays"));
     assert!(refused(SdrcOptions { r_max: 3.0, ..d }).contains("--sdrc-r-max"));
+    assert!(refused(SdrcOptions {
+        glossy: GlossyCache::Harmonics { rays: 0 },
+        ..d
+    })
+    .contains("--shrc-rays"));
     assert!(refused(SdrcOptions {
         min_reach: -1.0,
         ..d

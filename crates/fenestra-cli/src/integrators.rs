@@ -6,7 +6,7 @@
 use crate::portals_cmd::EstimateOpts;
 use anyhow::{bail, Result};
 use clap::{Args, ValueEnum};
-use fenestra_cache::{Gradients, Sdrc, SdrcOptions};
+use fenestra_cache::{GlossyCache, Gradients, Sdrc, SdrcOptions};
 use fenestra_core::mis::MisHeuristic;
 use fenestra_eval::hash::debug_hash;
 use fenestra_eval::suite::slug;
@@ -25,8 +25,8 @@ use std::path::{Path, PathBuf};
 pub struct IntegratorArgs {
     /// Integrator (`fenestra list` shows them): hf (BSDF sampling), af_hf (light and BSDF
     /// sampling with MIS), lp_hf (light-portal and BSDF sampling with MIS), ias (adaptive
-    /// direct light for many lights) or sdrc (af_hf with cached indirect light on glossy
-    /// surfaces).
+    /// direct light for many lights), sdrc (af_hf with cached indirect light on glossy
+    /// surfaces) or shrc (the same with SH radiance caching).
     #[arg(long, default_value = "af_hf")]
     pub integrator: String,
     #[command(flatten, next_help_heading = "Path tracing (hf, af_hf, lp_hf)")]
@@ -40,7 +40,7 @@ pub struct IntegratorArgs {
         next_help_heading = "Iterative adaptive sampling (ias, ias_reference)"
     )]
     pub ias: IasArgs,
-    #[command(flatten, next_help_heading = "Radiance caching (sdrc)")]
+    #[command(flatten, next_help_heading = "Radiance caching (sdrc, shrc)")]
     pub sdrc: SdrcArgs,
 }
 
@@ -80,6 +80,35 @@ pub struct SdrcArgs {
     /// Maximum interpolation error of the irradiance cache (Ward's a).
     #[arg(long, default_value_t = 0.15)]
     sdrc_irradiance_a: f32,
+    /// shrc: maximum interpolation error a of SH records (the seed's 0.25).
+    #[arg(long, default_value_t = 0.25)]
+    shrc_a: f32,
+    /// shrc: rays per SH record, stratified uniformly over the hemisphere.
+    #[arg(long, default_value_t = 1024)]
+    shrc_rays: u32,
+}
+
+impl SdrcArgs {
+    /// The options of sdrc (or, with `glossy`, of shrc) as given.
+    fn options(&self, glossy: GlossyCache) -> SdrcOptions {
+        SdrcOptions {
+            a: self.sdrc_a,
+            a_scale: self.sdrc_a_scale,
+            n: self.sdrc_n,
+            m: self.sdrc_m,
+            r_max: self.sdrc_r_max,
+            min_reach: self.sdrc_min_reach,
+            diffuse: matches!(self.sdrc_diffuse, SdrcDiffuse::Cache),
+            irradiance_rays: self.sdrc_irradiance_rays,
+            irradiance_a: self.sdrc_irradiance_a,
+            irradiance_gradients: match self.sdrc_irradiance_gradients {
+                IrradianceGradients::None => Gradients::None,
+                IrradianceGradients::Rotation => Gradients::Rotation,
+                IrradianceGradients::Both => Gradients::Both,
+            },
+            glossy,
+        }
+    }
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -333,22 +362,18 @@ pub fn registry<'a>() -> Registry<Config<'a>> {
             "sdrc",
             "af_hf with the first bounce of indirect light on glossy surfaces cached and interpolated (spatial directional radiance caching, seed 003)",
             |c: &Config| {
-                let a = &c.args.sdrc;
+                let options = c.args.sdrc.options(GlossyCache::Directional);
+                Ok(Box::new(Sdrc::new(options, c.path, c.args.lights.next_event())?))
+            },
+        )
+        .register(
+            "shrc",
+            "sdrc's baseline: the same, with spherical-harmonic radiance caching (order 10) on glossy surfaces (Krivanek et al. 2005)",
+            |c: &Config| {
+                let rays = c.args.sdrc.shrc_rays;
                 let options = SdrcOptions {
-                    a: a.sdrc_a,
-                    a_scale: a.sdrc_a_scale,
-                    n: a.sdrc_n,
-                    m: a.sdrc_m,
-                    r_max: a.sdrc_r_max,
-                    min_reach: a.sdrc_min_reach,
-                    diffuse: matches!(a.sdrc_diffuse, SdrcDiffuse::Cache),
-                    irradiance_rays: a.sdrc_irradiance_rays,
-                    irradiance_a: a.sdrc_irradiance_a,
-                    irradiance_gradients: match a.sdrc_irradiance_gradients {
-                        IrradianceGradients::None => Gradients::None,
-                        IrradianceGradients::Rotation => Gradients::Rotation,
-                        IrradianceGradients::Both => Gradients::Both,
-                    },
+                    a: c.args.sdrc.shrc_a,
+                    ..c.args.sdrc.options(GlossyCache::Harmonics { rays })
                 };
                 Ok(Box::new(Sdrc::new(options, c.path, c.args.lights.next_event())?))
             },
