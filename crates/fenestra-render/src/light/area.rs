@@ -174,7 +174,10 @@ impl AreaLight {
             }
         }
         let dir = Frame::from_normal(n).to_world(warp::square_to_cosine_hemisphere(u_dir));
-        (n != Vec3::ZERO).then_some(super::EmittedRay { origin, dir })
+        // L cos over the densities 1 / area, cos / pi and 1 / sides.
+        let sides = if self.emission.two_sided { 2.0 } else { 1.0 };
+        let power = self.emission.radiance * (PI * self.area * sides);
+        (n != Vec3::ZERO).then_some(super::EmittedRay { origin, dir, power })
     }
 
     /// Uniform point on the emitter by area: (primitive, point, barycentrics).

@@ -26,6 +26,11 @@ impl DistantLight {
         self.direction
     }
 
+    /// Irradiance on a surface facing it.
+    pub fn irradiance(&self) -> Rgb {
+        self.irradiance
+    }
+
     /// The light's only direction.
     pub fn sample_li(&self) -> Option<LightSample> {
         Some(LightSample {

@@ -34,24 +34,31 @@ pub struct LightSample {
     pub delta: bool,
 }
 
-/// A ray leaving a light (for photon tracing): origin and unit direction.
+/// A ray leaving a light (for photon tracing): origin, unit direction and the power it
+/// carries.
 #[derive(Clone, Copy, Debug)]
 pub struct EmittedRay {
     /// Where it starts.
     pub origin: Vec3,
     /// Unit direction.
     pub dir: Vec3,
+    /// Emitted radiance (or intensity, or irradiance) along the ray over the density of
+    /// its origin and direction: a photon's power, before dividing by the probability of
+    /// picking the light. Its mean over the light's rays is the light's power.
+    pub power: Rgb,
 }
 
 /// A ray from outside the scene's bounding sphere travelling along `dir` (lights at
-/// infinity): its origin is uniform on the disk of the sphere's radius facing `dir`.
-fn ray_from_infinity(scene: &Scene, dir: Vec3, u: Vec2) -> EmittedRay {
+/// infinity): its origin is uniform on the disk of the sphere's radius facing `dir`;
+/// `irradiance` is the light's across the disk (over the density of `dir`).
+fn ray_from_infinity(scene: &Scene, dir: Vec3, irradiance: Rgb, u: Vec2) -> EmittedRay {
     let (center, radius) = scene.bounding_sphere();
     let d = fenestra_core::warp::square_to_disk_concentric(u) * radius;
     let offset = fenestra_core::Frame::from_normal(dir).to_world(Vec3::new(d.x, d.y, 0.0));
     EmittedRay {
         origin: center - dir * radius + offset,
         dir,
+        power: irradiance * (std::f32::consts::PI * radius * radius),
     }
 }
 
@@ -129,13 +136,19 @@ impl Light {
             Light::Point(l) => Some(EmittedRay {
                 origin: l.position(),
                 dir: fenestra_core::warp::square_to_uniform_sphere(u_dir),
+                power: l.intensity() * (4.0 * std::f32::consts::PI),
             }),
             Light::Spot(l) => Some(l.sample_ray(u_dir)),
-            Light::Distant(l) => Some(ray_from_infinity(scene, l.direction(), u_pos)),
+            Light::Distant(l) => Some(ray_from_infinity(
+                scene,
+                l.direction(),
+                l.irradiance(),
+                u_pos,
+            )),
             Light::Area(l) => l.sample_ray(scene, u_pos, u_dir),
             Light::Environment(l) => {
-                let wi = l.sample_li(u_dir)?.wi;
-                Some(ray_from_infinity(scene, -wi, u_pos))
+                let s = l.sample_li(u_dir)?;
+                (s.pdf > 0.0).then(|| ray_from_infinity(scene, -s.wi, s.li / s.pdf, u_pos))
             }
         }
     }

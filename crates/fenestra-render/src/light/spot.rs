@@ -54,9 +54,12 @@ impl SpotLight {
     /// A ray leaving the spot in a direction uniform within its outer cone.
     pub fn sample_ray(&self, u: Vec2) -> super::EmittedRay {
         let local = warp::square_to_uniform_cone(u, 1.0 - self.cos_end);
+        let falloff = smoothstep(self.cos_end, self.cos_start, local.z);
         super::EmittedRay {
             origin: self.position,
             dir: Frame::from_normal(self.direction).to_world(local),
+            // Uniform in the cone: density 1 / (2 pi (1 - cos_end)).
+            power: self.intensity * (falloff * 2.0 * PI * (1.0 - self.cos_end)),
         }
     }
 
