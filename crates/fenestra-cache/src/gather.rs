@@ -6,6 +6,7 @@
 use crate::harmonics::ShRadiance;
 use crate::irradiance::Irradiance;
 use crate::ltree::LTree;
+use crate::photons::{PhotonGather, PhotonMap};
 use crate::sdrc::{GlossyCache, Sdrc};
 use crate::spatial::{Delta, SpatialCache};
 use fenestra_core::stats::RayCounters;
@@ -41,6 +42,8 @@ pub struct Caches {
     pub harmonics: SpatialCache<ShRadiance>,
     /// Irradiance records.
     pub diffuse: SpatialCache<Irradiance>,
+    /// Light beyond the records' rays (empty: their paths are traced on).
+    pub photons: PhotonMap,
 }
 
 impl Caches {
@@ -69,6 +72,8 @@ pub struct Work {
     pub diffuse: Delta<Irradiance>,
     /// Pixels (x, y) of the samples whose indirect light a cache gave, one entry a sample.
     pub served: Vec<(u32, u32)>,
+    /// Candidates of photon lookups (scratch).
+    pub photon_scratch: Vec<(f32, u32)>,
 }
 
 /// The caches at work for one block of one pass.
@@ -195,10 +200,11 @@ impl CacheGather<'_> {
 
     /// Light reflected towards `origin` by the surface a ray from `origin` along `w` finds
     /// (emitted light excluded: next events count it), by a path one segment longer than the
-    /// point's, and the hit's distance (infinite for rays that escape: the environment is
+    /// point's (ended by the photon map at diffuse surfaces, if there is one), and the hit's
+    /// distance (infinite for rays that escape: the environment is
     /// direct light).
     pub(crate) fn reflected(
-        &self,
+        &mut self,
         scene: &RenderScene,
         ray: Ray,
         sampler: &mut Sampler,
@@ -216,7 +222,7 @@ impl CacheGather<'_> {
 
     /// [`Self::reflected`] without the distance, for a ray not yet intersected (`hit` None).
     pub(crate) fn trace_from(
-        &self,
+        &mut self,
         scene: &RenderScene,
         ray: Ray,
         hit: Option<Hit>,
@@ -229,9 +235,15 @@ impl CacheGather<'_> {
             emitted: false,
             hit,
         };
-        self.sdrc
-            .tracer
-            .trace(scene, ray, start, sampler, s.sample, rays, &mut NoGather)
+        let tracer = &self.sdrc.tracer;
+        if self.caches.photons.is_empty() {
+            return tracer.trace(scene, ray, start, sampler, s.sample, rays, &mut NoGather);
+        }
+        let mut photons = PhotonGather {
+            map: &self.caches.photons,
+            scratch: &mut self.work.photon_scratch,
+        };
+        tracer.trace(scene, ray, start, sampler, s.sample, rays, &mut photons)
     }
 }
 

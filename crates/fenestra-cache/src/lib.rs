@@ -13,6 +13,7 @@
 //! - `glossy`: Algorithm 1 (SDRC) at a glossy point;
 //! - [`irradiance`]: the irradiance cache with gradients for diffuse points;
 //! - [`sh`] and [`harmonics`]: SH radiance caching, SDRC's baseline (integrator `shrc`);
+//! - [`photons`]: the photon map for light beyond the records' rays;
 //! - [`sdrc`]: the integrator.
 
 mod gather;
@@ -22,6 +23,7 @@ pub mod irradiance;
 pub mod ltree;
 pub mod octree;
 pub mod paraboloid;
+pub mod photons;
 pub mod record;
 pub mod rgbe;
 pub mod sdrc;

@@ -10,6 +10,7 @@
 
 use crate::gather::{CacheGather, Caches, Work};
 use crate::irradiance::Gradients;
+use crate::photons::PhotonMap;
 use crate::spatial::{Counts, SpatialCache};
 use fenestra_core::stats::{RayCounters, RenderStats};
 use fenestra_core::{Rgb, Sampler, Vec2};
@@ -72,6 +73,12 @@ pub struct SdrcOptions {
     pub irradiance_gradients: Gradients,
     /// The cache of glossy surfaces.
     pub glossy: GlossyCache,
+    /// Photons emitted for the light beyond the records' rays (0: their paths are traced).
+    pub photons: u32,
+    /// Photons per radiance estimate (k nearest).
+    pub photon_k: u32,
+    /// Largest photon gather radius, as a fraction of the scene's bounding-sphere radius.
+    pub photon_radius: f32,
 }
 
 impl Default for SdrcOptions {
@@ -88,6 +95,9 @@ impl Default for SdrcOptions {
             irradiance_rays: 1024,
             irradiance_gradients: Gradients::Rotation,
             glossy: GlossyCache::Directional,
+            photons: 0,
+            photon_k: 50,
+            photon_radius: 0.03,
         }
     }
 }
@@ -139,6 +149,12 @@ impl Sdrc {
         }
         if options.glossy == (GlossyCache::Harmonics { rays: 0 }) {
             return bad("--shrc-rays must be at least 1");
+        }
+        if options.photon_k == 0 {
+            return bad("--sdrc-photon-k must be at least 1");
+        }
+        if !(options.photon_radius > 0.0 && options.photon_radius <= 1.0) {
+            return bad("--sdrc-photon-radius must lie in (0, 1] (of the scene's radius)");
         }
         if !(options.r_max > 0.0 && options.r_max <= 2.0) {
             return bad("--sdrc-r-max must lie in (0, 2] (the disc's diameter)");
@@ -312,6 +328,9 @@ impl Integrator for Sdrc {
                     "diffuse": self.options.diffuse,
                     "irradiance_rays": self.options.irradiance_rays,
                     "irradiance_gradients": self.options.irradiance_gradients,
+                    "photons": self.options.photons,
+                    "photon_k": self.options.photon_k,
+                    "photon_radius": self.options.photon_radius,
                     "sh_rays": match self.options.glossy {
                         GlossyCache::Harmonics { rays } => Some(rays),
                         GlossyCache::Directional => None,
@@ -351,7 +370,24 @@ impl Integrator for Sdrc {
         self.measure_camera(scene, film.window.full_width, film.window.full_height);
         let (lo, hi) = scene.scene.bounds();
         let reach = |a: f32| a * self.options.a_scale;
+        let photons = PhotonMap::trace(
+            scene,
+            self.options.photons,
+            self.options.photon_k as usize,
+            self.options.photon_radius * scene.scene.bounding_sphere().1,
+            self.path.max_depth,
+            settings.seed,
+        );
+        let photon_s = started.elapsed().as_secs_f64();
+        if !photons.is_empty() {
+            control.progress.note(&format!(
+                "photon map: {} of {} photons stored in {photon_s:.2} s",
+                photons.len(),
+                photons.emitted
+            ));
+        }
         let mut caches = Caches {
+            photons,
             glossy: SpatialCache::new(lo, hi, reach(self.options.a)),
             harmonics: SpatialCache::new(lo, hi, reach(self.options.a)),
             diffuse: SpatialCache::new(lo, hi, reach(self.options.irradiance_a)),
@@ -391,9 +427,18 @@ impl Integrator for Sdrc {
             placed.2,
             false,
         );
-        let memory = (caches.glossy.bytes() + caches.harmonics.bytes() + caches.diffuse.bytes())
-            as f64
+        let memory = (caches.glossy.bytes()
+            + caches.harmonics.bytes()
+            + caches.diffuse.bytes()
+            + caches.photons.bytes()) as f64
             / 1e6;
+        stats.extra.insert("sdrc_photon_s".into(), photon_s);
+        stats
+            .extra
+            .insert("sdrc_photons_stored".into(), caches.photons.len() as f64);
+        stats
+            .extra
+            .insert("sdrc_photon_rays".into(), caches.photons.rays as f64);
         stats.extra.insert("sdrc_memory_mb".into(), memory);
         stats.extra.insert("sdrc_placement_s".into(), placement_s);
         let mut records = vec![0.0f32; film.pixels.len()];

@@ -171,6 +171,41 @@ fn the_irradiance_cache_in_a_furnace_gives_the_analytic_radiance() {
 }
 
 #[test]
+fn with_a_photon_map_the_furnace_still_gives_the_analytic_radiance() {
+    // The records' rays end at the walls in photon-map estimates of the light beyond:
+    // photons carry their lights' power, and path lengths stay within the limit.
+    let (albedo, max_depth) = (0.5f32, 4u32);
+    let exact: f32 = (0..max_depth).map(|k| albedo.powi(k as i32)).sum();
+    let scene = furnace(albedo, false);
+    let mut cache = Sdrc::new(
+        SdrcOptions {
+            irradiance_rays: 256,
+            photons: 100_000,
+            ..Default::default()
+        },
+        PathOptions {
+            max_depth,
+            ..Default::default()
+        },
+        LightNextEvent::new(LightSelection::Power),
+    )
+    .expect("options");
+    let settings = RenderSettings {
+        spp: 8,
+        first_sample: 0,
+        time_limit: None,
+        seed: 4,
+    };
+    let (film, stats) = render_image(&mut cache, &scene, 32, 32, &settings).expect("render");
+    let stored = stats.extra["sdrc_photons_stored"];
+    assert!(stored > 20_000.0, "{stored} photons stored");
+    let mean = film.image().mean();
+    for c in [mean.r, mean.g, mean.b] {
+        assert!((c - exact).abs() < 0.01 * exact, "mean {c}, exact {exact}");
+    }
+}
+
+#[test]
 fn sh_radiance_caching_agrees_with_af_hf_where_incoming_light_is_smooth() {
     // In the furnace the panel's incoming light is nearly uniform, which order-10 SH holds
     // exactly: shrc's glossy panel must agree with path tracing within its noise.

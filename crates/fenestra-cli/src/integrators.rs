@@ -80,6 +80,16 @@ pub struct SdrcArgs {
     /// Maximum interpolation error of the irradiance cache (Ward's a).
     #[arg(long, default_value_t = 0.15)]
     sdrc_irradiance_a: f32,
+    /// Photons emitted for the light beyond the records' rays, which then end at diffuse
+    /// surfaces in a photon-map estimate (the seed's setting); 0: their paths are traced on.
+    #[arg(long, default_value_t = 0)]
+    sdrc_photons: u32,
+    /// Photons per radiance estimate (the k nearest).
+    #[arg(long, default_value_t = 50)]
+    sdrc_photon_k: u32,
+    /// Largest photon gather radius, as a fraction of the scene's bounding-sphere radius.
+    #[arg(long, default_value_t = 0.03)]
+    sdrc_photon_radius: f32,
     /// shrc: maximum interpolation error a of SH records (the seed's 0.25).
     #[arg(long, default_value_t = 0.25)]
     shrc_a: f32,
@@ -107,6 +117,9 @@ impl SdrcArgs {
                 IrradianceGradients::Both => Gradients::Both,
             },
             glossy,
+            photons: self.sdrc_photons,
+            photon_k: self.sdrc_photon_k,
+            photon_radius: self.sdrc_photon_radius,
         }
     }
 }
