@@ -50,6 +50,10 @@ pub const SCENES: &[(&str, &str)] = &[
         "brushed-metal Utah teapot (anisotropic Ward) in a box with a checkered wall (seed 003 §2.6)",
     ),
     (
+        "teapot-box-phong-16",
+        "the teapot box with a Phong kettle of lobe exponent 16 (teapot-box-phong-N: exponent N; seed 003 Fig. 2.5)",
+    ),
+    (
         "chess",
         "ivory (anisotropic Ward) and ebony (Phong) chess pieces on a glossy board, 5 spots and a sky (seed 003 Fig. 2.6)",
     ),
@@ -97,7 +101,12 @@ pub fn load(name: &str) -> Result<SceneDesc, UnknownScene> {
         "kitchen-72-env" => Ok(kitchen::kitchen(true)),
         "ponderosa-138" => Ok(ponderosa::ponderosa()),
         "terminal-832" => Ok(terminal::terminal()),
-        _ => Err(UnknownScene(name.to_string())),
+        _ => match name.strip_prefix("teapot-box-phong-").map(str::parse::<f32>) {
+            Some(Ok(exponent)) if exponent.is_finite() && exponent >= 0.0 => {
+                Ok(teapot::teapot_box_phong(exponent))
+            }
+            _ => Err(UnknownScene(name.to_string())),
+        },
     }
 }
 

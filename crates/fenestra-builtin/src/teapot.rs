@@ -82,7 +82,33 @@ pub fn teapot_mesh(n: usize, scale: f32, base: Vec3) -> TriangleMesh {
     mesh
 }
 
+/// The seed's kettle scene: a brushed-metal (anisotropic Ward) teapot in a box.
 pub fn teapot_box() -> SceneDesc {
+    kettle_box(
+        "teapot-box",
+        Material::Ward {
+            diffuse: Rgb::new(0.05, 0.05, 0.06),
+            specular: Rgb::new(0.6, 0.55, 0.45),
+            alpha_x: 0.18,
+            alpha_y: 0.09,
+        },
+    )
+}
+
+/// The kettle scene with a Phong kettle of lobe `exponent` (seed 003 Fig. 2.5).
+pub fn teapot_box_phong(exponent: f32) -> SceneDesc {
+    kettle_box(
+        &format!("teapot-box-phong-{exponent}"),
+        Material::Phong {
+            diffuse: Rgb::new(0.05, 0.05, 0.06),
+            specular: Rgb::new(0.6, 0.55, 0.45),
+            exponent,
+        },
+    )
+}
+
+/// The teapot of material `kettle` in the box.
+fn kettle_box(name: &str, kettle: Material) -> SceneDesc {
     let mut a = Assembler::default();
     let walls = a.material(Material::TexturedDiffuse {
         texture: Arc::new(ImageTexture::new(
@@ -95,12 +121,7 @@ pub fn teapot_box() -> SceneDesc {
             "checker.exr".into(),
         )),
     });
-    let kettle = a.material(Material::Ward {
-        diffuse: Rgb::new(0.05, 0.05, 0.06),
-        specular: Rgb::new(0.6, 0.55, 0.45),
-        alpha_x: 0.18,
-        alpha_y: 0.09,
-    });
+    let kettle = a.material(kettle);
     let lamp = a.material(Material::diffuse(0.0));
     // A 2 m box, its floor at z = 0.
     a.mesh(
@@ -111,7 +132,7 @@ pub fn teapot_box() -> SceneDesc {
     let light = TriangleMesh::quad(Vec3::new(0.0, 0.0, 1.99), Vec3::Y * 0.3, Vec3::X * 0.3);
     a.emitter(ShapeKind::Mesh(light), lamp, Rgb::splat(25.0));
     a.finish(
-        "teapot-box",
+        name,
         camera(Vec3::new(0.0, -0.95, 1.0), Vec3::new(0.0, 0.1, 0.35), 60.0),
         RenderDefaults {
             width: 512,
