@@ -161,7 +161,7 @@ fn bad_input_gets_a_clear_error() {
             "-o",
             o,
         ],
-        "unknown integrator 'bdpt' (available: hf, af_hf, ias, ias_reference, sdrc, lp_hf)",
+        "unknown integrator 'bdpt' (available: hf, af_hf, ias, ias_reference, sdrc, shrc, lp_hf)",
     );
     assert_clear_error(
         &[
