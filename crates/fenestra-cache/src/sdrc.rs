@@ -4,7 +4,8 @@
 //! on other surfaces and the cached samples' own paths).
 //!
 //! Two phases, as the seed's two passes (§2.5): records are placed from one camera ray per
-//! pixel, coarse to fine (every 8th pixel, then every 4th, 2nd, 1st), with maximum error a;
+//! pixel, coarse to fine (every 64th pixel, then every 32nd, ... 2nd, 1st), with maximum
+//! error a;
 //! then the image is rendered in passes of one sample per pixel with a x 1.3, adding samples
 //! to the records (lazy updates) and records where none is near.
 
@@ -30,6 +31,12 @@ use std::time::Instant;
 
 /// Seed of the record-placement phase's camera samples (xor-ed with the render's seed).
 const PLACEMENT: u64 = 0x5d5c_0003;
+
+/// The placement phase's pixel grids, coarse to fine. Blocks of one level do not see each
+/// other's new records, so a level whose grid holds a pixel in every 8x8 block would give
+/// every block its own record whatever a allows: the coarse levels (one pixel in 64 blocks,
+/// then 16, 4) let records spread before the block grid could set their density.
+const PLACEMENT_STRIDES: [u32; 7] = [64, 32, 16, 8, 4, 2, 1];
 
 /// Largest validity radius a R_i of a record, in pixel footprints at its point.
 const MAX_REACH_PX: f32 = 40.0;
@@ -215,13 +222,14 @@ impl Sdrc {
             .progress
             .start(Some(film.width as u64 * film.height as u64));
         let mut rays = RayCounters::default();
-        for stride in [8u32, 4, 2, 1] {
+        for stride in PLACEMENT_STRIDES {
             if control.cancelled() {
                 break;
             }
             // The pixels on this level's grid that no coarser level took.
             let on = |x: u32, y: u32, s: u32| x.is_multiple_of(s) && y.is_multiple_of(s);
-            let level = |x: u32, y: u32| on(x, y, stride) && (stride == 8 || !on(x, y, 2 * stride));
+            let first = stride == PLACEMENT_STRIDES[0];
+            let level = |x: u32, y: u32| on(x, y, stride) && (first || !on(x, y, 2 * stride));
             let done: Vec<(Work, RayCounters)> = (0..blocks.count() as u32)
                 .into_par_iter()
                 .map(|b| {
