@@ -110,8 +110,17 @@ impl CacheGather<'_> {
         }
     }
 
-    /// The record lookup at `s` in the cache that serves it, creating a record there if
-    /// none is near; the cache's delta holds the records found in `near`.
+    /// The Lambertian albedo of a glossy point's BSDF and its glossy lobe, when the
+    /// irradiance cache serves the one and the glossy cache the other.
+    fn split(&self, s: &Shading) -> Option<(Rgb, Bsdf)> {
+        let o = &self.sdrc.options;
+        (o.split && o.diffuse)
+            .then(|| s.bsdf.lambertian_split())
+            .flatten()
+    }
+
+    /// The record lookups at `s` in the caches that serve it, creating records where none
+    /// is near; each cache's delta holds the records found in `near`.
     pub fn ensure_records(
         &mut self,
         scene: &RenderScene,
@@ -119,44 +128,87 @@ impl CacheGather<'_> {
         served: Served,
         rays: &mut RayCounters,
     ) {
-        let n = viewer_normal(s);
-        match served {
-            Served::Glossy => {
-                let a = self.a_glossy();
-                if !self
-                    .caches
-                    .glossy
-                    .lookup(&mut self.work.glossy, s.si.p, n, a)
-                {
-                    let record = self.new_glossy_record(scene, s, n, rays);
-                    self.caches.glossy.create(&mut self.work.glossy, record);
-                }
+        match (served, self.split(s)) {
+            (Served::Diffuse(_), _) => self.ensure_irradiance(scene, s, rays),
+            (_, Some((_, lobe))) => {
+                self.ensure_glossy(scene, &with_bsdf(s, &lobe), served, rays);
+                self.ensure_irradiance(scene, s, rays);
             }
-            Served::Harmonics(count) => {
-                let a = self.a_glossy();
-                if !self
-                    .caches
-                    .harmonics
-                    .lookup(&mut self.work.harmonics, s.si.p, n, a)
-                {
-                    let record = self.new_sh_record(scene, s, n, count, rays);
-                    self.caches
-                        .harmonics
-                        .create(&mut self.work.harmonics, record);
-                }
-            }
-            Served::Diffuse(_) => {
-                let a = self.a_diffuse();
-                if !self
-                    .caches
-                    .diffuse
-                    .lookup(&mut self.work.diffuse, s.si.p, n, a)
-                {
-                    let record = self.new_irradiance_record(scene, s, n, rays);
-                    self.caches.diffuse.create(&mut self.work.diffuse, record);
-                }
-            }
+            (_, None) => self.ensure_glossy(scene, s, served, rays),
         }
+    }
+
+    /// The glossy cache's lookup (SDRC or SH) at `s`, creating a record if none is near.
+    fn ensure_glossy(
+        &mut self,
+        scene: &RenderScene,
+        s: &Shading,
+        served: Served,
+        rays: &mut RayCounters,
+    ) {
+        let (n, a) = (viewer_normal(s), self.a_glossy());
+        if let Served::Harmonics(count) = served {
+            if !self
+                .caches
+                .harmonics
+                .lookup(&mut self.work.harmonics, s.si.p, n, a)
+            {
+                let record = self.new_sh_record(scene, s, n, count, rays);
+                self.caches
+                    .harmonics
+                    .create(&mut self.work.harmonics, record);
+            }
+        } else if !self
+            .caches
+            .glossy
+            .lookup(&mut self.work.glossy, s.si.p, n, a)
+        {
+            let record = self.new_glossy_record(scene, s, n, rays);
+            self.caches.glossy.create(&mut self.work.glossy, record);
+        }
+    }
+
+    /// The irradiance cache's lookup at `s`, creating a record if none is near.
+    fn ensure_irradiance(&mut self, scene: &RenderScene, s: &Shading, rays: &mut RayCounters) {
+        let (n, a) = (viewer_normal(s), self.a_diffuse());
+        if !self
+            .caches
+            .diffuse
+            .lookup(&mut self.work.diffuse, s.si.p, n, a)
+        {
+            let record = self.new_irradiance_record(scene, s, n, rays);
+            self.caches.diffuse.create(&mut self.work.diffuse, record);
+        }
+    }
+
+    /// Light of the glossy cache reflected at `s` (its records looked up).
+    fn glossy_at(
+        &mut self,
+        scene: &RenderScene,
+        s: &Shading,
+        served: Served,
+        rays: &mut RayCounters,
+    ) -> Rgb {
+        if let Served::Harmonics(_) = served {
+            let counts = &mut self.work.harmonics.counts;
+            counts.points += 1;
+            counts.records_used += self.work.harmonics.near.len() as u64;
+            self.sh_outgoing(s)
+        } else {
+            let counts = &mut self.work.glossy.counts;
+            counts.points += 1;
+            counts.records_used += self.work.glossy.near.len() as u64;
+            self.glossy_outgoing(scene, s, rays)
+        }
+    }
+
+    /// Light of the irradiance cache reflected by a Lambertian lobe of `albedo` at `s` (its
+    /// records looked up).
+    fn diffuse_at(&mut self, s: &Shading, albedo: Rgb) -> Rgb {
+        let counts = &mut self.work.diffuse.counts;
+        counts.points += 1;
+        counts.records_used += self.work.diffuse.near.len() as u64;
+        albedo * self.irradiance(s) * std::f32::consts::FRAC_1_PI
     }
 
     /// SDRC's maximum interpolation error in this phase.
@@ -256,23 +308,36 @@ impl Gather for CacheGather<'_> {
         rays: &mut RayCounters,
     ) -> Option<Rgb> {
         let served = self.served(s, segments)?;
-        self.ensure_records(scene, s, served, rays);
         self.work.served.push((s.sample.x, s.sample.y));
-        let (counts, near) = match served {
-            Served::Harmonics(_) => (
-                &mut self.work.harmonics.counts,
-                self.work.harmonics.near.len(),
-            ),
-            Served::Glossy => (&mut self.work.glossy.counts, self.work.glossy.near.len()),
-            Served::Diffuse(_) => (&mut self.work.diffuse.counts, self.work.diffuse.near.len()),
-        };
-        counts.points += 1;
-        counts.records_used += near as u64;
-        Some(match served {
-            Served::Harmonics(_) => self.sh_outgoing(s),
-            Served::Glossy => self.glossy_outgoing(scene, s, rays),
-            Served::Diffuse(albedo) => albedo * self.irradiance(s) * std::f32::consts::FRAC_1_PI,
+        Some(match (served, self.split(s)) {
+            (Served::Diffuse(albedo), _) => {
+                self.ensure_irradiance(scene, s, rays);
+                self.diffuse_at(s, albedo)
+            }
+            (_, Some((albedo, lobe))) => {
+                let glossy = with_bsdf(s, &lobe);
+                self.ensure_glossy(scene, &glossy, served, rays);
+                let l = self.glossy_at(scene, &glossy, served, rays);
+                self.ensure_irradiance(scene, s, rays);
+                l + self.diffuse_at(s, albedo)
+            }
+            (_, None) => {
+                self.ensure_glossy(scene, s, served, rays);
+                self.glossy_at(scene, s, served, rays)
+            }
         })
+    }
+}
+
+/// `s` with the BSDF `bsdf` (a lobe of its own).
+fn with_bsdf<'a>(s: &Shading<'a>, bsdf: &'a Bsdf) -> Shading<'a> {
+    Shading {
+        si: s.si,
+        bsdf,
+        frame: s.frame,
+        wo: s.wo,
+        wo_local: s.wo_local,
+        sample: s.sample,
     }
 }
 

@@ -80,6 +80,9 @@ pub struct SdrcOptions {
     pub irradiance_gradients: Gradients,
     /// The cache of glossy surfaces.
     pub glossy: GlossyCache,
+    /// Whether a glossy BSDF's Lambertian lobe (Phong's and Ward's kd) takes its light from
+    /// the irradiance cache, leaving the glossy cache the glossy lobe (with `diffuse` only).
+    pub split: bool,
     /// Photons emitted for the light beyond the records' rays (0: their paths are traced).
     pub photons: u32,
     /// Photons per radiance estimate (k nearest).
@@ -102,6 +105,7 @@ impl Default for SdrcOptions {
             irradiance_rays: 1024,
             irradiance_gradients: Gradients::Rotation,
             glossy: GlossyCache::Directional,
+            split: false,
             photons: 0,
             photon_k: 50,
             photon_radius: 0.03,
@@ -336,6 +340,7 @@ impl Integrator for Sdrc {
                     "diffuse": self.options.diffuse,
                     "irradiance_rays": self.options.irradiance_rays,
                     "irradiance_gradients": self.options.irradiance_gradients,
+                    "split": self.options.split,
                     "photons": self.options.photons,
                     "photon_k": self.options.photon_k,
                     "photon_radius": self.options.photon_radius,

@@ -80,6 +80,11 @@ pub struct SdrcArgs {
     /// Maximum interpolation error of the irradiance cache (Ward's a).
     #[arg(long, default_value_t = 0.15)]
     sdrc_irradiance_a: f32,
+    /// Where the Lambertian lobe of a glossy material (Phong's and Ward's kd) takes its
+    /// indirect light: glossy (the glossy cache, with the glossy lobe) or cache (the
+    /// irradiance cache, with --sdrc-diffuse cache; docs/sdrc.md measures both).
+    #[arg(long, value_enum, default_value = "glossy")]
+    sdrc_lambertian_lobe: LambertianLobe,
     /// Photons emitted for the light beyond the records' rays, which then end at diffuse
     /// surfaces in a photon-map estimate (the seed's setting); 0: their paths are traced on.
     #[arg(long, default_value_t = 0)]
@@ -117,6 +122,7 @@ impl SdrcArgs {
                 IrradianceGradients::Both => Gradients::Both,
             },
             glossy,
+            split: matches!(self.sdrc_lambertian_lobe, LambertianLobe::Cache),
             photons: self.sdrc_photons,
             photon_k: self.sdrc_photon_k,
             photon_radius: self.sdrc_photon_radius,
@@ -129,6 +135,12 @@ enum IrradianceGradients {
     None,
     Rotation,
     Both,
+}
+
+#[derive(Clone, Copy, Debug, ValueEnum)]
+enum LambertianLobe {
+    Cache,
+    Glossy,
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum)]

@@ -163,6 +163,24 @@ impl Bsdf {
         }
     }
 
+    /// A Lambertian lobe plus a glossy one (Phong, Ward) as its Lambertian albedo and the
+    /// glossy lobe alone, for caches that treat the two apart (f = albedo / pi + the lobe's
+    /// f); `None` for other BSDFs and for glossy lobes without a Lambertian part.
+    pub fn lambertian_split(&self) -> Option<(Rgb, Bsdf)> {
+        let (albedo, glossy) = match self {
+            Bsdf::Phong(b) => {
+                let (albedo, lobe) = b.split();
+                (albedo, Bsdf::Phong(lobe))
+            }
+            Bsdf::Ward(b) => {
+                let (albedo, lobe) = b.split();
+                (albedo, Bsdf::Ward(lobe))
+            }
+            _ => return None,
+        };
+        (albedo.max_component() > 0.0).then_some((albedo, glossy))
+    }
+
     /// Whether every lobe is a Dirac delta (light sampling is pointless there).
     pub fn is_delta(&self) -> bool {
         matches!(
@@ -290,5 +308,37 @@ fn specular_probability(diffuse: Rgb, specular: Rgb) -> f32 {
         0.0
     } else {
         s / (d + s)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_lambertian_split_adds_up_to_the_bsdf() {
+        let (kd, ks) = (Rgb::new(0.3, 0.2, 0.1), Rgb::splat(0.5));
+        for bsdf in [
+            Bsdf::Phong(Phong::new(kd, ks, 20.0)),
+            Bsdf::Ward(Ward::new(kd, ks, 0.1, 0.3)),
+        ] {
+            let (albedo, lobe) = bsdf.lambertian_split().expect("split");
+            assert_eq!(albedo, kd);
+            assert!(lobe.lambertian_split().is_none(), "the lobe has no Lambertian part");
+            let wo = Vec3::new(0.3, -0.2, 0.93).normalize();
+            for wi in [
+                Vec3::new(-0.3, 0.2, 0.93).normalize(),
+                Vec3::new(0.5, 0.5, 0.7).normalize(),
+                Vec3::new(-0.8, 0.1, 0.2).normalize(),
+            ] {
+                let whole = bsdf.eval(wo, wi);
+                let parts = albedo * std::f32::consts::FRAC_1_PI + lobe.eval(wo, wi);
+                assert!((whole - parts).max_component().abs() < 1e-5 * whole.max_component());
+                assert!((parts - whole).max_component().abs() < 1e-5 * whole.max_component());
+            }
+        }
+        assert!(Bsdf::Phong(Phong::new(Rgb::ZERO, ks, 5.0))
+            .lambertian_split()
+            .is_none());
     }
 }

@@ -28,6 +28,11 @@ impl Phong {
         reflect_z(wo).dot(wi).max(0.0)
     }
 
+    /// Its Lambertian albedo and its glossy lobe alone (f = albedo / pi + the lobe's f).
+    pub fn split(&self) -> (Rgb, Phong) {
+        (self.diffuse, Phong::new(Rgb::ZERO, self.specular, self.exponent))
+    }
+
     /// f(wo, wi) in the local frame.
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> Rgb {
         let n = self.exponent;

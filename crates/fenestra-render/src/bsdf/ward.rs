@@ -33,6 +33,11 @@ impl Ward {
         (-e).exp()
     }
 
+    /// Its Lambertian albedo and its glossy lobe alone (f = albedo / pi + the lobe's f).
+    pub fn split(&self) -> (Rgb, Ward) {
+        (self.diffuse, Ward::new(Rgb::ZERO, self.specular, self.ax, self.ay))
+    }
+
     /// f(wo, wi) in the local frame.
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> Rgb {
         let h = (wo + wi).normalize_or_zero();
