@@ -11,6 +11,7 @@ mod kitchen;
 mod ponderosa;
 mod teapot;
 mod terminal;
+mod tower;
 mod tunnel;
 
 use fenestra_scene::{Material, SceneDesc, Shape, ShapeKind, TriangleMesh};
@@ -74,6 +75,10 @@ pub const SCENES: &[(&str, &str)] = &[
         "24-room house with 138 lamps, most hidden behind walls, and a sky (seed 004 Table 4.1)",
     ),
     (
+        "tower",
+        "8-storey office tower, 192 rooms, 4,608 ceiling-panel lights (few visible from anywhere) and a sky (issue 12)",
+    ),
+    (
         "terminal-832",
         "Grand Central-like concourse, 832 lights, 1.1M triangles (seed 004 Table 4.1)",
     ),
@@ -101,7 +106,11 @@ pub fn load(name: &str) -> Result<SceneDesc, UnknownScene> {
         "kitchen-72-env" => Ok(kitchen::kitchen(true)),
         "ponderosa-138" => Ok(ponderosa::ponderosa()),
         "terminal-832" => Ok(terminal::terminal()),
-        _ => match name.strip_prefix("teapot-box-phong-").map(str::parse::<f32>) {
+        "tower" => Ok(tower::tower()),
+        _ => match name
+            .strip_prefix("teapot-box-phong-")
+            .map(str::parse::<f32>)
+        {
             Some(Ok(exponent)) if exponent.is_finite() && exponent >= 0.0 => {
                 Ok(teapot::teapot_box_phong(exponent))
             }
@@ -144,6 +153,16 @@ mod tests {
                 "kitchen-72" => assert_eq!(lights, 72),
                 "kitchen-72-env" => assert_eq!(lights, 73),
                 "ponderosa-138" => assert_eq!(lights, 139),
+                "tower" => {
+                    // Every emissive triangle is a light: 12 panels of 2 in each room.
+                    let panels: usize = (desc.shapes.iter())
+                        .filter(|s| s.emission.is_some())
+                        .map(|s| s.primitive_count())
+                        .sum();
+                    let rooms = tower::STOREYS * ponderosa::COLS * ponderosa::ROWS;
+                    assert_eq!(panels, rooms * 24);
+                    assert!(panels >= 4096);
+                }
                 "terminal-832" => {
                     assert_eq!(desc.lights.len(), 613);
                     assert_eq!(lights, 832);

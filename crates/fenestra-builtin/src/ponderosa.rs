@@ -27,26 +27,79 @@ pub fn ponderosa() -> SceneDesc {
     let furniture = a.material(Material::Diffuse {
         reflectance: Rgb::new(0.35, 0.3, 0.5),
     });
+    let plate = floor_plate(0.0, H, Some(COURTYARD));
+    a.mesh(plate.floor, floor);
+    a.mesh(plate.ceiling, plaster);
+    a.mesh(plate.walls, plaster);
+    for i in 0..COLS {
+        for j in 0..ROWS {
+            if (i, j) == COURTYARD {
+                continue;
+            }
+            let o = Vec3::new(i as f32 * ROOM, j as f32 * ROOM, 0.0);
+            for (lx, ly) in [
+                (1.0, 1.2),
+                (2.0, 1.2),
+                (3.0, 1.2),
+                (1.0, 2.8),
+                (2.0, 2.8),
+                (3.0, 2.8),
+            ] {
+                let warm = Rgb::new(1.0, 0.78, 0.55) * 2.5;
+                a.lights.push(LightDesc::Point {
+                    position: o + Vec3::new(lx, ly, 2.7),
+                    intensity: warm,
+                });
+            }
+        }
+    }
+    a.mesh(plate.props, furniture);
+    let sun = Vec3::new(0.5, 0.4, 0.75).normalize();
+    a.lights
+        .push(LightDesc::Environment(sky(512, 256, sun, 1.0)));
+    a.finish(
+        "ponderosa-138",
+        camera(Vec3::new(0.3, 0.3, 2.0), Vec3::new(4.5, 2.3, 0.9), 75.0),
+        RenderDefaults {
+            width: 640,
+            height: 480,
+            spp: 64,
+            max_depth: 6,
+        },
+    )
+}
+
+/// One storey of the house: its floor, its ceiling (open above the courtyard, if any), its
+/// walls (doorways between neighbouring rooms in a checkerboard pattern, windows outside) and
+/// two pieces of furniture per room, at height `z0`, rooms `h` high.
+pub struct Plate {
+    pub floor: TriangleMesh,
+    pub ceiling: TriangleMesh,
+    pub walls: TriangleMesh,
+    pub props: TriangleMesh,
+}
+
+/// The storey at `z0` with rooms `h` high and the room `courtyard` left open to the sky.
+pub fn floor_plate(z0: f32, h: f32, courtyard: Option<(usize, usize)>) -> Plate {
     let (wx, wy) = (COLS as f32 * ROOM, ROWS as f32 * ROOM);
-    a.mesh(
-        TriangleMesh::quad(
-            Vec3::new(wx / 2.0, wy / 2.0, 0.0),
-            Vec3::X * (wx / 2.0),
-            Vec3::Y * (wy / 2.0),
-        ),
-        floor,
+    let floor = TriangleMesh::quad(
+        Vec3::new(wx / 2.0, wy / 2.0, z0),
+        Vec3::X * (wx / 2.0),
+        Vec3::Y * (wy / 2.0),
     );
-    // Roof with the courtyard left open.
-    let (cx, cy) = (COURTYARD.0 as f32 * ROOM, COURTYARD.1 as f32 * ROOM);
-    a.mesh(
-        wall_with_openings(
-            Vec3::new(0.0, 0.0, H),
-            Vec3::Y,
-            Vec3::X,
-            ([0.0, 0.0], [wy, wx]),
-            &[([cy, cx], [cy + ROOM, cx + ROOM])],
-        ),
-        plaster,
+    let open: Vec<Rect> = courtyard
+        .map(|(i, j)| {
+            let (cx, cy) = (i as f32 * ROOM, j as f32 * ROOM);
+            ([cy, cx], [cy + ROOM, cx + ROOM])
+        })
+        .into_iter()
+        .collect();
+    let ceiling = wall_with_openings(
+        Vec3::new(0.0, 0.0, z0 + h),
+        Vec3::Y,
+        Vec3::X,
+        ([0.0, 0.0], [wy, wx]),
+        &open,
     );
     let door = |s: f32| -> Rect { ([s - 0.4, 0.0], [s + 0.4, 1.9]) };
     let window = |s: f32| -> Rect { ([s - 0.6, 1.0], [s + 0.6, 2.0]) };
@@ -66,10 +119,10 @@ pub fn ponderosa() -> SceneDesc {
             })
             .collect();
         walls.append(&wall_with_openings(
-            Vec3::new(x, 0.0, 0.0),
+            Vec3::new(x, 0.0, z0),
             Vec3::Y,
             Vec3::Z,
-            ([0.0, 0.0], [wy, H]),
+            ([0.0, 0.0], [wy, h]),
             &openings,
         ));
     }
@@ -87,21 +140,20 @@ pub fn ponderosa() -> SceneDesc {
             })
             .collect();
         walls.append(&wall_with_openings(
-            Vec3::new(0.0, y, 0.0),
+            Vec3::new(0.0, y, z0),
             Vec3::X,
             Vec3::Z,
-            ([0.0, 0.0], [wx, H]),
+            ([0.0, 0.0], [wx, h]),
             &openings,
         ));
     }
-    a.mesh(walls, plaster);
     let mut props = TriangleMesh::default();
     for i in 0..COLS {
         for j in 0..ROWS {
-            if (i, j) == COURTYARD {
+            if Some((i, j)) == courtyard {
                 continue;
             }
-            let o = Vec3::new(i as f32 * ROOM, j as f32 * ROOM, 0.0);
+            let o = Vec3::new(i as f32 * ROOM, j as f32 * ROOM, z0);
             props.append(&cuboid(
                 o + Vec3::new(1.2, 1.4, 0.0),
                 o + Vec3::new(2.4, 2.2, 0.75),
@@ -110,36 +162,14 @@ pub fn ponderosa() -> SceneDesc {
                 o + Vec3::new(2.9, 0.3, 0.0),
                 o + Vec3::new(3.7, 2.3, 0.5),
             ));
-            for (lx, ly) in [
-                (1.0, 1.2),
-                (2.0, 1.2),
-                (3.0, 1.2),
-                (1.0, 2.8),
-                (2.0, 2.8),
-                (3.0, 2.8),
-            ] {
-                let warm = Rgb::new(1.0, 0.78, 0.55) * 2.5;
-                a.lights.push(LightDesc::Point {
-                    position: o + Vec3::new(lx, ly, 2.7),
-                    intensity: warm,
-                });
-            }
         }
     }
-    a.mesh(props, furniture);
-    let sun = Vec3::new(0.5, 0.4, 0.75).normalize();
-    a.lights
-        .push(LightDesc::Environment(sky(512, 256, sun, 1.0)));
-    a.finish(
-        "ponderosa-138",
-        camera(Vec3::new(0.3, 0.3, 2.0), Vec3::new(4.5, 2.3, 0.9), 75.0),
-        RenderDefaults {
-            width: 640,
-            height: 480,
-            spp: 64,
-            max_depth: 6,
-        },
-    )
+    Plate {
+        floor,
+        ceiling,
+        walls,
+        props,
+    }
 }
 
 #[cfg(test)]
