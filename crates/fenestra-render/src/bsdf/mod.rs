@@ -324,7 +324,10 @@ mod tests {
         ] {
             let (albedo, lobe) = bsdf.lambertian_split().expect("split");
             assert_eq!(albedo, kd);
-            assert!(lobe.lambertian_split().is_none(), "the lobe has no Lambertian part");
+            assert!(
+                lobe.lambertian_split().is_none(),
+                "the lobe has no Lambertian part"
+            );
             let wo = Vec3::new(0.3, -0.2, 0.93).normalize();
             for wi in [
                 Vec3::new(-0.3, 0.2, 0.93).normalize(),

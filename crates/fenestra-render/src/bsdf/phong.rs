@@ -30,7 +30,10 @@ impl Phong {
 
     /// Its Lambertian albedo and its glossy lobe alone (f = albedo / pi + the lobe's f).
     pub fn split(&self) -> (Rgb, Phong) {
-        (self.diffuse, Phong::new(Rgb::ZERO, self.specular, self.exponent))
+        (
+            self.diffuse,
+            Phong::new(Rgb::ZERO, self.specular, self.exponent),
+        )
     }
 
     /// f(wo, wi) in the local frame.

@@ -35,7 +35,10 @@ impl Ward {
 
     /// Its Lambertian albedo and its glossy lobe alone (f = albedo / pi + the lobe's f).
     pub fn split(&self) -> (Rgb, Ward) {
-        (self.diffuse, Ward::new(Rgb::ZERO, self.specular, self.ax, self.ay))
+        (
+            self.diffuse,
+            Ward::new(Rgb::ZERO, self.specular, self.ax, self.ay),
+        )
     }
 
     /// f(wo, wi) in the local frame.
