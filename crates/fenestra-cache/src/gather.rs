@@ -10,7 +10,7 @@ use crate::photons::{PhotonGather, PhotonMap};
 use crate::sdrc::{GlossyCache, Sdrc};
 use crate::spatial::{Delta, SpatialCache};
 use fenestra_core::stats::RayCounters;
-use fenestra_core::{Ray, Rgb, Sampler, Vec3};
+use fenestra_core::{Frame, Ray, Rgb, Sampler, Vec3};
 use fenestra_render::bsdf::Bsdf;
 use fenestra_render::integrator::{Gather, NoGather, Shading, Start};
 use fenestra_render::RenderScene;
@@ -221,20 +221,19 @@ impl CacheGather<'_> {
         self.a_scale * self.sdrc.options.irradiance_a
     }
 
-    /// R_i of a record under maximum error `a` from hit distances (harmonic mean over `hits`
-    /// rays with inverse-distance sum `inverse`), limited to 1 / `relative_gradient` where the outgoing light changes faster
+    /// R_i of a record under maximum error `a` from its rays' hit distances (their harmonic
+    /// mean), limited to 1 / `relative_gradient` where the outgoing light changes faster
     /// (§2.4.6), and clamped to the pixel footprint's bounds.
     pub(crate) fn radius(
         &self,
         s: &Shading,
         a: f32,
-        hits: u32,
-        inverse: f64,
+        distances: &Distances,
         relative_gradient: Option<f32>,
     ) -> f32 {
         let (lo, hi) = self.sdrc.radius_bounds(self.sdrc.footprint(s.si.t), a);
-        let mut r = if hits > 0 {
-            (hits as f64 / inverse) as f32
+        let mut r = if distances.hits > 0 {
+            (distances.hits as f64 / distances.inverse) as f32
         } else {
             hi
         };
@@ -242,6 +241,29 @@ impl CacheGather<'_> {
             r = 1.0 / g;
         }
         r.clamp(lo, hi)
+    }
+
+    /// The ray of a record at `s` (hemisphere `frame`, geometric normal `ng` on its side)
+    /// along the record-frame direction `local`: the light reflected back along it and its
+    /// hit distance, noted in `distances`; nothing for directions below the geometric surface.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn record_ray(
+        &mut self,
+        scene: &RenderScene,
+        s: &Shading,
+        (frame, ng): (&Frame, Vec3),
+        local: Vec3,
+        sampler: &mut Sampler,
+        rays: &mut RayCounters,
+        distances: &mut Distances,
+    ) -> (Rgb, f32) {
+        let w = frame.to_world(local);
+        if w.dot(ng) <= 0.0 {
+            return (Rgb::ZERO, f32::INFINITY);
+        }
+        let (l, t) = self.reflected(scene, Ray::new(s.si.spawn(w), w), sampler, s, rays);
+        distances.add(t);
+        (l, t)
     }
 
     /// The sample stream `k` of a record made at `s` (`tag` tells the caches apart).
@@ -338,6 +360,23 @@ fn with_bsdf<'a>(s: &Shading<'a>, bsdf: &'a Bsdf) -> Shading<'a> {
         wo: s.wo,
         wo_local: s.wo_local,
         sample: s.sample,
+    }
+}
+
+/// Hit distances of a record's rays, for R_i (their harmonic mean).
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct Distances {
+    hits: u32,
+    inverse: f64,
+}
+
+impl Distances {
+    /// A ray that went `t` (infinite: it escaped).
+    pub(crate) fn add(&mut self, t: f32) {
+        if t.is_finite() && t > 0.0 {
+            self.hits += 1;
+            self.inverse += 1.0 / t as f64;
+        }
     }
 }
 

@@ -3,7 +3,7 @@
 //! nearby records' samples (§2.4.4), samples added by tracing from a record where none is
 //! near, and the outgoing radiance (eq. 2.3).
 
-use crate::gather::{viewer_geometric_normal, CacheGather};
+use crate::gather::{viewer_geometric_normal, CacheGather, Distances};
 use crate::ltree::{LTree, Sample};
 use crate::paraboloid;
 use crate::record::Record;
@@ -30,7 +30,7 @@ impl CacheGather<'_> {
         let count = self.sdrc.options.n;
         let mut samples = Vec::with_capacity(count as usize);
         let mut gradient = Gradient::new(s, self.sdrc.footprint(s.si.t));
-        let (mut hits, mut inverse) = (0u32, 0.0f64);
+        let mut distances = Distances::default();
         for k in 0..count {
             let mut sampler = self.record_stream(s, RECORD_RAYS, k);
             let Some((w, weight, pdf)) = sample_bsdf(s, &mut sampler) else {
@@ -39,10 +39,7 @@ impl CacheGather<'_> {
             };
             self.work.glossy.counts.record_rays += 1;
             let (l, t) = self.reflected(scene, Ray::new(s.si.spawn(w), w), &mut sampler, s, rays);
-            if t.is_finite() && t > 0.0 {
-                hits += 1;
-                inverse += 1.0 / t as f64;
-            }
+            distances.add(t);
             gradient.add(l, w, t, weight, pdf);
             samples.push(Sample::new(paraboloid::to_disc(frame.to_local(w)), l));
         }
@@ -50,7 +47,7 @@ impl CacheGather<'_> {
             si: *s.si,
             frame,
             ng: viewer_geometric_normal(s),
-            r: self.radius(s, self.a_glossy(), hits, inverse, gradient.relative()),
+            r: self.radius(s, self.a_glossy(), &distances, gradient.relative()),
             payload: LTree::build(samples),
             pixel: (s.sample.x, s.sample.y),
         }

@@ -13,11 +13,11 @@
 //! estimated by the point's M BRDF-sampled directions through the SH reconstruction, so any
 //! BRDF that can be sampled is served, as SDRC serves it.
 
-use crate::gather::{viewer_geometric_normal, CacheGather};
+use crate::gather::{viewer_geometric_normal, CacheGather, Distances};
 use crate::record::{Payload, Record};
 use crate::sh;
 use fenestra_core::stats::RayCounters;
-use fenestra_core::{Frame, Ray, Rgb, Vec3};
+use fenestra_core::{Frame, Rgb, Vec3};
 use fenestra_render::integrator::Shading;
 use fenestra_render::RenderScene;
 use std::f32::consts::TAU;
@@ -96,7 +96,7 @@ impl CacheGather<'_> {
         let rings = ((rays_per_record as f32).sqrt().round() as usize).max(1);
         let sectors = (rays_per_record as usize / rings).max(1);
         let mut samples = Vec::with_capacity(rings * sectors);
-        let (mut hits, mut inverse) = (0u32, 0.0f64);
+        let mut distances = Distances::default();
         for j in 0..rings {
             for k in 0..sectors {
                 let mut sampler = self.record_stream(s, RECORD_RAYS, (j * sectors + k) as u32);
@@ -105,17 +105,16 @@ impl CacheGather<'_> {
                 let sin = (1.0 - cos * cos).max(0.0).sqrt();
                 let phi = TAU * (k as f32 + u.y) / sectors as f32;
                 let local = Vec3::new(sin * phi.cos(), sin * phi.sin(), cos);
-                let w = frame.to_world(local);
                 self.work.harmonics.counts.record_rays += 1;
-                let (l, t) = if w.dot(ng) > 0.0 {
-                    self.reflected(scene, Ray::new(s.si.spawn(w), w), &mut sampler, s, rays)
-                } else {
-                    (Rgb::ZERO, f32::INFINITY)
-                };
-                if t.is_finite() && t > 0.0 {
-                    hits += 1;
-                    inverse += 1.0 / t as f64;
-                }
+                let (l, _) = self.record_ray(
+                    scene,
+                    s,
+                    (&frame, ng),
+                    local,
+                    &mut sampler,
+                    rays,
+                    &mut distances,
+                );
                 samples.push((local, l));
             }
         }
@@ -124,7 +123,7 @@ impl CacheGather<'_> {
             si: *s.si,
             frame,
             ng,
-            r: self.radius(s, self.a_glossy(), hits, inverse, None),
+            r: self.radius(s, self.a_glossy(), &distances, None),
             payload: ShRadiance::project(samples, count),
             pixel: (s.sample.x, s.sample.y),
         }

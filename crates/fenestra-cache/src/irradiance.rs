@@ -5,10 +5,10 @@
 //! hemisphere; between records it is extrapolated by the gradients and averaged with the
 //! weights of eq. 2.2.
 
-use crate::gather::{viewer_geometric_normal, CacheGather};
+use crate::gather::{viewer_geometric_normal, CacheGather, Distances};
 use crate::record::{Payload, Record};
 use fenestra_core::stats::RayCounters;
-use fenestra_core::{Frame, Ray, Rgb, Vec3};
+use fenestra_core::{Frame, Rgb, Vec3};
 use fenestra_render::integrator::Shading;
 use fenestra_render::RenderScene;
 use std::f32::consts::{PI, TAU};
@@ -96,7 +96,7 @@ impl CacheGather<'_> {
         let sectors = (self.sdrc.options.irradiance_rays as usize / rings).max(3);
         // Radiance and distance per cell, ring-major.
         let mut cells = Vec::with_capacity(rings * sectors);
-        let (mut hits, mut inverse) = (0u32, 0.0f64);
+        let mut distances = Distances::default();
         for j in 0..rings {
             for k in 0..sectors {
                 let mut sampler = self.record_stream(s, RECORD_RAYS, (j * sectors + k) as u32);
@@ -106,17 +106,16 @@ impl CacheGather<'_> {
                 let (sin, cos) = (sin2.sqrt(), (1.0 - sin2).max(0.0).sqrt());
                 let phi = TAU * (k as f32 + u.y) / sectors as f32;
                 let local = Vec3::new(sin * phi.cos(), sin * phi.sin(), cos);
-                let w = frame.to_world(local);
                 self.work.diffuse.counts.record_rays += 1;
-                let (l, t) = if w.dot(ng) > 0.0 {
-                    self.reflected(scene, Ray::new(s.si.spawn(w), w), &mut sampler, s, rays)
-                } else {
-                    (Rgb::ZERO, f32::INFINITY)
-                };
-                if t.is_finite() && t > 0.0 {
-                    hits += 1;
-                    inverse += 1.0 / t as f64;
-                }
+                let (l, t) = self.record_ray(
+                    scene,
+                    s,
+                    (&frame, ng),
+                    local,
+                    &mut sampler,
+                    rays,
+                    &mut distances,
+                );
                 cells.push((l, t, sin, phi));
             }
         }
@@ -131,7 +130,7 @@ impl CacheGather<'_> {
             si: *s.si,
             frame,
             ng,
-            r: self.radius(s, self.a_diffuse(), hits, inverse, relative),
+            r: self.radius(s, self.a_diffuse(), &distances, relative),
             payload: irradiance,
             pixel: (s.sample.x, s.sample.y),
         }

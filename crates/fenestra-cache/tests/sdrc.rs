@@ -5,6 +5,7 @@
 //! count; bad options are refused.
 
 use fenestra_cache::{GlossyCache, Sdrc, SdrcOptions};
+use fenestra_core::stats::RenderStats;
 use fenestra_core::{Rgb, Vec3};
 use fenestra_eval::ztest::agreement;
 use fenestra_render::integrator::{af_hf, Integrator, LightNextEvent, PathOptions};
@@ -136,17 +137,14 @@ fn furnace(albedo: f32, panel: bool) -> RenderScene {
     RenderScene::new(Scene::build(desc, Backend::Obvhs).expect("scene"))
 }
 
-#[test]
-fn the_irradiance_cache_in_a_furnace_gives_the_analytic_radiance() {
-    // Every path of at most `max_depth` segments sees 1 + rho + ... + rho^(max_depth - 1).
+/// sdrc with `options` in the furnace of albedo 0.5 at path length 4, 32x32: the integrator,
+/// the image, the statistics, and the exact radiance every path sees (1 + rho + ... +
+/// rho^(max_depth - 1)).
+fn in_furnace(options: SdrcOptions, spp: u32, seed: u64) -> (Sdrc, Film, RenderStats, f32) {
     let (albedo, max_depth) = (0.5f32, 4u32);
     let exact: f32 = (0..max_depth).map(|k| albedo.powi(k as i32)).sum();
-    let scene = furnace(albedo, false);
     let mut cache = Sdrc::new(
-        SdrcOptions {
-            irradiance_rays: 1024,
-            ..Default::default()
-        },
+        options,
         PathOptions {
             max_depth,
             ..Default::default()
@@ -154,7 +152,24 @@ fn the_irradiance_cache_in_a_furnace_gives_the_analytic_radiance() {
         LightNextEvent::new(LightSelection::Power),
     )
     .expect("options");
-    let film = render(&mut cache, &scene, 32, 16, 3);
+    let settings = RenderSettings {
+        spp,
+        first_sample: 0,
+        time_limit: None,
+        seed,
+    };
+    let scene = furnace(albedo, false);
+    let (film, stats) = render_image(&mut cache, &scene, 32, 32, &settings).expect("render");
+    (cache, film, stats, exact)
+}
+
+#[test]
+fn the_irradiance_cache_in_a_furnace_gives_the_analytic_radiance() {
+    let options = SdrcOptions {
+        irradiance_rays: 1024,
+        ..Default::default()
+    };
+    let (cache, film, _, exact) = in_furnace(options, 16, 3);
     let cached = &cache.work_maps()[1];
     assert!(
         cached.values.iter().all(|&v| v == 1.0),
@@ -179,29 +194,12 @@ fn the_irradiance_cache_in_a_furnace_gives_the_analytic_radiance() {
 fn with_a_photon_map_the_furnace_still_gives_the_analytic_radiance() {
     // The records' rays end at the walls in photon-map estimates of the light beyond:
     // photons carry their lights' power, and path lengths stay within the limit.
-    let (albedo, max_depth) = (0.5f32, 4u32);
-    let exact: f32 = (0..max_depth).map(|k| albedo.powi(k as i32)).sum();
-    let scene = furnace(albedo, false);
-    let mut cache = Sdrc::new(
-        SdrcOptions {
-            irradiance_rays: 256,
-            photons: 100_000,
-            ..Default::default()
-        },
-        PathOptions {
-            max_depth,
-            ..Default::default()
-        },
-        LightNextEvent::new(LightSelection::Power),
-    )
-    .expect("options");
-    let settings = RenderSettings {
-        spp: 8,
-        first_sample: 0,
-        time_limit: None,
-        seed: 4,
+    let options = SdrcOptions {
+        irradiance_rays: 256,
+        photons: 100_000,
+        ..Default::default()
     };
-    let (film, stats) = render_image(&mut cache, &scene, 32, 32, &settings).expect("render");
+    let (_, film, stats, exact) = in_furnace(options, 8, 4);
     let stored = stats.extra["sdrc_photons_stored"];
     assert!(stored > 20_000.0, "{stored} photons stored");
     let mean = film.image().mean();
