@@ -1,0 +1,220 @@
+//! Roweis's EM algorithm for PCA (1998) on sparse rows, as Wavelet-LPCA updates a cluster's
+//! subspace (seed 003 §4.5.2.2): the l leading principal directions of A = A0 - 1 mu^T,
+//! with A0's rows sparse wavelet images and mu dense, never forming A or A^T A. In the
+//! expanded form of the seed:
+//!
+//! - e-step: X = (A0 C^T - 1 (C mu)^T) (C C^T)^-1
+//! - m-step: C = (X^T X)^-1 (X^T A0 - (X^T 1) mu^T)
+//!
+//! with C the l x d matrix of current directions. EM converges to the span of the leading
+//! directions; the span is then turned into them, in order, by the eigenvectors of the l x l
+//! covariance of the rows' coordinates in it.
+
+use crate::sparse::SparseVec;
+use faer::linalg::solvers::Solve;
+use faer::{Mat, Side};
+
+/// What [`em_pca`] found.
+#[derive(Clone, Debug)]
+pub struct Principal {
+    /// Orthonormal directions, most variance first.
+    pub directions: Vec<Vec<f64>>,
+    /// The variance (sum of squared coordinates) along each.
+    pub variances: Vec<f64>,
+    /// EM iterations run.
+    pub iterations: usize,
+}
+
+/// The leading principal directions of `rows` about `mean`, as many as `start` holds (the
+/// previous LPCA iteration's directions, or a few rows): EM until the span moves by less
+/// than `tolerance` (largest change of a projection) or for at most `max_iterations`.
+/// `None` if the directions become degenerate (fewer independent rows than directions).
+pub fn em_pca(
+    rows: &[SparseVec],
+    mean: &[f64],
+    start: Vec<Vec<f64>>,
+    max_iterations: usize,
+    tolerance: f64,
+) -> Option<Principal> {
+    let (l, d) = (start.len(), mean.len());
+    let mut c = start;
+    let mut previous = orthonormal(&c)?;
+    let mut iterations = 0;
+    while iterations < max_iterations {
+        iterations += 1;
+        // e-step.
+        let cc = Mat::<f64>::from_fn(l, l, |i, j| dot(&c[i], &c[j]));
+        let c_mean: Vec<f64> = c.iter().map(|ci| dot(ci, mean)).collect();
+        let rhs = Mat::<f64>::from_fn(l, rows.len(), |j, r| rows[r].dot(&c[j]) - c_mean[j]);
+        let x = solve(&cc, rhs)?; // l x m: column r is row r's X
+                                  // m-step.
+        let mut xa = vec![vec![0.0f64; d]; l];
+        let mut x_sum = vec![0.0f64; l];
+        for (r, row) in rows.iter().enumerate() {
+            for j in 0..l {
+                let w = x[(j, r)];
+                x_sum[j] += w;
+                for (i, v) in row.iter() {
+                    xa[j][i] += w * v;
+                }
+            }
+        }
+        for (j, acc) in xa.iter_mut().enumerate() {
+            for (a, &m) in acc.iter_mut().zip(mean) {
+                *a -= x_sum[j] * m;
+            }
+        }
+        let xx = &x * x.transpose();
+        let b = Mat::<f64>::from_fn(l, d, |j, i| xa[j][i]);
+        let next = solve(&xx, b)?;
+        c = (0..l)
+            .map(|j| (0..d).map(|i| next[(j, i)]).collect())
+            .collect();
+        let q = orthonormal(&c)?;
+        let moved = span_change(&previous, &q);
+        previous = q;
+        if moved < tolerance {
+            break;
+        }
+    }
+    Some(principal(rows, mean, previous, iterations))
+}
+
+/// The directions of the span `q` (orthonormal) ordered by variance: eigenvectors of the
+/// covariance of the rows' coordinates in it.
+fn principal(rows: &[SparseVec], mean: &[f64], q: Vec<Vec<f64>>, iterations: usize) -> Principal {
+    let l = q.len();
+    let q_mean: Vec<f64> = q.iter().map(|e| dot(e, mean)).collect();
+    let y = Mat::<f64>::from_fn(l, rows.len(), |j, r| rows[r].dot(&q[j]) - q_mean[j]);
+    let cov = &y * y.transpose();
+    let Ok(evd) = cov.self_adjoint_eigen(Side::Lower) else {
+        let variances = vec![0.0; l];
+        return Principal {
+            directions: q,
+            variances,
+            iterations,
+        };
+    };
+    let (u, s) = (evd.U(), evd.S());
+    // faer orders eigenvalues ascending: the last is the leading direction.
+    let order: Vec<usize> = (0..l).rev().collect();
+    let directions = order
+        .iter()
+        .map(|&k| {
+            let mut v = vec![0.0; mean.len()];
+            for (j, e) in q.iter().enumerate() {
+                let w = u[(j, k)];
+                v.iter_mut().zip(e).for_each(|(a, b)| *a += w * b);
+            }
+            v
+        })
+        .collect();
+    Principal {
+        directions,
+        variances: order.iter().map(|&k| s[k].max(0.0)).collect(),
+        iterations,
+    }
+}
+
+/// Solves `m z = rhs` for symmetric positive definite `m` (Cholesky).
+fn solve(m: &Mat<f64>, mut rhs: Mat<f64>) -> Option<Mat<f64>> {
+    let llt = m.llt(Side::Lower).ok()?;
+    llt.solve_in_place(rhs.as_mut());
+    Some(rhs)
+}
+
+/// An orthonormal basis of the rows of `c` (Gram-Schmidt, twice for accuracy); `None` if
+/// they are dependent.
+fn orthonormal(c: &[Vec<f64>]) -> Option<Vec<Vec<f64>>> {
+    let mut q: Vec<Vec<f64>> = Vec::with_capacity(c.len());
+    for v in c {
+        let mut v = v.clone();
+        for _ in 0..2 {
+            for e in &q {
+                let k = dot(&v, e);
+                v.iter_mut().zip(e).for_each(|(a, b)| *a -= k * b);
+            }
+        }
+        let n = dot(&v, &v).sqrt();
+        let scale = c.iter().map(|r| dot(r, r)).fold(0.0, f64::max).sqrt();
+        if n.is_nan() || n <= 1e-12 * scale.max(f64::MIN_POSITIVE) {
+            return None;
+        }
+        q.push(v.into_iter().map(|a| a / n).collect());
+    }
+    Some(q)
+}
+
+/// How far span(`b`) is from span(`a`) (both orthonormal): the largest distance of a `b`
+/// direction from its projection on span(`a`) (the sine of the largest principal angle).
+pub fn span_change(a: &[Vec<f64>], b: &[Vec<f64>]) -> f64 {
+    b.iter()
+        .map(|v| {
+            let inside: f64 = a.iter().map(|e| dot(v, e).powi(2)).sum();
+            (1.0 - inside).max(0.0).sqrt()
+        })
+        .fold(0.0, f64::max)
+}
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use fenestra_core::Sampler;
+
+    #[test]
+    fn em_converges_to_the_svd_subspace_on_sparse_rows() {
+        // 300 rows in 64 dimensions: a mean, three strong directions, a little noise, then
+        // sparsified (the 24 largest coefficients kept), as wavelet images are.
+        let (m, d, l) = (300, 64, 3);
+        let mut s = Sampler::new(11, 0, 0);
+        let mut r = || s.next_1d() as f64 * 2.0 - 1.0;
+        let mean: Vec<f64> = (0..d).map(|i| if i % 5 == 0 { 1.0 } else { 0.0 }).collect();
+        let dirs: Vec<Vec<f64>> = (0..l).map(|_| (0..d).map(|_| r()).collect()).collect();
+        let rows: Vec<SparseVec> = (0..m)
+            .map(|_| {
+                let w = [3.0 * r(), 2.0 * r(), 1.0 * r()];
+                let x: Vec<f64> = (0..d)
+                    .map(|i| mean[i] + (0..l).map(|j| w[j] * dirs[j][i]).sum::<f64>() + 0.01 * r())
+                    .collect();
+                SparseVec::largest(&x, 24)
+            })
+            .collect();
+        // The truth: the thin SVD of the centred dense rows (their own mean).
+        let mut mu = vec![0.0; d];
+        for row in &rows {
+            row.iter().for_each(|(i, v)| mu[i] += v / m as f64);
+        }
+        let a = Mat::<f64>::from_fn(m, d, |i, j| rows[i].to_dense()[j] - mu[j]);
+        let svd = a.thin_svd().expect("svd");
+        let truth: Vec<Vec<f64>> = (0..l)
+            .map(|k| (0..d).map(|i| svd.V()[(i, k)]).collect())
+            .collect();
+        // Start from three rows, as the seed does.
+        let start: Vec<Vec<f64>> = (0..l).map(|k| rows[k * 7].to_dense()).collect();
+        let p = em_pca(&rows, &mu, start, 500, 1e-10).expect("directions");
+        assert!(
+            span_change(&truth, &p.directions) < 1e-6,
+            "span off by {} after {} iterations",
+            span_change(&truth, &p.directions),
+            p.iterations
+        );
+        // And each direction is the SVD's, in order (up to sign), with its variance.
+        for (k, t) in truth.iter().enumerate() {
+            let cos = dot(t, &p.directions[k]).abs();
+            assert!((cos - 1.0).abs() < 1e-6, "direction {k}: cos {cos}");
+            let sigma2 = svd.S()[k] * svd.S()[k];
+            assert!((p.variances[k] - sigma2).abs() < 1e-6 * sigma2);
+        }
+    }
+
+    #[test]
+    fn dependent_starting_directions_are_refused() {
+        let rows = vec![SparseVec::largest(&[1.0, 2.0, 3.0], 3)];
+        let start = vec![vec![1.0, 0.0, 0.0], vec![2.0, 0.0, 0.0]];
+        assert!(em_pca(&rows, &[0.0; 3], start, 10, 1e-9).is_none());
+    }
+}
