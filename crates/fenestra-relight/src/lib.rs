@@ -3,16 +3,21 @@
 //!
 //! - [`animation`]: keyframed objects and camera (JSON) and their interpolation;
 //! - [`explore`]: where to evaluate transfer: Alg. 3 with the space-time distance of eq. 4.2;
+//! - [`gather`]: gather samples on the surfaces, in a balanced tree's order;
+//! - [`transfer`]: transfer vectors by the N-body traversal (eq. 4.1), the gather samples'
+//!   radiosity and one-bounce relighting;
 //! - [`haar`]: the orthonormal Haar transform of transfer vectors (§4.5.1);
 //! - [`sparse`]: sparse wavelet images and Wavelet-LPCA's classification distance (Alg. 4);
-//! - [`empca`]: Roweis's EM-PCA on sparse rows, Wavelet-LPCA's subspace update (§4.5.2.2).
-//! - [`wlpca`]: Wavelet-LPCA, the two together (§4.5).
-//! - [`reconstruct`]: transfer at unexplored view samples from nearby ones (eq. 4.5);
+//! - [`empca`]: Roweis's EM-PCA on sparse rows, Wavelet-LPCA's subspace update (§4.5.2.2);
+//! - [`wlpca`]: Wavelet-LPCA, the two together (§4.5);
+//! - [`reconstruct`]: transfer at unexplored view samples from nearby ones (eq. 4.5).
 
 pub mod animation;
 pub mod empca;
 pub mod explore;
+pub mod gather;
 pub mod haar;
 pub mod reconstruct;
 pub mod sparse;
+pub mod transfer;
 pub mod wlpca;

@@ -1,0 +1,132 @@
+//! Gather samples (seed 003 §4.4.1): d points spread uniformly by area over the scene's
+//! non-emitting mesh surfaces, each standing for an equal share of the area and radiating on
+//! the side its geometric normal faces, ordered along a balanced kd-tree so that
+//! neighbouring indices are neighbouring points (the transfer vectors over them are then
+//! smooth, which is what makes their Haar images sparse) and so that every subtree is a range
+//! of indices (the N-body traversal of [`crate::transfer`]).
+
+use fenestra_core::distribution::Distribution1D;
+use fenestra_core::{warp, Rgb, Sampler, Vec3};
+use fenestra_render::bsdf::Bsdf;
+use fenestra_render::RenderScene;
+use fenestra_scene::{ShapeKind, SurfaceInteraction};
+
+/// A gather sample.
+#[derive(Clone, Copy, Debug)]
+pub struct GatherSample {
+    /// Where it is.
+    pub p: Vec3,
+    /// The geometric normal of its side.
+    pub n: Vec3,
+    /// The area it stands for.
+    pub area: f32,
+    /// Its Lambertian albedo (a glossy material's Lambertian lobe; 0 for others).
+    pub albedo: Rgb,
+}
+
+/// A node of the balanced tree: the samples `lo..hi`, their bounds and area.
+#[derive(Clone, Copy, Debug)]
+pub struct Node {
+    pub lo: u32,
+    pub hi: u32,
+    pub min: Vec3,
+    pub max: Vec3,
+    pub area: f32,
+    /// Its children (0: a leaf; the root is never a child).
+    pub children: [u32; 2],
+}
+
+/// The gather samples in tree order, and the tree.
+#[derive(Clone, Debug)]
+pub struct Gather {
+    pub samples: Vec<GatherSample>,
+    pub nodes: Vec<Node>,
+}
+
+impl Gather {
+    /// `count` gather samples on the non-emitting meshes of `scene` (none if it has none).
+    pub fn new(scene: &RenderScene, count: usize, seed: u64) -> Self {
+        let mut prims = Vec::new();
+        for (s, shape) in scene.scene.shapes.iter().enumerate() {
+            if let (ShapeKind::Mesh(m), None) = (&shape.kind, &shape.emission) {
+                prims.extend((0..m.indices.len()).map(|t| (s, t, m.triangle_area(t))));
+            }
+        }
+        let areas: Vec<f32> = prims.iter().map(|p| p.2).collect();
+        let total: f32 = areas.iter().sum();
+        let mut samples = Vec::with_capacity(count);
+        if total > 0.0 {
+            let pick = Distribution1D::new(&areas);
+            for i in 0..count as u32 {
+                let mut sampler = Sampler::new(seed, 0, i);
+                let (k, _, _) = pick.sample_discrete(sampler.next_1d());
+                let (s, t, _) = prims[k];
+                let shape = &scene.scene.shapes[s];
+                let ShapeKind::Mesh(m) = &shape.kind else {
+                    continue;
+                };
+                let b = warp::square_to_triangle(sampler.next_2d());
+                let [p0, p1, p2] = m.triangle(t);
+                let p = p0 * (1.0 - b.x - b.y) + p1 * b.x + p2 * b.y;
+                let si = SurfaceInteraction::on_surface(shape, s, t, p, b.x, b.y);
+                let albedo = match &*scene.bsdf_at(&si) {
+                    Bsdf::Diffuse(d) => d.reflectance,
+                    b => b.lambertian_split().map_or(Rgb::ZERO, |(a, _)| a),
+                };
+                samples.push(GatherSample {
+                    p: si.p,
+                    n: si.ng,
+                    area: total / count as f32,
+                    albedo,
+                });
+            }
+        }
+        let mut gather = Gather {
+            samples,
+            nodes: Vec::new(),
+        };
+        if !gather.samples.is_empty() {
+            gather.build(0, gather.samples.len());
+        }
+        gather
+    }
+
+    /// Orders `samples[lo..hi]` by median splits along the longest extent, pushing the
+    /// nodes; returns the subtree's node.
+    fn build(&mut self, lo: usize, hi: usize) -> u32 {
+        let index = self.nodes.len() as u32;
+        let (min, max, area) = self.samples[lo..hi].iter().fold(
+            (
+                Vec3::splat(f32::INFINITY),
+                Vec3::splat(f32::NEG_INFINITY),
+                0.0,
+            ),
+            |(a, b, s), g| (a.min(g.p), b.max(g.p), s + g.area),
+        );
+        self.nodes.push(Node {
+            lo: lo as u32,
+            hi: hi as u32,
+            min,
+            max,
+            area,
+            children: [0, 0],
+        });
+        if hi - lo > 1 {
+            let extent = max - min;
+            let axis = if extent.x >= extent.y && extent.x >= extent.z {
+                0
+            } else if extent.y >= extent.z {
+                1
+            } else {
+                2
+            };
+            let mid = (lo + hi) / 2;
+            self.samples[lo..hi]
+                .select_nth_unstable_by(mid - lo, |a, b| a.p[axis].total_cmp(&b.p[axis]));
+            let left = self.build(lo, mid);
+            let right = self.build(mid, hi);
+            self.nodes[index as usize].children = [left, right];
+        }
+        index
+    }
+}
