@@ -10,11 +10,13 @@
 //! - [`sparse`]: sparse wavelet images and Wavelet-LPCA's classification distance (Alg. 4);
 //! - [`empca`]: Roweis's EM-PCA on sparse rows, Wavelet-LPCA's subspace update (§4.5.2.2);
 //! - [`wlpca`]: Wavelet-LPCA, the two together (§4.5);
-//! - [`reconstruct`]: transfer at unexplored view samples from nearby ones (eq. 4.5).
+//! - [`reconstruct`]: transfer at unexplored view samples from nearby ones (eq. 4.5);
+//! - [`frame`]: one frame precomputed (all of the above) and relit.
 
 pub mod animation;
 pub mod empca;
 pub mod explore;
+pub mod frame;
 pub mod gather;
 pub mod haar;
 pub mod reconstruct;

@@ -13,11 +13,16 @@ use std::collections::BTreeMap;
 /// The sparse wavelet image of the vector whose elements at `indices` are `values`, as a
 /// least-squares combination of `neighbours` (sparse wavelet images, all of length `n`, a
 /// power of two); `None` when there are fewer indices than neighbours or the fit fails.
+/// `ridge` > 0 pulls the weights towards the neighbours' average (1 / k each) with that
+/// weight relative to the system's mean squared column norm: a few elements of spiky
+/// transfer vectors otherwise buy a fit with large weights of opposite signs that is wrong
+/// everywhere else.
 pub fn reconstruct(
     neighbours: &[&SparseVec],
     indices: &[usize],
     values: &[f64],
     n: usize,
+    ridge: f64,
 ) -> Option<SparseVec> {
     let k = neighbours.len();
     if k == 0 || indices.len() < k || indices.len() != values.len() {
@@ -28,8 +33,36 @@ pub fn reconstruct(
         haar::element(neighbours[r].iter(), indices[i], n)
     });
     let b = Mat::<f64>::from_fn(indices.len(), 1, |i, _| values[i]);
-    // Least squares through the thin SVD (rank-deficient neighbours share their weight).
-    let svd = a.thin_svd().ok()?;
+    // (A^T A + lambda I) alpha = A^T b + lambda / k, through the SVD of the stacked system
+    // [A; sqrt(lambda) I] alpha = [b; sqrt(lambda) / k] (rank-deficient neighbours share
+    // their weight).
+    let norm2 = (0..k)
+        .map(|r| {
+            (0..indices.len())
+                .map(|i| a[(i, r)] * a[(i, r)])
+                .sum::<f64>()
+        })
+        .sum::<f64>()
+        / k as f64;
+    let lambda = ridge * norm2;
+    let rows = indices.len() + if lambda > 0.0 { k } else { 0 };
+    let m = Mat::<f64>::from_fn(rows, k, |i, r| {
+        if i < indices.len() {
+            a[(i, r)]
+        } else if i - indices.len() == r {
+            lambda.sqrt()
+        } else {
+            0.0
+        }
+    });
+    let rhs = |i: usize| {
+        if i < indices.len() {
+            b[(i, 0)]
+        } else {
+            lambda.sqrt() / k as f64
+        }
+    };
+    let svd = m.thin_svd().ok()?;
     let (u, s, v) = (svd.U(), svd.S(), svd.V());
     let s_max = (0..s.dim()).map(|i| s[i]).fold(0.0, f64::max);
     let mut alpha = vec![0.0; k];
@@ -37,10 +70,7 @@ pub fn reconstruct(
         if s[j] <= 1e-10 * s_max || s[j] <= 0.0 {
             continue;
         }
-        let c: f64 = (0..indices.len())
-            .map(|i| u[(i, j)] * b[(i, 0)])
-            .sum::<f64>()
-            / s[j];
+        let c: f64 = (0..rows).map(|i| u[(i, j)] * rhs(i)).sum::<f64>() / s[j];
         for (r, a) in alpha.iter_mut().enumerate() {
             *a += v[(r, j)] * c;
         }
@@ -90,12 +120,12 @@ mod tests {
         let indices = [3, 17, 30, 41, 60];
         let values: Vec<f64> = indices.iter().map(|&j| truth[j]).collect();
         let refs: Vec<&SparseVec> = images.iter().collect();
-        let got = reconstruct(&refs, &indices, &values, n).expect("fit");
+        let got = reconstruct(&refs, &indices, &values, n, 0.0).expect("fit");
         let mut back = got.to_dense();
         haar::inverse(&mut back, &mut scratch);
         for (j, (a, b)) in back.iter().zip(&truth).enumerate() {
             assert!((a - b).abs() < 1e-9, "element {j}: {a} vs {b}");
         }
-        assert!(reconstruct(&refs, &indices[..2], &values[..2], n).is_none());
+        assert!(reconstruct(&refs, &indices[..2], &values[..2], n, 0.0).is_none());
     }
 }

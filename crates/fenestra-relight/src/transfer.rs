@@ -44,7 +44,7 @@ impl ViewPoint<'_> {
 }
 
 /// Eq. 4.1 from `g` to `v` (`frame` v's shading frame); counts the visibility ray.
-fn element(
+pub fn element(
     scene: &RenderScene,
     v: &ViewPoint,
     frame: &Frame,
