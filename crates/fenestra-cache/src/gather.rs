@@ -266,6 +266,44 @@ impl CacheGather<'_> {
         (l, t)
     }
 
+    /// A record's rays over its stratified hemisphere (`frame`, geometric normal `ng`):
+    /// `rings` x `sectors` cells, ring j's (sin, cos) of theta from `ring((j + u) / rings)`,
+    /// phi jittered in its sector; per cell, ring-major: (local direction, radiance,
+    /// distance, sin theta, phi). Stream `tag`; hit distances go to `distances`.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn stratified(
+        &mut self,
+        scene: &RenderScene,
+        s: &Shading,
+        (frame, ng): (&Frame, Vec3),
+        tag: u64,
+        (rings, sectors): (usize, usize),
+        ring: impl Fn(f32) -> (f32, f32),
+        rays: &mut RayCounters,
+        distances: &mut Distances,
+    ) -> Vec<Cell> {
+        let mut cells = Vec::with_capacity(rings * sectors);
+        for j in 0..rings {
+            for k in 0..sectors {
+                let mut sampler = self.record_stream(s, tag, (j * sectors + k) as u32);
+                let u = sampler.next_2d();
+                let (sin, cos) = ring((j as f32 + u.x) / rings as f32);
+                let phi = std::f32::consts::TAU * (k as f32 + u.y) / sectors as f32;
+                let local = Vec3::new(sin * phi.cos(), sin * phi.sin(), cos);
+                let (l, t) =
+                    self.record_ray(scene, s, (frame, ng), local, &mut sampler, rays, distances);
+                cells.push(Cell {
+                    local,
+                    l,
+                    t,
+                    sin,
+                    phi,
+                });
+            }
+        }
+        cells
+    }
+
     /// The sample stream `k` of a record made at `s` (`tag` tells the caches apart).
     pub(crate) fn record_stream(&self, s: &Shading, tag: u64, k: u32) -> Sampler {
         let key = s.sample.pixel() << 32 | s.sample.index as u64;
@@ -361,6 +399,20 @@ fn with_bsdf<'a>(s: &Shading<'a>, bsdf: &'a Bsdf) -> Shading<'a> {
         wo_local: s.wo_local,
         sample: s.sample,
     }
+}
+
+/// A cell of a record's stratified hemisphere and what its ray brought back.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Cell {
+    /// The ray's direction in the record's frame.
+    pub local: Vec3,
+    /// Radiance reflected back along it.
+    pub l: Rgb,
+    /// Its hit distance (infinite: it escaped or went below the surface).
+    pub t: f32,
+    /// sin theta and phi of the direction.
+    pub sin: f32,
+    pub phi: f32,
 }
 
 /// Hit distances of a record's rays, for R_i (their harmonic mean).

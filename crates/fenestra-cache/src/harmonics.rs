@@ -95,29 +95,21 @@ impl CacheGather<'_> {
         let ng = viewer_geometric_normal(s);
         let rings = ((rays_per_record as f32).sqrt().round() as usize).max(1);
         let sectors = (rays_per_record as usize / rings).max(1);
-        let mut samples = Vec::with_capacity(rings * sectors);
         let mut distances = Distances::default();
-        for j in 0..rings {
-            for k in 0..sectors {
-                let mut sampler = self.record_stream(s, RECORD_RAYS, (j * sectors + k) as u32);
-                let u = sampler.next_2d();
-                let cos = (j as f32 + u.x) / rings as f32;
-                let sin = (1.0 - cos * cos).max(0.0).sqrt();
-                let phi = TAU * (k as f32 + u.y) / sectors as f32;
-                let local = Vec3::new(sin * phi.cos(), sin * phi.sin(), cos);
-                self.work.harmonics.counts.record_rays += 1;
-                let (l, _) = self.record_ray(
-                    scene,
-                    s,
-                    (&frame, ng),
-                    local,
-                    &mut sampler,
-                    rays,
-                    &mut distances,
-                );
-                samples.push((local, l));
-            }
-        }
+        // Uniform: cos theta uniform over the ring's share.
+        let uniform = |cos: f32| ((1.0 - cos * cos).max(0.0).sqrt(), cos);
+        let cells = self.stratified(
+            scene,
+            s,
+            (&frame, ng),
+            RECORD_RAYS,
+            (rings, sectors),
+            uniform,
+            rays,
+            &mut distances,
+        );
+        self.work.harmonics.counts.record_rays += cells.len() as u64;
+        let samples: Vec<(Vec3, Rgb)> = cells.iter().map(|c| (c.local, c.l)).collect();
         let count = samples.len();
         Record {
             si: *s.si,

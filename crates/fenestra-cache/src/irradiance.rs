@@ -94,31 +94,21 @@ impl CacheGather<'_> {
             .round() as usize)
             .max(2);
         let sectors = (self.sdrc.options.irradiance_rays as usize / rings).max(3);
-        // Radiance and distance per cell, ring-major.
-        let mut cells = Vec::with_capacity(rings * sectors);
         let mut distances = Distances::default();
-        for j in 0..rings {
-            for k in 0..sectors {
-                let mut sampler = self.record_stream(s, RECORD_RAYS, (j * sectors + k) as u32);
-                let u = sampler.next_2d();
-                // Cosine-weighted: sin^2 theta uniform over the ring's share.
-                let sin2 = (j as f32 + u.x) / rings as f32;
-                let (sin, cos) = (sin2.sqrt(), (1.0 - sin2).max(0.0).sqrt());
-                let phi = TAU * (k as f32 + u.y) / sectors as f32;
-                let local = Vec3::new(sin * phi.cos(), sin * phi.sin(), cos);
-                self.work.diffuse.counts.record_rays += 1;
-                let (l, t) = self.record_ray(
-                    scene,
-                    s,
-                    (&frame, ng),
-                    local,
-                    &mut sampler,
-                    rays,
-                    &mut distances,
-                );
-                cells.push((l, t, sin, phi));
-            }
-        }
+        // Cosine-weighted: sin^2 theta uniform over the ring's share.
+        let cosine = |sin2: f32| (sin2.sqrt(), (1.0 - sin2).max(0.0).sqrt());
+        let cells = self.stratified(
+            scene,
+            s,
+            (&frame, ng),
+            RECORD_RAYS,
+            (rings, sectors),
+            cosine,
+            rays,
+            &mut distances,
+        );
+        self.work.diffuse.counts.record_rays += cells.len() as u64;
+        let cells: Vec<_> = cells.iter().map(|c| (c.l, c.t, c.sin, c.phi)).collect();
         let irradiance = gradients(&cells, rings, sectors, &frame);
         let e = irradiance.e.luminance();
         let translation = self.sdrc.options.irradiance_gradients == Gradients::Both;
