@@ -249,6 +249,7 @@ impl Runner<'_> {
         let runs = self.suite.runs();
         let mut failed = Vec::new();
         let mut interrupted = false;
+        let mut reused = 0;
         // A recorded run counts when its settings (spec, with its key) and its reference (whose
         // key hashes the scene's content) are those of this suite now.
         let current = |r: &RunRecord, spec: &RunSpec, reference: &ReferenceRecord| {
@@ -276,7 +277,11 @@ impl Runner<'_> {
                     Err(e) => return Err(e),
                 };
             }
-            if self.references_only || done.iter().any(|r| current(r, spec, &references[&key])) {
+            if self.references_only {
+                continue;
+            }
+            if done.iter().any(|r| current(r, spec, &references[&key])) {
+                reused += 1;
                 continue;
             }
             report(&format!("[{}/{}] {}", i + 1, runs.len(), spec.id));
@@ -294,6 +299,14 @@ impl Runner<'_> {
                     failed.push((spec.id.clone(), e.to_string()));
                 }
             }
+        }
+        // Runs are reused by their settings and reference alone: say so, since a changed
+        // renderer with the same settings would otherwise go unnoticed.
+        if reused > 0 {
+            report(&format!(
+                "{reused} finished runs reused from {} (remove it, and runs/, to render them again with this build)",
+                results_path.display()
+            ));
         }
         // Only runs of the current suite, in its order (the latest record of each).
         let records = runs
