@@ -577,7 +577,10 @@ spp = 8
     assert!(o.status.success());
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(!err.contains("[1/4]"), "finished runs are skipped");
-    assert!(err.contains("4 finished runs reused"), "and the reuse is said: {err}");
+    assert!(
+        err.contains("4 finished runs reused"),
+        "and the reuse is said: {err}"
+    );
     assert_eq!(lines(&dir.join("results.jsonl")), 4);
     let html = std::fs::read_to_string(dir.join("index.html")).expect("html");
     assert!(html.contains("<table>") && html.contains("plots/box-hole-d2-spp.svg"));
