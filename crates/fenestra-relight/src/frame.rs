@@ -85,7 +85,10 @@ impl FrameTransfer {
                 Some((si, bsdf, -ray.d))
             })
             .collect();
-        let seen: Vec<usize> = (0..views.len()).filter(|&i| views[i].is_some()).collect();
+        // Without gather samples (no non-emitting mesh) there is no transfer to compute.
+        let seen: Vec<usize> = (0..views.len())
+            .filter(|&i| views[i].is_some() && !gather.samples.is_empty())
+            .collect();
         let samples: Vec<ViewSample> = seen
             .iter()
             .map(|&i| ViewSample {
@@ -121,6 +124,17 @@ impl FrameTransfer {
             .iter()
             .map(|(_, w)| SparseVec::largest(w, o.keep))
             .collect();
+        if rows.is_empty() {
+            return FrameTransfer {
+                width,
+                height,
+                gather,
+                clusters: Vec::new(),
+                pixels: vec![None; views.len()],
+                explored: 0,
+                rays,
+            };
+        }
         let k = o.clusters.min(rows.len()).max(1);
         let centroids: Vec<usize> = (0..k).map(|c| c * rows.len() / k).collect();
         let model = wlpca(
@@ -279,6 +293,34 @@ mod tests {
             ref2 += want * want;
         }
         (err2 / ref2).sqrt()
+    }
+
+    #[test]
+    fn a_scene_without_surfaces_to_gather_from_relights_black() {
+        // The Cornell box's walls made emitters: nothing left to gather light.
+        let mut desc = fenestra_builtin::load("cornell-box").expect("scene");
+        for shape in &mut desc.shapes {
+            shape
+                .emission
+                .get_or_insert(fenestra_scene::light::Emission::radiance(Rgb::ONE));
+        }
+        let scene = RenderScene::new(Scene::build(desc, Backend::Obvhs).expect("build"));
+        let options = FrameOptions {
+            gather: 64,
+            threshold: 0.02,
+            explored: 0.5,
+            batches: 2,
+            keep: 64,
+            clusters: 2,
+            schedule: Schedule::parse("0:1").expect("schedule"),
+            neighbours: 2,
+            elements: 4,
+            ridge: 0.1,
+            seed: 1,
+        };
+        let frame = FrameTransfer::precompute(&scene, 8, 8, &options);
+        assert_eq!(frame.explored, 0);
+        assert!(frame.relight(&[]).iter().all(|&l| l == Rgb::ZERO));
     }
 
     #[test]
