@@ -9,6 +9,7 @@ mod glossy_room;
 pub mod hall;
 mod kitchen;
 mod ponderosa;
+mod relight_room;
 mod teapot;
 mod terminal;
 mod tower;
@@ -82,7 +83,20 @@ pub const SCENES: &[(&str, &str)] = &[
         "terminal-832",
         "Grand Central-like concourse, 832 lights, 1.1M triangles (seed 004 Table 4.1)",
     ),
+    (
+        "relight-room",
+        "diffuse room with a crate and a screen that move over 100 frames, two point lights and a spot (issue 14; its animation: `fenestra relight`)",
+    ),
 ];
+
+/// The animation (JSON, docs/relight.md's format) that goes with built-in scene `name`, if
+/// it is animated.
+pub fn animation(name: &str) -> Option<&'static str> {
+    match name {
+        "relight-room" => Some(relight_room::ANIMATION),
+        _ => None,
+    }
+}
 
 /// A name that is not one of the built-in scenes.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
@@ -107,6 +121,7 @@ pub fn load(name: &str) -> Result<SceneDesc, UnknownScene> {
         "ponderosa-138" => Ok(ponderosa::ponderosa()),
         "terminal-832" => Ok(terminal::terminal()),
         "tower" => Ok(tower::tower()),
+        "relight-room" => Ok(relight_room::relight_room()),
         _ => match name
             .strip_prefix("teapot-box-phong-")
             .map(str::parse::<f32>)

@@ -122,6 +122,8 @@ pub struct Shape {
     /// Flips the geometric and shading normals (pbrt's ReverseOrientation): emission and
     /// "outside" follow the flipped normal.
     pub flip_normals: bool,
+    /// Its name, for what refers to it (animation tracks), if it has one.
+    pub name: Option<String>,
 }
 
 impl Shape {
@@ -132,7 +134,13 @@ impl Shape {
             material,
             emission: None,
             flip_normals: false,
+            name: None,
         }
+    }
+    /// The shape named `name`.
+    pub fn named(mut self, name: &str) -> Self {
+        self.name = Some(name.to_string());
+        self
     }
     /// The shape emitting `e`.
     pub fn emitting(mut self, e: Emission) -> Self {
