@@ -220,6 +220,14 @@ impl Image {
 
     /// [`Image::write_png`] straight to `path`.
     pub fn write_png_to(&self, path: &Path, exposure_stops: Option<f32>) -> Result<(), ImageError> {
+        let bytes = self
+            .png(exposure_stops)
+            .map_err(|e| WriteError::new(path, e))?;
+        std::fs::write(path, bytes).map_err(|e| WriteError::new(path, e).into())
+    }
+
+    /// The 8-bit sRGB PNG [`Image::write_png`] writes, as bytes.
+    pub fn png(&self, exposure_stops: Option<f32>) -> Result<Vec<u8>, image::ImageError> {
         let scale = match exposure_stops {
             Some(ev) => 2f32.powf(ev),
             None => self.auto_exposure_scale(),
@@ -231,10 +239,16 @@ impl Image {
                 bytes.push((linear_to_srgb(v.clamp(0.0, 1.0)) * 255.0 + 0.5) as u8);
             }
         }
-        let buf = image::RgbImage::from_raw(self.width as u32, self.height as u32, bytes)
-            .ok_or_else(|| WriteError::new(path, "pixel buffer size mismatch"))?;
-        buf.save_with_format(path, image::ImageFormat::Png)
-            .map_err(|e| WriteError::new(path, e).into())
+        let mut out = std::io::Cursor::new(Vec::new());
+        image::write_buffer_with_format(
+            &mut out,
+            &bytes,
+            self.width as u32,
+            self.height as u32,
+            image::ExtendedColorType::Rgb8,
+            image::ImageFormat::Png,
+        )?;
+        Ok(out.into_inner())
     }
 
     /// The scale that maps the log-average luminance to middle grey (0.18).

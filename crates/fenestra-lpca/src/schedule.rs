@@ -10,6 +10,14 @@ pub struct Schedule(pub Vec<(usize, usize)>);
 /// that a typo cannot make a run that never ends.
 pub const MAX_ITERATIONS: usize = 10_000;
 
+impl std::fmt::Display for Schedule {
+    /// As [`Schedule::parse`] reads it: "0:15,2:10,4:7".
+    fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        let parts: Vec<String> = self.0.iter().map(|(d, i)| format!("{d}:{i}")).collect();
+        f.write_str(&parts.join(","))
+    }
+}
+
 impl Schedule {
     /// Parses "0:15,2:10,4:7" (parentheses allowed: "(0:15),(2:10)").
     pub fn parse(s: &str) -> Result<Schedule, LpcaError> {
