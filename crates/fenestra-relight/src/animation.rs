@@ -118,6 +118,9 @@ pub struct Animation {
     /// Each animated object's keys, by name.
     #[serde(default)]
     pub objects: BTreeMap<String, Vec<ObjectKey>>,
+    /// Where it was read from (for messages).
+    #[serde(skip)]
+    pub source: String,
 }
 
 /// A camera at one frame.
@@ -141,7 +144,7 @@ impl Animation {
 
     /// Parses and checks `text` (`name` for messages).
     pub fn parse(text: &str, name: &str) -> Result<Self, AnimationError> {
-        let a: Animation = serde_json::from_str(text).map_err(|e| AnimationError::Syntax {
+        let mut a: Animation = serde_json::from_str(text).map_err(|e| AnimationError::Syntax {
             path: name.to_string(),
             line: e.line(),
             column: e.column(),
@@ -152,6 +155,7 @@ impl Animation {
             at,
             message,
         })?;
+        a.source = name.to_string();
         Ok(a)
     }
 

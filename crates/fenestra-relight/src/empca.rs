@@ -127,6 +127,7 @@ fn solve(m: &Mat<f64>, mut rhs: Mat<f64>) -> Option<Mat<f64>> {
 /// they are dependent.
 fn orthonormal(c: &[Vec<f64>]) -> Option<Vec<Vec<f64>>> {
     let mut q: Vec<Vec<f64>> = Vec::with_capacity(c.len());
+    let scale = c.iter().map(|r| dot(r, r)).fold(0.0, f64::max).sqrt();
     for v in c {
         let mut v = v.clone();
         for _ in 0..2 {
@@ -136,7 +137,6 @@ fn orthonormal(c: &[Vec<f64>]) -> Option<Vec<Vec<f64>>> {
             }
         }
         let n = dot(&v, &v).sqrt();
-        let scale = c.iter().map(|r| dot(r, r)).fold(0.0, f64::max).sqrt();
         if n.is_nan() || n <= 1e-12 * scale.max(f64::MIN_POSITIVE) {
             return None;
         }

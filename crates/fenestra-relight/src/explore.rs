@@ -6,8 +6,11 @@
 //! (w1 = 1 / scene size, w2 = 1 / frames, the seed's suggestion). Samples go where transfer
 //! changes.
 
+use crate::neighbours::{Point, PointTree};
+use crate::sparse::SparseVec;
 use faer::Mat;
-use fenestra_core::{Rng, Vec3};
+use fenestra_core::{Sampler, Vec3};
+use rayon::prelude::*;
 
 /// A view sample: the point a pixel sees at a frame.
 #[derive(Clone, Copy, Debug)]
@@ -16,6 +19,14 @@ pub struct ViewSample {
     pub p: Vec3,
     /// Its frame.
     pub frame: u32,
+}
+
+impl ViewSample {
+    /// Its point in the space where eq. 4.2 is Euclidean.
+    pub fn point(&self, w_space: f32, w_time: f32) -> Point {
+        let p = self.p * w_space;
+        [p.x, p.y, p.z, self.frame as f32 * w_time]
+    }
 }
 
 /// How the exploration runs.
@@ -36,30 +47,78 @@ pub struct ExploreOptions {
     pub seed: u64,
 }
 
-/// The explored samples (index into the view samples, transfer vector) in the order they
-/// were evaluated, by `transfer` (the transfer vector of a view sample).
+/// The explored samples (index into the view samples, sparse wavelet image of the transfer
+/// vector) in the order they were evaluated, by `transfer`, evaluated in parallel (the
+/// result does not depend on the thread count).
+///
+/// Each batch draws `per_batch` samples without replacement with probability by weight (the
+/// keys u^(1/w) of Efraimidis and Spirakis, u from each sample's own random stream); after
+/// it, every explored sample's local rank is the numerical rank of its `neighbours` nearest
+/// explored samples' transfer, and an unexplored sample's weight is the local rank at its
+/// nearest explored sample (Alg. 3 evaluates it at every sample; at a pixel per view sample
+/// the nearest explored sample's neighbourhood is nearly the same and the work falls from
+/// one small SVD per pixel to one per explored sample).
 pub fn explore(
     samples: &[ViewSample],
     options: &ExploreOptions,
-    mut transfer: impl FnMut(usize) -> Vec<f64>,
-) -> Vec<(usize, Vec<f64>)> {
-    let mut rng = Rng::new(options.seed);
+    transfer: impl Fn(usize) -> SparseVec + Sync,
+) -> Vec<(usize, SparseVec)> {
+    let points: Vec<Point> = (samples.iter())
+        .map(|v| v.point(options.w_space, options.w_time))
+        .collect();
     let mut weights = vec![1.0f64; samples.len()];
-    let mut explored: Vec<(usize, Vec<f64>)> = Vec::new();
-    for _ in 0..options.batches {
-        for _ in 0..options.per_batch {
-            if weights.iter().all(|&w| w <= 0.0) {
-                return explored;
-            }
-            let i = rng.weighted(&weights);
-            weights[i] = 0.0;
-            explored.push((i, transfer(i)));
+    let mut explored: Vec<(usize, SparseVec)> = Vec::new();
+    for batch in 0..options.batches {
+        let mut keys: Vec<(f64, usize)> = (weights.par_iter().enumerate())
+            .filter(|(_, &w)| w > 0.0)
+            .map(|(i, &w)| {
+                let u = Sampler::new(options.seed, i as u64, batch as u32).next_1d() as f64;
+                (u.max(1e-300).ln() / w, i)
+            })
+            .collect();
+        if keys.is_empty() {
+            break;
         }
-        for (i, w) in weights.iter_mut().enumerate() {
-            if *w > 0.0 {
-                *w = local_rank(&samples[i], samples, &explored, options).max(0.5);
-            }
+        let take = options.per_batch.min(keys.len());
+        // The largest keys, ties to the lower index.
+        let order = |a: &(f64, usize), b: &(f64, usize)| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1));
+        if take < keys.len() {
+            keys.select_nth_unstable_by(take - 1, order);
+            keys.truncate(take);
         }
+        keys.sort_unstable_by(order);
+        let drawn: Vec<(usize, SparseVec)> =
+            keys.par_iter().map(|&(_, i)| (i, transfer(i))).collect();
+        for (i, _) in &drawn {
+            weights[*i] = 0.0;
+        }
+        explored.extend(drawn);
+        if batch + 1 == options.batches {
+            break;
+        }
+        let at: Vec<Point> = explored.iter().map(|(i, _)| points[*i]).collect();
+        let tree = PointTree::new(&at);
+        let ranks: Vec<f64> = (0..explored.len())
+            .into_par_iter()
+            .map_init(Vec::new, |near, k| {
+                tree.nearest(&at[k], options.neighbours, near);
+                let rows: Vec<&SparseVec> =
+                    near.iter().map(|&(_, r)| &explored[r as usize].1).collect();
+                rank(&rows, options.rank_tolerance)
+            })
+            .collect();
+        weights
+            .par_iter_mut()
+            .enumerate()
+            .for_each_init(Vec::new, |near, (i, w)| {
+                if *w > 0.0 {
+                    tree.nearest(&points[i], 1, near);
+                    *w = near
+                        .first()
+                        .map_or(1.0, |&(_, r)| ranks[r as usize])
+                        .max(0.5);
+                }
+            });
     }
     explored
 }
@@ -70,43 +129,27 @@ pub fn distance(a: &ViewSample, b: &ViewSample, w_space: f32, w_time: f32) -> f3
     ((w_space * w_space) * a.p.distance_squared(b.p) + (w_time * dt).powi(2)).sqrt()
 }
 
-/// The numerical rank of the transfer vectors of the explored samples nearest `v`.
-fn local_rank(
-    v: &ViewSample,
-    samples: &[ViewSample],
-    explored: &[(usize, Vec<f64>)],
-    options: &ExploreOptions,
-) -> f64 {
-    let mut near: Vec<(f32, usize)> = (explored.iter().enumerate())
-        .map(|(k, (i, _))| {
-            (
-                distance(v, &samples[*i], options.w_space, options.w_time),
-                k,
-            )
-        })
-        .collect();
-    let count = options.neighbours.min(near.len());
-    if count == 0 {
+/// The numerical rank of the matrix whose rows are `rows`, from the eigenvalues of their
+/// Gram matrix (the squares of its singular values; the sparse rows never densified).
+fn rank(rows: &[&SparseVec], tolerance: f64) -> f64 {
+    if rows.is_empty() {
         return 1.0;
     }
-    near.select_nth_unstable_by(count - 1, |a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-    near.truncate(count);
-    let d = explored[0].1.len();
-    let m = Mat::<f64>::from_fn(count, d, |r, c| explored[near[r].1].1[c]);
-    let Ok(singular) = m.singular_values() else {
+    let gram = Mat::<f64>::from_fn(rows.len(), rows.len(), |a, b| rows[a].dot_sparse(rows[b]));
+    let Ok(eigen) = gram.singular_values() else {
         return 1.0;
     };
-    let largest = singular.iter().copied().fold(0.0, f64::max);
-    singular
+    let largest = eigen.iter().copied().fold(0.0, f64::max);
+    // Singular values s of the rows: s^2 are the Gram's eigenvalues.
+    eigen
         .iter()
-        .filter(|&&s| s > options.rank_tolerance * largest && s > 0.0)
+        .filter(|&&e| e > tolerance * tolerance * largest && e > 0.0)
         .count() as f64
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use fenestra_core::Sampler;
 
     #[test]
     fn exploration_goes_where_transfer_changes() {
@@ -119,14 +162,15 @@ mod tests {
             })
             .collect();
         let d = 16;
-        let transfer = |i: usize| -> Vec<f64> {
+        let transfer = |i: usize| -> SparseVec {
             let x = samples[i].p.x as f64;
             let mut s = Sampler::new(7, i as u64, 0);
-            if x < 0.0 {
+            let dense: Vec<f64> = if x < 0.0 {
                 (0..d).map(|j| (1.0 + x) * (j as f64 + 1.0)).collect()
             } else {
                 (0..d).map(|_| s.next_1d() as f64).collect()
-            }
+            };
+            SparseVec::largest(&dense, d)
         };
         let options = ExploreOptions {
             batches: 6,
@@ -140,7 +184,7 @@ mod tests {
         let explored = explore(&samples, &options, transfer);
         assert_eq!(explored.len(), 240);
         // The first batch is uniform; later ones favour the changing half.
-        let right = |batch: &[(usize, Vec<f64>)]| {
+        let right = |batch: &[(usize, SparseVec)]| {
             batch.iter().filter(|(i, _)| samples[*i].p.x >= 0.0).count() as f64 / batch.len() as f64
         };
         let later = right(&explored[80..]);

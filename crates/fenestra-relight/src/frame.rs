@@ -6,24 +6,26 @@
 //! (1 + l) dot products of the gather samples' radiosity with the mean and basis (in the
 //! wavelet domain: <x, B> = <Wx, WB>), and per pixel l multiply-adds.
 
-use crate::explore::{distance, explore, ExploreOptions, ViewSample};
+use crate::explore::{explore, ExploreOptions, ViewSample};
 use crate::gather::Gather;
 use crate::haar;
+use crate::neighbours::PointTree;
 use crate::reconstruct::reconstruct;
-use crate::sparse::{nearest, Precomputed, SparseVec};
+use crate::sparse::{distance2, Precomputed, SparseVec};
 use crate::transfer::{element, transfer, ViewPoint};
 use crate::wlpca::{wlpca, WlpcaOptions};
+use fenestra_core::distribution::Distribution1D;
 use fenestra_core::{Rgb, Sampler, Vec2, Vec3};
 use fenestra_lpca::{Schedule, Subspace};
 use fenestra_render::bsdf::Bsdf;
 use fenestra_render::RenderScene;
 use fenestra_scene::SurfaceInteraction;
+use rayon::prelude::*;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 /// How a frame is precomputed.
 #[derive(Clone, Debug)]
 pub struct FrameOptions {
-    /// Gather samples.
-    pub gather: usize,
     /// The N-body traversal's solid-angle threshold.
     pub threshold: f32,
     /// Share of the view samples whose transfer is evaluated, in `batches` batches.
@@ -43,12 +45,13 @@ pub struct FrameOptions {
     pub seed: u64,
 }
 
-/// A pixel's compressed transfer.
-#[derive(Clone, Debug)]
-struct Pixel {
-    cluster: u32,
-    coefficients: Vec<f32>,
-    colour: Rgb,
+/// A pixel's compressed transfer: its cluster, its coordinates in the cluster's subspace, and
+/// the colour its BSDF gives reflected light.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Pixel {
+    pub cluster: u32,
+    pub coefficients: Vec<f32>,
+    pub colour: Rgb,
 }
 
 /// A precomputed frame.
@@ -56,50 +59,91 @@ struct Pixel {
 pub struct FrameTransfer {
     pub width: u32,
     pub height: u32,
-    /// The gather samples.
-    pub gather: Gather,
+    /// Gather samples its transfer vectors run over.
+    pub gather: usize,
     /// The clusters' affine subspaces (wavelet domain, padded length).
     pub clusters: Vec<Subspace>,
-    pixels: Vec<Option<Pixel>>,
-    /// View samples whose transfer was evaluated, and the visibility rays it took.
+    /// Every pixel's transfer (none: background, emitters, nothing to gather from).
+    pub pixels: Vec<Option<Pixel>>,
+    /// View samples whose transfer was evaluated, and the visibility rays the frame took.
     pub explored: usize,
     pub rays: u64,
 }
 
-impl FrameTransfer {
-    /// Precomputes the frame of `scene`'s camera at `width` x `height`.
-    pub fn precompute(scene: &RenderScene, width: u32, height: u32, o: &FrameOptions) -> Self {
-        let gather = Gather::new(scene, o.gather, o.seed);
-        let n = haar::padded_len(gather.samples.len());
-        // View samples: the surface through each pixel's centre (none: background, emitters).
-        let views: Vec<Option<(SurfaceInteraction, Bsdf, Vec3)>> = (0..width * height)
-            .map(|i| {
-                let c = Vec2::new((i % width) as f32 + 0.5, (i / width) as f32 + 0.5);
-                let ray = scene.scene.camera.generate_ray(c, width, height);
-                let hit = scene.scene.intersect(&ray, f32::INFINITY)?;
-                if scene.scene.shapes[hit.shape as usize].emission.is_some() {
-                    return None;
-                }
-                let si = scene.scene.interaction(&ray, &hit);
-                let bsdf = scene.bsdf_at(&si).into_owned();
-                Some((si, bsdf, -ray.d))
+/// The point a pixel's centre sees (none: background or an emitter).
+pub struct View {
+    pub si: SurfaceInteraction,
+    pub bsdf: Bsdf,
+    pub wo: Vec3,
+}
+
+impl View {
+    fn point(&self) -> ViewPoint<'_> {
+        ViewPoint {
+            si: &self.si,
+            bsdf: &self.bsdf,
+            wo: self.wo,
+        }
+    }
+}
+
+/// The view samples of `scene`'s camera at `width` x `height`, row-major.
+pub fn views(scene: &RenderScene, width: u32, height: u32) -> Vec<Option<View>> {
+    (0..width * height)
+        .into_par_iter()
+        .map(|i| {
+            let c = Vec2::new((i % width) as f32 + 0.5, (i / width) as f32 + 0.5);
+            let ray = scene.scene.camera.generate_ray(c, width, height);
+            let hit = scene.scene.intersect(&ray, f32::INFINITY)?;
+            if scene.scene.shapes[hit.shape as usize].emission.is_some() {
+                return None;
+            }
+            let si = scene.scene.interaction(&ray, &hit);
+            let bsdf = scene.bsdf_at(&si).into_owned();
+            Some(View {
+                si,
+                bsdf,
+                wo: -ray.d,
             })
-            .collect();
+        })
+        .collect()
+}
+
+impl FrameTransfer {
+    /// Precomputes the frame of `scene`'s camera at `width` x `height` over `gather` (made or
+    /// posed on this scene), in parallel; the result does not depend on the thread count.
+    pub fn precompute(
+        scene: &RenderScene,
+        gather: &Gather,
+        width: u32,
+        height: u32,
+        o: &FrameOptions,
+    ) -> Self {
+        let n = haar::padded_len(gather.samples.len());
+        let views = views(scene, width, height);
+        let mut frame = FrameTransfer {
+            width,
+            height,
+            gather: gather.samples.len(),
+            clusters: Vec::new(),
+            pixels: vec![None; views.len()],
+            explored: 0,
+            rays: 0,
+        };
         // Without gather samples (no non-emitting mesh) there is no transfer to compute.
         let seen: Vec<usize> = (0..views.len())
             .filter(|&i| views[i].is_some() && !gather.samples.is_empty())
             .collect();
-        let samples: Vec<ViewSample> = seen
-            .iter()
-            .map(|&i| ViewSample {
-                p: views[i].as_ref().map_or(Vec3::ZERO, |v| v.0.p),
+        if seen.is_empty() {
+            return frame;
+        }
+        let view = |i: usize| views[seen[i]].as_ref().expect("seen");
+        let samples: Vec<ViewSample> = (0..seen.len())
+            .map(|i| ViewSample {
+                p: view(i).si.p,
                 frame: 0,
             })
             .collect();
-        let point = |i: usize| {
-            let (si, bsdf, wo) = views[seen[i]].as_ref().expect("seen");
-            ViewPoint { si, bsdf, wo: *wo }
-        };
         let radius = scene.scene.bounding_sphere().1;
         let explore_options = ExploreOptions {
             batches: o.batches.max(1),
@@ -110,110 +154,134 @@ impl FrameTransfer {
             w_time: 1.0,
             seed: o.seed,
         };
-        let mut rays = 0;
-        let mut scratch = vec![0.0; n];
+        let rays = AtomicU64::new(0);
         let explored = explore(&samples, &explore_options, |i| {
-            let (x, r) = transfer(scene, &gather, &point(i), o.threshold);
-            rays += r;
-            let mut w = x;
+            let (mut w, r) = transfer(scene, gather, &view(i).point(), o.threshold);
+            rays.fetch_add(r, Ordering::Relaxed);
             w.resize(n, 0.0);
-            haar::forward(&mut w, &mut scratch);
-            w
+            haar::forward(&mut w, &mut vec![0.0; n]);
+            SparseVec::largest(&w, o.keep)
         });
-        let rows: Vec<SparseVec> = explored
-            .iter()
-            .map(|(_, w)| SparseVec::largest(w, o.keep))
-            .collect();
-        if rows.is_empty() {
-            return FrameTransfer {
-                width,
-                height,
-                gather,
-                clusters: Vec::new(),
-                pixels: vec![None; views.len()],
-                explored: 0,
-                rays,
-            };
-        }
-        let k = o.clusters.min(rows.len()).max(1);
+        let k = o.clusters.min(explored.len()).max(1);
+        let rows: Vec<SparseVec> = explored.iter().map(|(_, x)| x.clone()).collect();
         let centroids: Vec<usize> = (0..k).map(|c| c * rows.len() / k).collect();
         let model = wlpca(
             &rows,
             &centroids,
             &WlpcaOptions {
                 schedule: o.schedule.clone(),
-                em_iterations: 100,
-                em_tolerance: 1e-6,
+                // Warm-started from the previous iteration's directions, EM moves little
+                // after the first fits: a few iterations per fit (measured: docs/relight.md).
+                em_iterations: 10,
+                em_tolerance: 1e-4,
             },
         );
         let pre: Vec<Precomputed> = model.models.iter().map(Precomputed::new).collect();
-        let mut pixels: Vec<Option<Pixel>> = vec![None; views.len()];
         let mut row_of = vec![usize::MAX; samples.len()];
         for (r, (i, _)) in explored.iter().enumerate() {
             row_of[*i] = r;
         }
-        for (i, &pixel) in seen.iter().enumerate() {
-            let v = point(i);
-            let x = if row_of[i] != usize::MAX {
-                rows[row_of[i]].clone()
-            } else {
-                // Eq. 4.5 from the nearest explored samples, fitted at a few elements.
-                let mut near: Vec<(f32, usize)> = (explored.iter().enumerate())
-                    .map(|(r, (e, _))| {
+        let at: Vec<_> = (explored.iter())
+            .map(|(i, _)| samples[*i].point(explore_options.w_space, 1.0))
+            .collect();
+        let tree = PointTree::new(&at);
+        let pixels: Vec<(usize, Option<Pixel>)> = (0..seen.len())
+            .into_par_iter()
+            .map_init(Vec::new, |near, i| {
+                let v = view(i).point();
+                let pixel = seen[i];
+                let (x, candidates) = if row_of[i] != usize::MAX {
+                    let r = row_of[i];
+                    (rows[r].clone(), vec![model.assignments[r]])
+                } else {
+                    // Eq. 4.5 from the nearest explored samples, fitted at a few elements.
+                    tree.nearest(
+                        &samples[i].point(explore_options.w_space, 1.0),
+                        o.neighbours,
+                        near,
+                    );
+                    let neighbours: Vec<&SparseVec> =
+                        near.iter().map(|&(_, r)| &rows[r as usize]).collect();
+                    // The elements to fit at, drawn where the neighbours' transfer is (by the
+                    // magnitude of their average): uniform indices mostly land on gather
+                    // samples the point cannot see, where every neighbour is zero too.
+                    let mut average = vec![0.0f64; n];
+                    for x in &neighbours {
+                        x.iter().for_each(|(i, v)| average[i] += v);
+                    }
+                    haar::inverse(&mut average, &mut vec![0.0; n]);
+                    let magnitude: Vec<f32> = (average[..gather.samples.len()].iter())
+                        .map(|v| v.abs() as f32)
+                        .collect();
+                    let pick = Distribution1D::new(&magnitude);
+                    let mut sampler = Sampler::new(o.seed ^ 0x7e1, pixel as u64, 0);
+                    let indices: Vec<usize> = (0..o.elements.max(near.len()))
+                        .map(|_| pick.sample_discrete(sampler.next_1d()).0)
+                        .collect();
+                    let shading = v.si.shading_frame();
+                    let mut r = 0;
+                    let values: Vec<f64> = (indices.iter())
+                        .map(|&j| element(scene, &v, &shading, &gather.samples[j], &mut r))
+                        .collect();
+                    rays.fetch_add(r, Ordering::Relaxed);
+                    let Some(x) = reconstruct(&neighbours, &indices, &values, n, o.ridge) else {
+                        return (pixel, None);
+                    };
+                    // The cluster among its neighbours' (Alg. 4 over all clusters would cost
+                    // a distance per cluster per pixel; neighbours lie in one or two).
+                    let mut candidates: Vec<u32> = near
+                        .iter()
+                        .map(|&(_, r)| model.assignments[r as usize])
+                        .collect();
+                    candidates.sort_unstable();
+                    candidates.dedup();
+                    (x, candidates)
+                };
+                let c = (candidates.iter())
+                    .map(|&c| {
                         (
-                            distance(&samples[i], &samples[*e], explore_options.w_space, 1.0),
-                            r,
+                            distance2(&x, &model.models[c as usize], &pre[c as usize]),
+                            c,
                         )
                     })
+                    .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)))
+                    .map_or(0, |(_, c)| c as usize);
+                let s = &model.models[c];
+                let coefficients = (s.basis.iter().zip(&pre[c].basis_mean))
+                    .map(|(e, &em)| (x.dot(e) - em) as f32)
                     .collect();
-                let count = o.neighbours.min(near.len()).max(1);
-                near.select_nth_unstable_by(count - 1, |a, b| {
-                    a.0.total_cmp(&b.0).then(a.1.cmp(&b.1))
-                });
-                let neighbours: Vec<&SparseVec> =
-                    near[..count].iter().map(|&(_, r)| &rows[r]).collect();
-                let mut sampler = Sampler::new(o.seed ^ 0x7e1, pixel as u64, 0);
-                let indices: Vec<usize> = (0..o.elements.max(count))
-                    .map(|_| {
-                        ((sampler.next_1d() * gather.samples.len() as f32) as usize)
-                            .min(gather.samples.len() - 1)
-                    })
-                    .collect();
-                let frame = v.si.shading_frame();
-                let values: Vec<f64> = indices
-                    .iter()
-                    .map(|&j| element(scene, &v, &frame, &gather.samples[j], &mut rays))
-                    .collect();
-                match reconstruct(&neighbours, &indices, &values, n, o.ridge) {
-                    Some(x) => x,
-                    None => continue,
-                }
-            };
-            let (c, _) = nearest(&x, &model.models, &pre);
-            let s = &model.models[c];
-            let coefficients = (s.basis.iter().zip(&pre[c].basis_mean))
-                .map(|(e, &em)| (x.dot(e) - em) as f32)
-                .collect();
-            pixels[pixel] = Some(Pixel {
-                cluster: c as u32,
-                coefficients,
-                colour: v.colour(),
-            });
+                let colour = v.colour();
+                (
+                    pixel,
+                    Some(Pixel {
+                        cluster: c as u32,
+                        coefficients,
+                        colour,
+                    }),
+                )
+            })
+            .collect();
+        for (i, p) in pixels {
+            frame.pixels[i] = p;
         }
-        FrameTransfer {
-            width,
-            height,
-            gather,
-            clusters: model.models,
-            pixels,
-            explored: explored.len(),
-            rays,
-        }
+        frame.clusters = model.models;
+        frame.explored = explored.len();
+        frame.rays = rays.into_inner();
+        frame
+    }
+
+    /// Bytes it holds in memory (about).
+    pub fn bytes(&self) -> usize {
+        let vectors: usize = self.clusters.iter().map(|c| 1 + c.basis.len()).sum();
+        let pixels: usize = (self.pixels.iter().flatten())
+            .map(|p| 32 + 4 * p.coefficients.len())
+            .sum();
+        vectors * haar::padded_len(self.gather) * 8 + pixels + self.pixels.len() * 8
     }
 
     /// The one-bounce indirect image for the gather samples' radiosity `b` (row-major).
     pub fn relight(&self, b: &[Rgb]) -> Vec<Rgb> {
-        let n = haar::padded_len(self.gather.samples.len());
+        let n = haar::padded_len(self.gather);
         let mut scratch = vec![0.0; n];
         let channel = |f: fn(&Rgb) -> f32, scratch: &mut [f64]| {
             let mut w: Vec<f64> = b.iter().map(|c| f(c) as f64).collect();
@@ -264,10 +332,11 @@ mod tests {
     /// full N-body transfer gives, for the same radiosity.
     fn error_against_full_transfer(
         scene: &RenderScene,
+        gather: &Gather,
         frame: &FrameTransfer,
         threshold: f32,
     ) -> f64 {
-        let b = radiosity(scene, &frame.gather, 8, 2);
+        let b = radiosity(scene, gather, 8, 2);
         let image = frame.relight(&b);
         let (w, h) = (frame.width, frame.height);
         let (mut err2, mut ref2) = (0.0f64, 0.0f64);
@@ -287,7 +356,7 @@ mod tests {
                 bsdf: &bsdf,
                 wo: -ray.d,
             };
-            let (x, _) = transfer(scene, &frame.gather, &v, threshold);
+            let (x, _) = transfer(scene, gather, &v, threshold);
             let want = relit(v.colour(), &x, &b).luminance() as f64;
             err2 += (got.luminance() as f64 - want).powi(2);
             ref2 += want * want;
@@ -306,7 +375,6 @@ mod tests {
         }
         let scene = RenderScene::new(Scene::build(desc, Backend::Obvhs).expect("build"));
         let options = FrameOptions {
-            gather: 64,
             threshold: 0.02,
             explored: 0.5,
             batches: 2,
@@ -318,7 +386,8 @@ mod tests {
             ridge: 0.1,
             seed: 1,
         };
-        let frame = FrameTransfer::precompute(&scene, 8, 8, &options);
+        let gather = Gather::new(&scene, 64, 1);
+        let frame = FrameTransfer::precompute(&scene, &gather, 8, 8, &options);
         assert_eq!(frame.explored, 0);
         assert!(frame.relight(&[]).iter().all(|&l| l == Rgb::ZERO));
     }
@@ -327,8 +396,8 @@ mod tests {
     fn a_compressed_frame_relights_like_its_full_transfer() {
         let desc = fenestra_builtin::load("cornell-box").expect("scene");
         let scene = RenderScene::new(Scene::build(desc, Backend::Obvhs).expect("build"));
+        let gather = Gather::new(&scene, 2048, 1);
         let base = FrameOptions {
-            gather: 2048,
             threshold: 0.02,
             explored: 1.0,
             batches: 3,
@@ -341,8 +410,8 @@ mod tests {
             seed: 1,
         };
         // Every view sample explored: the compression alone, nearly exact at this size.
-        let all = FrameTransfer::precompute(&scene, 24, 24, &base);
-        let e = error_against_full_transfer(&scene, &all, base.threshold);
+        let all = FrameTransfer::precompute(&scene, &gather, 24, 24, &base);
+        let e = error_against_full_transfer(&scene, &gather, &all, base.threshold);
         assert!(e < 0.03, "everything explored: relative RMS error {e}");
         // Half explored, the rest by eq. 4.5: the fitted combination beats the neighbours'
         // plain average (a ridge so strong that the fit is ignored).
@@ -350,12 +419,17 @@ mod tests {
             explored: 0.5,
             ..base.clone()
         };
-        let fitted = FrameTransfer::precompute(&scene, 24, 24, &half);
+        let fitted = FrameTransfer::precompute(&scene, &gather, 24, 24, &half);
         assert!(fitted.explored <= 24 * 24 / 2);
-        let e_fit = error_against_full_transfer(&scene, &fitted, base.threshold);
-        let average =
-            FrameTransfer::precompute(&scene, 24, 24, &FrameOptions { ridge: 1e6, ..half });
-        let e_avg = error_against_full_transfer(&scene, &average, base.threshold);
+        let e_fit = error_against_full_transfer(&scene, &gather, &fitted, base.threshold);
+        let average = FrameTransfer::precompute(
+            &scene,
+            &gather,
+            24,
+            24,
+            &FrameOptions { ridge: 1e6, ..half },
+        );
+        let e_avg = error_against_full_transfer(&scene, &gather, &average, base.threshold);
         assert!(
             e_fit < 0.25 && e_fit < e_avg,
             "half explored: fitted {e_fit}, averaged {e_avg}"

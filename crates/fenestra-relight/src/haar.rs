@@ -49,21 +49,10 @@ pub fn inverse(x: &mut [f64], scratch: &mut [f64]) {
     }
 }
 
-/// Element `j` of the signal of length `n` whose transform has the coefficients
-/// (`index`, `value`) (the others zero), without the full inverse (§4.5.3: a transfer
-/// vector's elements at a few indices from its sparse wavelet image). Element j depends on
-/// the scaling coefficient and one detail per level: log2(n) + 1 coefficients.
-pub fn element(coefficients: impl IntoIterator<Item = (usize, f64)>, j: usize, n: usize) -> f64 {
-    let levels = n.trailing_zeros();
-    let mut sum = 0.0;
-    for (index, value) in coefficients {
-        sum += value * basis_at(index, j, levels);
-    }
-    sum
-}
-
-/// Basis function `index` of a transform with `levels` levels at element `j`.
-fn basis_at(index: usize, j: usize, levels: u32) -> f64 {
+/// Basis function `index` of a transform with `levels` levels at element `j` (element j of a
+/// signal depends on the scaling coefficient and one detail per level: log2(n) + 1
+/// coefficients, what [`crate::sparse::SparseVec::element`] reads).
+pub(crate) fn basis_at(index: usize, j: usize, levels: u32) -> f64 {
     let n = 1usize << levels;
     if index == 0 {
         return 1.0 / (n as f64).sqrt();
@@ -114,12 +103,15 @@ mod tests {
         let mut scratch = vec![0.0; n];
         forward(&mut w, &mut scratch);
         // Keep a sparse subset; the full inverse of the kept coefficients is the truth.
-        let kept: Vec<(usize, f64)> = w.iter().copied().enumerate().step_by(3).collect();
         let mut dense = vec![0.0; n];
-        kept.iter().for_each(|&(i, v)| dense[i] = v);
+        w.iter()
+            .enumerate()
+            .step_by(3)
+            .for_each(|(i, &v)| dense[i] = v);
+        let kept = crate::sparse::SparseVec::largest(&dense, n);
         inverse(&mut dense, &mut scratch);
         for j in [0, 1, 77, 128, 255] {
-            let e = element(kept.iter().copied(), j, n);
+            let e = kept.element(j);
             assert!(
                 (e - dense[j]).abs() < 1e-12,
                 "element {j}: {e} vs {}",

@@ -2,6 +2,8 @@
 //! ground the precomputation stands on:
 //!
 //! - [`animation`]: keyframed objects and camera (JSON) and their interpolation;
+//! - [`sequence`]: a scene posed at any frame of its animation;
+//! - [`neighbours`]: the nearest explored view samples in space-time (a kd-tree);
 //! - [`explore`]: where to evaluate transfer: Alg. 3 with the space-time distance of eq. 4.2;
 //! - [`gather`]: gather samples on the surfaces, in a balanced tree's order;
 //! - [`transfer`]: transfer vectors by the N-body traversal (eq. 4.1), the gather samples'
@@ -17,9 +19,16 @@ pub mod animation;
 pub mod empca;
 pub mod explore;
 pub mod frame;
+pub mod frame_file;
 pub mod gather;
 pub mod haar;
+pub mod image;
+pub mod lights_file;
+pub mod neighbours;
+pub mod player;
 pub mod reconstruct;
+pub mod sequence;
 pub mod sparse;
+pub mod store;
 pub mod transfer;
 pub mod wlpca;

@@ -3,16 +3,14 @@
 //! samples, the weights alpha fitted by least squares to the new sample's transfer at a few
 //! element indices I (|I| >= k), which are cheap to evaluate (eq. 4.1 for single gather
 //! samples); the neighbours' elements at I come from their sparse images without a full
-//! inverse transform ([`haar::element`]).
+//! inverse transform ([`SparseVec::element`]).
 
-use crate::haar;
 use crate::sparse::SparseVec;
-use faer::Mat;
-use std::collections::BTreeMap;
 
 /// The sparse wavelet image of the vector whose elements at `indices` are `values`, as a
 /// least-squares combination of `neighbours` (sparse wavelet images, all of length `n`, a
-/// power of two); `None` when there are fewer indices than neighbours or the fit fails.
+/// power of two), or their average where the elements at `indices` say nothing about the
+/// weights; `None` when there are fewer indices than neighbours.
 /// `ridge` > 0 pulls the weights towards the neighbours' average (1 / k each) with that
 /// weight relative to the system's mean squared column norm: a few elements of spiky
 /// transfer vectors otherwise buy a fit with large weights of opposite signs that is wrong
@@ -28,62 +26,63 @@ pub fn reconstruct(
     if k == 0 || indices.len() < k || indices.len() != values.len() {
         return None;
     }
-    // The |I| x k system: column r holds neighbour r's elements at I.
-    let a = Mat::<f64>::from_fn(indices.len(), k, |i, r| {
-        haar::element(neighbours[r].iter(), indices[i], n)
-    });
-    let b = Mat::<f64>::from_fn(indices.len(), 1, |i, _| values[i]);
-    // (A^T A + lambda I) alpha = A^T b + lambda / k, through the SVD of the stacked system
-    // [A; sqrt(lambda) I] alpha = [b; sqrt(lambda) / k] (rank-deficient neighbours share
-    // their weight).
+    // The |I| x k system, row-major: column r holds neighbour r's elements at I.
+    let a: Vec<f64> = (0..indices.len() * k)
+        .map(|e| neighbours[e % k].element(indices[e / k]))
+        .collect();
+    // (A^T A + lambda I) alpha = A^T b + lambda / k by Cholesky: k is a handful, and the
+    // ridge (at least 1e-12 of the columns' scale, so that dependent neighbours share their
+    // weight instead of failing) keeps the system positive definite.
     let norm2 = (0..k)
         .map(|r| {
             (0..indices.len())
-                .map(|i| a[(i, r)] * a[(i, r)])
+                .map(|i| a[i * k + r].powi(2))
                 .sum::<f64>()
         })
         .sum::<f64>()
         / k as f64;
-    let lambda = ridge * norm2;
-    let rows = indices.len() + if lambda > 0.0 { k } else { 0 };
-    let m = Mat::<f64>::from_fn(rows, k, |i, r| {
-        if i < indices.len() {
-            a[(i, r)]
-        } else if i - indices.len() == r {
-            lambda.sqrt()
-        } else {
-            0.0
+    let average = vec![1.0 / k as f64; k];
+    let lambda = ridge.max(1e-12) * norm2;
+    let mut m = vec![0.0; k * k];
+    let mut rhs = vec![lambda / k as f64; k];
+    for i in 0..indices.len() {
+        let row = &a[i * k..(i + 1) * k];
+        for r in 0..k {
+            rhs[r] += row[r] * values[i];
+            for c in 0..=r {
+                m[r * k + c] += row[r] * row[c];
+            }
         }
-    });
-    let rhs = |i: usize| {
-        if i < indices.len() {
-            b[(i, 0)]
-        } else {
-            lambda.sqrt() / k as f64
-        }
+    }
+    for r in 0..k {
+        m[r * k + r] += lambda;
+    }
+    // Neighbours that are all zero at I (a pixel in shadow where they are lit) say nothing
+    // about the weights: their average then.
+    let alpha = if norm2 > 0.0 {
+        cholesky_solve(&mut m, rhs, k).unwrap_or(average)
+    } else {
+        average
     };
-    let svd = m.thin_svd().ok()?;
-    let (u, s, v) = (svd.U(), svd.S(), svd.V());
-    let s_max = (0..s.dim()).map(|i| s[i]).fold(0.0, f64::max);
-    let mut alpha = vec![0.0; k];
-    for j in 0..s.dim() {
-        if s[j] <= 1e-10 * s_max || s[j] <= 0.0 {
-            continue;
-        }
-        let c: f64 = (0..rows).map(|i| u[(i, j)] * rhs(i)).sum::<f64>() / s[j];
-        for (r, a) in alpha.iter_mut().enumerate() {
-            *a += v[(r, j)] * c;
-        }
-    }
     // Eq. 4.5 on the sparse images.
-    let mut sum: BTreeMap<usize, f64> = BTreeMap::new();
-    for (x, &w) in neighbours.iter().zip(&alpha) {
-        for (i, v) in x.iter() {
-            *sum.entry(i).or_insert(0.0) += w * v;
+    let mut terms: Vec<(u32, f64)> = (neighbours.iter().zip(&alpha))
+        .flat_map(|(x, &w)| {
+            x.indices
+                .iter()
+                .zip(&x.values)
+                .map(move |(&i, &v)| (i, w * v))
+        })
+        .collect();
+    terms.sort_unstable_by_key(|t| t.0);
+    let (mut indices, mut values): (Vec<u32>, Vec<f64>) = (Vec::new(), Vec::new());
+    for (i, v) in terms {
+        if indices.last() == Some(&i) {
+            *values.last_mut().expect("paired") += v;
+        } else {
+            indices.push(i);
+            values.push(v);
         }
     }
-    let (indices, values): (Vec<u32>, Vec<f64>) =
-        sum.into_iter().map(|(i, v)| (i as u32, v)).unzip();
     Some(SparseVec {
         len: n,
         norm2: values.iter().map(|v| v * v).sum(),
@@ -92,9 +91,34 @@ pub fn reconstruct(
     })
 }
 
+/// Solves m x = b for the symmetric positive definite k x k `m` (lower triangle, row-major,
+/// overwritten by its Cholesky factor); `None` if it is not positive definite.
+fn cholesky_solve(m: &mut [f64], mut b: Vec<f64>, k: usize) -> Option<Vec<f64>> {
+    for j in 0..k {
+        let d = m[j * k + j] - (0..j).map(|p| m[j * k + p].powi(2)).sum::<f64>();
+        if d.is_nan() || d <= 0.0 {
+            return None;
+        }
+        let d = d.sqrt();
+        m[j * k + j] = d;
+        for i in j + 1..k {
+            let s = m[i * k + j] - (0..j).map(|p| m[i * k + p] * m[j * k + p]).sum::<f64>();
+            m[i * k + j] = s / d;
+        }
+    }
+    for i in 0..k {
+        b[i] = (b[i] - (0..i).map(|p| m[i * k + p] * b[p]).sum::<f64>()) / m[i * k + i];
+    }
+    for i in (0..k).rev() {
+        b[i] = (b[i] - (i + 1..k).map(|p| m[p * k + i] * b[p]).sum::<f64>()) / m[i * k + i];
+    }
+    Some(b)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::haar;
     use fenestra_core::Sampler;
 
     #[test]
@@ -127,5 +151,13 @@ mod tests {
             assert!((a - b).abs() < 1e-9, "element {j}: {a} vs {b}");
         }
         assert!(reconstruct(&refs, &indices[..2], &values[..2], n, 0.0).is_none());
+        // A neighbour twice: the two copies share its weight, the fit is the same.
+        let twice = [refs[0], refs[0], refs[1], refs[2]];
+        let got = reconstruct(&twice, &indices, &values, n, 0.0).expect("fit");
+        let mut back = got.to_dense();
+        haar::inverse(&mut back, &mut scratch);
+        for (j, (a, b)) in back.iter().zip(&truth).enumerate() {
+            assert!((a - b).abs() < 1e-6, "twice, element {j}: {a} vs {b}");
+        }
     }
 }

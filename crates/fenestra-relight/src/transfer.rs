@@ -134,6 +134,23 @@ pub fn irradiance(
     samples: u32,
     sampler: &mut Sampler,
 ) -> Rgb {
+    direct(scene, p, n, samples, sampler, |wi| {
+        let cos = wi.dot(n);
+        (cos > 0.0).then(|| Rgb::splat(cos))
+    })
+}
+
+/// Direct light at `p` (geometric normal `ng`, for the shadow rays' offset): the sum over
+/// every light, `samples` light samples each, of `weight(wi)` (the BSDF times the cosine, or
+/// none where nothing is reflected) times the light's radiance over its density, unoccluded.
+pub fn direct(
+    scene: &RenderScene,
+    p: Vec3,
+    ng: Vec3,
+    samples: u32,
+    sampler: &mut Sampler,
+    weight: impl Fn(Vec3) -> Option<Rgb>,
+) -> Rgb {
     let mut e = Rgb::ZERO;
     let off = offset_distance(p.abs().max_element());
     for light in &scene.lights.lights {
@@ -141,18 +158,20 @@ pub fn irradiance(
             let Some(ls) = light.sample_li(&scene.scene, p, sampler.next_2d()) else {
                 continue;
             };
-            let cos = ls.wi.dot(n);
-            if cos <= 0.0 || ls.pdf <= 0.0 {
+            if ls.pdf <= 0.0 {
                 continue;
             }
-            let origin = offset_origin(p, n, ls.wi, off);
+            let Some(w) = weight(ls.wi) else {
+                continue;
+            };
+            let origin = offset_origin(p, ng, ls.wi, off);
             let reach = ls
                 .point
                 .map_or(f32::INFINITY, |q| (q - origin).length() * (1.0 - 1e-3));
             if scene.scene.occluded(&Ray::new(origin, ls.wi), reach) {
                 continue;
             }
-            e += ls.li * (cos / ls.pdf / samples as f32);
+            e += w * ls.li * (1.0 / ls.pdf / samples as f32);
         }
     }
     e

@@ -8,6 +8,7 @@
 use crate::empca::em_pca;
 use crate::sparse::{nearest, Precomputed, SparseVec};
 use fenestra_lpca::{Schedule, Subspace};
+use rayon::prelude::*;
 
 /// A Wavelet-LPCA run.
 #[derive(Clone, Debug)]
@@ -49,6 +50,7 @@ pub fn wlpca(rows: &[SparseVec], centroids: &[usize], options: &WlpcaOptions) ->
     for &(dim, iterations) in &options.schedule.0 {
         for _ in 0..iterations {
             models = (0..models.len())
+                .into_par_iter()
                 .map(|c| fit(rows, &assignments, c as u32, &models[c], dim, options))
                 .collect();
             (assignments, distances2) = classify(rows, &models);
@@ -64,7 +66,7 @@ pub fn wlpca(rows: &[SparseVec], centroids: &[usize], options: &WlpcaOptions) ->
 /// Alg. 4 over all rows.
 fn classify(rows: &[SparseVec], models: &[Subspace]) -> (Vec<u32>, Vec<f64>) {
     let pre: Vec<Precomputed> = models.iter().map(Precomputed::new).collect();
-    rows.iter()
+    rows.par_iter()
         .map(|x| {
             let (i, d2) = nearest(x, models, &pre);
             (i as u32, d2)

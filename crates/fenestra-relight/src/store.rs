@@ -1,0 +1,206 @@
+//! A precomputed sequence on disk, a folder:
+//!
+//! ```text
+//! relight.json      the manifest: scene, size, frames, every precomputation setting
+//! animation.json    the animation it was precomputed for (a copy)
+//! lights.json       the scene's own lights, as a starting point for relighting
+//! frames/NNNN.rlf   one file per frame (frame_file), written atomically when it is done
+//! ```
+//!
+//! A precomputation interrupted keeps its finished frames; run again with the same settings
+//! it computes only the missing ones. Other settings in the same folder are refused.
+
+use crate::frame::FrameOptions;
+use crate::frame_file;
+use fenestra_lpca::Schedule;
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+const VERSION: u32 = 1;
+
+/// What a precomputation is, all of it that changes its frames.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Manifest {
+    pub version: u32,
+    /// The scene as given to `precompute` (`builtin:NAME` or an absolute path).
+    pub scene: String,
+    pub width: u32,
+    pub height: u32,
+    pub frames: u32,
+    /// Gather samples.
+    pub gather: usize,
+    pub threshold: f32,
+    pub explored: f32,
+    pub batches: usize,
+    pub keep: usize,
+    pub clusters: usize,
+    pub schedule: String,
+    pub neighbours: usize,
+    pub elements: usize,
+    pub ridge: f64,
+    pub seed: u64,
+}
+
+impl Manifest {
+    /// The manifest of `scene` at `width` x `height`, `frames` frames, with `o`.
+    pub fn new(
+        scene: &str,
+        width: u32,
+        height: u32,
+        frames: u32,
+        gather: usize,
+        o: &FrameOptions,
+    ) -> Self {
+        Manifest {
+            version: VERSION,
+            scene: scene.to_string(),
+            width,
+            height,
+            frames,
+            gather,
+            threshold: o.threshold,
+            explored: o.explored,
+            batches: o.batches,
+            keep: o.keep,
+            clusters: o.clusters,
+            schedule: o.schedule.to_string(),
+            neighbours: o.neighbours,
+            elements: o.elements,
+            ridge: o.ridge,
+            seed: o.seed,
+        }
+    }
+
+    /// Its frames' options.
+    pub fn frame_options(&self) -> Result<FrameOptions, String> {
+        Ok(FrameOptions {
+            threshold: self.threshold,
+            explored: self.explored,
+            batches: self.batches,
+            keep: self.keep,
+            clusters: self.clusters,
+            schedule: Schedule::parse(&self.schedule).map_err(|e| e.to_string())?,
+            neighbours: self.neighbours,
+            elements: self.elements,
+            ridge: self.ridge,
+            seed: self.seed,
+        })
+    }
+}
+
+/// A precomputation folder.
+#[derive(Clone, Debug)]
+pub struct Store {
+    pub dir: PathBuf,
+    pub manifest: Manifest,
+}
+
+impl Store {
+    /// Starts a precomputation in `dir` (made if missing), or resumes the one there if its
+    /// manifest is `manifest`; writes the manifest, `animation` (its JSON) and `lights`.
+    pub fn create_or_resume(
+        dir: &Path,
+        manifest: Manifest,
+        animation: &str,
+        lights: &str,
+    ) -> Result<Self, String> {
+        let at = |e: &dyn std::fmt::Display, p: &Path| format!("{}: {e}", p.display());
+        std::fs::create_dir_all(dir.join("frames")).map_err(|e| at(&e, dir))?;
+        let path = dir.join("relight.json");
+        if path.exists() {
+            let old = Self::open(dir)?;
+            if old.manifest != manifest {
+                let (a, b) = (
+                    serde_json::to_value(&old.manifest),
+                    serde_json::to_value(&manifest),
+                );
+                let differs = match (a, b) {
+                    (Ok(serde_json::Value::Object(a)), Ok(serde_json::Value::Object(b))) => (a
+                        .iter())
+                    .filter(|(k, v)| b.get(*k) != Some(v))
+                    .map(|(k, v)| {
+                        format!(
+                            "{k} {v} there, {} now",
+                            b.get(k).map_or("none".into(), |x| x.to_string())
+                        )
+                    })
+                    .collect::<Vec<_>>()
+                    .join("; "),
+                    _ => String::new(),
+                };
+                return Err(format!(
+                    "{} holds a precomputation with other settings ({differs}): use another folder or remove it",
+                    dir.display()
+                ));
+            }
+        }
+        let json = serde_json::to_string_pretty(&manifest).map_err(|e| e.to_string())?;
+        for (name, text) in [
+            ("relight.json", json.as_str()),
+            ("animation.json", animation),
+            ("lights.json", lights),
+        ] {
+            let p = dir.join(name);
+            if name != "lights.json" || !p.exists() {
+                fenestra_core::fs::write_atomically(&p, |tmp| std::fs::write(tmp, text))
+                    .map_err(|e| e.to_string())?;
+            }
+        }
+        Ok(Store {
+            dir: dir.to_path_buf(),
+            manifest,
+        })
+    }
+
+    /// The precomputation in `dir`.
+    pub fn open(dir: &Path) -> Result<Self, String> {
+        let path = dir.join("relight.json");
+        let text = std::fs::read_to_string(&path).map_err(|e| {
+            format!(
+                "{}: {e} (not a folder made by `fenestra relight precompute`?)",
+                path.display()
+            )
+        })?;
+        let manifest: Manifest = serde_json::from_str(&text)
+            .map_err(|e| format!("{}:{}:{}: {e}", path.display(), e.line(), e.column()))?;
+        if manifest.version != VERSION {
+            return Err(format!(
+                "{}: version {}, this build reads {VERSION}",
+                path.display(),
+                manifest.version
+            ));
+        }
+        Ok(Store {
+            dir: dir.to_path_buf(),
+            manifest,
+        })
+    }
+
+    /// Where frame `f` is kept.
+    pub fn frame_path(&self, f: u32) -> PathBuf {
+        self.dir.join("frames").join(format!("{f:04}.rlf"))
+    }
+
+    /// Whether frame `f` is finished: its file reads whole and has the manifest's size.
+    pub fn done(&self, f: u32) -> bool {
+        frame_file::read(&self.frame_path(f)).is_ok_and(|(h, _)| {
+            (h.width, h.height, h.gather)
+                == (
+                    self.manifest.width,
+                    self.manifest.height,
+                    self.manifest.gather,
+                )
+        })
+    }
+
+    /// The animation's JSON as stored.
+    pub fn animation_path(&self) -> PathBuf {
+        self.dir.join("animation.json")
+    }
+
+    /// The lights file written beside the precomputation.
+    pub fn lights_path(&self) -> PathBuf {
+        self.dir.join("lights.json")
+    }
+}
