@@ -13,6 +13,7 @@ mod portals_cmd;
 mod progress;
 mod prt;
 mod raybench;
+mod relight_cmd;
 mod render;
 mod scene_arg;
 mod scene_cmd;
@@ -63,6 +64,9 @@ enum Command {
     Portals(portals_cmd::PortalsArgs),
     /// Inspect a scene or export it as pbrt-v4.
     Scene(scene_cmd::SceneArgs),
+    /// Relight an animation (seed 003 ch. 4): precompute its light transfer frame by frame,
+    /// then render it under other lights.
+    Relight(relight_cmd::RelightArgs),
     /// List the built-in scenes and the integrators.
     List,
 }
@@ -94,6 +98,7 @@ fn main() -> ExitCode {
         },
         Command::Reference(args) => render::reference(args),
         Command::Merge(args) => merge_cmd::run(args),
+        Command::Relight(args) => relight_cmd::run(args),
         Command::Split(args) => split_cmd::run(args),
         Command::Compare(args) => compare::run(args),
         Command::Bench(args) => match bench::run(args) {

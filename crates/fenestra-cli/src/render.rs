@@ -107,7 +107,7 @@ pub struct ReferenceArgs {
     opts: RenderOpts,
 }
 
-fn parse_resolution(s: &str) -> Result<(u32, u32)> {
+pub(crate) fn parse_resolution(s: &str) -> Result<(u32, u32)> {
     let bad = || {
         anyhow::anyhow!("bad resolution '{s}': expected WxH with positive integers, e.g. 512x512")
     };
