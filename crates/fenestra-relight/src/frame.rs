@@ -402,7 +402,7 @@ mod tests {
             explored: 1.0,
             batches: 3,
             keep: 2048,
-            clusters: 32,
+            clusters: 64,
             schedule: Schedule::parse("0:2,24:3").expect("schedule"),
             neighbours: 6,
             elements: 32,

@@ -60,7 +60,7 @@ pub fn reconstruct(
     // Neighbours that are all zero at I (a pixel in shadow where they are lit) say nothing
     // about the weights: their average then.
     let alpha = if norm2 > 0.0 {
-        cholesky_solve(&mut m, rhs, k).unwrap_or(average)
+        non_negative(&m, &rhs, k).unwrap_or(average)
     } else {
         average
     };
@@ -89,6 +89,36 @@ pub fn reconstruct(
         indices,
         values,
     })
+}
+
+/// The normal equations `m` alpha = `rhs` (lower triangle of m, row-major) solved with the
+/// weights kept non-negative: transfer vectors are, and so must be a combination standing
+/// for one. A fit to a near-field spike at a few elements buys weights of opposite signs that
+/// make negative light elsewhere; the most negative weight is dropped and the rest solved
+/// again (Lawson and Hanson's active set, only ever dropping) until none is negative.
+fn non_negative(m: &[f64], rhs: &[f64], k: usize) -> Option<Vec<f64>> {
+    let mut free: Vec<usize> = (0..k).collect();
+    while !free.is_empty() {
+        let j = free.len();
+        let mut sub = vec![0.0; j * j];
+        for (a, &r) in free.iter().enumerate() {
+            for (b, &c) in free.iter().enumerate().take(a + 1) {
+                sub[a * j + b] = m[r * k + c];
+            }
+        }
+        let x = cholesky_solve(&mut sub, free.iter().map(|&r| rhs[r]).collect(), j)?;
+        match (0..j).filter(|&a| x[a] < 0.0).min_by(|&a, &b| x[a].total_cmp(&x[b])) {
+            Some(a) => {
+                free.remove(a);
+            }
+            None => {
+                let mut alpha = vec![0.0; k];
+                free.iter().zip(&x).for_each(|(&r, &w)| alpha[r] = w);
+                return Some(alpha);
+            }
+        }
+    }
+    None
 }
 
 /// Solves m x = b for the symmetric positive definite k x k `m` (lower triangle, row-major,
@@ -133,8 +163,8 @@ mod tests {
                 SparseVec::largest(&x, 20)
             })
             .collect();
-        // The new sample's transfer: 0.5 x0 - 2 x1 + 0.25 x2 (in the signal domain).
-        let weights = [0.5, -2.0, 0.25];
+        // The new sample's transfer: 0.5 x0 + 2 x1 + 0.25 x2 (in the signal domain).
+        let weights = [0.5, 2.0, 0.25];
         let mut truth = vec![0.0; n];
         for (img, w) in images.iter().zip(weights) {
             let mut x = img.to_dense();
@@ -151,6 +181,23 @@ mod tests {
             assert!((a - b).abs() < 1e-9, "element {j}: {a} vs {b}");
         }
         assert!(reconstruct(&refs, &indices[..2], &values[..2], n, 0.0).is_none());
+        // Values no non-negative combination reaches (a spike at one element): the weights
+        // stay non-negative, where least squares alone would subtract neighbours.
+        // (Whole images: truncated ones may dip below zero themselves.)
+        let whole: Vec<SparseVec> = (0..3)
+            .map(|_| {
+                let mut x: Vec<f64> = (0..n).map(|_| s.next_1d() as f64).collect();
+                haar::forward(&mut x, &mut scratch);
+                SparseVec::largest(&x, n)
+            })
+            .collect();
+        let whole: Vec<&SparseVec> = whole.iter().collect();
+        let mut spiky = values.clone();
+        spiky[0] *= 50.0;
+        let got = reconstruct(&whole, &indices, &spiky, n, 0.0).expect("fit");
+        let mut back = got.to_dense();
+        haar::inverse(&mut back, &mut scratch);
+        assert!(back.iter().all(|&v| v >= -1e-9), "negative light: {back:?}");
         // A neighbour twice: the two copies share its weight, the fit is the same.
         let twice = [refs[0], refs[0], refs[1], refs[2]];
         let got = reconstruct(&twice, &indices, &values, n, 0.0).expect("fit");

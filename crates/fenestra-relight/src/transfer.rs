@@ -1,7 +1,8 @@
 //! Direct-to-indirect transfer (seed 003 §4.4.1-4.4.3) and relighting with it (§4.6).
 //!
 //! The transfer from gather sample g to a view point v is eq. 4.1, A(g) f_r(v -> g) G(v, g)
-//! V(v, g), with f_r's luminance (the point's colour, f_r(w_o, n) over its luminance, is
+//! V(v, g) (G with the disk form factor's bounded 1 / (r^2 + A / pi), see [`element`]), with
+//! f_r's luminance (the point's colour, f_r(w_o, n) over its luminance, is
 //! applied when relighting: exact for BRDFs whose colour does not change with direction).
 //! [`transfer`] evaluates it by Hasan et al.'s N-body traversal of the gather tree: a subtree
 //! that is small from v (its area over the squared distance to its bounds below a threshold)
@@ -12,7 +13,8 @@
 
 use crate::gather::{Gather, GatherSample};
 use fenestra_core::ray::{offset_distance, offset_origin};
-use fenestra_core::{Frame, Ray, Rgb, Sampler, Vec3};
+use fenestra_core::{Frame, Ray, Rgb, Sampler, Vec2, Vec3};
+use fenestra_render::light::Light;
 use fenestra_render::bsdf::Bsdf;
 use fenestra_render::RenderScene;
 use fenestra_scene::SurfaceInteraction;
@@ -77,7 +79,12 @@ pub fn element(
     {
         return 0.0;
     }
-    (g.area * f * wi.z.abs() * cos_g / dist2) as f64
+    // The form factor of a disk of the sample's area (Wallace et al. 1989), A cos cos / (pi r^2
+    // + A), in place of the point's A cos cos / (pi r^2): the same far away, bounded by 1 near,
+    // where a gather sample beside the view point would otherwise make a spike that no
+    // cluster's subspace represents (and that projects to negative light elsewhere).
+    let pi = std::f32::consts::PI;
+    (g.area * f * wi.z.abs() * cos_g * pi / (pi * dist2 + g.area)) as f64
 }
 
 /// The transfer vector of `v` by the N-body traversal (subtrees whose area over the squared
@@ -141,7 +148,7 @@ pub fn irradiance(
 }
 
 /// Direct light at `p` (geometric normal `ng`, for the shadow rays' offset): the sum over
-/// every light, `samples` light samples each, of `weight(wi)` (the BSDF times the cosine, or
+/// every light, `samples` light samples each (one for Dirac lights, which is exact), of `weight(wi)` (the BSDF times the cosine, or
 /// none where nothing is reflected) times the light's radiance over its density, unoccluded.
 pub fn direct(
     scene: &RenderScene,
@@ -154,24 +161,28 @@ pub fn direct(
     let mut e = Rgb::ZERO;
     let off = offset_distance(p.abs().max_element());
     for light in &scene.lights.lights {
+        // Dirac lights ignore the sample point: no random numbers for them.
+        let dirac = matches!(light, Light::Point(_) | Light::Spot(_) | Light::Distant(_));
         for _ in 0..samples {
-            let Some(ls) = light.sample_li(&scene.scene, p, sampler.next_2d()) else {
+            let u = if dirac { Vec2::splat(0.5) } else { sampler.next_2d() };
+            let Some(ls) = light.sample_li(&scene.scene, p, u) else {
                 continue;
             };
-            if ls.pdf <= 0.0 {
-                continue;
+            // A Dirac light's one sample is exact: no more of it.
+            let share = if ls.delta { 1.0 } else { 1.0 / samples as f32 };
+            let usable = ls.pdf > 0.0;
+            if let Some(w) = weight(ls.wi).filter(|_| usable) {
+                let origin = offset_origin(p, ng, ls.wi, off);
+                let reach = ls
+                    .point
+                    .map_or(f32::INFINITY, |q| (q - origin).length() * (1.0 - 1e-3));
+                if !scene.scene.occluded(&Ray::new(origin, ls.wi), reach) {
+                    e += w * ls.li * (share / ls.pdf);
+                }
             }
-            let Some(w) = weight(ls.wi) else {
-                continue;
-            };
-            let origin = offset_origin(p, ng, ls.wi, off);
-            let reach = ls
-                .point
-                .map_or(f32::INFINITY, |q| (q - origin).length() * (1.0 - 1e-3));
-            if scene.scene.occluded(&Ray::new(origin, ls.wi), reach) {
-                continue;
+            if ls.delta {
+                break;
             }
-            e += w * ls.li * (1.0 / ls.pdf / samples as f32);
         }
     }
     e
