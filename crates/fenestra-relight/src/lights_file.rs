@@ -56,25 +56,27 @@ impl LightsFile {
             let finite = |v: &[f32]| v.iter().all(|x| x.is_finite());
             // A direction to normalise: finite and not zero.
             let usable = |d: &[f32; 3]| finite(d) && Vec3::from(*d).length() > 0.0;
-            match l {
-                LightSpec::Point {
-                    position,
-                    intensity,
-                } => {
-                    if !finite(position) || !finite(intensity) {
-                        return Err(bad("values must be finite"));
-                    }
+            if let LightSpec::Point {
+                position,
+                intensity,
+            }
+            | LightSpec::Spot {
+                position,
+                intensity,
+                ..
+            } = l
+            {
+                if !finite(position) || !finite(intensity) {
+                    return Err(bad("values must be finite"));
                 }
+            }
+            match l {
                 LightSpec::Spot {
-                    position,
                     direction,
-                    intensity,
                     cone_angle,
                     falloff_start,
+                    ..
                 } => {
-                    if !finite(position) || !finite(intensity) {
-                        return Err(bad("values must be finite"));
-                    }
                     if !usable(direction) {
                         return Err(bad("direction must not be zero"));
                     }
@@ -93,6 +95,7 @@ impl LightsFile {
                         return Err(bad("direction must not be zero, irradiance finite"));
                     }
                 }
+                LightSpec::Point { .. } => {}
             }
             if [l.colour()]
                 .iter()

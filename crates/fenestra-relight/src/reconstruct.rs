@@ -107,7 +107,10 @@ fn non_negative(m: &[f64], rhs: &[f64], k: usize) -> Option<Vec<f64>> {
             }
         }
         let x = cholesky_solve(&mut sub, free.iter().map(|&r| rhs[r]).collect(), j)?;
-        match (0..j).filter(|&a| x[a] < 0.0).min_by(|&a, &b| x[a].total_cmp(&x[b])) {
+        match (0..j)
+            .filter(|&a| x[a] < 0.0)
+            .min_by(|&a, &b| x[a].total_cmp(&x[b]))
+        {
             Some(a) => {
                 free.remove(a);
             }

@@ -14,8 +14,8 @@
 use crate::gather::{Gather, GatherSample};
 use fenestra_core::ray::{offset_distance, offset_origin};
 use fenestra_core::{Frame, Ray, Rgb, Sampler, Vec2, Vec3};
-use fenestra_render::light::Light;
 use fenestra_render::bsdf::Bsdf;
+use fenestra_render::light::Light;
 use fenestra_render::RenderScene;
 use fenestra_scene::SurfaceInteraction;
 
@@ -164,7 +164,11 @@ pub fn direct(
         // Dirac lights ignore the sample point: no random numbers for them.
         let dirac = matches!(light, Light::Point(_) | Light::Spot(_) | Light::Distant(_));
         for _ in 0..samples {
-            let u = if dirac { Vec2::splat(0.5) } else { sampler.next_2d() };
+            let u = if dirac {
+                Vec2::splat(0.5)
+            } else {
+                sampler.next_2d()
+            };
             let Some(ls) = light.sample_li(&scene.scene, p, u) else {
                 continue;
             };
