@@ -117,6 +117,10 @@ struct PrecomputeArgs {
     /// The N-body traversal's threshold (area over squared distance).
     #[arg(long, default_value_t = 0.02)]
     threshold: f32,
+    /// Evaluate transfer vectors by this many cosine-weighted rays each (Monte Carlo)
+    /// instead of the N-body traversal.
+    #[arg(long)]
+    transfer_rays: Option<u32>,
     /// Explored neighbours and evaluated elements per reconstructed view sample.
     #[arg(long, default_value_t = 6)]
     neighbours: usize,
@@ -231,6 +235,7 @@ fn precompute(a: &PrecomputeArgs) -> Result<()> {
     }
     let options = FrameOptions {
         threshold: a.threshold,
+        mc_rays: a.transfer_rays.unwrap_or(0),
         explored: a.explored,
         batches: a.batches,
         keep: a.keep,

@@ -12,7 +12,7 @@ use crate::haar;
 use crate::neighbours::PointTree;
 use crate::reconstruct::reconstruct;
 use crate::sparse::{distance2, Precomputed, SparseVec};
-use crate::transfer::{element, transfer, ViewPoint};
+use crate::transfer::{element, gather_points, monte_carlo, transfer, ViewPoint};
 use crate::wlpca::{wlpca, WlpcaOptions};
 use fenestra_core::distribution::Distribution1D;
 use fenestra_core::{Rgb, Sampler, Vec2, Vec3};
@@ -28,6 +28,9 @@ use std::sync::atomic::{AtomicU64, Ordering};
 pub struct FrameOptions {
     /// The N-body traversal's solid-angle threshold.
     pub threshold: f32,
+    /// Transfer vectors by this many Monte Carlo rays instead of the N-body traversal (0:
+    /// N-body).
+    pub mc_rays: u32,
     /// Share of the view samples whose transfer is evaluated, in `batches` batches.
     pub explored: f32,
     pub batches: usize,
@@ -155,8 +158,23 @@ impl FrameTransfer {
             seed: o.seed,
         };
         let rays = AtomicU64::new(0);
+        let near = (o.mc_rays > 0).then(|| gather_points(gather));
         let explored = explore(&samples, &explore_options, |i| {
-            let (mut w, r) = transfer(scene, gather, &view(i).point(), o.threshold);
+            let (mut w, r) = match &near {
+                None => transfer(scene, gather, &view(i).point(), o.threshold),
+                Some(near) => {
+                    let mut sampler = Sampler::new(o.seed ^ 0x3c, seen[i] as u64, 0);
+                    let x = monte_carlo(
+                        scene,
+                        gather,
+                        near,
+                        &view(i).point(),
+                        o.mc_rays,
+                        &mut sampler,
+                    );
+                    (x, o.mc_rays as u64)
+                }
+            };
             rays.fetch_add(r, Ordering::Relaxed);
             w.resize(n, 0.0);
             haar::forward(&mut w, &mut vec![0.0; n]);
@@ -376,6 +394,7 @@ mod tests {
         let scene = RenderScene::new(Scene::build(desc, Backend::Obvhs).expect("build"));
         let options = FrameOptions {
             threshold: 0.02,
+            mc_rays: 0,
             explored: 0.5,
             batches: 2,
             keep: 64,
@@ -399,6 +418,7 @@ mod tests {
         let gather = Gather::new(&scene, 2048, 1);
         let base = FrameOptions {
             threshold: 0.02,
+            mc_rays: 0,
             explored: 1.0,
             batches: 3,
             keep: 2048,

@@ -31,6 +31,9 @@ pub struct Manifest {
     /// Gather samples.
     pub gather: usize,
     pub threshold: f32,
+    /// Monte Carlo rays per transfer vector (0: the N-body traversal).
+    #[serde(default)]
+    pub mc_rays: u32,
     pub explored: f32,
     pub batches: usize,
     pub keep: usize,
@@ -60,6 +63,7 @@ impl Manifest {
             frames,
             gather,
             threshold: o.threshold,
+            mc_rays: o.mc_rays,
             explored: o.explored,
             batches: o.batches,
             keep: o.keep,
@@ -76,6 +80,7 @@ impl Manifest {
     pub fn frame_options(&self) -> Result<FrameOptions, String> {
         Ok(FrameOptions {
             threshold: self.threshold,
+            mc_rays: self.mc_rays,
             explored: self.explored,
             batches: self.batches,
             keep: self.keep,

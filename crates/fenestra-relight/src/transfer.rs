@@ -12,8 +12,9 @@
 //! from the lights; a view point's one-bounce indirect radiance is colour * sum_j x_j B_j.
 
 use crate::gather::{Gather, GatherSample};
+use crate::neighbours::PointTree;
 use fenestra_core::ray::{offset_distance, offset_origin};
-use fenestra_core::{Frame, Ray, Rgb, Sampler, Vec2, Vec3};
+use fenestra_core::{warp, Frame, Ray, Rgb, Sampler, Vec2, Vec3};
 use fenestra_render::bsdf::Bsdf;
 use fenestra_render::light::Light;
 use fenestra_render::RenderScene;
@@ -120,6 +121,59 @@ pub fn transfer(
         }
     }
     (x, rays)
+}
+
+/// The transfer vector of `v` by Monte Carlo, the alternative to the N-body traversal the
+/// issue compares against: `rays` cosine-weighted rays (stream `sampler`); each that hits a
+/// surface credits the gather sample standing for the hit point (the nearest of `near` whose
+/// side faces the ray) with f pi / rays, so that sum_j x_j B_j estimates the one-bounce light.
+/// The near field is integrated by the rays, not by the gather samples' positions.
+pub fn monte_carlo(
+    scene: &RenderScene,
+    gather: &Gather,
+    near: &PointTree,
+    v: &ViewPoint,
+    rays: u32,
+    sampler: &mut Sampler,
+) -> Vec<f64> {
+    let mut x = vec![0.0; gather.samples.len()];
+    let frame = v.si.shading_frame();
+    let wo = frame.to_local(v.wo);
+    let side = if wo.z < 0.0 { -1.0 } else { 1.0 };
+    let mut found = Vec::new();
+    for _ in 0..rays {
+        let local =
+            warp::square_to_cosine_hemisphere(sampler.next_2d()) * Vec3::new(1.0, 1.0, side);
+        let w = frame.to_world(local);
+        if w.dot(v.si.ng) * v.wo.dot(v.si.ng) <= 0.0 {
+            continue;
+        }
+        let ray = Ray::new(v.si.spawn(w), w);
+        let Some(hit) = scene.scene.intersect(&ray, f32::INFINITY) else {
+            continue;
+        };
+        let h = scene.scene.interaction(&ray, &hit);
+        near.nearest(&[h.p.x, h.p.y, h.p.z, 0.0], 4, &mut found);
+        let facing = found.iter().find(|&&(_, j)| {
+            let g = &gather.samples[j as usize];
+            g.n.dot(h.ng) > 0.5 && -w.dot(g.n) > 0.0
+        });
+        if let Some(&(_, j)) = facing {
+            let f = v.bsdf.eval(wo, local).luminance();
+            x[j as usize] += (f * std::f32::consts::PI / rays as f32) as f64;
+        }
+    }
+    x
+}
+
+/// The gather samples' positions for [`monte_carlo`]'s nearest-sample search.
+pub fn gather_points(gather: &Gather) -> PointTree {
+    let points: Vec<[f32; 4]> = gather
+        .samples
+        .iter()
+        .map(|g| [g.p.x, g.p.y, g.p.z, 0.0])
+        .collect();
+    PointTree::new(&points)
 }
 
 /// The transfer vector of `v` with every element evaluated (the reference for the N-body
@@ -259,6 +313,9 @@ mod tests {
             );
             assert!(rays < gather.samples.len() as u64 / 4, "{rays} rays");
             let l = relit(v.colour(), &x, &b);
+            let near = gather_points(&gather);
+            let mc_x = monte_carlo(&scene, &gather, &near, &v, 4096, &mut Sampler::new(9, 0, 0));
+            let l_mc = relit(v.colour(), &mc_x, &b);
             // Monte Carlo: cosine-weighted directions from v, the radiosity of what they hit.
             let frame = si.shading_frame();
             let up = if frame.to_local(wo).z < 0.0 {
@@ -294,6 +351,13 @@ mod tests {
             assert!(
                 (ly - my).abs() < 0.05 * my,
                 "pixel ({px}, {py}): relit {ly} vs Monte Carlo {my}"
+            );
+            // The Monte Carlo transfer vector, relit, against the same estimate (its rays are
+            // another stream; gather samples stand for what they hit).
+            let ty = l_mc.luminance();
+            assert!(
+                (ty - my).abs() < 0.05 * my,
+                "pixel ({px}, {py}): Monte Carlo transfer {ty} vs Monte Carlo {my}"
             );
         }
     }
