@@ -7,10 +7,10 @@
 //! direct light plus one diffuse bounce, what relighting computes, is the whole of a
 //! path-traced image of path length 2 (`--max-depth 3`), its ground truth.
 
-use crate::geometry::{camera, cuboid, room, Assembler};
+use crate::geometry::{camera, cuboid, Assembler};
 use fenestra_core::{Rgb, Vec3};
 use fenestra_scene::light::LightDesc;
-use fenestra_scene::{Material, RenderDefaults, SceneDesc, Shape, ShapeKind};
+use fenestra_scene::{Material, RenderDefaults, SceneDesc, Shape, ShapeKind, TriangleMesh};
 
 /// Room size (m).
 const W: f32 = 6.0;
@@ -37,23 +37,48 @@ pub fn relight_room() -> SceneDesc {
         reflectance: Rgb::new(0.15, 0.60, 0.20),
     });
 
-    let (floor_mesh, shell) = room(W, D, H, &[]);
-    a.mesh(floor_mesh, floor);
-    a.mesh(shell, white);
-    // Coloured end walls just inside the white ones at x = 0 and x = W.
+    // Floor, ceiling, the white long walls and the coloured end walls, every face inwards
+    // (one surface per wall: gather samples on a wall hidden behind another would stand in
+    // the dark next to lit ones, and transfer mixes neighbours).
+    let quad = TriangleMesh::quad;
+    let half = |v: Vec3| v * 0.5;
     a.mesh(
-        fenestra_scene::TriangleMesh::quad(
-            Vec3::new(0.01, D / 2.0, H / 2.0),
-            Vec3::Y * (D / 2.0 - 0.01),
-            Vec3::Z * (H / 2.0 - 0.01),
+        quad(
+            Vec3::new(W / 2.0, D / 2.0, 0.0),
+            half(Vec3::X * W),
+            half(Vec3::Y * D),
+        ),
+        floor,
+    );
+    let mut white_walls = quad(
+        Vec3::new(W / 2.0, D / 2.0, H),
+        half(Vec3::Y * D),
+        half(Vec3::X * W),
+    );
+    white_walls.append(&quad(
+        Vec3::new(W / 2.0, 0.0, H / 2.0),
+        half(Vec3::Z * H),
+        half(Vec3::X * W),
+    ));
+    white_walls.append(&quad(
+        Vec3::new(W / 2.0, D, H / 2.0),
+        half(Vec3::X * W),
+        half(Vec3::Z * H),
+    ));
+    a.mesh(white_walls, white);
+    a.mesh(
+        quad(
+            Vec3::new(0.0, D / 2.0, H / 2.0),
+            half(Vec3::Y * D),
+            half(Vec3::Z * H),
         ),
         red,
     );
     a.mesh(
-        fenestra_scene::TriangleMesh::quad(
-            Vec3::new(W - 0.01, D / 2.0, H / 2.0),
-            Vec3::Z * (H / 2.0 - 0.01),
-            Vec3::Y * (D / 2.0 - 0.01),
+        quad(
+            Vec3::new(W, D / 2.0, H / 2.0),
+            half(Vec3::Z * H),
+            half(Vec3::Y * D),
         ),
         blue,
     );
