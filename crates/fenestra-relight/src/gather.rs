@@ -1,6 +1,10 @@
 //! Gather samples (seed 003 §4.4.1): d points spread uniformly by area over the scene's
-//! non-emitting mesh surfaces, each standing for an equal share of the area and radiating on
-//! the side its geometric normal faces, ordered along a balanced kd-tree so that
+//! non-emitting mesh surfaces, each standing for an equal share of the area and two-sided:
+//! its radiosity sums the direct light both sides receive and it radiates to both. Scene
+//! files face their surfaces either way (the Cornell box of ../shared/scenes has its side
+//! walls' normals pointing out of the room); the closed surfaces of interiors are dark on
+//! their far side, so this is right for them whichever way they face. A thin panel lit on one
+//! side and seen from the other would leak light through. ordered along a balanced kd-tree so that
 //! neighbouring indices are neighbouring points (the transfer vectors over them are then
 //! smooth, which is what makes their Haar images sparse) and so that every subtree is a range
 //! of indices (the N-body traversal of [`crate::transfer`]).
@@ -16,7 +20,7 @@ use fenestra_scene::{ShapeKind, SurfaceInteraction};
 pub struct GatherSample {
     /// Where it is.
     pub p: Vec3,
-    /// The geometric normal of its side.
+    /// Its surface's geometric normal (either side: samples are two-sided).
     pub n: Vec3,
     /// The area it stands for.
     pub area: f32,

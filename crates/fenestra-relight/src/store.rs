@@ -12,7 +12,6 @@
 
 use crate::frame::FrameOptions;
 use crate::frame_file;
-use fenestra_lpca::Schedule;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -74,23 +73,6 @@ impl Manifest {
             ridge: o.ridge,
             seed: o.seed,
         }
-    }
-
-    /// Its frames' options.
-    pub fn frame_options(&self) -> Result<FrameOptions, String> {
-        Ok(FrameOptions {
-            threshold: self.threshold,
-            mc_rays: self.mc_rays,
-            explored: self.explored,
-            batches: self.batches,
-            keep: self.keep,
-            clusters: self.clusters,
-            schedule: Schedule::parse(&self.schedule).map_err(|e| e.to_string())?,
-            neighbours: self.neighbours,
-            elements: self.elements,
-            ridge: self.ridge,
-            seed: self.seed,
-        })
     }
 }
 

@@ -61,7 +61,7 @@ pub fn element(
     }
     let dist = dist2.sqrt();
     let w = d / dist;
-    let cos_g = -w.dot(g.n);
+    let cos_g = w.dot(g.n).abs();
     let (wi, wo) = (frame.to_local(w), frame.to_local(v.wo));
     if cos_g <= 0.0 || wi.z * wo.z <= 0.0 || w.dot(v.si.ng) * v.wo.dot(v.si.ng) <= 0.0 {
         return 0.0;
@@ -125,8 +125,8 @@ pub fn transfer(
 
 /// The transfer vector of `v` by Monte Carlo, the alternative to the N-body traversal the
 /// issue compares against: `rays` cosine-weighted rays (stream `sampler`); each that hits a
-/// surface credits the gather sample standing for the hit point (the nearest of `near` whose
-/// side faces the ray) with f pi / rays, so that sum_j x_j B_j estimates the one-bounce light.
+/// surface credits the gather sample standing for the hit point (the nearest of `near` in
+/// the hit surface's plane orientation) with f pi / rays, so that sum_j x_j B_j estimates the one-bounce light.
 /// The near field is integrated by the rays, not by the gather samples' positions.
 pub fn monte_carlo(
     scene: &RenderScene,
@@ -156,7 +156,7 @@ pub fn monte_carlo(
         near.nearest(&[h.p.x, h.p.y, h.p.z, 0.0], 4, &mut found);
         let facing = found.iter().find(|&&(_, j)| {
             let g = &gather.samples[j as usize];
-            g.n.dot(h.ng) > 0.5 && -w.dot(g.n) > 0.0
+            g.n.dot(h.ng).abs() > 0.5
         });
         if let Some(&(_, j)) = facing {
             let f = v.bsdf.eval(wo, local).luminance();
@@ -186,7 +186,8 @@ pub fn brute_force(scene: &RenderScene, gather: &Gather, v: &ViewPoint) -> Vec<f
         .collect()
 }
 
-/// Direct irradiance at `p` on the side of `n`, from every light with `samples` light samples
+/// Direct irradiance at `p` on both sides of the surface of normal `n` (summed), from every
+/// light with `samples` light samples
 /// each (stream `sampler`).
 pub fn irradiance(
     scene: &RenderScene,
@@ -196,7 +197,7 @@ pub fn irradiance(
     sampler: &mut Sampler,
 ) -> Rgb {
     direct(scene, p, n, samples, sampler, |wi| {
-        let cos = wi.dot(n);
+        let cos = wi.dot(n).abs();
         (cos > 0.0).then(|| Rgb::splat(cos))
     })
 }
