@@ -329,9 +329,18 @@ fn frame_range(s: Option<&str>, frames: u32) -> Result<std::ops::Range<u32>> {
     Ok(a..b)
 }
 
+/// A precomputation opened: the folder, its animated scene, the lights to relight with, and
+/// every file that was read (outputs must not replace them).
+struct Opened {
+    store: Store,
+    animated: AnimatedScene,
+    lights: LightsFile,
+    inputs: Vec<PathBuf>,
+}
+
 /// The precomputation in `dir`, its animated scene, and the lights of `lights` (default: the
 /// folder's own lights file).
-fn open(dir: &Path, lights: Option<&Path>) -> Result<(Store, AnimatedScene, LightsFile)> {
+fn open(dir: &Path, lights: Option<&Path>) -> Result<Opened> {
     let store = Store::open(dir).map_err(|e| anyhow!(e))?;
     let animation_text = std::fs::read_to_string(store.animation_path())
         .with_context(|| format!("cannot read {}", store.animation_path().display()))?;
@@ -346,11 +355,27 @@ fn open(dir: &Path, lights: Option<&Path>) -> Result<(Store, AnimatedScene, Ligh
         .with_context(|| format!("cannot read {}", lights_path.display()))?;
     let lights = LightsFile::parse(&lights_text, &lights_path.display().to_string())
         .map_err(|e| anyhow!(e))?;
-    Ok((store, animated, lights))
+    let mut inputs = loaded.files;
+    inputs.extend([
+        store.animation_path(),
+        lights_path,
+        dir.join("relight.json"),
+    ]);
+    Ok(Opened {
+        store,
+        animated,
+        lights,
+        inputs,
+    })
 }
 
 fn export(a: &ExportArgs) -> Result<()> {
-    let (store, animated, lights) = open(&a.dir, a.lights.as_deref())?;
+    let Opened {
+        store,
+        animated,
+        lights,
+        inputs,
+    } = open(&a.dir, a.lights.as_deref())?;
     if a.frame >= store.manifest.frames {
         bail!(
             "--frame {} is not a frame of the sequence (0 to {})",
@@ -369,6 +394,14 @@ fn export(a: &ExportArgs) -> Result<()> {
     // a thousandth of a pixel wide), or edges would count as error.
     desc.camera.filter = PixelFilter::new(FilterShape::Box, fenestra_core::Vec2::splat(1e-3));
     crate::files::create_output_folder(&a.output)?;
+    crate::files::Files::default()
+        .inputs(&inputs, "input")
+        .output(&a.output, "export")
+        .folder(
+            &fenestra_pbrt::export::data_folder(&a.output),
+            "export's data folder",
+        )
+        .check()?;
     for f in fenestra_pbrt::export::write(&desc, &a.output)?.files {
         println!("wrote {}", f.display());
     }
@@ -376,7 +409,12 @@ fn export(a: &ExportArgs) -> Result<()> {
 }
 
 fn render(a: &RenderArgs) -> Result<()> {
-    let (store, animated, lights) = open(&a.dir, a.lights.as_deref())?;
+    let Opened {
+        store,
+        animated,
+        lights,
+        ..
+    } = open(&a.dir, a.lights.as_deref())?;
     let m = &store.manifest;
     let range = frame_range(a.frames.as_deref(), m.frames)?;
     let missing: Vec<u32> = range
@@ -424,7 +462,12 @@ fn render(a: &RenderArgs) -> Result<()> {
 }
 
 fn serve(a: &ServeArgs) -> Result<()> {
-    let (store, animated, lights) = open(&a.dir, a.lights.as_deref())?;
+    let Opened {
+        store,
+        animated,
+        lights,
+        ..
+    } = open(&a.dir, a.lights.as_deref())?;
     let mut player =
         Player::new(store, animated, a.light_samples, a.cache_mb << 20).map_err(|e| anyhow!(e))?;
     let m = player.store.manifest.clone();

@@ -215,6 +215,29 @@ fn precompute_resumes_render_relights_and_export_gives_the_ground_truth() {
         !o.status.success() && err.contains("doubled.json:1:") && err.contains("intensity"),
         "{err}"
     );
+    // An export never replaces a file it reads (here a lights file named like a scene).
+    let named_pbrt = tmp("lights.pbrt");
+    std::fs::copy(dir.join("lights.json"), &named_pbrt).expect("copy");
+    let o = fenestra(&[
+        "relight",
+        "export",
+        s(&dir),
+        "--frame",
+        "1",
+        "--lights",
+        s(&named_pbrt),
+        "-o",
+        s(&named_pbrt),
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        !o.status.success() && err.contains("refusing to overwrite it"),
+        "{err}"
+    );
+    assert_eq!(
+        std::fs::read(&named_pbrt).expect("kept"),
+        std::fs::read(dir.join("lights.json")).expect("lights")
+    );
     let o = fenestra(&["relight", "render", s(&tmp("nothing")), "-o", s(&out)]);
     assert!(String::from_utf8_lossy(&o.stderr)
         .contains("not a folder made by `fenestra relight precompute`"));
