@@ -453,7 +453,7 @@ fn render(a: &RenderArgs) -> Result<()> {
     bar.finish_and_clear();
     if !a.quiet {
         eprintln!(
-            "relit {frames_done} frames in {:.3} s each (posing gather samples, their direct light, the transfer, direct light at the pixels; scene loading and file output excluded)",
+            "relit {frames_done} frames in {:.3} s each (building the posed and lit scene, the gather samples' direct light, the transfer, direct light at the pixels; reading frame files and writing images excluded)",
             relight_s / frames_done.max(1) as f64
         );
     }

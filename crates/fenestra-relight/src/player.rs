@@ -24,8 +24,8 @@ pub struct RelitFrame {
     pub height: u32,
     pub direct: Vec<Rgb>,
     pub indirect: Vec<Rgb>,
-    /// Seconds the relighting took (posing, the gather samples' light, transfer, direct light
-    /// at the pixels; not reading the frame's file).
+    /// Seconds the relighting took (the scene posed, lit and built, the gather samples posed
+    /// and lit, transfer, direct light at the pixels; not reading the frame's file).
     pub seconds: f64,
 }
 
@@ -121,8 +121,8 @@ impl Player {
             ));
         }
         let transfer = self.transfer(f)?;
-        let scene = frame_scene(&self.animated, f, Some(lights))?;
         let start = Instant::now();
+        let scene = frame_scene(&self.animated, f, Some(lights))?;
         let posed = self.gather.posed(&scene);
         let (direct, indirect) = relit_image(&scene, &posed, &transfer, &self.relighting);
         Ok(RelitFrame {
