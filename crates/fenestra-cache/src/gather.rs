@@ -13,6 +13,7 @@ use fenestra_core::stats::RayCounters;
 use fenestra_core::{Frame, Ray, Rgb, Sampler, Vec3};
 use fenestra_render::bsdf::Bsdf;
 use fenestra_render::integrator::{Gather, NoGather, Shading, Start};
+use fenestra_render::light::LightRecords;
 use fenestra_render::RenderScene;
 use fenestra_scene::Hit;
 
@@ -349,13 +350,31 @@ impl CacheGather<'_> {
         };
         let tracer = &self.sdrc.tracer;
         if self.caches.photons.is_empty() {
-            return tracer.trace(scene, ray, start, sampler, s.sample, rays, &mut NoGather);
+            return tracer.trace(
+                scene,
+                ray,
+                start,
+                sampler,
+                s.sample,
+                &mut LightRecords::off(),
+                rays,
+                &mut NoGather,
+            );
         }
         let mut photons = PhotonGather {
             map: &self.caches.photons,
             scratch: &mut self.work.photon_scratch,
         };
-        tracer.trace(scene, ray, start, sampler, s.sample, rays, &mut photons)
+        tracer.trace(
+            scene,
+            ray,
+            start,
+            sampler,
+            s.sample,
+            &mut LightRecords::off(),
+            rays,
+            &mut photons,
+        )
     }
 }
 

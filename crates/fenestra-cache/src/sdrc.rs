@@ -24,6 +24,7 @@ use fenestra_render::integrator::{
     Integrator, IntegratorError, LightNextEvent, PathOptions, PathTracer, Shading, Split, Start,
     WorkMap,
 };
+use fenestra_render::light::LightRecords;
 use fenestra_render::{Film, RenderScene, RenderSettings};
 use rayon::prelude::*;
 use std::sync::Mutex;
@@ -537,9 +538,16 @@ impl PassEstimator for Passes<'_> {
             seed: self.seed,
             phase: 0,
         };
-        self.sdrc
-            .tracer
-            .trace(scene, ray, Start::CAMERA, sampler, ctx, rays, &mut gather)
+        self.sdrc.tracer.trace(
+            scene,
+            ray,
+            Start::CAMERA,
+            sampler,
+            ctx,
+            &mut LightRecords::off(),
+            rays,
+            &mut gather,
+        )
     }
 
     fn end_pass(&mut self, _: &RenderScene, _: &Film, mut blocks: Vec<Work>) -> bool {

@@ -18,7 +18,7 @@ use fenestra_render::driver::SampleContext;
 use fenestra_render::integrator::{
     Found, LightNextEvent, NextEvent, PathOptions, PathTracer, Scattered, Shading,
 };
-use fenestra_render::light::LightHit;
+use fenestra_render::light::{LightHit, LightRecords};
 use fenestra_render::{IntegratorError, RenderControl, RenderScene};
 use serde_json::json;
 use std::path::{Path, PathBuf};
@@ -315,6 +315,14 @@ impl NextEvent for PortalNextEvent {
         Ok(())
     }
 
+    fn learns(&self, pass: u32) -> bool {
+        self.lights.learns(pass)
+    }
+
+    fn learn(&self, blocks: &[LightRecords]) {
+        self.lights.learn(blocks);
+    }
+
     fn vertex(&self, _: &RenderScene, s: &Shading) -> PortalVertex {
         // Light reaches an opaque surface from the side `wo` leaves on; a transmissive one
         // from both.
@@ -331,11 +339,14 @@ impl NextEvent for PortalNextEvent {
         v: &PortalVertex,
         mis: MisHeuristic,
         sampler: &mut Sampler,
+        records: &mut LightRecords,
         rays: &mut RayCounters,
     ) -> Rgb {
         let mut l = self.sample_portal(scene, s, v, mis, sampler, rays);
         if scene.lights.has_delta {
-            l += self.lights.sample_light(scene, s, true, mis, sampler, rays);
+            l += self
+                .lights
+                .sample_light(scene, s, true, mis, sampler, records, rays);
         }
         l
     }

@@ -27,6 +27,8 @@ pub struct PassInfo {
     pub elapsed_s: f64,
     /// Seconds spent in the passes so far: what time limits count.
     pub render_s: f64,
+    /// Pixels of the film.
+    pub pixels: u64,
 }
 
 /// A pixel as the estimator sees it before a pass.
@@ -109,6 +111,7 @@ pub fn render_passes<E: PassEstimator>(
             index: passes,
             elapsed_s: control.elapsed(),
             render_s: started.elapsed().as_secs_f64(),
+            pixels: film.pixels.len() as u64,
         };
         if !estimator.begin_pass(&info) {
             break;

@@ -1,12 +1,14 @@
 //! The per-path driver: an estimator that maps a camera ray to radiance is rendered in passes
 //! of 1, 2, 4, ... up to 32 samples per pixel until the sample count, or the time limit (of
 //! rendering, preparation not included), is reached (small first passes make Ctrl-C, time
-//! limits and convergence curves prompt).
+//! limits and convergence curves prompt). An estimator with a learned light sampler learns
+//! from the light samples of the passes it asks for, block by block in block order.
 
 use super::passes::{render_passes, PassEstimator, PassInfo, PixelState};
 use super::SampleContext;
 use crate::control::RenderControl;
 use crate::film::Film;
+use crate::light::LightRecords;
 use crate::render_scene::RenderScene;
 use crate::settings::RenderSettings;
 use fenestra_core::stats::{RayCounters, RenderStats};
@@ -14,16 +16,29 @@ use fenestra_core::{Ray, Rgb, Sampler};
 
 /// One path sample: the radiance carried along a camera ray.
 pub trait PathEstimator: Sync {
-    /// Radiance arriving at the camera along `ray`, for the sample `ctx`.
+    /// Radiance arriving at the camera along `ray`, for the sample `ctx`; the light samples
+    /// taken go to `records` (kept if the pass learns).
     fn li(
         &self,
         scene: &RenderScene,
         ray: Ray,
         sampler: &mut Sampler,
         ctx: &SampleContext,
+        records: &mut LightRecords,
         rays: &mut RayCounters,
     ) -> Rgb;
+
+    /// Whether the estimator learns from the light samples of pass `pass`.
+    fn learns(&self, _pass: u32) -> bool {
+        false
+    }
+
+    /// Learns from a pass's light samples, every block's in block order.
+    fn learn(&self, _blocks: &[LightRecords]) {}
 }
+
+/// Light records a path sample keeps on average when nothing has been counted yet.
+const RECORDS_PER_SAMPLE: f64 = 2.0;
 
 /// Largest number of samples per pixel added in one pass.
 const MAX_PASS: u32 = 32;
@@ -42,6 +57,8 @@ pub fn render_progressive(
         budget: Budget::new(settings.spp, settings.time_limit),
         size: 1,
         current: 0,
+        rate: 0.0,
+        per_sample: RECORDS_PER_SAMPLE,
     };
     render_passes(&mut schedule, scene, film, settings, control)
 }
@@ -99,10 +116,14 @@ struct Schedule<'a, E> {
     /// Size of the next pass before the sample count and time limit cut it.
     size: u32,
     current: u32,
+    /// Share of this pass's path samples whose light samples are kept (0: none).
+    rate: f32,
+    /// Light records kept per path sample in the last pass that kept any.
+    per_sample: f64,
 }
 
 impl<E: PathEstimator> PassEstimator for Schedule<'_, E> {
-    type BlockStats = ();
+    type BlockStats = LightRecords;
 
     fn expected_samples(&self, pixels: u64) -> Option<u64> {
         self.budget.expected_samples(pixels)
@@ -112,10 +133,17 @@ impl<E: PathEstimator> PassEstimator for Schedule<'_, E> {
         // The time limit counts rendering: preparation (portal estimation, caches) comes on
         // top, and the statistics' total time shows it.
         self.current = self.budget.next_pass(pass, self.size);
+        self.rate = if self.estimator.learns(pass.index) {
+            LightRecords::rate_for(pass.pixels * self.current as u64, self.per_sample)
+        } else {
+            0.0
+        };
         self.current > 0
     }
 
-    fn block_stats(&self, _: u32, _: u32) {}
+    fn block_stats(&self, _: u32, _: u32) -> LightRecords {
+        LightRecords::new(self.rate)
+    }
 
     fn samples(&self, _: &PixelState) -> u32 {
         self.current
@@ -126,14 +154,21 @@ impl<E: PathEstimator> PassEstimator for Schedule<'_, E> {
         scene: &RenderScene,
         ctx: &SampleContext,
         sampler: &mut Sampler,
-        _: &mut (),
+        records: &mut LightRecords,
         rays: &mut RayCounters,
     ) -> Rgb {
+        records.start_sample(ctx);
         let ray = ctx.camera_ray(scene, sampler, rays);
-        self.estimator.li(scene, ray, sampler, ctx, rays)
+        self.estimator.li(scene, ray, sampler, ctx, records, rays)
     }
 
-    fn end_pass(&mut self, _: &RenderScene, _: &Film, _: Vec<()>) -> bool {
+    fn end_pass(&mut self, _: &RenderScene, film: &Film, blocks: Vec<LightRecords>) -> bool {
+        if self.rate > 0.0 {
+            let kept: usize = blocks.iter().map(|b| b.records.len()).sum();
+            let samples = film.pixels.len() as f64 * self.current as f64 * self.rate as f64;
+            self.per_sample = (kept as f64 / samples.max(1.0)).max(1e-3);
+            self.estimator.learn(&blocks);
+        }
         self.budget.done += self.current;
         self.size = (self.size * 2).min(MAX_PASS);
         true
@@ -157,6 +192,7 @@ mod tests {
             _: Ray,
             sampler: &mut Sampler,
             _: &SampleContext,
+            _: &mut LightRecords,
             _: &mut RayCounters,
         ) -> Rgb {
             match (sampler.next_1d() * 4.0) as u32 {

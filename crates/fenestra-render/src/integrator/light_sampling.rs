@@ -6,7 +6,7 @@ use super::next_event::{Found, NextEvent, Scattered, Shading};
 use super::IntegratorError;
 use crate::control::RenderControl;
 use crate::driver::SampleContext;
-use crate::light::{LightContext, LightSampler, LightSelection};
+use crate::light::{LightContext, LightRecord, LightRecords, LightSampler, LightSelection};
 use crate::render_scene::RenderScene;
 use fenestra_core::mis::MisHeuristic;
 use fenestra_core::stats::RayCounters;
@@ -64,7 +64,9 @@ impl LightNextEvent {
     /// One light sample at `s`, weighted by MIS against the BSDF. With `delta_only`, only
     /// Dirac lights contribute (strategies that reach the other lights by other means use
     /// it for point, spot and distant lights); the light pick probability still divides, so
-    /// the estimate of the Dirac lights' share stays unbiased.
+    /// the estimate of the Dirac lights' share stays unbiased. A sample that finds light
+    /// goes to `records`.
+    #[allow(clippy::too_many_arguments)]
     pub fn sample_light(
         &self,
         scene: &RenderScene,
@@ -72,6 +74,7 @@ impl LightNextEvent {
         delta_only: bool,
         mis: MisHeuristic,
         sampler: &mut Sampler,
+        records: &mut LightRecords,
         rays: &mut RayCounters,
     ) -> Rgb {
         let u_pick = sampler.next_1d();
@@ -103,6 +106,14 @@ impl LightNextEvent {
         } else {
             mis.weight(light_pdf, s.bsdf.pdf(s.wo_local, wi_local))
         };
+        if records.on() {
+            records.push(LightRecord {
+                p: s.si.p,
+                n: s.si.ns,
+                light: index as u32,
+                weight: (f * ls.li * tr).luminance() * wi_local.z.abs() / light_pdf,
+            });
+        }
         f * ls.li * tr * (wi_local.z.abs() * weight / light_pdf)
     }
 
@@ -141,9 +152,18 @@ impl NextEvent for LightNextEvent {
         _: &(),
         mis: MisHeuristic,
         sampler: &mut Sampler,
+        records: &mut LightRecords,
         rays: &mut RayCounters,
     ) -> Rgb {
-        self.sample_light(scene, s, false, mis, sampler, rays)
+        self.sample_light(scene, s, false, mis, sampler, records, rays)
+    }
+
+    fn learns(&self, pass: u32) -> bool {
+        self.sampler.learns(pass)
+    }
+
+    fn learn(&self, blocks: &[LightRecords]) {
+        self.sampler.learn(blocks);
     }
 
     fn pdf(

@@ -7,7 +7,7 @@ use crate::bsdf::Bsdf;
 use crate::control::RenderControl;
 use crate::driver::SampleContext;
 use crate::integrator::IntegratorError;
-use crate::light::{LightContext, LightHit};
+use crate::light::{LightContext, LightHit, LightRecords};
 use crate::render_scene::RenderScene;
 use fenestra_core::mis::MisHeuristic;
 use fenestra_core::stats::{RayCounters, RenderStats};
@@ -119,7 +119,9 @@ pub trait NextEvent: Send + Sync {
     fn vertex(&self, scene: &RenderScene, s: &Shading) -> Self::Vertex;
 
     /// One next-event sample at `s`: the light it finds, weighted by MIS (`mis`) against
-    /// BSDF sampling and divided by its density.
+    /// BSDF sampling and divided by its density. Light samples that learned samplers learn
+    /// from go to `records`.
+    #[allow(clippy::too_many_arguments)]
     fn sample(
         &self,
         scene: &RenderScene,
@@ -127,8 +129,17 @@ pub trait NextEvent: Send + Sync {
         vertex: &Self::Vertex,
         mis: MisHeuristic,
         sampler: &mut Sampler,
+        records: &mut LightRecords,
         rays: &mut RayCounters,
     ) -> Rgb;
+
+    /// Whether the strategy learns from the light samples of pass `pass`.
+    fn learns(&self, _pass: u32) -> bool {
+        false
+    }
+
+    /// Learns from a pass's light samples, every block's in block order.
+    fn learn(&self, _blocks: &[LightRecords]) {}
 
     /// Solid-angle density with which [`NextEvent::sample`] at `from` gives the direction
     /// `wi` along which a BSDF-sampled ray found `found`.
@@ -165,6 +176,7 @@ impl NextEvent for NoNextEvent {
         _: &(),
         _: MisHeuristic,
         _: &mut Sampler,
+        _: &mut LightRecords,
         _: &mut RayCounters,
     ) -> Rgb {
         Rgb::ZERO

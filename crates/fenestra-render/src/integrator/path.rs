@@ -8,12 +8,12 @@
 //! collects the emitters it finds.
 
 use super::next_event::{Found, NextEvent, Scattered, Shading};
-use super::{Integrator, IntegratorError};
+use super::{Integrator, IntegratorError, Split};
 use crate::bsdf::Bsdf;
 use crate::control::RenderControl;
 use crate::driver::{render_progressive, PathEstimator, SampleContext};
 use crate::film::Film;
-use crate::light::LightHit;
+use crate::light::{LightHit, LightRecords};
 use crate::render_scene::RenderScene;
 use crate::settings::RenderSettings;
 use fenestra_core::mis::MisHeuristic;
@@ -164,6 +164,16 @@ impl<N: NextEvent> Integrator for PathTracer<N> {
         self.next_event.prepare(scene, control)
     }
 
+    fn split(&self) -> Split {
+        // A learned light sampler learns from every pixel's samples of the early passes: a
+        // piece of the render would learn something else.
+        if self.next_event.learns(0) {
+            Split::Whole
+        } else {
+            Split::SamplesOrTiles
+        }
+    }
+
     fn render(
         &self,
         scene: &RenderScene,
@@ -185,15 +195,34 @@ impl<N: NextEvent> PathEstimator for PathTracer<N> {
         ray: Ray,
         sampler: &mut Sampler,
         ctx: &SampleContext,
+        records: &mut LightRecords,
         rays: &mut RayCounters,
     ) -> Rgb {
-        self.trace(scene, ray, Start::CAMERA, sampler, ctx, rays, &mut NoGather)
+        self.trace(
+            scene,
+            ray,
+            Start::CAMERA,
+            sampler,
+            ctx,
+            records,
+            rays,
+            &mut NoGather,
+        )
+    }
+
+    fn learns(&self, pass: u32) -> bool {
+        self.next_event.learns(pass)
+    }
+
+    fn learn(&self, blocks: &[LightRecords]) {
+        self.next_event.learn(blocks);
     }
 }
 
 impl<N: NextEvent> PathTracer<N> {
     /// Radiance arriving at `ray`'s origin along it, from a path that starts as `start` says;
-    /// `gather` may supply indirect light at the vertices it chooses.
+    /// `gather` may supply indirect light at the vertices it chooses; the light samples
+    /// taken go to `records`.
     #[allow(clippy::too_many_arguments)]
     pub fn trace(
         &self,
@@ -202,6 +231,7 @@ impl<N: NextEvent> PathTracer<N> {
         start: Start,
         sampler: &mut Sampler,
         ctx: &SampleContext,
+        records: &mut LightRecords,
         rays: &mut RayCounters,
         gather: &mut impl Gather,
     ) -> Rgb {
@@ -290,6 +320,7 @@ impl<N: NextEvent> PathTracer<N> {
                         &vertex,
                         self.options.mis,
                         sampler,
+                        records,
                         rays,
                     );
             }

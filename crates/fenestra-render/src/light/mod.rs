@@ -3,6 +3,7 @@
 mod area;
 mod distant;
 mod environment;
+pub mod learning;
 mod point;
 pub mod sampler;
 mod spot;
@@ -10,6 +11,7 @@ mod spot;
 pub use area::AreaLight;
 pub use distant::DistantLight;
 pub use environment::Environment;
+pub use learning::{LightRecord, LightRecords};
 pub use point::PointLight;
 pub use sampler::{
     LightContext, LightSampler, LightSelection, PowerLightSampler, UniformLightSampler,

@@ -2,7 +2,7 @@
 //! learned samplers (seed 004's adaptive cuts, light trees) implement the same trait and see
 //! the shading point's pixel, block and pass through [`LightContext`].
 
-use super::Lights;
+use super::{LightRecords, Lights};
 use crate::driver::SampleContext;
 use fenestra_core::distribution::Distribution1D;
 use fenestra_core::{UnknownName, Vec3};
@@ -25,6 +25,16 @@ pub trait LightSampler: Send + Sync {
     fn sample(&self, ctx: &LightContext, u: f32) -> Option<(usize, f32)>;
     /// Probability that `sample` picks `light` at `ctx`.
     fn pmf(&self, ctx: &LightContext, light: usize) -> f32;
+
+    /// Whether the sampler learns from the light samples of pass `pass` (a learned sampler;
+    /// the fixed ones learn nothing).
+    fn learns(&self, _pass: u32) -> bool {
+        false
+    }
+
+    /// Learns from the light samples of a pass it asked for, every block's in block order;
+    /// what it learns applies from the next pass on.
+    fn learn(&self, _blocks: &[LightRecords]) {}
 }
 
 /// The fixed light samplers, by name.
