@@ -11,7 +11,8 @@ use fenestra_core::mis::MisHeuristic;
 use fenestra_eval::hash::debug_hash;
 use fenestra_eval::suite::slug;
 use fenestra_manylights::ias::Combine;
-use fenestra_manylights::{Ias, IasOptions, LightBvh};
+use fenestra_manylights::learned::Base;
+use fenestra_manylights::{Ias, IasOptions, LearnedLights, LearnedOptions, LightBvh};
 use fenestra_portals::estimate::Model;
 use fenestra_portals::{PortalChoice, PortalOptions, PortalSampling, PortalSource, Portals};
 use fenestra_render::integrator::{hf, IntegratorError, LightNextEvent, PathOptions, PathTracer};
@@ -206,10 +207,41 @@ pub struct PathArgs {
 #[derive(Args, Clone, Debug)]
 pub struct LightArgs {
     /// How next-event estimation picks a light: power (in proportion to emitted power),
-    /// uniform, or bvh (a light tree that weighs lights by their power, distance and
-    /// orientation at each point).
+    /// uniform, bvh (a light tree that weighs lights by their power, distance and
+    /// orientation at each point), or learned (the tree mixed with what the first passes
+    /// learn about which lights each region of the scene actually sees).
     #[arg(long, value_enum, default_value = "power")]
     light_selection: LightChoice,
+    /// With --light-selection learned: the share of light samples drawn from what was
+    /// learned (the rest by the light tree, which keeps every light that can reach a point
+    /// samplable).
+    #[arg(long, default_value_t = LearnedOptions::default().mix)]
+    learned_mix: f32,
+    /// With --light-selection learned: light samples of the first pass per cell, on average.
+    /// Cells (boxes, six normal directions each) learn which lights they see; this sets their
+    /// size, which thus follows the image's resolution and what the camera sees.
+    #[arg(long, default_value_t = LearnedOptions::default().cell_records)]
+    learned_cell_records: u32,
+    /// With --light-selection learned: groups of lights (a cut through the light tree) whose
+    /// shares each cell learns.
+    #[arg(long, default_value_t = LearnedOptions::default().groups)]
+    learned_groups: usize,
+    /// With --light-selection learned: passes learned from (passes take 1, 2, 4, ... samples
+    /// per pixel; the later passes use what the last one learned).
+    #[arg(long, default_value_t = LearnedOptions::default().passes)]
+    learned_passes: u32,
+    /// With --light-selection learned: what the rest of the light samples are drawn by where
+    /// a cell has learned something: bvh (the light tree) or power (emitted power, which costs
+    /// almost nothing).
+    #[arg(long, value_enum, default_value = "bvh")]
+    learned_base: LearnedBase,
+}
+
+/// The distributions learned ones are mixed with.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+enum LearnedBase {
+    Bvh,
+    Power,
 }
 
 /// The light samplers on offer.
@@ -218,19 +250,44 @@ enum LightChoice {
     Power,
     Uniform,
     Bvh,
+    Learned,
 }
 
 impl LightArgs {
     /// Light sampling with the chosen light sampler (af_hf's next event; lp_hf's for its share
-    /// of light sampling and for Dirac lights).
-    fn next_event(&self) -> LightNextEvent {
-        match self.light_selection {
+    /// of light sampling and for Dirac lights); `learns`: whether the integrator lets a
+    /// learned sampler learn from its passes.
+    fn next_event(&self, learns: bool) -> Result<LightNextEvent, IntegratorError> {
+        Ok(match self.light_selection {
             LightChoice::Power => LightNextEvent::new(LightSelection::Power),
             LightChoice::Uniform => LightNextEvent::new(LightSelection::Uniform),
             LightChoice::Bvh => LightNextEvent::with_sampler("bvh", |s: &RenderScene| {
                 Box::new(LightBvh::new(&s.scene, &s.lights))
             }),
-        }
+            LightChoice::Learned => {
+                if !learns {
+                    return Err(IntegratorError::Options(
+                        "--light-selection learned learns from the passes of af_hf and lp_hf; \
+                         this integrator takes power, uniform or bvh"
+                            .into(),
+                    ));
+                }
+                let options = LearnedOptions {
+                    groups: self.learned_groups,
+                    cell_records: self.learned_cell_records,
+                    mix: self.learned_mix,
+                    passes: self.learned_passes,
+                    base: match self.learned_base {
+                        LearnedBase::Bvh => Base::Bvh,
+                        LearnedBase::Power => Base::Power,
+                    },
+                };
+                options.check().map_err(IntegratorError::Options)?;
+                LightNextEvent::with_sampler(options.name(), move |s: &RenderScene| {
+                    Box::new(LearnedLights::new(&s.scene, &s.lights, options))
+                })
+            }
+        })
     }
 }
 
@@ -355,7 +412,7 @@ pub fn registry<'a>() -> Registry<Config<'a>> {
             |c: &Config| {
                 Ok(Box::new(PathTracer::new(
                     "af_hf",
-                    c.args.lights.next_event(),
+                    c.args.lights.next_event(true)?,
                     c.path,
                 )))
             },
@@ -388,7 +445,7 @@ pub fn registry<'a>() -> Registry<Config<'a>> {
             "af_hf with the first bounce of indirect light on glossy surfaces cached and interpolated (spatial directional radiance caching, seed 003)",
             |c: &Config| {
                 let options = c.args.sdrc.options(GlossyCache::Directional);
-                Ok(Box::new(Sdrc::new(options, c.path, c.args.lights.next_event())?))
+                Ok(Box::new(Sdrc::new(options, c.path, c.args.lights.next_event(false)?)?))
             },
         )
         .register(
@@ -400,7 +457,7 @@ pub fn registry<'a>() -> Registry<Config<'a>> {
                     a: c.args.sdrc.shrc_a,
                     ..c.args.sdrc.options(GlossyCache::Harmonics { rays })
                 };
-                Ok(Box::new(Sdrc::new(options, c.path, c.args.lights.next_event())?))
+                Ok(Box::new(Sdrc::new(options, c.path, c.args.lights.next_event(false)?)?))
             },
         )
         .register(
@@ -411,7 +468,7 @@ pub fn registry<'a>() -> Registry<Config<'a>> {
                 Ok(Box::new(fenestra_portals::lp_hf(
                     c.path,
                     options,
-                    c.args.lights.next_event(),
+                    c.args.lights.next_event(true)?,
                 )?))
             },
         )

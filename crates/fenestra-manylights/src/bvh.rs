@@ -178,7 +178,7 @@ impl LightBvh {
     }
 
     /// Probability of picking the tree (rather than a light at infinity).
-    fn tree_probability(&self) -> f32 {
+    pub(crate) fn tree_probability(&self) -> f32 {
         if self.nodes.is_empty() {
             0.0
         } else {
@@ -292,23 +292,48 @@ fn orientation_cost(b: &LightBounds) -> f32 {
     b.phi * m_omega * area.max(1e-12)
 }
 
-impl LightSampler for LightBvh {
-    fn sample(&self, ctx: &LightContext, u: f32) -> Option<(usize, f32)> {
-        let p_tree = self.tree_probability();
-        let mut u = u;
-        if u >= p_tree {
-            // A light at infinity, uniformly.
-            let n = self.infinite.len();
-            if n == 0 {
-                return None;
-            }
-            let k = (((u - p_tree) / (1.0 - p_tree) * n as f32) as usize).min(n - 1);
-            return Some((self.infinite[k], (1.0 - p_tree) / n as f32));
-        }
-        u /= p_tree;
-        let mut pmf = p_tree;
-        let mut node = 0;
+impl LightBvh {
+    /// Lights at infinity (outside the tree).
+    pub(crate) fn infinite(&self) -> &[usize] {
+        &self.infinite
+    }
+
+    /// Number of nodes; the root is node 0.
+    pub(crate) fn node_count(&self) -> usize {
+        self.nodes.len()
+    }
+
+    /// The children of an interior node, `None` for a leaf.
+    pub(crate) fn children(&self, node: usize) -> Option<(usize, usize)> {
+        let n = &self.nodes[node];
+        (!n.leaf).then_some((node + 1, n.index as usize))
+    }
+
+    /// The light of a leaf.
+    pub(crate) fn leaf_light(&self, node: usize) -> Option<usize> {
+        let n = &self.nodes[node];
+        n.leaf.then_some(n.index as usize)
+    }
+
+    /// Diagonal of a node's bounding box.
+    pub(crate) fn extent(&self, node: usize) -> f32 {
+        let b = &self.nodes[node].bounds;
+        (b.hi - b.lo).length()
+    }
+
+    /// Descends from `node`, reached with probability `pmf`, to a light, choosing children in
+    /// proportion to their importance at `ctx`; `visit` sees every node passed and the
+    /// probability of reaching it. `None` where no light below can reach the point.
+    pub(crate) fn descend(
+        &self,
+        mut node: usize,
+        mut pmf: f32,
+        ctx: &LightContext,
+        mut u: f32,
+        mut visit: impl FnMut(usize, f32),
+    ) -> Option<(usize, f32)> {
         loop {
+            visit(node, pmf);
             let n = &self.nodes[node];
             if n.leaf {
                 let ok = node > 0 || n.bounds.importance(ctx.p, ctx.n) > 0.0;
@@ -333,19 +358,38 @@ impl LightSampler for LightBvh {
         }
     }
 
-    fn pmf(&self, ctx: &LightContext, light: usize) -> f32 {
-        let p_tree = self.tree_probability();
-        if self.infinite.contains(&light) {
-            return (1.0 - p_tree) / self.infinite.len() as f32;
-        }
+    /// Probability that a descent from the root picks the tree's `light` at `ctx`, following
+    /// its trail; `visit` sees every node on the way and the probability of reaching it, and
+    /// may stop the walk there (by returning false): the probability of reaching that node
+    /// is returned then.
+    pub(crate) fn replay(
+        &self,
+        light: usize,
+        ctx: &LightContext,
+        visit: impl FnMut(usize, f32) -> bool,
+    ) -> f32 {
+        self.replay_from(light, 0, 0, self.tree_probability(), ctx, visit)
+    }
+
+    /// [`LightBvh::replay`] from `node`, an ancestor of `light` at `depth`, reached with
+    /// probability `pmf`.
+    pub(crate) fn replay_from(
+        &self,
+        light: usize,
+        mut node: usize,
+        mut depth: u32,
+        mut pmf: f32,
+        ctx: &LightContext,
+        mut visit: impl FnMut(usize, f32) -> bool,
+    ) -> f32 {
         let bits = self.trail.get(light).copied().unwrap_or(NO_TRAIL);
         if bits == NO_TRAIL {
             return 0.0;
         }
-        let mut pmf = p_tree;
-        let mut node = 0;
-        let mut depth = 0;
         loop {
+            if !visit(node, pmf) {
+                return pmf;
+            }
             let n = &self.nodes[node];
             if n.leaf {
                 let ok = node > 0 || n.bounds.importance(ctx.p, ctx.n) > 0.0;
@@ -366,5 +410,37 @@ impl LightSampler for LightBvh {
             }
             depth += 1;
         }
+    }
+
+    /// Probability of picking the light at infinity `light` (0 for any other light).
+    pub(crate) fn infinite_pmf(&self, light: usize) -> f32 {
+        if self.infinite.contains(&light) {
+            (1.0 - self.tree_probability()) / self.infinite.len() as f32
+        } else {
+            0.0
+        }
+    }
+}
+
+impl LightSampler for LightBvh {
+    fn sample(&self, ctx: &LightContext, u: f32) -> Option<(usize, f32)> {
+        let p_tree = self.tree_probability();
+        if u >= p_tree {
+            // A light at infinity, uniformly.
+            let n = self.infinite.len();
+            if n == 0 {
+                return None;
+            }
+            let k = (((u - p_tree) / (1.0 - p_tree) * n as f32) as usize).min(n - 1);
+            return Some((self.infinite[k], (1.0 - p_tree) / n as f32));
+        }
+        self.descend(0, p_tree, ctx, u / p_tree, |_, _| {})
+    }
+
+    fn pmf(&self, ctx: &LightContext, light: usize) -> f32 {
+        if self.infinite.contains(&light) {
+            return self.infinite_pmf(light);
+        }
+        self.replay(light, ctx, |_, _| true)
     }
 }

@@ -3,7 +3,9 @@
 
 use fenestra_core::{warp, Rgb, Rng, Vec3};
 use fenestra_manylights::LightBvh;
+use fenestra_render::driver::SampleContext;
 use fenestra_render::integrator::{LightNextEvent, PathOptions, PathTracer};
+use fenestra_render::light::{LightContext, LightSampler};
 use fenestra_render::{render_image, Film, Integrator, RenderScene, RenderSettings};
 use fenestra_scene::light::{Emission, EnvironmentDesc};
 use fenestra_scene::{
@@ -115,4 +117,92 @@ pub fn render(desc: SceneDesc, integrator: &mut dyn Integrator, spp: u32, thread
     pool.install(|| render_image(integrator, &scene, 24, 24, &settings))
         .expect("render")
         .0
+}
+
+/// Checks a light sampler at `ctx` over `count` lights: its probabilities sum to at most one
+/// (a descent may pick nothing where nothing can reach), each pick reports the probability
+/// `pmf` gives, and 200,000 picks follow the probabilities (chi-square at level `alpha`, the
+/// share of no pick as one more bin).
+pub fn picks_follow_pmf(
+    sampler: &dyn LightSampler,
+    ctx: &LightContext,
+    count: usize,
+    rng: &mut Rng,
+    alpha: f64,
+) {
+    use statrs::distribution::{ChiSquared, ContinuousCDF};
+    let p = ctx.p;
+    let pmf: Vec<f64> = (0..count).map(|i| f64::from(sampler.pmf(ctx, i))).collect();
+    let total: f64 = pmf.iter().sum();
+    assert!(
+        total <= 1.0 + 1e-4 && total > 0.5,
+        "at {p}: probabilities sum to {total}"
+    );
+    const DRAWS: usize = 200_000;
+    let mut counts = vec![0.0f64; pmf.len() + 1];
+    for _ in 0..DRAWS {
+        let Some((i, q)) = sampler.sample(ctx, rng.next_f32()) else {
+            counts[pmf.len()] += 1.0;
+            continue;
+        };
+        assert!(
+            (f64::from(q) - pmf[i]).abs() <= 1e-4 * pmf[i].max(1e-3),
+            "sampled probability {q} of light {i} vs pmf {}",
+            pmf[i]
+        );
+        counts[i] += 1.0;
+    }
+    let expected = pmf.iter().copied().chain([(1.0 - total).max(0.0)]);
+    let (mut stat, mut dof, mut pool) = (0.0, 0i64, (0.0, 0.0));
+    for (o, e) in counts.iter().zip(expected.map(|p| p * DRAWS as f64)) {
+        if e < 1e-6 {
+            assert_eq!(*o, 0.0, "something of zero probability was picked");
+        } else if e < 5.0 {
+            pool = (pool.0 + o, pool.1 + e);
+        } else {
+            stat += (o - e).powi(2) / e;
+            dof += 1;
+        }
+    }
+    if pool.1 > 0.0 {
+        stat += (pool.0 - pool.1).powi(2) / pool.1;
+        dof += 1;
+    }
+    let dof = (dof - 1).max(1) as f64;
+    let p_value = 1.0 - ChiSquared::new(dof).expect("dof").cdf(stat);
+    assert!(
+        p_value > alpha,
+        "at {p}: chi2 {stat:.1}, {dof} dof, p = {p_value:.2e}"
+    );
+}
+
+/// The sample light samplers see in tests of single points.
+pub const SAMPLE: SampleContext = SampleContext {
+    x: 0,
+    y: 0,
+    width: 1,
+    height: 1,
+    block: 0,
+    pass: 0,
+    index: 0,
+};
+
+/// Six points in [many_lights]'s room with random normals; the first receives from every
+/// side (a zero normal).
+pub fn test_points(rng: &mut Rng) -> Vec<(Vec3, Vec3)> {
+    (0..6)
+        .map(|k| {
+            let p = Vec3::new(
+                6.0 * rng.next_f32() - 3.0,
+                6.0 * rng.next_f32() - 3.0,
+                3.0 * rng.next_f32(),
+            );
+            let n = if k == 0 {
+                Vec3::ZERO
+            } else {
+                warp::square_to_uniform_sphere(rng.next_2d())
+            };
+            (p, n)
+        })
+        .collect()
 }

@@ -1,0 +1,604 @@
+//! A visibility-aware light sampler learned from the render's own light samples
+//! (`--light-selection learned`). The light BVH's importance knows power, distance and
+//! orientation but not walls: in a stack of rooms it keeps aiming at lights behind floors.
+//! Here the scene is cut into cells (a grid of boxes, six normal directions each); in every
+//! cell the render's light samples that found light estimate how much each group of lights
+//! (a fixed cut through the BVH, plus each light at infinity) contributes there, visibility
+//! included; later passes pick a group from that estimate and a light inside it by the BVH.
+//! Learning in this spirit: Vévoda et al. 2018 (Bayesian online regression per cache
+//! point), Wang et al. 2021 (light-tree cuts learned per voxel); the estimator, the cut and
+//! the mixture are ours.
+//!
+//! At a point p of cell c the probability of light l in group g(l) is
+//!
+//!   P(l) = (1 - a) P_bvh(l | p) + a L_c(g(l)) P_bvh(l | g(l), p),
+//!
+//! L_c(g) being the learned share of group g in c (the mean over c's samples of each
+//! sample's contribution over its pick probability, summed per group and normalised), and
+//! P_bvh(l | g, p) the BVH's descent from g's node. The BVH share keeps every light that can
+//! reach p samplable, so nothing learned can bias the image. Cells without samples use the
+//! BVH alone. Learning happens between passes, from every block's samples in block order:
+//! the same learned cells, and pixels, for any number of threads.
+
+use crate::bvh::LightBvh;
+use fenestra_core::distribution::Distribution1D;
+use fenestra_core::Vec3;
+use fenestra_render::light::{LightContext, LightRecords, LightSampler, Lights};
+use fenestra_scene::Scene;
+use std::collections::HashMap;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Mutex, OnceLock};
+
+/// Not a group (lights that send nothing).
+const NONE: u32 = u32::MAX;
+
+/// Settings of the learned sampler.
+#[derive(Clone, Copy, Debug)]
+pub struct LearnedOptions {
+    /// Groups of lights the BVH is cut into (at most; lights at infinity come on top).
+    pub groups: usize,
+    /// Records of the first pass per cell, on average: sets the cells' size (the finest
+    /// power-of-two division of the scene's diagonal with no fewer).
+    pub cell_records: u32,
+    /// Share of samples drawn from the learned distribution (the rest by the BVH).
+    pub mix: f32,
+    /// Passes learned from (passes of 1, 2, 4, ... samples per pixel).
+    pub passes: u32,
+    /// What the rest of the samples are drawn by in cells that learned something.
+    pub base: Base,
+}
+
+/// The distribution mixed with the learned one, which keeps every light samplable.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Base {
+    /// The light BVH.
+    Bvh,
+    /// Emitted power: costs almost nothing, so that scenes with nothing to learn pay little.
+    Power,
+}
+
+impl LearnedOptions {
+    /// The sampler's name with its settings, as the integrator's settings record it.
+    pub fn name(&self) -> String {
+        format!(
+            "learned(mix {}, cell records {}, groups {}, passes {}, base {:?})",
+            self.mix, self.cell_records, self.groups, self.passes, self.base
+        )
+    }
+
+    /// Why the options cannot be used, if they cannot.
+    pub fn check(&self) -> Result<(), String> {
+        if !(0.0..1.0).contains(&self.mix) {
+            return Err(format!(
+                "--learned-mix must be at least 0 and below 1 (the light tree keeps the rest), got {}",
+                self.mix
+            ));
+        }
+        if self.cell_records == 0 {
+            return Err("--learned-cell-records must be at least 1".into());
+        }
+        if self.groups == 0 {
+            return Err("--learned-groups must be at least 1".into());
+        }
+        Ok(())
+    }
+}
+
+impl Default for LearnedOptions {
+    fn default() -> Self {
+        LearnedOptions {
+            groups: 256,
+            cell_records: 16,
+            mix: 0.5,
+            passes: 5,
+            base: Base::Bvh,
+        }
+    }
+}
+
+/// The grid of cells: boxes of one size over the scene, six normal directions each.
+#[derive(Clone, Copy, Debug, Default)]
+struct Grid {
+    lo: Vec3,
+    inv_size: f32,
+}
+
+impl Grid {
+    /// The cell of a point with normal `n`.
+    fn key(&self, p: Vec3, n: Vec3) -> u64 {
+        let q = (p - self.lo) * self.inv_size;
+        let axis = |v: f32| (v.max(0.0) as u64).min((1 << 20) - 1);
+        let a = n.abs();
+        let (k, s) = if a.x >= a.y && a.x >= a.z {
+            (0, n.x)
+        } else if a.y >= a.z {
+            (1, n.y)
+        } else {
+            (2, n.z)
+        };
+        let class = 2 * k + u64::from(s < 0.0);
+        axis(q.x) | axis(q.y) << 20 | axis(q.z) << 40 | class << 60
+    }
+}
+
+/// The learned distributions of one pass: per cell, its groups in increasing order with
+/// their cumulative probabilities.
+#[derive(Default)]
+struct Table {
+    /// The cells.
+    grid: Grid,
+    /// Open addressing by key: (key, first entry, entries); empty slots have no entries.
+    slots: Vec<(u64, u32, u32)>,
+    /// (group, cumulative probability) of every cell, cell after cell.
+    entries: Vec<(u32, f32)>,
+}
+
+impl Table {
+    /// The table of the summed weights `sums` ((cell of `grid`, group) -> sum): each group's
+    /// share in its cell in proportion to its sum.
+    fn new(grid: Grid, sums: &HashMap<(u64, u32), f64>) -> Self {
+        let mut pairs: Vec<((u64, u32), f64)> = sums
+            .iter()
+            .filter(|(_, &w)| w > 0.0 && w.is_finite())
+            .map(|(&k, &w)| (k, w))
+            .collect();
+        pairs.sort_unstable_by_key(|(k, _)| *k);
+        let mut cells: Vec<(u64, u32, u32)> = Vec::new();
+        let mut entries = Vec::with_capacity(pairs.len());
+        let mut i = 0;
+        while i < pairs.len() {
+            let key = pairs[i].0 .0;
+            let end = i + pairs[i..].iter().take_while(|(k, _)| k.0 == key).count();
+            let total: f64 = pairs[i..end].iter().map(|(_, w)| w).sum();
+            let mut acc = 0.0;
+            cells.push((key, entries.len() as u32, (end - i) as u32));
+            for ((_, group), w) in &pairs[i..end] {
+                acc += w;
+                entries.push((*group, (acc / total) as f32));
+            }
+            if let Some(last) = entries.last_mut() {
+                last.1 = 1.0;
+            }
+            i = end;
+        }
+        let capacity = (2 * cells.len()).next_power_of_two().max(2);
+        let mut slots = vec![(0, 0, 0); capacity];
+        for cell in cells {
+            let mut s = slot(cell.0, capacity);
+            while slots[s].2 != 0 {
+                s = (s + 1) & (capacity - 1);
+            }
+            slots[s] = cell;
+        }
+        Table {
+            grid,
+            slots,
+            entries,
+        }
+    }
+
+    /// The entries of the cell of a point with normal `n`, if it learned anything.
+    fn at(&self, p: Vec3, n: Vec3) -> Option<&[(u32, f32)]> {
+        if self.entries.is_empty() {
+            return None;
+        }
+        self.cell(self.grid.key(p, n))
+    }
+
+    /// The entries of cell `key`, if it learned anything.
+    fn cell(&self, key: u64) -> Option<&[(u32, f32)]> {
+        let mask = self.slots.len() - 1;
+        let mut s = slot(key, self.slots.len());
+        loop {
+            let (k, first, len) = self.slots[s];
+            if len == 0 {
+                return None;
+            }
+            if k == key {
+                return Some(&self.entries[first as usize..(first + len) as usize]);
+            }
+            s = (s + 1) & mask;
+        }
+    }
+}
+
+/// The home slot of `key` in a table of `capacity` (a power of two) slots.
+fn slot(key: u64, capacity: usize) -> usize {
+    (key.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 32) as usize & (capacity - 1)
+}
+
+/// A group picked from a cell's entries with `u`: (group, probability, `u` rescaled).
+fn pick(entries: &[(u32, f32)], u: f32) -> (u32, f32, f32) {
+    let i = entries
+        .partition_point(|&(_, c)| c <= u)
+        .min(entries.len() - 1);
+    let below = if i == 0 { 0.0 } else { entries[i - 1].1 };
+    let p = entries[i].1 - below;
+    let u = ((u - below) / p).clamp(0.0, 1.0 - f32::EPSILON);
+    (entries[i].0, p, u)
+}
+
+/// Probability of `group` in a cell's entries.
+fn group_pmf(entries: &[(u32, f32)], group: u32) -> f32 {
+    match entries.binary_search_by_key(&group, |&(g, _)| g) {
+        Ok(i) => entries[i].1 - if i == 0 { 0.0 } else { entries[i - 1].1 },
+        Err(_) => 0.0,
+    }
+}
+
+/// The learned light sampler.
+pub struct LearnedLights {
+    bvh: LightBvh,
+    options: LearnedOptions,
+    /// The scene's bounding box: its low corner and diagonal.
+    lo: Vec3,
+    diagonal: f32,
+    /// The cells, sized from the first pass's records.
+    grid: OnceLock<Grid>,
+    /// Lights by emitted power (the power base).
+    power: Distribution1D,
+    /// The BVH node of each group of the tree and its depth; groups after these are lights
+    /// at infinity.
+    group_node: Vec<(usize, u32)>,
+    /// Per BVH node: its group, or [`NONE`] for nodes not in the cut.
+    node_group: Vec<u32>,
+    /// Per light: its group, or [`NONE`].
+    light_group: Vec<u32>,
+    /// Tables learned so far (the first is empty: the BVH alone); `current` is in use.
+    tables: Vec<OnceLock<Table>>,
+    current: AtomicUsize,
+    /// Summed sample weights per (cell, group), over all passes learned from.
+    sums: Mutex<HashMap<(u64, u32), f64>>,
+}
+
+impl LearnedLights {
+    /// The sampler for `lights` of `scene`, before it has learned anything.
+    pub fn new(scene: &Scene, lights: &Lights, options: LearnedOptions) -> Self {
+        let bvh = LightBvh::new(scene, lights);
+        let group_node = cut(&bvh, options.groups.max(1));
+        let mut node_group = vec![NONE; bvh.node_count()];
+        let mut light_group = vec![NONE; lights.lights.len()];
+        for (g, &(node, _)) in group_node.iter().enumerate() {
+            node_group[node] = g as u32;
+            let mut stack = vec![node];
+            while let Some(n) = stack.pop() {
+                match bvh.children(n) {
+                    Some((a, b)) => stack.extend([a, b]),
+                    None => light_group[bvh.leaf_light(n).expect("leaf")] = g as u32,
+                }
+            }
+        }
+        for (k, &light) in bvh.infinite().iter().enumerate() {
+            light_group[light] = (group_node.len() + k) as u32;
+        }
+        // Power only for lights the groups hold, so both distributions cover the same lights.
+        let powers: Vec<f32> = lights
+            .lights
+            .iter()
+            .zip(&light_group)
+            .map(|(l, &g)| if g == NONE { 0.0 } else { l.power(scene) })
+            .collect();
+        let (lo, hi) = scene.bounds();
+        let tables: Vec<OnceLock<Table>> = (0..=options.passes).map(|_| OnceLock::new()).collect();
+        let _ = tables[0].set(Table::default());
+        LearnedLights {
+            bvh,
+            options,
+            lo,
+            diagonal: (hi - lo).length().max(1e-6),
+            grid: OnceLock::new(),
+            power: Distribution1D::new(if powers.is_empty() { &[0.0] } else { &powers }),
+            group_node,
+            node_group,
+            light_group,
+            tables,
+            current: AtomicUsize::new(0),
+            sums: Mutex::new(HashMap::new()),
+        }
+    }
+
+    /// Groups the lights are sampled in (tree groups and lights at infinity).
+    pub fn groups(&self) -> usize {
+        self.group_node.len() + self.bvh.infinite().len()
+    }
+
+    /// Cells that have learned something so far.
+    pub fn cells_learned(&self) -> usize {
+        self.table().slots.iter().filter(|s| s.2 > 0).count()
+    }
+
+    fn table(&self) -> &Table {
+        self.tables[self.current.load(Ordering::Acquire)]
+            .get()
+            .expect("the current table is set")
+    }
+
+    /// Probability of `light` from its group's node down, at `ctx`.
+    fn below_group(&self, ctx: &LightContext, light: usize, group: u32) -> f32 {
+        match self.group_node.get(group as usize) {
+            Some(&(node, depth)) => self
+                .bvh
+                .replay_from(light, node, depth, 1.0, ctx, |_, _| true),
+            None => 1.0,
+        }
+    }
+
+    /// The base's probability of `light` at `ctx` and the light's probability from its
+    /// group's node down.
+    fn base_and_below(&self, ctx: &LightContext, light: usize, group: u32) -> (f32, f32) {
+        match self.options.base {
+            Base::Power => (
+                self.power.discrete_pmf(light),
+                self.below_group(ctx, light, group),
+            ),
+            Base::Bvh => {
+                let infinite = self.bvh.infinite_pmf(light);
+                if infinite > 0.0 {
+                    return (infinite, 1.0);
+                }
+                let mut at_group = 0.0;
+                let full = self.bvh.replay(light, ctx, |node, pmf| {
+                    if self.node_group[node] != NONE {
+                        at_group = pmf;
+                    }
+                    true
+                });
+                (full, if at_group > 0.0 { full / at_group } else { 0.0 })
+            }
+        }
+    }
+
+    /// A light by the base at `ctx`: (light, its group, base probability, probability from
+    /// the group's node down), found on the way where the base is the BVH.
+    fn sample_base(&self, ctx: &LightContext, u: f32) -> Option<(usize, u32, f32, f32)> {
+        match self.options.base {
+            Base::Power => {
+                let (light, base, _) = self.power.sample_discrete(u);
+                let group = self.light_group[light];
+                Some((light, group, base, self.below_group(ctx, light, group)))
+            }
+            Base::Bvh => {
+                let p_tree = self.bvh.tree_probability();
+                if u >= p_tree {
+                    let (light, full) = self.bvh.sample(ctx, u)?;
+                    return Some((light, self.light_group[light], full, 1.0));
+                }
+                let mut at_group = 0.0;
+                let (light, full) = self.bvh.descend(0, p_tree, ctx, u / p_tree, |node, pmf| {
+                    if self.node_group[node] != NONE {
+                        at_group = pmf;
+                    }
+                })?;
+                Some((light, self.light_group[light], full, full / at_group))
+            }
+        }
+    }
+
+    /// P(l) of the module's equation at a point of a cell with `entries`.
+    fn mixed_pmf(&self, ctx: &LightContext, entries: &[(u32, f32)], light: usize) -> f32 {
+        let group = self.light_group.get(light).copied().unwrap_or(NONE);
+        if group == NONE {
+            return 0.0;
+        }
+        let (base, below) = self.base_and_below(ctx, light, group);
+        let a = self.options.mix;
+        (1.0 - a) * base + a * group_pmf(entries, group) * below
+    }
+}
+
+/// The finest grid whose boxes (the scene's diagonal over a power of two) hold `per_cell`
+/// of `points` on average, counting each normal direction's cell apart.
+fn grid_for(points: &[(Vec3, Vec3)], lo: Vec3, diagonal: f32, per_cell: u32) -> Grid {
+    let wanted = (points.len() / per_cell.max(1) as usize).max(1);
+    let mut keys = Vec::with_capacity(points.len());
+    let mut grid = Grid {
+        lo,
+        inv_size: 1.0 / diagonal,
+    };
+    for k in 1..20 {
+        let finer = Grid {
+            lo,
+            inv_size: (1u32 << k) as f32 / diagonal,
+        };
+        keys.clear();
+        keys.extend(points.iter().map(|&(p, n)| finer.key(p, n)));
+        keys.sort_unstable();
+        keys.dedup();
+        if keys.len() > wanted {
+            break;
+        }
+        grid = finer;
+    }
+    grid
+}
+
+/// A cut of `groups` nodes (at most) through the BVH, with their depths: starting from the
+/// root, the node of largest extent is replaced by its children until there are `groups`
+/// (lights at a point or within a small region stay together, far-apart ones part).
+fn cut(bvh: &LightBvh, groups: usize) -> Vec<(usize, u32)> {
+    if bvh.node_count() == 0 {
+        return Vec::new();
+    }
+    let mut cut = vec![(0usize, 0u32)];
+    while cut.len() < groups {
+        let widest = cut
+            .iter()
+            .enumerate()
+            .filter(|(_, &(n, _))| bvh.children(n).is_some())
+            .max_by(|a, b| {
+                bvh.extent(a.1 .0)
+                    .total_cmp(&bvh.extent(b.1 .0))
+                    .then(b.0.cmp(&a.0))
+            });
+        let Some((i, &(node, depth))) = widest else {
+            break;
+        };
+        let (a, b) = bvh.children(node).expect("interior");
+        cut[i] = (a, depth + 1);
+        cut.push((b, depth + 1));
+    }
+    cut.sort_unstable();
+    cut
+}
+
+impl LightSampler for LearnedLights {
+    fn sample(&self, ctx: &LightContext, u: f32) -> Option<(usize, f32)> {
+        let Some(entries) = self.table().at(ctx.p, ctx.n) else {
+            return self.bvh.sample(ctx, u);
+        };
+        let a = self.options.mix;
+        // Either branch finds the light's base probability and its probability from its
+        // group's node down on the way (or at little cost).
+        let (light, group, base, below) = if u < a {
+            let (group, _, u) = pick(entries, u / a);
+            match self.group_node.get(group as usize) {
+                Some(&(node, _)) => {
+                    let (light, below) = self.bvh.descend(node, 1.0, ctx, u, |_, _| {})?;
+                    let base = match self.options.base {
+                        Base::Power => self.power.discrete_pmf(light),
+                        Base::Bvh => self.bvh.replay(light, ctx, |n, _| n != node) * below,
+                    };
+                    (light, group, base, below)
+                }
+                None => {
+                    let light = self.bvh.infinite()[group as usize - self.group_node.len()];
+                    let base = match self.options.base {
+                        Base::Power => self.power.discrete_pmf(light),
+                        Base::Bvh => self.bvh.infinite_pmf(light),
+                    };
+                    (light, group, base, 1.0)
+                }
+            }
+        } else {
+            self.sample_base(ctx, ((u - a) / (1.0 - a)).min(1.0 - f32::EPSILON))?
+        };
+        if group == NONE {
+            return None;
+        }
+        let pmf = (1.0 - a) * base + a * group_pmf(entries, group) * below;
+        (pmf > 0.0).then_some((light, pmf))
+    }
+
+    fn pmf(&self, ctx: &LightContext, light: usize) -> f32 {
+        match self.table().at(ctx.p, ctx.n) {
+            Some(entries) => self.mixed_pmf(ctx, entries, light),
+            None => self.bvh.pmf(ctx, light),
+        }
+    }
+
+    fn learns(&self, pass: u32) -> bool {
+        pass < self.options.passes
+    }
+
+    fn learn(&self, blocks: &[LightRecords]) {
+        let records = || blocks.iter().flat_map(|b| &b.records);
+        let grid = *self.grid.get_or_init(|| {
+            let points: Vec<(Vec3, Vec3)> = records().map(|r| (r.p, r.n)).collect();
+            grid_for(&points, self.lo, self.diagonal, self.options.cell_records)
+        });
+        let mut sums = self.sums.lock().expect("learning is not poisoned");
+        for r in records() {
+            let group = self.light_group[r.light as usize];
+            if group != NONE && r.weight > 0.0 && r.weight.is_finite() {
+                *sums.entry((grid.key(r.p, r.n), group)).or_insert(0.0) += f64::from(r.weight);
+            }
+        }
+        let next = self.current.load(Ordering::Acquire) + 1;
+        if let Some(slot) = self.tables.get(next) {
+            let _ = slot.set(Table::new(grid, &sums));
+            self.current.store(next, Ordering::Release);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tables_find_every_cell_they_learned_and_no_other() {
+        let mut sums = HashMap::new();
+        for cell in 0..300u64 {
+            for group in 0..(cell % 5) as u32 {
+                sums.insert((cell * 7919, group), 1.0 + group as f64);
+            }
+        }
+        let table = Table::new(Grid::default(), &sums);
+        for cell in 0..300u64 {
+            let found = table.cell(cell * 7919);
+            let groups = (cell % 5) as u32;
+            if groups == 0 {
+                assert!(found.is_none());
+                continue;
+            }
+            let entries = found.expect("a learned cell");
+            let total: f64 = (0..groups).map(|g| 1.0 + g as f64).sum();
+            for g in 0..groups {
+                let p = group_pmf(entries, g);
+                assert!((f64::from(p) - (1.0 + g as f64) / total).abs() < 1e-6);
+                // Picking at the middle of its interval gives the group back.
+                let mid = entries[g as usize].1 - p / 2.0;
+                assert_eq!(pick(entries, mid).0, g);
+            }
+            assert_eq!(group_pmf(entries, groups), 0.0);
+        }
+        assert!(table.cell(12345).is_none());
+    }
+
+    #[test]
+    fn cells_tell_normals_and_boxes_apart() {
+        let grid = Grid {
+            lo: Vec3::ZERO,
+            inv_size: 2.0,
+        };
+        let p = Vec3::new(0.3, 0.3, 0.3);
+        assert_ne!(grid.key(p, Vec3::Z), grid.key(p, -Vec3::Z));
+        assert_ne!(grid.key(p, Vec3::Z), grid.key(p, Vec3::X));
+        assert_eq!(
+            grid.key(p, Vec3::Z),
+            grid.key(p + Vec3::splat(0.1), Vec3::Z)
+        );
+        assert_ne!(
+            grid.key(p, Vec3::Z),
+            grid.key(p + Vec3::splat(0.3), Vec3::Z)
+        );
+    }
+
+    #[test]
+    fn cells_are_as_fine_as_the_records_allow() {
+        // 4,096 points on a floor of side 1 facing up: 2^k cells a side hold 4096 / 4^k.
+        let points: Vec<(Vec3, Vec3)> = (0..4096)
+            .map(|i| {
+                let (x, y) = ((i % 64) as f32 + 0.5, (i / 64) as f32 + 0.5);
+                (Vec3::new(x / 64.0, y / 64.0, 0.0), Vec3::Z)
+            })
+            .collect();
+        let side = |g: Grid| g.inv_size.recip();
+        // Diagonal 1: boxes of 1/2^k. 16 a cell: 256 cells, 1/16 a side.
+        let g = grid_for(&points, Vec3::ZERO, 1.0, 16);
+        assert_eq!(side(g), 1.0 / 16.0);
+        let g = grid_for(&points, Vec3::ZERO, 1.0, 64);
+        assert_eq!(side(g), 1.0 / 8.0);
+        // Fewer points than one cell wants (the first ten, x up to 0.15): the finest grid
+        // that keeps them in one cell.
+        let g = grid_for(&points[..10], Vec3::ZERO, 1.0, 64);
+        assert_eq!(side(g), 0.25);
+    }
+
+    #[test]
+    fn options_that_could_bias_or_mean_nothing_are_refused() {
+        let ok = LearnedOptions::default();
+        assert!(ok.check().is_ok());
+        let e = LearnedOptions { mix: 1.0, ..ok }
+            .check()
+            .expect_err("a mix of 1 leaves no light tree");
+        assert!(e.contains("--learned-mix"), "{e}");
+        assert!(LearnedOptions {
+            cell_records: 0,
+            ..ok
+        }
+        .check()
+        .is_err());
+        assert!(LearnedOptions { groups: 0, ..ok }.check().is_err());
+    }
+}

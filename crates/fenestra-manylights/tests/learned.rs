@@ -1,0 +1,128 @@
+//! The learned light sampler: after learning, its picks follow its probabilities
+//! (chi-square) and report them, every light the light BVH can pick keeps at least the BVH's
+//! share, and af_hf renders the same image with it as with power selection, the same with one
+//! thread as with two.
+
+mod common;
+
+use common::{many_lights, picks_follow_pmf, render, test_points, SAMPLE};
+use fenestra_builtin as builtin;
+use fenestra_core::Rng;
+use fenestra_manylights::learned::Base;
+use fenestra_manylights::{LearnedLights, LearnedOptions, LightBvh};
+use fenestra_render::integrator::{af_hf, LightNextEvent, PathOptions, PathTracer};
+use fenestra_render::light::{
+    LightContext, LightRecord, LightRecords, LightSampler, LightSelection, Lights,
+};
+use fenestra_render::RenderScene;
+use fenestra_scene::{Backend, Scene};
+
+const OPTIONS: LearnedOptions = LearnedOptions {
+    groups: 8,
+    cell_records: 4,
+    mix: 0.5,
+    passes: 3,
+    base: Base::Bvh,
+};
+
+fn learned_af_hf(options: PathOptions) -> PathTracer<LightNextEvent> {
+    PathTracer::new(
+        "af_hf",
+        LightNextEvent::with_sampler("learned", |s: &RenderScene| {
+            Box::new(LearnedLights::new(&s.scene, &s.lights, OPTIONS))
+        }),
+        options,
+    )
+}
+
+#[test]
+fn learned_picks_follow_their_probabilities_and_keep_the_trees_share() {
+    let scene = Scene::build(many_lights(), Backend::Obvhs).expect("scene");
+    let lights = Lights::new(&scene);
+    let count = lights.lights.len();
+    let bvh = LightBvh::new(&scene, &lights);
+    let learned = LearnedLights::new(&scene, &lights, OPTIONS);
+    let mut rng = Rng::new(9);
+    let points = test_points(&mut rng);
+    // Each point's cell learns that one light (a different one at each point) brings almost
+    // all its light, and a few others a little.
+    let favourite = |k: usize| (7 * k + 3) % count;
+    let mut block = LightRecords::off();
+    for (k, &(p, n)) in points.iter().enumerate() {
+        for j in 0..50 {
+            let light = if j % 5 == 0 {
+                (k + j) % count
+            } else {
+                favourite(k)
+            };
+            block.records.push(LightRecord {
+                p,
+                n,
+                light: light as u32,
+                weight: if light == favourite(k) { 10.0 } else { 0.1 },
+            });
+        }
+    }
+    learned.learn(&[block]);
+    assert!(learned.cells_learned() > 0);
+    let alpha = 1.0 - 0.99f64.powf(1.0 / points.len() as f64);
+    for (k, (p, n)) in points.into_iter().enumerate() {
+        let ctx = LightContext {
+            p,
+            n,
+            sample: &SAMPLE,
+        };
+        picks_follow_pmf(&learned, &ctx, count, &mut rng, alpha);
+        for light in 0..count {
+            let tree = bvh.pmf(&ctx, light);
+            let mine = learned.pmf(&ctx, light);
+            assert!(
+                mine >= (1.0 - OPTIONS.mix) * tree * (1.0 - 1e-4),
+                "at {p}: light {light} has {mine}, below the tree's share of {tree}"
+            );
+        }
+        let f = favourite(k);
+        if bvh.pmf(&ctx, f) > 0.0 {
+            assert!(
+                learned.pmf(&ctx, f) > 1.5 * bvh.pmf(&ctx, f),
+                "at {p}: the favourite light {f} gained nothing ({} vs the tree's {})",
+                learned.pmf(&ctx, f),
+                bvh.pmf(&ctx, f)
+            );
+        }
+    }
+}
+
+#[test]
+fn af_hf_renders_the_same_image_with_the_learned_sampler_as_with_power_selection() {
+    for name in ["many lights", "kitchen-72-env"] {
+        let scene = || match name {
+            "many lights" => many_lights(),
+            other => builtin::load(other).expect("builtin"),
+        };
+        let options = PathOptions {
+            max_depth: 3,
+            ..Default::default()
+        };
+        let power = render(scene(), &mut af_hf(options, LightSelection::Power), 256, 2);
+        let learned = render(scene(), &mut learned_af_hf(options), 256, 2);
+        let t = fenestra_eval::agreement(&power.estimate(), &learned.estimate(), 0.01, 8)
+            .expect("sizes");
+        assert!(t.passed(), "{name}: {t:?}");
+        let one = render(scene(), &mut learned_af_hf(options), 16, 1);
+        let two = render(scene(), &mut learned_af_hf(options), 16, 2);
+        assert_eq!(
+            one.estimate().mean.pixels,
+            two.estimate().mean.pixels,
+            "{name}: 1 and 2 threads"
+        );
+        // Before it learns, the sampler is the light BVH: the same seed gives the BVH's
+        // image only if nothing was learned.
+        let bvh = render(scene(), &mut common::bvh_af_hf(options), 16, 2);
+        assert_ne!(
+            one.estimate().mean.pixels,
+            bvh.estimate().mean.pixels,
+            "{name}: the learned sampler learned nothing"
+        );
+    }
+}
