@@ -283,7 +283,7 @@ impl LightArgs {
                     },
                 };
                 options.check().map_err(IntegratorError::Options)?;
-                LightNextEvent::with_sampler(options.name(), move |s: &RenderScene| {
+                LightNextEvent::with_learning_sampler(options.name(), move |s: &RenderScene| {
                     Box::new(LearnedLights::new(&s.scene, &s.lights, options))
                 })
             }

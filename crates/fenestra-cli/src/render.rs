@@ -175,7 +175,7 @@ impl Job {
         let split = self.integrator.split();
         if split == Split::Whole {
             bail!(
-                "{} builds its caches from the whole image: it renders whole, not in pieces (--samples, --crop)",
+                "{} learns from, or builds caches from, every pixel's samples: it renders whole, not in pieces (--samples, --crop)",
                 self.integrator.name()
             );
         }

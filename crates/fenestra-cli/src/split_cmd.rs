@@ -83,7 +83,7 @@ fn plan(args: &SplitArgs, shape: &RenderShape) -> Result<job::Job> {
     };
     if shape.split == Split::Whole {
         bail!(
-            "{} builds its caches from the whole image: it cannot be split",
+            "{} learns from, or builds caches from, every pixel's samples: it cannot be split",
             shape.integrator
         );
     }

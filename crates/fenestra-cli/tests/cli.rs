@@ -1455,3 +1455,34 @@ fn estimated_portals_are_cached_and_the_next_render_reads_them() {
     let none = render("e.exr", &["--no-portal-cache"]);
     assert!(none["extra"].get("portal_estimation_s").is_some());
 }
+
+#[test]
+fn learned_light_selection_renders_whole_and_refuses_what_it_cannot_do() {
+    let out = tmp("learned.exr");
+    let o = render(&out, &["--light-selection", "learned", "--json"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let summary: serde_json::Value = serde_json::from_slice(&o.stdout).expect("--json prints JSON");
+    let name = summary["settings"]["light_selection"]
+        .as_str()
+        .expect("light selection");
+    assert!(name.starts_with("learned(mix 0.5"), "{name}");
+    let refused = |extra: &[&str], why: &str| {
+        let o = render(&tmp("refused.exr"), extra);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success() && err.contains(why), "{extra:?}: {err}");
+    };
+    // It learns from every pixel's samples: no pieces.
+    refused(
+        &["--light-selection", "learned", "--crop", "0,0,8,8"],
+        "renders whole, not in pieces",
+    );
+    refused(
+        &["--light-selection", "learned", "--learned-mix", "1"],
+        "--learned-mix must be at least 0 and below 1",
+    );
+    // sdrc has its own passes, which do not learn.
+    refused(
+        &["--integrator", "sdrc", "--light-selection", "learned"],
+        "learns from the passes of af_hf and lp_hf",
+    );
+}

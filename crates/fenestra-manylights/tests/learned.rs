@@ -28,7 +28,7 @@ const OPTIONS: LearnedOptions = LearnedOptions {
 fn learned_af_hf(options: PathOptions) -> PathTracer<LightNextEvent> {
     PathTracer::new(
         "af_hf",
-        LightNextEvent::with_sampler("learned", |s: &RenderScene| {
+        LightNextEvent::with_learning_sampler("learned", |s: &RenderScene| {
             Box::new(LearnedLights::new(&s.scene, &s.lights, OPTIONS))
         }),
         options,

@@ -315,6 +315,10 @@ impl NextEvent for PortalNextEvent {
         Ok(())
     }
 
+    fn learning(&self) -> bool {
+        self.lights.learning()
+    }
+
     fn learns(&self, pass: u32) -> bool {
         self.lights.learns(pass)
     }

@@ -21,6 +21,8 @@ pub struct LightNextEvent {
     name: String,
     build: Box<BuildSampler>,
     sampler: Box<dyn LightSampler>,
+    /// Whether the sampler learns from the render's passes (known before it is built).
+    learning: bool,
 }
 
 /// The light sampler before preparation: it picks nothing.
@@ -53,7 +55,25 @@ impl LightNextEvent {
             name: name.into(),
             build: Box::new(build),
             sampler: Box::new(Unprepared),
+            learning: false,
         }
+    }
+
+    /// As [`LightNextEvent::with_sampler`], for a sampler that learns from the render's
+    /// passes ([`LightSampler::learns`]): the render then cannot be split into pieces.
+    pub fn with_learning_sampler(
+        name: impl Into<String>,
+        build: impl Fn(&RenderScene) -> Box<dyn LightSampler> + Send + Sync + 'static,
+    ) -> Self {
+        LightNextEvent {
+            learning: true,
+            ..Self::with_sampler(name, build)
+        }
+    }
+
+    /// Whether the sampler learns from the render's passes.
+    pub fn learning(&self) -> bool {
+        self.learning
     }
 
     /// The light sampler.
@@ -156,6 +176,10 @@ impl NextEvent for LightNextEvent {
         rays: &mut RayCounters,
     ) -> Rgb {
         self.sample_light(scene, s, false, mis, sampler, records, rays)
+    }
+
+    fn learning(&self) -> bool {
+        self.learning
     }
 
     fn learns(&self, pass: u32) -> bool {

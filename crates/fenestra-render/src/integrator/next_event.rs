@@ -133,6 +133,12 @@ pub trait NextEvent: Send + Sync {
         rays: &mut RayCounters,
     ) -> Rgb;
 
+    /// Whether the strategy learns from the render's passes at all (known before
+    /// `prepare`): such a render cannot be split into pieces.
+    fn learning(&self) -> bool {
+        false
+    }
+
     /// Whether the strategy learns from the light samples of pass `pass`.
     fn learns(&self, _pass: u32) -> bool {
         false

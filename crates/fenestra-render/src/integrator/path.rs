@@ -167,7 +167,7 @@ impl<N: NextEvent> Integrator for PathTracer<N> {
     fn split(&self) -> Split {
         // A learned light sampler learns from every pixel's samples of the early passes: a
         // piece of the render would learn something else.
-        if self.next_event.learns(0) {
+        if self.next_event.learning() {
             Split::Whole
         } else {
             Split::SamplesOrTiles
