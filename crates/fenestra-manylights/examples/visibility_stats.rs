@@ -21,6 +21,16 @@ const TRIES: usize = 8;
 /// Sky regions, as ias makes them.
 const REGIONS: usize = 300;
 
+/// What one image row saw: which lights and regions lit some point, how many lit each
+/// point in all, and its points.
+struct Row {
+    seen_l: Vec<bool>,
+    seen_r: Vec<bool>,
+    lit_l: u64,
+    lit_r: u64,
+    points: u64,
+}
+
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut names: Vec<String> = std::env::args().skip(1).collect();
     if names.is_empty() {
@@ -60,7 +70,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             sky::regions(&scene.lights, REGIONS)
         };
         let (w, h) = (160u32, 90u32);
-        let rows: Vec<(Vec<bool>, Vec<bool>, u64, u64, u64)> = (0..h)
+        let rows: Vec<Row> = (0..h)
             .into_par_iter()
             .map(|y| {
                 let mut rng = Rng::new(0x5eed ^ u64::from(y));
@@ -116,16 +126,24 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                         lit_r += u64::from(lit);
                     }
                 }
-                (seen_l, seen_r, lit_l, lit_r, points)
+                Row {
+                    seen_l,
+                    seen_r,
+                    lit_l,
+                    lit_r,
+                    points,
+                }
             })
             .collect();
         let mut seen_l = vec![false; sources];
         let mut seen_r = vec![false; regions.len()];
         let (mut lit_l, mut lit_r, mut points) = (0u64, 0u64, 0u64);
-        for (sl, sr, l, r, p) in rows {
-            seen_l.iter_mut().zip(sl).for_each(|(a, b)| *a |= b);
-            seen_r.iter_mut().zip(sr).for_each(|(a, b)| *a |= b);
-            (lit_l, lit_r, points) = (lit_l + l, lit_r + r, points + p);
+        for row in rows {
+            seen_l.iter_mut().zip(row.seen_l).for_each(|(a, b)| *a |= b);
+            seen_r.iter_mut().zip(row.seen_r).for_each(|(a, b)| *a |= b);
+            lit_l += row.lit_l;
+            lit_r += row.lit_r;
+            points += row.points;
         }
         let count = |v: &[bool]| v.iter().filter(|&&b| b).count();
         let pct = |a: f64, of: usize| {
