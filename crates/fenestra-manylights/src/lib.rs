@@ -18,5 +18,5 @@ pub mod sky;
 pub use bounds::{DirectionCone, LightBounds};
 pub use bvh::LightBvh;
 pub use forest::{Cluster, Forest, Sphere, CUT_SOLID_ANGLE};
-pub use ias::{Ias, IasOptions};
+pub use ias::{Ias, IasOptions, PdfTrace};
 pub use learned::{LearnedLights, LearnedOptions};

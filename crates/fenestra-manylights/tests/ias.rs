@@ -1,5 +1,6 @@
 //! `ias` against af_hf: the same image (direct light) within the standard errors both report,
-//! with the shared-weight combination; the same pixels on one thread as on two.
+//! with the shared-weight combination; the same pixels on one thread as on two; a traced
+//! pixel's PDFs (the seed's Fig. 4.10).
 
 mod common;
 
@@ -7,6 +8,8 @@ use common::{bvh_af_hf, many_lights, render};
 use fenestra_manylights::ias::Combine;
 use fenestra_manylights::{Ias, IasOptions};
 use fenestra_render::integrator::PathOptions;
+use fenestra_render::{Integrator, RenderControl, RenderScene};
+use fenestra_scene::{Backend, Scene};
 
 fn ias(combine: Combine) -> Ias {
     Ias::new(IasOptions {
@@ -56,4 +59,40 @@ fn ias_gives_the_same_pixels_on_one_thread_as_on_two() {
             two.estimate().variance.pixels
         );
     }
+}
+
+#[test]
+fn a_traced_pixel_starts_uniform_and_adapts_its_pdf() {
+    let scene = RenderScene::new(Scene::build(many_lights(), Backend::Obvhs).expect("scene"));
+    let mut ias = Ias::new(IasOptions::default()).expect("options");
+    ias.prepare(&scene, &RenderControl::unattended())
+        .expect("prepare");
+    let trace = ias
+        .pdf_trace(&scene, 24, 24, 5, 12, 12)
+        .expect("the centre sees the floor");
+    assert!(trace.passes.len() >= 2, "{} passes", trace.passes.len());
+    let n = trace.clusters.len();
+    for (pass, pdf) in trace.passes.iter().enumerate() {
+        assert_eq!(pdf.len(), n);
+        let total: f32 = pdf.iter().sum();
+        assert!((total - 1.0).abs() < 1e-4, "pass {pass} sums to {total}");
+    }
+    assert!(trace.passes[0]
+        .iter()
+        .all(|&p| (p - 1.0 / n as f32).abs() < 1e-6));
+    assert!(
+        trace.passes[1]
+            .iter()
+            .any(|&p| (p - 1.0 / n as f32).abs() > 0.1 / n as f32),
+        "pass 1 learned nothing"
+    );
+    // The pixel took as many passes in a whole render (its block renders alone either way).
+    let mut whole = Ias::new(IasOptions::default()).expect("options");
+    render(many_lights(), &mut whole, 1, 2);
+    let passes = whole
+        .work_maps()
+        .into_iter()
+        .find(|m| m.name == "passes")
+        .expect("a passes map");
+    assert_eq!(passes.values[12 * 24 + 12] as usize, trace.passes.len());
 }

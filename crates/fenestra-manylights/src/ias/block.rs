@@ -3,7 +3,7 @@
 
 use super::estimate::{luminance, pass_estimate, PointSums};
 use super::feedback::{blend, component, normal_class, Stat};
-use super::{BlockResult, Combine, Far, Ias, Pdf, PixelOut, REFERENCE_PASS_RAYS};
+use super::{BlockResult, Combine, Far, Ias, Pdf, PdfTrace, PixelOut, REFERENCE_PASS_RAYS};
 use crate::forest::{Forest, NO_PARENT};
 use fenestra_core::stats::RayCounters;
 use fenestra_core::{Ray, Rgb, Sampler, Vec2, Vec3};
@@ -53,6 +53,13 @@ pub(super) struct Point {
     pub(super) cut: Vec<u32>,
 }
 
+/// The index of the point of the largest region.
+fn largest(points: &[Point]) -> usize {
+    (0..points.len())
+        .max_by(|&a, &b| points[a].area.total_cmp(&points[b].area).then(b.cmp(&a)))
+        .unwrap_or(0)
+}
+
 /// One pixel of the block.
 struct PixelState {
     x: u32,
@@ -78,6 +85,8 @@ struct PixelState {
     next_sample: u32,
     /// Its rows of the pixel statistics: node slot -> stat, per class present.
     stats: Vec<(usize, Vec<Stat>)>,
+    /// For the pixel whose PDFs are traced: its largest region's PDF in each pass.
+    trace: Option<Vec<Vec<f32>>>,
 }
 
 impl PixelState {
@@ -111,6 +120,8 @@ pub(super) struct BlockRender<'a> {
     pub(super) seed: u64,
     pub(super) width: u32,
     pub(super) height: u32,
+    /// A pixel whose PDFs to keep pass by pass (the seed's Fig. 4.10).
+    pub(super) trace: Option<(u32, u32)>,
 }
 
 impl BlockRender<'_> {
@@ -187,7 +198,16 @@ impl BlockRender<'_> {
                 mean[2] + e.b as f64,
             ];
             let regions = p.points.len() as u32;
+            let trace = p
+                .trace
+                .as_ref()
+                .filter(|_| !p.points.is_empty())
+                .map(|passes| PdfTrace {
+                    clusters: p.points[largest(&p.points)].cut.clone(),
+                    passes: passes.clone(),
+                });
             out.push(PixelOut {
+                trace,
                 x: p.x,
                 y: p.y,
                 mean,
@@ -352,6 +372,7 @@ impl BlockRender<'_> {
             visible_rays: 0,
             next_sample: MAX_EYE_RAYS,
             stats: Vec::new(),
+            trace: (self.trace == Some((x, y))).then(Vec::new),
         }
     }
 
@@ -390,6 +411,9 @@ impl BlockRender<'_> {
         let pdfs: Vec<Vec<f32>> = (0..p.points.len())
             .map(|i| self.point_pdf(&p.points[i], p, pass, block, slot))
             .collect();
+        if let Some(trace) = &mut p.trace {
+            trace.push(pdfs[largest(&p.points)].clone());
+        }
         let pixel_index = u64::from(p.y) * u64::from(self.width) + u64::from(p.x);
         let mut drawn = 0u32;
         let mut round = budget;

@@ -165,8 +165,20 @@ impl Ias {
     }
 }
 
+/// The PDFs one point sampled its cut with, pass by pass (the seed's Fig. 4.10).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PdfTrace {
+    /// The clusters of the point's cut: forest nodes, and past the forest's nodes the
+    /// clusters outside it (lights at infinity, sky regions).
+    pub clusters: Vec<u32>,
+    /// Per pass, the probability of each cluster.
+    pub passes: Vec<Vec<f32>>,
+}
+
 /// A finished pixel: its estimate and variance, and what it took.
 struct PixelOut {
+    /// Its PDFs pass by pass, if traced.
+    trace: Option<PdfTrace>,
     x: u32,
     y: u32,
     mean: [f64; 3],
@@ -187,6 +199,35 @@ struct BlockResult {
     cut_sizes: u64,
     points: u64,
     max_passes: u32,
+}
+
+impl Ias {
+    /// The PDFs the largest region of pixel (x, y) samples its cut with, pass by pass, as a
+    /// `width` x `height` render with `seed` takes them (its block is rendered alone, as
+    /// every block is); `None` where the pixel sees no surface. Prepare first.
+    #[allow(clippy::too_many_arguments)]
+    pub fn pdf_trace(
+        &self,
+        scene: &RenderScene,
+        width: u32,
+        height: u32,
+        seed: u64,
+        x: u32,
+        y: u32,
+    ) -> Option<PdfTrace> {
+        let forest = self.forest.as_ref()?;
+        let block = BlockRender {
+            ias: self,
+            forest,
+            scene,
+            seed,
+            width,
+            height,
+            trace: Some((x, y)),
+        }
+        .render(x / BLOCK * BLOCK, y / BLOCK * BLOCK);
+        block.pixels.into_iter().find_map(|p| p.trace)
+    }
 }
 
 impl Integrator for Ias {
@@ -276,6 +317,7 @@ impl Integrator for Ias {
                     seed: settings.seed,
                     width: window.full_width,
                     height: window.full_height,
+                    trace: None,
                 }
                 .render(window.x0 + (b % bx) * BLOCK, window.y0 + (b / bx) * BLOCK);
                 control.progress.advance(1);
