@@ -212,6 +212,11 @@ pub struct LightArgs {
     /// learn about which lights each region of the scene actually sees).
     #[arg(long, value_enum, default_value = "power")]
     light_selection: LightChoice,
+    /// With --light-selection bvh: adaptive splitting. Near the top of the tree, a node whose
+    /// box the point sees with 1/d^2 varying by more than this factor gets a light sample for
+    /// each child (up to 8 per estimate) instead of a choice between them; 0 never splits.
+    #[arg(long, default_value_t = 0.0)]
+    bvh_split: f32,
     /// With --light-selection learned: the share of light samples drawn from what was
     /// learned (the rest by the light tree, which keeps every light that can reach a point
     /// samplable).
@@ -258,9 +263,29 @@ impl LightArgs {
     /// of light sampling and for Dirac lights); `learns`: whether the integrator lets a
     /// learned sampler learn from its passes.
     fn next_event(&self, learns: bool) -> Result<LightNextEvent, IntegratorError> {
+        if !(self.bvh_split.is_finite() && self.bvh_split >= 0.0) {
+            return Err(IntegratorError::Options(format!(
+                "--bvh-split must be 0 (off) or a positive factor, got {}",
+                self.bvh_split
+            )));
+        }
+        if self.bvh_split > 0.0 && !matches!(self.light_selection, LightChoice::Bvh) {
+            return Err(IntegratorError::Options(
+                "--bvh-split splits the light BVH: use it with --light-selection bvh".into(),
+            ));
+        }
         Ok(match self.light_selection {
             LightChoice::Power => LightNextEvent::new(LightSelection::Power),
             LightChoice::Uniform => LightNextEvent::new(LightSelection::Uniform),
+            LightChoice::Bvh if self.bvh_split > 0.0 => {
+                let split = self.bvh_split;
+                LightNextEvent::with_sampler(
+                    format!("bvh(split {split})"),
+                    move |s: &RenderScene| {
+                        Box::new(LightBvh::new(&s.scene, &s.lights).with_splitting(split))
+                    },
+                )
+            }
             LightChoice::Bvh => LightNextEvent::with_sampler("bvh", |s: &RenderScene| {
                 Box::new(LightBvh::new(&s.scene, &s.lights))
             }),
@@ -465,6 +490,13 @@ pub fn registry<'a>() -> Registry<Config<'a>> {
             "path tracing that aims through windows and openings (light portals; seed 000's LP_HF)",
             |c: &Config| {
                 let options = c.args.portals.options(c.scene)?;
+                if options.light_mix > 0.0 && c.args.lights.bvh_split > 0.0 {
+                    return Err(IntegratorError::Options(
+                        "--portal-light-mix draws one light at a time: not with --bvh-split, \
+                         whose estimates take several"
+                            .into(),
+                    ));
+                }
                 Ok(Box::new(fenestra_portals::lp_hf(
                     c.path,
                     options,

@@ -6,7 +6,7 @@
 
 use crate::bounds::{DirectionCone, LightBounds};
 use fenestra_core::{Vec3, PI};
-use fenestra_render::light::{Light, LightContext, LightSampler, Lights};
+use fenestra_render::light::{Light, LightContext, LightSampler, Lights, Picks};
 use fenestra_scene::{Scene, ShapeKind, SurfaceInteraction};
 
 /// Buckets per axis of the split search.
@@ -37,7 +37,14 @@ pub struct LightBvh {
     /// For each light in the tree, the turns from the root to its leaf (bit k: the second
     /// child at depth k); [`NO_TRAIL`] for lights at infinity and lights that send nothing.
     trail: Vec<u128>,
+    /// Adaptive splitting: the spread of 1/d^2 over a node's box above which both its
+    /// children are sampled (0: never).
+    split: f32,
 }
+
+/// Depth down to which nodes may be split: at most 2^3 = 8 picks
+/// ([`fenestra_render::light::MAX_PICKS`]).
+const SPLIT_DEPTH: u32 = 3;
 
 /// The bounds of one light, `None` for lights at infinity; lights that send nothing get a
 /// zero `phi`.
@@ -136,6 +143,7 @@ impl LightBvh {
             nodes: Vec::with_capacity(2 * items.len()),
             infinite,
             trail: vec![NO_TRAIL; lights.lights.len()],
+            split: 0.0,
         };
         if !items.is_empty() {
             bvh.build(&mut items, 0, 0);
@@ -183,6 +191,51 @@ impl LightBvh {
             0.0
         } else {
             1.0 / (self.infinite.len() + 1) as f32
+        }
+    }
+
+    /// The tree with adaptive splitting (after Conty Estevez and Kulla 2018, with our own
+    /// criterion): a node within [`SPLIT_DEPTH`] of the root whose box the point sees with
+    /// 1/d^2 varying by more than `threshold` (farthest over nearest squared distance; the
+    /// point inside the box counts as infinite) is not chosen between: each child gets a
+    /// pick of its own, so one next-event estimate takes up to 8 lights where the tree's
+    /// importance says least. 0 turns splitting off.
+    pub fn with_splitting(mut self, threshold: f32) -> Self {
+        self.split = threshold.max(0.0);
+        self
+    }
+
+    /// Whether both children of `node`, at `depth`, get picks at `ctx`.
+    fn splits(&self, node: usize, depth: u32, ctx: &LightContext) -> bool {
+        if self.split <= 0.0 || depth >= SPLIT_DEPTH || self.nodes[node].leaf {
+            return false;
+        }
+        let b = &self.nodes[node].bounds;
+        let nearest = ctx.p.clamp(b.lo, b.hi) - ctx.p;
+        let farthest = (ctx.p - b.lo).abs().max((ctx.p - b.hi).abs());
+        farthest.length_squared() > self.split * nearest.length_squared()
+    }
+
+    /// Picks by splitting from `node` at `depth`, reached with probability `pmf`.
+    fn split_picks(
+        &self,
+        node: usize,
+        depth: u32,
+        pmf: f32,
+        ctx: &LightContext,
+        u: f32,
+        picks: &mut Picks,
+    ) {
+        if self.splits(node, depth, ctx) {
+            let (first, second) = self.children(node).expect("split nodes are interior");
+            for child in [first, second] {
+                // A child that cannot light the point gets no pick (it would send nothing).
+                if self.nodes[child].bounds.importance(ctx.p, ctx.n) > 0.0 {
+                    self.split_picks(child, depth + 1, pmf, ctx, u, picks);
+                }
+            }
+        } else if let Some(pick) = self.descend(node, pmf, ctx, u, |_, _| {}) {
+            picks.push(pick);
         }
     }
 
@@ -386,6 +439,9 @@ impl LightBvh {
         if bits == NO_TRAIL {
             return 0.0;
         }
+        // Splitting stops at the first node that is chosen in (the descent below it does
+        // not split).
+        let mut splitting = self.split > 0.0;
         loop {
             if !visit(node, pmf) {
                 return pmf;
@@ -396,6 +452,17 @@ impl LightBvh {
                 return if ok { pmf } else { 0.0 };
             }
             let (first, second) = (node + 1, n.index as usize);
+            splitting = splitting && self.splits(node, depth, ctx);
+            if splitting {
+                // Both children have picks: the light's is in its child for sure.
+                node = if bits & (1 << depth) == 0 {
+                    first
+                } else {
+                    second
+                };
+                depth += 1;
+                continue;
+            }
             let c0 = self.nodes[first].bounds.importance(ctx.p, ctx.n);
             let c1 = self.nodes[second].bounds.importance(ctx.p, ctx.n);
             if c0 + c1 <= 0.0 {
@@ -435,6 +502,20 @@ impl LightSampler for LightBvh {
             return Some((self.infinite[k], (1.0 - p_tree) / n as f32));
         }
         self.descend(0, p_tree, ctx, u / p_tree, |_, _| {})
+    }
+
+    /// With splitting, the picks of one estimate; `sample` alone is then the unsplit
+    /// descent, whose probabilities `pmf` no longer gives (a one-pick mixture such as
+    /// lp_hf's `--portal-light-mix` cannot use a splitting tree).
+    fn sample_all(&self, ctx: &LightContext, u: f32, picks: &mut Picks) {
+        let p_tree = self.tree_probability();
+        if u >= p_tree || self.split <= 0.0 {
+            if let Some(pick) = self.sample(ctx, u) {
+                picks.push(pick);
+            }
+            return;
+        }
+        self.split_picks(0, 0, p_tree, ctx, u / p_tree, picks);
     }
 
     fn pmf(&self, ctx: &LightContext, light: usize) -> f32 {

@@ -1,6 +1,7 @@
 //! The light BVH as a light sampler: its probabilities sum to one, its picks follow them
 //! (chi-square), it reports the probability of what it picks, and af_hf renders the same
-//! image with it as with power selection, the same with one thread as with two.
+//! image with it as with power selection, the same with one thread as with two; so does a
+//! tree that splits, whose picks come as often as its probabilities say.
 
 mod common;
 
@@ -8,8 +9,9 @@ use common::{bvh_af_hf, many_lights, picks_follow_pmf, render, test_points, SAMP
 use fenestra_builtin as builtin;
 use fenestra_core::Rng;
 use fenestra_manylights::LightBvh;
-use fenestra_render::integrator::{af_hf, PathOptions};
-use fenestra_render::light::{LightContext, LightSelection, Lights};
+use fenestra_render::integrator::{af_hf, LightNextEvent, PathOptions, PathTracer};
+use fenestra_render::light::{LightContext, LightSampler, LightSelection, Lights, Picks};
+use fenestra_render::RenderScene;
 use fenestra_scene::{Backend, Scene};
 
 #[test]
@@ -58,4 +60,76 @@ fn af_hf_renders_the_same_image_with_the_bvh_as_with_power_selection() {
             "{name}: 1 and 2 threads"
         );
     }
+}
+
+#[test]
+fn a_splitting_tree_picks_each_light_as_often_as_its_probability_says() {
+    let scene = Scene::build(many_lights(), Backend::Obvhs).expect("scene");
+    let lights = Lights::new(&scene);
+    let bvh = LightBvh::new(&scene, &lights).with_splitting(4.0);
+    let mut rng = Rng::new(11);
+    let mut split_somewhere = false;
+    for (p, n) in test_points(&mut rng) {
+        let ctx = LightContext {
+            p,
+            n,
+            sample: &SAMPLE,
+        };
+        // Each light is in at most one pick of an estimate, with probability pmf.
+        const DRAWS: usize = 100_000;
+        let mut counts = vec![0usize; lights.lights.len()];
+        let mut picks_total = 0;
+        for _ in 0..DRAWS {
+            let mut picks = Picks::default();
+            bvh.sample_all(&ctx, rng.next_f32(), &mut picks);
+            picks_total += picks.as_slice().len();
+            for &(light, q) in picks.as_slice() {
+                let pmf = bvh.pmf(&ctx, light);
+                assert!(
+                    (q - pmf).abs() <= 1e-4 * pmf.max(1e-3),
+                    "at {p}: pick of light {light} with {q}, pmf {pmf}"
+                );
+                counts[light] += 1;
+            }
+        }
+        split_somewhere |= picks_total > DRAWS;
+        for (light, &c) in counts.iter().enumerate() {
+            let e = DRAWS as f64 * f64::from(bvh.pmf(&ctx, light));
+            let sd = (e * (1.0 - e / DRAWS as f64)).max(0.0).sqrt();
+            assert!(
+                (c as f64 - e).abs() <= 5.0 * sd + 3.0,
+                "at {p}: light {light} picked {c} times, expected {e:.0}"
+            );
+        }
+    }
+    assert!(split_somewhere, "the tree never split");
+}
+
+#[test]
+fn af_hf_renders_the_same_image_with_a_splitting_tree() {
+    let options = PathOptions {
+        max_depth: 3,
+        ..Default::default()
+    };
+    let splitting = || {
+        PathTracer::new(
+            "af_hf",
+            LightNextEvent::with_sampler("bvh split", |s: &RenderScene| {
+                Box::new(LightBvh::new(&s.scene, &s.lights).with_splitting(4.0))
+            }),
+            options,
+        )
+    };
+    let power = render(
+        many_lights(),
+        &mut af_hf(options, LightSelection::Power),
+        256,
+        2,
+    );
+    let split = render(many_lights(), &mut splitting(), 64, 2);
+    let t = fenestra_eval::agreement(&power.estimate(), &split.estimate(), 0.01, 8).expect("sizes");
+    assert!(t.passed(), "{t:?}");
+    let one = render(many_lights(), &mut splitting(), 8, 1);
+    let two = render(many_lights(), &mut splitting(), 8, 2);
+    assert_eq!(one.estimate().mean.pixels, two.estimate().mean.pixels);
 }

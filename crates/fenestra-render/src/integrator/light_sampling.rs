@@ -6,11 +6,11 @@ use super::next_event::{Found, NextEvent, Scattered, Shading};
 use super::IntegratorError;
 use crate::control::RenderControl;
 use crate::driver::SampleContext;
-use crate::light::{LightContext, LightRecord, LightRecords, LightSampler, LightSelection};
+use crate::light::{LightContext, LightRecord, LightRecords, LightSampler, LightSelection, Picks};
 use crate::render_scene::RenderScene;
 use fenestra_core::mis::MisHeuristic;
 use fenestra_core::stats::RayCounters;
-use fenestra_core::{Ray, Rgb, Sampler, Vec3};
+use fenestra_core::{Ray, Rgb, Sampler, Vec2, Vec3};
 
 /// Builds a light sampler for a scene.
 type BuildSampler = dyn Fn(&RenderScene) -> Box<dyn LightSampler> + Send + Sync;
@@ -99,9 +99,30 @@ impl LightNextEvent {
     ) -> Rgb {
         let u_pick = sampler.next_1d();
         let u = sampler.next_2d();
-        let Some((index, pick)) = self.sampler.sample(&s.light_context(), u_pick) else {
-            return Rgb::ZERO;
-        };
+        let mut picks = Picks::default();
+        self.sampler
+            .sample_all(&s.light_context(), u_pick, &mut picks);
+        let mut l = Rgb::ZERO;
+        for &(index, pick) in picks.as_slice() {
+            l += self.light_sample(scene, s, (index, pick), u, delta_only, mis, records, rays);
+        }
+        l
+    }
+
+    /// What light `index`, picked with probability `pick`, brings to `s` through a point
+    /// drawn with `u` on it, weighted by MIS; see [`LightNextEvent::sample_light`].
+    #[allow(clippy::too_many_arguments)]
+    fn light_sample(
+        &self,
+        scene: &RenderScene,
+        s: &Shading,
+        (index, pick): (usize, f32),
+        u: Vec2,
+        delta_only: bool,
+        mis: MisHeuristic,
+        records: &mut LightRecords,
+        rays: &mut RayCounters,
+    ) -> Rgb {
         let Some(ls) = scene.lights.lights[index].sample_li(&scene.scene, s.si.p, u) else {
             return Rgb::ZERO;
         };

@@ -23,8 +23,18 @@ pub struct LightContext<'a> {
 pub trait LightSampler: Send + Sync {
     /// Picks a light at `ctx`: (light index, probability).
     fn sample(&self, ctx: &LightContext, u: f32) -> Option<(usize, f32)>;
-    /// Probability that `sample` picks `light` at `ctx`.
+    /// Probability that `sample` picks `light` at `ctx` (for a sampler that picks several,
+    /// the probability that the pick standing for `light`'s part of the light is `light`).
     fn pmf(&self, ctx: &LightContext, light: usize) -> f32;
+
+    /// The lights one next-event estimate takes at `ctx`: each pick stands for its own part
+    /// of the lights (disjoint), and their estimates add. One pick by `sample` unless the
+    /// sampler splits.
+    fn sample_all(&self, ctx: &LightContext, u: f32, picks: &mut Picks) {
+        if let Some(pick) = self.sample(ctx, u) {
+            picks.push(pick);
+        }
+    }
 
     /// Whether the sampler learns from the light samples of pass `pass` (a learned sampler;
     /// the fixed ones learn nothing).
@@ -35,6 +45,33 @@ pub trait LightSampler: Send + Sync {
     /// Learns from the light samples of a pass it asked for, every block's in block order;
     /// what it learns applies from the next pass on.
     fn learn(&self, _blocks: &[LightRecords]) {}
+}
+
+/// Most lights one next-event estimate picks.
+pub const MAX_PICKS: usize = 8;
+
+/// The lights picked for one next-event estimate, with their probabilities.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Picks {
+    len: usize,
+    items: [(usize, f32); MAX_PICKS],
+}
+
+impl Picks {
+    /// Adds a pick; false (and nothing added) once [`MAX_PICKS`] are there.
+    pub fn push(&mut self, pick: (usize, f32)) -> bool {
+        if self.len == MAX_PICKS {
+            return false;
+        }
+        self.items[self.len] = pick;
+        self.len += 1;
+        true
+    }
+
+    /// The picks so far.
+    pub fn as_slice(&self) -> &[(usize, f32)] {
+        &self.items[..self.len]
+    }
 }
 
 /// The fixed light samplers, by name.
