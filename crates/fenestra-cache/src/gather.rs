@@ -348,33 +348,21 @@ impl CacheGather<'_> {
             emitted: false,
             hit,
         };
-        let tracer = &self.sdrc.tracer;
-        if self.caches.photons.is_empty() {
-            return tracer.trace(
-                scene,
-                ray,
-                start,
-                sampler,
-                s.sample,
-                &mut LightRecords::off(),
-                rays,
-                &mut NoGather,
-            );
-        }
-        let mut photons = PhotonGather {
-            map: &self.caches.photons,
-            scratch: &mut self.work.photon_scratch,
+        // Cache rays teach no light sampler.
+        let off = &mut LightRecords::off();
+        let (mut none, mut photons);
+        let gather: &mut dyn Gather = if self.caches.photons.is_empty() {
+            none = NoGather;
+            &mut none
+        } else {
+            photons = PhotonGather {
+                map: &self.caches.photons,
+                scratch: &mut self.work.photon_scratch,
+            };
+            &mut photons
         };
-        tracer.trace(
-            scene,
-            ray,
-            start,
-            sampler,
-            s.sample,
-            &mut LightRecords::off(),
-            rays,
-            &mut photons,
-        )
+        let tracer = &self.sdrc.tracer;
+        tracer.trace(scene, ray, start, sampler, s.sample, off, rays, gather)
     }
 }
 

@@ -5,15 +5,15 @@
 
 mod common;
 
-use common::{many_lights, picks_follow_pmf, render, test_points, SAMPLE};
+use common::{
+    agrees_with_power_selection, many_lights, picks_follow_pmf, render, test_points, SAMPLE,
+};
 use fenestra_builtin as builtin;
 use fenestra_core::Rng;
 use fenestra_manylights::learned::Base;
 use fenestra_manylights::{LearnedLights, LearnedOptions, LightBvh};
-use fenestra_render::integrator::{af_hf, LightNextEvent, PathOptions, PathTracer};
-use fenestra_render::light::{
-    LightContext, LightRecord, LightRecords, LightSampler, LightSelection, Lights,
-};
+use fenestra_render::integrator::{LightNextEvent, PathOptions, PathTracer};
+use fenestra_render::light::{LightContext, LightRecord, LightRecords, LightSampler, Lights};
 use fenestra_render::RenderScene;
 use fenestra_scene::{Backend, Scene};
 
@@ -95,8 +95,10 @@ fn learned_picks_follow_their_probabilities_and_keep_the_trees_share() {
 
 #[test]
 fn af_hf_renders_the_same_image_with_the_learned_sampler_as_with_power_selection() {
-    for name in ["many lights", "kitchen-72-env"] {
-        let scene = || match name {
+    for (name, image) in agrees_with_power_selection(learned_af_hf) {
+        // Before it learns, the sampler is the light BVH: the same seed gives the BVH's
+        // image only if nothing was learned.
+        let scene = match name {
             "many lights" => many_lights(),
             other => builtin::load(other).expect("builtin"),
         };
@@ -104,23 +106,9 @@ fn af_hf_renders_the_same_image_with_the_learned_sampler_as_with_power_selection
             max_depth: 3,
             ..Default::default()
         };
-        let power = render(scene(), &mut af_hf(options, LightSelection::Power), 256, 2);
-        let learned = render(scene(), &mut learned_af_hf(options), 256, 2);
-        let t = fenestra_eval::agreement(&power.estimate(), &learned.estimate(), 0.01, 8)
-            .expect("sizes");
-        assert!(t.passed(), "{name}: {t:?}");
-        let one = render(scene(), &mut learned_af_hf(options), 16, 1);
-        let two = render(scene(), &mut learned_af_hf(options), 16, 2);
-        assert_eq!(
-            one.estimate().mean.pixels,
-            two.estimate().mean.pixels,
-            "{name}: 1 and 2 threads"
-        );
-        // Before it learns, the sampler is the light BVH: the same seed gives the BVH's
-        // image only if nothing was learned.
-        let bvh = render(scene(), &mut common::bvh_af_hf(options), 16, 2);
+        let bvh = render(scene, &mut common::bvh_af_hf(options), 16, 1);
         assert_ne!(
-            one.estimate().mean.pixels,
+            image.estimate().mean.pixels,
             bvh.estimate().mean.pixels,
             "{name}: the learned sampler learned nothing"
         );

@@ -5,12 +5,13 @@
 
 mod common;
 
-use common::{bvh_af_hf, many_lights, picks_follow_pmf, render, test_points, SAMPLE};
-use fenestra_builtin as builtin;
+use common::{
+    agrees_with_power_selection, bvh_af_hf, many_lights, picks_follow_pmf, test_points, SAMPLE,
+};
 use fenestra_core::Rng;
 use fenestra_manylights::LightBvh;
-use fenestra_render::integrator::{af_hf, LightNextEvent, PathOptions, PathTracer};
-use fenestra_render::light::{LightContext, LightSampler, LightSelection, Lights, Picks};
+use fenestra_render::integrator::{LightNextEvent, PathTracer};
+use fenestra_render::light::{LightContext, LightSampler, Lights, Picks};
 use fenestra_render::RenderScene;
 use fenestra_scene::{Backend, Scene};
 
@@ -38,28 +39,7 @@ fn probabilities_sum_to_one_and_picks_follow_them() {
 
 #[test]
 fn af_hf_renders_the_same_image_with_the_bvh_as_with_power_selection() {
-    for name in ["many lights", "kitchen-72-env"] {
-        let scene = || match name {
-            "many lights" => many_lights(),
-            other => builtin::load(other).expect("builtin"),
-        };
-        let options = PathOptions {
-            max_depth: 3,
-            ..Default::default()
-        };
-        let power = render(scene(), &mut af_hf(options, LightSelection::Power), 256, 2);
-        let bvh = render(scene(), &mut bvh_af_hf(options), 256, 2);
-        let t =
-            fenestra_eval::agreement(&power.estimate(), &bvh.estimate(), 0.01, 8).expect("sizes");
-        assert!(t.passed(), "{name}: {t:?}");
-        let one = render(scene(), &mut bvh_af_hf(options), 16, 1);
-        let two = render(scene(), &mut bvh_af_hf(options), 16, 2);
-        assert_eq!(
-            one.estimate().mean.pixels,
-            two.estimate().mean.pixels,
-            "{name}: 1 and 2 threads"
-        );
-    }
+    agrees_with_power_selection(bvh_af_hf);
 }
 
 #[test]
@@ -107,11 +87,7 @@ fn a_splitting_tree_picks_each_light_as_often_as_its_probability_says() {
 
 #[test]
 fn af_hf_renders_the_same_image_with_a_splitting_tree() {
-    let options = PathOptions {
-        max_depth: 3,
-        ..Default::default()
-    };
-    let splitting = || {
+    agrees_with_power_selection(|options| {
         PathTracer::new(
             "af_hf",
             LightNextEvent::with_sampler("bvh split", |s: &RenderScene| {
@@ -119,17 +95,5 @@ fn af_hf_renders_the_same_image_with_a_splitting_tree() {
             }),
             options,
         )
-    };
-    let power = render(
-        many_lights(),
-        &mut af_hf(options, LightSelection::Power),
-        256,
-        2,
-    );
-    let split = render(many_lights(), &mut splitting(), 64, 2);
-    let t = fenestra_eval::agreement(&power.estimate(), &split.estimate(), 0.01, 8).expect("sizes");
-    assert!(t.passed(), "{t:?}");
-    let one = render(many_lights(), &mut splitting(), 8, 1);
-    let two = render(many_lights(), &mut splitting(), 8, 2);
-    assert_eq!(one.estimate().mean.pixels, two.estimate().mean.pixels);
+    });
 }

@@ -206,3 +206,42 @@ pub fn test_points(rng: &mut Rng) -> Vec<(Vec3, Vec3)> {
         })
         .collect()
 }
+
+/// af_hf with the light sampler `make` gives agrees with power selection (z-tests over the
+/// image and 8x8 regions, 256 samples, path length 3) on the 40-light scene and
+/// kitchen-72-env, with the same pixels on one thread as on two; returns each scene's name
+/// and its 16-sample image.
+pub fn agrees_with_power_selection(
+    make: impl Fn(PathOptions) -> PathTracer<LightNextEvent>,
+) -> Vec<(&'static str, Film)> {
+    let options = PathOptions {
+        max_depth: 3,
+        ..Default::default()
+    };
+    ["many lights", "kitchen-72-env"]
+        .into_iter()
+        .map(|name| {
+            let scene = || match name {
+                "many lights" => many_lights(),
+                other => fenestra_builtin::load(other).expect("builtin"),
+            };
+            let mut power = fenestra_render::integrator::af_hf(
+                options,
+                fenestra_render::light::LightSelection::Power,
+            );
+            let power = render(scene(), &mut power, 256, 2);
+            let image = render(scene(), &mut make(options), 256, 2);
+            let t = fenestra_eval::agreement(&power.estimate(), &image.estimate(), 0.01, 8)
+                .expect("sizes");
+            assert!(t.passed(), "{name}: {t:?}");
+            let one = render(scene(), &mut make(options), 16, 1);
+            let two = render(scene(), &mut make(options), 16, 2);
+            assert_eq!(
+                one.estimate().mean.pixels,
+                two.estimate().mean.pixels,
+                "{name}: 1 and 2 threads"
+            );
+            (name, one)
+        })
+        .collect()
+}

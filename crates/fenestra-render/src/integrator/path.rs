@@ -233,7 +233,7 @@ impl<N: NextEvent> PathTracer<N> {
         ctx: &SampleContext,
         records: &mut LightRecords,
         rays: &mut RayCounters,
-        gather: &mut impl Gather,
+        gather: &mut (impl Gather + ?Sized),
     ) -> Rgb {
         let max_depth = self.options.max_depth;
         let mut l = Rgb::ZERO;
