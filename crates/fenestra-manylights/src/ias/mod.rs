@@ -205,7 +205,6 @@ impl Ias {
     /// The PDFs the largest region of pixel (x, y) samples its cut with, pass by pass, as a
     /// `width` x `height` render with `seed` takes them (its block is rendered alone, as
     /// every block is); `None` where the pixel sees no surface. Prepare first.
-    #[allow(clippy::too_many_arguments)]
     pub fn pdf_trace(
         &self,
         scene: &RenderScene,
