@@ -4,6 +4,8 @@
 //!
 //! cargo run --release -p fenestra-manylights --example cut_stats [-- SCENE...]
 
+mod common;
+
 use fenestra_builtin as builtin;
 use fenestra_core::Vec2;
 use fenestra_manylights::{Forest, CUT_SOLID_ANGLE};
@@ -12,17 +14,7 @@ use fenestra_scene::{Backend, Scene};
 use std::time::Instant;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let mut names: Vec<String> = std::env::args().skip(1).collect();
-    if names.is_empty() {
-        names = [
-            "kitchen-72",
-            "kitchen-72-env",
-            "ponderosa-138",
-            "terminal-832",
-        ]
-        .map(String::from)
-        .to_vec();
-    }
+    let names = common::scene_names();
     println!(
         "| scene | lights in trees | trees | build s | mean clusters per cut | % of lights | max |"
     );

@@ -8,6 +8,8 @@
 //!
 //! cargo run --release -p fenestra-manylights --example visibility_stats [-- SCENE...]
 
+mod common;
+
 use fenestra_builtin as builtin;
 use fenestra_core::{Ray, Rng, Vec2, Vec3};
 use fenestra_manylights::sky;
@@ -32,18 +34,7 @@ struct Row {
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let mut names: Vec<String> = std::env::args().skip(1).collect();
-    if names.is_empty() {
-        names = [
-            "kitchen-72",
-            "kitchen-72-env",
-            "ponderosa-138",
-            "terminal-832",
-            "tower",
-        ]
-        .map(String::from)
-        .to_vec();
-    }
+    let names = common::scene_names();
     println!("| scene | lights | sky regions | lights per viewpoint | regions per viewpoint | lights per pixel | regions per pixel | combined per pixel |");
     println!("|---|---|---|---|---|---|---|---|");
     for name in names {
