@@ -297,11 +297,6 @@ impl LearnedLights {
         }
     }
 
-    /// Groups the lights are sampled in (tree groups and lights at infinity).
-    pub fn groups(&self) -> usize {
-        self.group_node.len() + self.bvh.infinite().len()
-    }
-
     /// Cells that have learned something so far.
     pub fn cells_learned(&self) -> usize {
         self.table().slots.iter().filter(|s| s.2 > 0).count()
