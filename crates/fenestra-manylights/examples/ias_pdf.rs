@@ -34,7 +34,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let (x, y) = point
             .split_once(',')
             .and_then(|(x, y)| Some((x.parse().ok()?, y.parse().ok()?)))
-            .ok_or_else(|| format!("a point is X,Y in pixels, got '{point}'"))?;
+            .filter(|&(x, y)| x < WIDTH && y < HEIGHT)
+            .ok_or_else(|| {
+                format!("a point is X,Y in pixels of a {WIDTH}x{HEIGHT} image, got '{point}'")
+            })?;
         let trace = ias
             .pdf_trace(&scene, WIDTH, HEIGHT, 1, x, y)
             .ok_or_else(|| format!("pixel {x},{y} sees no surface"))?;

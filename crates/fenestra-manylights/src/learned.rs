@@ -29,6 +29,9 @@ use std::collections::HashMap;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Mutex, OnceLock};
 
+/// Most passes learned from (a table is kept for each).
+const MAX_PASSES: u32 = 64;
+
 /// Not a group (lights that send nothing).
 const NONE: u32 = u32::MAX;
 
@@ -79,6 +82,13 @@ impl LearnedOptions {
         }
         if self.groups == 0 {
             return Err("--learned-groups must be at least 1".into());
+        }
+        if self.passes > MAX_PASSES {
+            return Err(format!(
+                "--learned-passes is at most {MAX_PASSES} (passes past the fifth take 32 samples \
+                 per pixel each), got {}",
+                self.passes
+            ));
         }
         Ok(())
     }
@@ -595,5 +605,11 @@ mod tests {
         .check()
         .is_err());
         assert!(LearnedOptions { groups: 0, ..ok }.check().is_err());
+        assert!(LearnedOptions {
+            passes: u32::MAX,
+            ..ok
+        }
+        .check()
+        .is_err());
     }
 }
