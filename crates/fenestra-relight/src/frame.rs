@@ -11,7 +11,7 @@ use crate::gather::Gather;
 use crate::haar;
 use crate::neighbours::PointTree;
 use crate::reconstruct::reconstruct;
-use crate::sparse::{distance2, Precomputed, SparseVec};
+use crate::sparse::{Packed, SparseVec};
 use crate::transfer::{element, gather_points, monte_carlo, transfer, ViewPoint};
 use crate::wlpca::{wlpca, WlpcaOptions};
 use fenestra_core::distribution::Distribution1D;
@@ -194,7 +194,7 @@ impl FrameTransfer {
                 em_tolerance: 1e-4,
             },
         );
-        let pre: Vec<Precomputed> = model.models.iter().map(Precomputed::new).collect();
+        let packed: Vec<Packed> = model.models.iter().map(Packed::new).collect();
         let mut row_of = vec![usize::MAX; samples.len()];
         for (r, (i, _)) in explored.iter().enumerate() {
             row_of[*i] = r;
@@ -205,79 +205,75 @@ impl FrameTransfer {
         let tree = PointTree::new(&at);
         let pixels: Vec<(usize, Option<Pixel>)> = (0..seen.len())
             .into_par_iter()
-            .map_init(Vec::new, |near, i| {
-                let v = view(i).point();
-                let pixel = seen[i];
-                let (x, candidates) = if row_of[i] != usize::MAX {
-                    let r = row_of[i];
-                    (rows[r].clone(), vec![model.assignments[r]])
-                } else {
-                    // Eq. 4.5 from the nearest explored samples, fitted at a few elements.
-                    tree.nearest(
-                        &samples[i].point(explore_options.w_space, 1.0),
-                        o.neighbours,
-                        near,
-                    );
-                    let neighbours: Vec<&SparseVec> =
-                        near.iter().map(|&(_, r)| &rows[r as usize]).collect();
-                    // The elements to fit at, drawn where the neighbours' transfer is (by the
-                    // magnitude of their average): uniform indices mostly land on gather
-                    // samples the point cannot see, where every neighbour is zero too.
-                    let mut average = vec![0.0f64; n];
-                    for x in &neighbours {
-                        x.iter().for_each(|(i, v)| average[i] += v);
-                    }
-                    haar::inverse(&mut average, &mut vec![0.0; n]);
-                    let magnitude: Vec<f32> = (average[..gather.samples.len()].iter())
-                        .map(|v| v.abs() as f32)
-                        .collect();
-                    let pick = Distribution1D::new(&magnitude);
-                    let mut sampler = Sampler::new(o.seed ^ 0x7e1, pixel as u64, 0);
-                    let indices: Vec<usize> = (0..o.elements.max(near.len()))
-                        .map(|_| pick.sample_discrete(sampler.next_1d()).0)
-                        .collect();
-                    let shading = v.si.shading_frame();
-                    let mut r = 0;
-                    let values: Vec<f64> = (indices.iter())
-                        .map(|&j| element(scene, &v, &shading, &gather.samples[j], &mut r))
-                        .collect();
-                    rays.fetch_add(r, Ordering::Relaxed);
-                    let Some(x) = reconstruct(&neighbours, &indices, &values, n, o.ridge) else {
-                        return (pixel, None);
+            .map_init(
+                || (Vec::new(), Vec::new()),
+                |(near, products), i| {
+                    let v = view(i).point();
+                    let pixel = seen[i];
+                    let (x, candidates) = if row_of[i] != usize::MAX {
+                        let r = row_of[i];
+                        (rows[r].clone(), vec![model.assignments[r]])
+                    } else {
+                        // Eq. 4.5 from the nearest explored samples, fitted at a few elements.
+                        tree.nearest(
+                            &samples[i].point(explore_options.w_space, 1.0),
+                            o.neighbours,
+                            near,
+                        );
+                        let neighbours: Vec<&SparseVec> =
+                            near.iter().map(|&(_, r)| &rows[r as usize]).collect();
+                        // The elements to fit at, drawn where the neighbours' transfer is (by the
+                        // magnitude of their average): uniform indices mostly land on gather
+                        // samples the point cannot see, where every neighbour is zero too.
+                        let mut average = vec![0.0f64; n];
+                        for x in &neighbours {
+                            x.iter().for_each(|(i, v)| average[i] += v);
+                        }
+                        haar::inverse(&mut average, &mut vec![0.0; n]);
+                        let magnitude: Vec<f32> = (average[..gather.samples.len()].iter())
+                            .map(|v| v.abs() as f32)
+                            .collect();
+                        let pick = Distribution1D::new(&magnitude);
+                        let mut sampler = Sampler::new(o.seed ^ 0x7e1, pixel as u64, 0);
+                        let indices: Vec<usize> = (0..o.elements.max(near.len()))
+                            .map(|_| pick.sample_discrete(sampler.next_1d()).0)
+                            .collect();
+                        let shading = v.si.shading_frame();
+                        let mut r = 0;
+                        let values: Vec<f64> = (indices.iter())
+                            .map(|&j| element(scene, &v, &shading, &gather.samples[j], &mut r))
+                            .collect();
+                        rays.fetch_add(r, Ordering::Relaxed);
+                        let Some(x) = reconstruct(&neighbours, &indices, &values, n, o.ridge)
+                        else {
+                            return (pixel, None);
+                        };
+                        // The cluster among its neighbours' (Alg. 4 over all clusters would cost
+                        // a distance per cluster per pixel; neighbours lie in one or two).
+                        let mut candidates: Vec<u32> = near
+                            .iter()
+                            .map(|&(_, r)| model.assignments[r as usize])
+                            .collect();
+                        candidates.sort_unstable();
+                        candidates.dedup();
+                        (x, candidates)
                     };
-                    // The cluster among its neighbours' (Alg. 4 over all clusters would cost
-                    // a distance per cluster per pixel; neighbours lie in one or two).
-                    let mut candidates: Vec<u32> = near
-                        .iter()
-                        .map(|&(_, r)| model.assignments[r as usize])
-                        .collect();
-                    candidates.sort_unstable();
-                    candidates.dedup();
-                    (x, candidates)
-                };
-                let c = (candidates.iter())
-                    .map(|&c| {
-                        (
-                            distance2(&x, &model.models[c as usize], &pre[c as usize]),
-                            c,
-                        )
-                    })
-                    .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)))
-                    .map_or(0, |(_, c)| c as usize);
-                let s = &model.models[c];
-                let coefficients = (s.basis.iter().zip(&pre[c].basis_mean))
-                    .map(|(e, &em)| (x.dot(e) - em) as f32)
-                    .collect();
-                let colour = v.colour();
-                (
-                    pixel,
-                    Some(Pixel {
-                        cluster: c as u32,
-                        coefficients,
-                        colour,
-                    }),
-                )
-            })
+                    let c = (candidates.iter())
+                        .map(|&c| (packed[c as usize].distance2(&x, products), c))
+                        .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)))
+                        .map_or(0, |(_, c)| c as usize);
+                    let coefficients = packed[c].coordinates(&x, products);
+                    let colour = v.colour();
+                    (
+                        pixel,
+                        Some(Pixel {
+                            cluster: c as u32,
+                            coefficients,
+                            colour,
+                        }),
+                    )
+                },
+            )
             .collect();
         for (i, p) in pixels {
             frame.pixels[i] = p;

@@ -94,49 +94,131 @@ impl SparseVec {
     }
 }
 
-/// What Alg. 4 precomputes for a subspace: |mu|^2 and V^T mu.
+/// An affine subspace a = (mu, V) laid out for Alg. 4 over many sparse rows: coefficient i
+/// of the mean and of every direction side by side ([mu_i, e1_i, ..., el_i]), so that a row's
+/// products with all of them read one short run of memory per non-zero coefficient instead
+/// of 1 + l scattered ones; with |mu|^2 and V^T mu, computed once.
 #[derive(Clone, Debug)]
-pub struct Precomputed {
+pub struct Packed {
+    /// 1 + l.
+    width: usize,
+    /// The interleaved coefficients, d x (1 + l) row-major.
+    data: Vec<f64>,
     /// |mu|^2.
-    pub mean2: f64,
+    mean2: f64,
     /// V^T mu.
-    pub basis_mean: Vec<f64>,
+    basis_mean: Vec<f64>,
 }
 
-impl Precomputed {
-    /// The terms of `a`.
+impl Packed {
+    /// The layout and terms of `a`.
     pub fn new(a: &Subspace) -> Self {
         let dot = |x: &[f64], y: &[f64]| x.iter().zip(y).map(|(p, q)| p * q).sum::<f64>();
-        Precomputed {
+        let width = 1 + a.basis.len();
+        let mut data = Vec::with_capacity(a.mean.len() * width);
+        for i in 0..a.mean.len() {
+            data.push(a.mean[i]);
+            data.extend(a.basis.iter().map(|e| e[i]));
+        }
+        Packed {
+            width,
+            data,
             mean2: dot(&a.mean, &a.mean),
             basis_mean: a.basis.iter().map(|e| dot(e, &a.mean)).collect(),
         }
     }
-}
 
-/// Eq. 4.3-4.4: the squared distance of `x` to the affine subspace `a` (`pre` its terms).
-pub fn distance2(x: &SparseVec, a: &Subspace, pre: &Precomputed) -> f64 {
-    let y = x.norm2 - 2.0 * x.dot(&a.mean) + pre.mean2;
-    let z: f64 = (a.basis.iter().zip(&pre.basis_mean))
-        .map(|(e, &em)| {
-            let c = x.dot(e) - em;
-            c * c
-        })
-        .sum();
-    (y - z).max(0.0)
-}
-
-/// Alg. 4: the nearest of the subspaces `a` (with their terms `pre`) to `x`, and the squared
-/// distance.
-pub fn nearest(x: &SparseVec, a: &[Subspace], pre: &[Precomputed]) -> (usize, f64) {
-    let mut best = (0, f64::INFINITY);
-    for (i, (s, p)) in a.iter().zip(pre).enumerate() {
-        let d = distance2(x, s, p);
-        if d < best.1 {
-            best = (i, d);
+    /// x . mu and V^T x into `products` (resized to 1 + l); each sum runs over x's
+    /// coefficients in order, as [`SparseVec::dot`]'s does.
+    fn products(&self, x: &SparseVec, products: &mut Vec<f64>) {
+        products.clear();
+        products.resize(self.width, 0.0);
+        for (i, v) in x.iter() {
+            let column = &self.data[i * self.width..(i + 1) * self.width];
+            for (p, &c) in products.iter_mut().zip(column) {
+                *p += v * c;
+            }
         }
     }
-    best
+
+    /// Eq. 4.3-4.4: the squared distance of `x` to the subspace (`products`: scratch).
+    pub fn distance2(&self, x: &SparseVec, products: &mut Vec<f64>) -> f64 {
+        self.products(x, products);
+        let y = x.norm2 - 2.0 * products[0] + self.mean2;
+        let z: f64 = (products[1..].iter().zip(&self.basis_mean))
+            .map(|(&p, &em)| (p - em) * (p - em))
+            .sum();
+        (y - z).max(0.0)
+    }
+
+    /// The coordinates V^T (x - mu) of `x` in the subspace (`products`: scratch).
+    pub fn coordinates(&self, x: &SparseVec, products: &mut Vec<f64>) -> Vec<f32> {
+        self.products(x, products);
+        (products[1..].iter().zip(&self.basis_mean))
+            .map(|(&p, &em)| (p - em) as f32)
+            .collect()
+    }
+}
+
+/// Rows classified together, so that a subspace's coefficients stay in cache across them.
+const BLOCK: usize = 64;
+
+/// Alg. 4 over all `rows`: each row's nearest of the subspaces `a` (the first of equals) and
+/// its squared distance; in parallel over blocks of rows, each block against one subspace
+/// after another.
+pub fn classify(rows: &[SparseVec], a: &[Packed]) -> (Vec<u32>, Vec<f64>) {
+    use rayon::prelude::*;
+    rows.par_chunks(BLOCK)
+        .flat_map_iter(|block| {
+            let mut best = [(0u32, f64::INFINITY); BLOCK];
+            let mut products = Vec::new();
+            for (c, s) in a.iter().enumerate() {
+                for (x, b) in block.iter().zip(&mut best) {
+                    let d = s.distance2(x, &mut products);
+                    if d < b.1 {
+                        *b = (c as u32, d);
+                    }
+                }
+            }
+            best.into_iter().take(block.len())
+        })
+        .unzip()
+}
+
+/// Alg. 4 with SortCluster-LPCA's pruning (seed 003 Alg. 2, from fenestra-lpca): each row
+/// starts at its `previous` cluster and visits the others in order of their distance from it
+/// (D, a lower bound on subspace distances), stopping when the triangle inequality
+/// d(x, a_j) >= D_ij - d(x, a_i) proves no farther one nearer. The same assignments and
+/// distances as [`classify`].
+pub fn classify_sorted(
+    rows: &[SparseVec],
+    models: &[Subspace],
+    a: &[Packed],
+    previous: &[u32],
+) -> (Vec<u32>, Vec<f64>) {
+    use rayon::prelude::*;
+    let neighbours = fenestra_lpca::classify::sorted_neighbours(models);
+    let mean_norm = a.iter().map(|p| p.mean2.sqrt()).fold(0.0, f64::max);
+    (rows.par_iter().zip(previous))
+        .map_init(Vec::new, |products, (x, &i)| {
+            let d2 = a[i as usize].distance2(x, products);
+            let d_i = d2.sqrt();
+            // Distances come from an expanded square (eq. 4.4): each is accurate to about
+            // 1e-7 of |x| + |mu|, so the pruning keeps a margin far above that.
+            let margin = 1e-5 * (x.norm2.sqrt() + mean_norm);
+            let mut best = (i, d2);
+            for &(dij, j) in &neighbours[i as usize] {
+                if dij - (d_i + best.1.sqrt()) > margin {
+                    break;
+                }
+                let dj = a[j as usize].distance2(x, products);
+                if dj < best.1 || (dj == best.1 && j < best.0) {
+                    best = (j, dj);
+                }
+            }
+            best
+        })
+        .unzip()
 }
 
 #[cfg(test)]
@@ -167,7 +249,8 @@ mod tests {
     fn the_sparse_distance_equals_the_dense_one_and_survives_the_transform() {
         let (d, l) = (128, 4);
         let a = subspace(d, l, 5);
-        let pre = Precomputed::new(&a);
+        let packed = Packed::new(&a);
+        let mut products = Vec::new();
         let mut s = Sampler::new(6, 2, 0);
         let mut scratch = vec![0.0; d];
         let mut dense_scratch = vec![0.0f64; d];
@@ -176,7 +259,7 @@ mod tests {
             let sparse = SparseVec::largest(&x, keep);
             let dense: Vec<f32> = sparse.to_dense().iter().map(|&v| v as f32).collect();
             let want = a.distance(&dense, &mut dense_scratch).powi(2);
-            let got = distance2(&sparse, &a, &pre);
+            let got = packed.distance2(&sparse, &mut products);
             assert!(
                 (got - want).abs() < 1e-5 * want.max(1.0),
                 "keep {keep}: {got} vs {want}"
@@ -192,8 +275,37 @@ mod tests {
             let full = SparseVec::largest(&wx, d);
             let plain: Vec<f32> = x.iter().map(|&v| v as f32).collect();
             let original = a.distance(&plain, &mut dense_scratch).powi(2);
-            let transformed = distance2(&full, &wa, &Precomputed::new(&wa));
+            let transformed = Packed::new(&wa).distance2(&full, &mut products);
             assert!((original - transformed).abs() < 1e-5 * original.max(1.0));
+        }
+    }
+
+    #[test]
+    fn pruned_classification_equals_the_exhaustive_one() {
+        // 16 subspaces of dimension 3 around four centres; rows near them, sparsified.
+        let (d, k) = (64, 16);
+        let mut models: Vec<Subspace> = (0..k).map(|c| subspace(d, 3, 40 + c as u64)).collect();
+        for (c, m) in models.iter_mut().enumerate() {
+            m.mean.iter_mut().for_each(|v| *v += 4.0 * (c % 4) as f64);
+        }
+        let packed: Vec<Packed> = models.iter().map(Packed::new).collect();
+        let mut s = Sampler::new(9, 3, 0);
+        let rows: Vec<SparseVec> = (0..500)
+            .map(|r| {
+                let m = &models[(r * 7) % k];
+                let x: Vec<f64> = (0..d)
+                    .map(|i| m.mean[i] + 2.0 * m.basis[0][i] + (s.next_1d() as f64 - 0.5))
+                    .collect();
+                SparseVec::largest(&x, 24 + r % 40)
+            })
+            .collect();
+        let (full, full_d2) = classify(&rows, &packed);
+        // Starting from any cluster (the right one, or a far one) finds the same.
+        for shift in [0, 1, 5] {
+            let previous: Vec<u32> = full.iter().map(|&c| (c + shift) % k as u32).collect();
+            let (sorted, sorted_d2) = classify_sorted(&rows, &models, &packed, &previous);
+            assert_eq!(sorted, full, "start shifted by {shift}");
+            assert_eq!(sorted_d2, full_d2);
         }
     }
 

@@ -6,7 +6,7 @@
 //! after Alg. 4); a test checks the assignments against fenestra-lpca's.
 
 use crate::empca::em_pca;
-use crate::sparse::{nearest, Precomputed, SparseVec};
+use crate::sparse::{classify, classify_sorted, Packed, SparseVec};
 use fenestra_lpca::{Schedule, Subspace};
 use rayon::prelude::*;
 
@@ -46,14 +46,16 @@ pub fn wlpca(rows: &[SparseVec], centroids: &[usize], options: &WlpcaOptions) ->
         .iter()
         .map(|&i| Subspace::point(rows[i].to_dense()))
         .collect();
-    let (mut assignments, mut distances2) = classify(rows, &models);
+    let packed = |models: &[Subspace]| models.iter().map(Packed::new).collect::<Vec<_>>();
+    let (mut assignments, mut distances2) = classify(rows, &packed(&models));
     for &(dim, iterations) in &options.schedule.0 {
         for _ in 0..iterations {
             models = (0..models.len())
                 .into_par_iter()
                 .map(|c| fit(rows, &assignments, c as u32, &models[c], dim, options))
                 .collect();
-            (assignments, distances2) = classify(rows, &models);
+            (assignments, distances2) =
+                classify_sorted(rows, &models, &packed(&models), &assignments);
         }
     }
     Wlpca {
@@ -61,17 +63,6 @@ pub fn wlpca(rows: &[SparseVec], centroids: &[usize], options: &WlpcaOptions) ->
         distances2,
         models,
     }
-}
-
-/// Alg. 4 over all rows.
-fn classify(rows: &[SparseVec], models: &[Subspace]) -> (Vec<u32>, Vec<f64>) {
-    let pre: Vec<Precomputed> = models.iter().map(Precomputed::new).collect();
-    rows.par_iter()
-        .map(|x| {
-            let (i, d2) = nearest(x, models, &pre);
-            (i as u32, d2)
-        })
-        .unzip()
 }
 
 /// Cluster `c`'s subspace of dimension up to `dim` (at most its members less one): the mean
