@@ -10,7 +10,7 @@ use crate::explore::{explore, ExploreOptions, ViewSample};
 use crate::gather::Gather;
 use crate::haar;
 use crate::neighbours::PointTree;
-use crate::reconstruct::reconstruct;
+use crate::reconstruct::{reconstruct, Signals};
 use crate::sparse::{Packed, SparseVec};
 use crate::transfer::{element, gather_points, monte_carlo, transfer, ViewPoint};
 use crate::wlpca::{wlpca, WlpcaOptions};
@@ -206,8 +206,11 @@ impl FrameTransfer {
         let pixels: Vec<(usize, Option<Pixel>)> = (0..seen.len())
             .into_par_iter()
             .map_init(
-                || (Vec::new(), Vec::new()),
-                |(near, products), i| {
+                || {
+                    let signals = Signals::new(4 * o.neighbours.max(8));
+                    (Vec::new(), Vec::new(), signals, Vec::new())
+                },
+                |(near, products, signals, sums), i| {
                     let v = view(i).point();
                     let pixel = seen[i];
                     let (x, candidates) = if row_of[i] != usize::MAX {
@@ -222,16 +225,14 @@ impl FrameTransfer {
                         );
                         let neighbours: Vec<&SparseVec> =
                             near.iter().map(|&(_, r)| &rows[r as usize]).collect();
+                        let slots: Vec<usize> =
+                            near.iter().map(|&(_, r)| signals.load(&rows, r)).collect();
+                        let dense: Vec<&[f64]> = slots.iter().map(|&s| signals.signal(s)).collect();
                         // The elements to fit at, drawn where the neighbours' transfer is (by the
-                        // magnitude of their average): uniform indices mostly land on gather
+                        // magnitude of their sum): uniform indices mostly land on gather
                         // samples the point cannot see, where every neighbour is zero too.
-                        let mut average = vec![0.0f64; n];
-                        for x in &neighbours {
-                            x.iter().for_each(|(i, v)| average[i] += v);
-                        }
-                        haar::inverse(&mut average, &mut vec![0.0; n]);
-                        let magnitude: Vec<f32> = (average[..gather.samples.len()].iter())
-                            .map(|v| v.abs() as f32)
+                        let magnitude: Vec<f32> = (0..gather.samples.len())
+                            .map(|j| dense.iter().map(|x| x[j]).sum::<f64>().abs() as f32)
                             .collect();
                         let pick = Distribution1D::new(&magnitude);
                         let mut sampler = Sampler::new(o.seed ^ 0x7e1, pixel as u64, 0);
@@ -244,7 +245,8 @@ impl FrameTransfer {
                             .map(|&j| element(scene, &v, &shading, &gather.samples[j], &mut r))
                             .collect();
                         rays.fetch_add(r, Ordering::Relaxed);
-                        let Some(x) = reconstruct(&neighbours, &indices, &values, n, o.ridge)
+                        let Some(x) =
+                            reconstruct(&neighbours, &dense, &indices, &values, o.ridge, sums)
                         else {
                             return (pixel, None);
                         };

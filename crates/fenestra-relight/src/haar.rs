@@ -49,25 +49,6 @@ pub fn inverse(x: &mut [f64], scratch: &mut [f64]) {
     }
 }
 
-/// Basis function `index` of a transform with `levels` levels at element `j` (element j of a
-/// signal depends on the scaling coefficient and one detail per level: log2(n) + 1
-/// coefficients, what [`crate::sparse::SparseVec::element`] reads).
-pub(crate) fn basis_at(index: usize, j: usize, levels: u32) -> f64 {
-    let n = 1usize << levels;
-    if index == 0 {
-        return 1.0 / (n as f64).sqrt();
-    }
-    // Detail i of level k: +1 on the first half of its block, -1 on the second, scaled.
-    let k = usize::BITS - 1 - index.leading_zeros();
-    let i = index - (1 << k);
-    let block = n >> k;
-    if j / block != i {
-        return 0.0;
-    }
-    let sign = if j % block < block / 2 { 1.0 } else { -1.0 };
-    sign / (block as f64).sqrt()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -93,30 +74,6 @@ mod tests {
             for (a, b) in x.iter().zip(&back) {
                 assert!((a - b).abs() < 1e-12, "n {n}: {a} vs {b}");
             }
-        }
-    }
-
-    #[test]
-    fn elements_come_back_from_a_few_coefficients() {
-        let n = 256;
-        let mut w = signal(n, 3);
-        let mut scratch = vec![0.0; n];
-        forward(&mut w, &mut scratch);
-        // Keep a sparse subset; the full inverse of the kept coefficients is the truth.
-        let mut dense = vec![0.0; n];
-        w.iter()
-            .enumerate()
-            .step_by(3)
-            .for_each(|(i, &v)| dense[i] = v);
-        let kept = crate::sparse::SparseVec::largest(&dense, n);
-        inverse(&mut dense, &mut scratch);
-        for j in [0, 1, 77, 128, 255] {
-            let e = kept.element(j);
-            assert!(
-                (e - dense[j]).abs() < 1e-12,
-                "element {j}: {e} vs {}",
-                dense[j]
-            );
         }
     }
 }

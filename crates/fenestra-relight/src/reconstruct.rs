@@ -2,25 +2,28 @@
 //! eq. 4.5): a combination sum alpha_r x_r of the sparse wavelet images of nearby explored
 //! samples, the weights alpha fitted by least squares to the new sample's transfer at a few
 //! element indices I (|I| >= k), which are cheap to evaluate (eq. 4.1 for single gather
-//! samples); the neighbours' elements at I come from their sparse images without a full
-//! inverse transform ([`SparseVec::element`]).
+//! samples). The seed reads the neighbours' elements at I from their sparse images; here
+//! their whole signals are inverse-transformed once and kept ([`Signals`]), since the next
+//! pixels mostly have the same neighbours and need their elements too.
 
+use crate::haar;
 use crate::sparse::SparseVec;
 
 /// The sparse wavelet image of the vector whose elements at `indices` are `values`, as a
 /// least-squares combination of `neighbours` (sparse wavelet images, all of length `n`, a
-/// power of two), or their average where the elements at `indices` say nothing about the
-/// weights; `None` when there are fewer indices than neighbours.
-/// `ridge` > 0 pulls the weights towards the neighbours' average (1 / k each) with that
-/// weight relative to the system's mean squared column norm: a few elements of spiky
-/// transfer vectors otherwise buy a fit with large weights of opposite signs that is wrong
-/// everywhere else.
+/// power of two, with `signals` their inverse transforms), or their average where the
+/// elements at `indices` say nothing about the weights; `None` when there are fewer indices
+/// than neighbours. `ridge` > 0 pulls the weights towards the neighbours' average (1 / k
+/// each) with that weight relative to the system's mean squared column norm: a few elements
+/// of spiky transfer vectors otherwise buy a fit with large weights of opposite signs that
+/// is wrong everywhere else. `sums`: scratch, left as zeros.
 pub fn reconstruct(
     neighbours: &[&SparseVec],
+    signals: &[&[f64]],
     indices: &[usize],
     values: &[f64],
-    n: usize,
     ridge: f64,
+    sums: &mut Vec<f64>,
 ) -> Option<SparseVec> {
     let k = neighbours.len();
     if k == 0 || indices.len() < k || indices.len() != values.len() {
@@ -28,7 +31,7 @@ pub fn reconstruct(
     }
     // The |I| x k system, row-major: column r holds neighbour r's elements at I.
     let a: Vec<f64> = (0..indices.len() * k)
-        .map(|e| neighbours[e % k].element(indices[e / k]))
+        .map(|e| signals[e % k][indices[e / k]])
         .collect();
     // (A^T A + lambda I) alpha = A^T b + lambda / k by Cholesky: k is a handful, and the
     // ridge (at least 1e-12 of the columns' scale, so that dependent neighbours share their
@@ -64,31 +67,91 @@ pub fn reconstruct(
     } else {
         average
     };
-    // Eq. 4.5 on the sparse images.
-    let mut terms: Vec<(u32, f64)> = (neighbours.iter().zip(&alpha))
-        .flat_map(|(x, &w)| {
-            x.indices
-                .iter()
-                .zip(&x.values)
-                .map(move |(&i, &v)| (i, w * v))
-        })
-        .collect();
-    terms.sort_unstable_by_key(|t| t.0);
-    let (mut indices, mut values): (Vec<u32>, Vec<f64>) = (Vec::new(), Vec::new());
-    for (i, v) in terms {
-        if indices.last() == Some(&i) {
-            *values.last_mut().expect("paired") += v;
-        } else {
-            indices.push(i);
-            values.push(v);
+    Some(combine(neighbours, &alpha, sums))
+}
+
+/// Eq. 4.5 on the sparse images: sum_r alpha_r x_r, summed per coefficient in neighbour
+/// order in `sums` (zeros of length n, left as zeros) and read back in index order.
+fn combine(neighbours: &[&SparseVec], alpha: &[f64], sums: &mut Vec<f64>) -> SparseVec {
+    let n = neighbours[0].len;
+    sums.resize(n, 0.0);
+    let mut touched = vec![0u64; n.div_ceil(64)];
+    for (x, &w) in neighbours.iter().zip(alpha) {
+        for (i, v) in x.iter() {
+            sums[i] += w * v;
+            touched[i / 64] |= 1 << (i % 64);
         }
     }
-    Some(SparseVec {
+    let (mut indices, mut values) = (Vec::new(), Vec::new());
+    for (word, &bits) in touched.iter().enumerate() {
+        let mut bits = bits;
+        while bits != 0 {
+            let i = word * 64 + bits.trailing_zeros() as usize;
+            bits &= bits - 1;
+            indices.push(i as u32);
+            values.push(std::mem::take(&mut sums[i]));
+        }
+    }
+    SparseVec {
         len: n,
         norm2: values.iter().map(|v| v * v).sum(),
         indices,
         values,
-    })
+    }
+}
+
+/// The signals (inverse transforms) of explored samples' transfer, made on demand and kept
+/// for the next pixels, the least recently used replaced.
+pub struct Signals {
+    /// (explored row, its signal, when last used).
+    slots: Vec<(u32, Vec<f64>, u64)>,
+    capacity: usize,
+    clock: u64,
+    scratch: Vec<f64>,
+}
+
+impl Signals {
+    /// Room for `capacity` signals: more than the neighbours a pixel asks for at once.
+    pub fn new(capacity: usize) -> Self {
+        Signals {
+            slots: Vec::new(),
+            capacity,
+            clock: 0,
+            scratch: Vec::new(),
+        }
+    }
+
+    /// The slot holding the signal of `rows[r]`, made if it is not kept; the slots of the
+    /// last `capacity - 1` calls stay valid.
+    pub fn load(&mut self, rows: &[SparseVec], r: u32) -> usize {
+        self.clock += 1;
+        if let Some(s) = self.slots.iter().position(|slot| slot.0 == r) {
+            self.slots[s].2 = self.clock;
+            return s;
+        }
+        let s = if self.slots.len() < self.capacity {
+            self.slots.push((r, Vec::new(), 0));
+            self.slots.len() - 1
+        } else {
+            (0..self.slots.len())
+                .min_by_key(|&s| self.slots[s].2)
+                .expect("capacity above zero")
+        };
+        let x = &rows[r as usize];
+        let (slot, scratch) = (&mut self.slots[s], &mut self.scratch);
+        slot.1.clear();
+        slot.1.resize(x.len, 0.0);
+        x.iter().for_each(|(i, v)| slot.1[i] = v);
+        scratch.resize(x.len, 0.0);
+        haar::inverse(&mut slot.1, scratch);
+        (slot.0, slot.2) = (r, self.clock);
+        s
+    }
+
+    /// The signal in slot `s`.
+    pub fn signal(&self, s: usize) -> &[f64] {
+        &self.slots[s].1
+    }
 }
 
 /// The normal equations `m` alpha = `rhs` (lower triangle of m, row-major) solved with the
@@ -155,6 +218,39 @@ mod tests {
     use fenestra_core::Sampler;
 
     #[test]
+    fn kept_signals_are_the_inverse_transforms() {
+        let n = 32;
+        let mut s = Sampler::new(5, 0, 0);
+        let rows: Vec<SparseVec> = (0..10)
+            .map(|_| {
+                let x: Vec<f64> = (0..n).map(|_| s.next_1d() as f64 - 0.5).collect();
+                SparseVec::largest(&x, 12)
+            })
+            .collect();
+        let truth = |r: usize| {
+            let mut d = rows[r].to_dense();
+            haar::inverse(&mut d, &mut vec![0.0; n]);
+            d
+        };
+        // Room for four: asking for rows in a pattern that evicts, the last three asked for
+        // stay where they were given.
+        let mut signals = Signals::new(4);
+        let order = [0u32, 1, 2, 0, 3, 4, 5, 0, 9, 1, 1, 8, 2, 7];
+        let mut given: Vec<(u32, usize)> = Vec::new();
+        for &r in &order {
+            let slot = signals.load(&rows, r);
+            given.push((r, slot));
+            for &(r, slot) in given.iter().rev().take(3) {
+                assert_eq!(
+                    signals.signal(slot),
+                    truth(r as usize).as_slice(),
+                    "row {r}"
+                );
+            }
+        }
+    }
+
+    #[test]
     fn a_combination_of_the_neighbours_is_recovered_from_a_few_elements() {
         let n = 64;
         let mut s = Sampler::new(31, 0, 0);
@@ -177,13 +273,31 @@ mod tests {
         let indices = [3, 17, 30, 41, 60];
         let values: Vec<f64> = indices.iter().map(|&j| truth[j]).collect();
         let refs: Vec<&SparseVec> = images.iter().collect();
-        let got = reconstruct(&refs, &indices, &values, n, 0.0).expect("fit");
+        let dense = |images: &[&SparseVec]| -> Vec<Vec<f64>> {
+            (images.iter())
+                .map(|x| {
+                    let mut d = x.to_dense();
+                    haar::inverse(&mut d, &mut vec![0.0; n]);
+                    d
+                })
+                .collect()
+        };
+        let signals = dense(&refs);
+        let signals: Vec<&[f64]> = signals.iter().map(|s| s.as_slice()).collect();
+        let mut sums = Vec::new();
+        let got = reconstruct(&refs, &signals, &indices, &values, 0.0, &mut sums).expect("fit");
         let mut back = got.to_dense();
         haar::inverse(&mut back, &mut scratch);
         for (j, (a, b)) in back.iter().zip(&truth).enumerate() {
             assert!((a - b).abs() < 1e-9, "element {j}: {a} vs {b}");
         }
-        assert!(reconstruct(&refs, &indices[..2], &values[..2], n, 0.0).is_none());
+        assert!(
+            sums.iter().all(|&v| v == 0.0),
+            "the scratch is left as zeros"
+        );
+        assert!(
+            reconstruct(&refs, &signals, &indices[..2], &values[..2], 0.0, &mut sums).is_none()
+        );
         // Values no non-negative combination reaches (a spike at one element): the weights
         // stay non-negative, where least squares alone would subtract neighbours.
         // (Whole images: truncated ones may dip below zero themselves.)
@@ -197,13 +311,18 @@ mod tests {
         let whole: Vec<&SparseVec> = whole.iter().collect();
         let mut spiky = values.clone();
         spiky[0] *= 50.0;
-        let got = reconstruct(&whole, &indices, &spiky, n, 0.0).expect("fit");
+        let whole_signals = dense(&whole);
+        let whole_signals: Vec<&[f64]> = whole_signals.iter().map(|s| s.as_slice()).collect();
+        let got =
+            reconstruct(&whole, &whole_signals, &indices, &spiky, 0.0, &mut sums).expect("fit");
         let mut back = got.to_dense();
         haar::inverse(&mut back, &mut scratch);
         assert!(back.iter().all(|&v| v >= -1e-9), "negative light: {back:?}");
         // A neighbour twice: the two copies share its weight, the fit is the same.
         let twice = [refs[0], refs[0], refs[1], refs[2]];
-        let got = reconstruct(&twice, &indices, &values, n, 0.0).expect("fit");
+        let twice_signals = [signals[0], signals[0], signals[1], signals[2]];
+        let got =
+            reconstruct(&twice, &twice_signals, &indices, &values, 0.0, &mut sums).expect("fit");
         let mut back = got.to_dense();
         haar::inverse(&mut back, &mut scratch);
         for (j, (a, b)) in back.iter().zip(&truth).enumerate() {

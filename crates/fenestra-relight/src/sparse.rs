@@ -53,22 +53,6 @@ impl SparseVec {
         self.iter().map(|(i, v)| v * y[i]).sum()
     }
 
-    /// Element `j` of the signal whose Haar transform this is (seed 003 §4.5.3: elements of a
-    /// transfer vector from its sparse wavelet image without the full inverse):
-    /// its log2(len) + 1 coefficients found by binary search.
-    pub fn element(&self, j: usize) -> f64 {
-        let levels = self.len.trailing_zeros();
-        let find = |index: usize| {
-            (self.indices.binary_search(&(index as u32)).ok()).map_or(0.0, |p| {
-                self.values[p] * crate::haar::basis_at(index, j, levels)
-            })
-        };
-        find(0)
-            + (0..levels)
-                .map(|k| find((1 << k) + (j >> (levels - k))))
-                .sum::<f64>()
-    }
-
     /// x . y for a sparse y (both index lists ascending).
     pub fn dot_sparse(&self, y: &SparseVec) -> f64 {
         let (mut a, mut b, mut sum) = (0, 0, 0.0);
