@@ -30,7 +30,7 @@ pub struct Principal {
 /// than `tolerance` (largest change of a projection) or for at most `max_iterations`.
 /// `None` if the directions become degenerate (fewer independent rows than directions).
 pub fn em_pca(
-    rows: &[SparseVec],
+    rows: &[&SparseVec],
     mean: &[f64],
     start: Vec<Vec<f64>>,
     max_iterations: usize,
@@ -39,37 +39,60 @@ pub fn em_pca(
     let (l, d) = (start.len(), mean.len());
     let mut c = start;
     let mut previous = orthonormal(&c)?;
+    // C and the m-step's X^T A0 with coefficient i of every direction side by side, so that
+    // a sparse row meets all l of them in one short run of memory per coefficient.
+    let mut interleaved = vec![0.0f64; d * l];
+    let mut xa = vec![0.0f64; d * l];
+    let mut b = Mat::<f64>::zeros(l, d);
+    let (mut products, mut w) = (vec![0.0f64; l], vec![0.0f64; l]);
     let mut iterations = 0;
     while iterations < max_iterations {
         iterations += 1;
         // e-step.
+        for (j, cj) in c.iter().enumerate() {
+            cj.iter()
+                .enumerate()
+                .for_each(|(i, &v)| interleaved[i * l + j] = v);
+        }
         let cc = Mat::<f64>::from_fn(l, l, |i, j| dot(&c[i], &c[j]));
         let c_mean: Vec<f64> = c.iter().map(|ci| dot(ci, mean)).collect();
-        let rhs = Mat::<f64>::from_fn(l, rows.len(), |j, r| rows[r].dot(&c[j]) - c_mean[j]);
-        let x = solve(&cc, rhs)?; // l x m: column r is row r's X
-                                  // m-step.
-        let mut xa = vec![vec![0.0f64; d]; l];
-        let mut x_sum = vec![0.0f64; l];
+        let mut rhs = Mat::<f64>::zeros(l, rows.len());
         for (r, row) in rows.iter().enumerate() {
+            products.iter_mut().for_each(|p| *p = 0.0);
+            for (i, v) in row.iter() {
+                let column = &interleaved[i * l..(i + 1) * l];
+                products
+                    .iter_mut()
+                    .zip(column)
+                    .for_each(|(p, &e)| *p += v * e);
+            }
             for j in 0..l {
-                let w = x[(j, r)];
-                x_sum[j] += w;
-                for (i, v) in row.iter() {
-                    xa[j][i] += w * v;
-                }
+                rhs[(j, r)] = products[j] - c_mean[j];
             }
         }
-        for (j, acc) in xa.iter_mut().enumerate() {
-            for (a, &m) in acc.iter_mut().zip(mean) {
-                *a -= x_sum[j] * m;
+        let x = solve(&cc, rhs)?; // l x m: column r is row r's X
+                                  // m-step.
+        xa.iter_mut().for_each(|a| *a = 0.0);
+        let mut x_sum = vec![0.0f64; l];
+        for (r, row) in rows.iter().enumerate() {
+            w.iter_mut().enumerate().for_each(|(j, wj)| *wj = x[(j, r)]);
+            x_sum.iter_mut().zip(&w).for_each(|(s, &wj)| *s += wj);
+            for (i, v) in row.iter() {
+                let acc = &mut xa[i * l..(i + 1) * l];
+                acc.iter_mut().zip(&w).for_each(|(a, &wj)| *a += wj * v);
+            }
+        }
+        for i in 0..d {
+            for j in 0..l {
+                b[(j, i)] = xa[i * l + j] - x_sum[j] * mean[i];
             }
         }
         let xx = &x * x.transpose();
-        let b = Mat::<f64>::from_fn(l, d, |j, i| xa[j][i]);
-        let next = solve(&xx, b)?;
-        c = (0..l)
-            .map(|j| (0..d).map(|i| next[(j, i)]).collect())
-            .collect();
+        let llt = xx.llt(Side::Lower).ok()?;
+        llt.solve_in_place(b.as_mut());
+        for (j, cj) in c.iter_mut().enumerate() {
+            cj.iter_mut().enumerate().for_each(|(i, v)| *v = b[(j, i)]);
+        }
         let q = orthonormal(&c)?;
         let moved = span_change(&previous, &q);
         previous = q;
@@ -82,7 +105,7 @@ pub fn em_pca(
 
 /// The directions of the span `q` (orthonormal) ordered by variance: eigenvectors of the
 /// covariance of the rows' coordinates in it.
-fn principal(rows: &[SparseVec], mean: &[f64], q: Vec<Vec<f64>>, iterations: usize) -> Principal {
+fn principal(rows: &[&SparseVec], mean: &[f64], q: Vec<Vec<f64>>, iterations: usize) -> Principal {
     let l = q.len();
     let q_mean: Vec<f64> = q.iter().map(|e| dot(e, mean)).collect();
     let y = Mat::<f64>::from_fn(l, rows.len(), |j, r| rows[r].dot(&q[j]) - q_mean[j]);
@@ -195,7 +218,8 @@ mod tests {
             .collect();
         // Start from three rows, as the seed does.
         let start: Vec<Vec<f64>> = (0..l).map(|k| rows[k * 7].to_dense()).collect();
-        let p = em_pca(&rows, &mu, start, 500, 1e-10).expect("directions");
+        let refs: Vec<&SparseVec> = rows.iter().collect();
+        let p = em_pca(&refs, &mu, start, 500, 1e-10).expect("directions");
         assert!(
             span_change(&truth, &p.directions) < 1e-6,
             "span off by {} after {} iterations",
@@ -213,8 +237,8 @@ mod tests {
 
     #[test]
     fn dependent_starting_directions_are_refused() {
-        let rows = vec![SparseVec::largest(&[1.0, 2.0, 3.0], 3)];
+        let rows = [SparseVec::largest(&[1.0, 2.0, 3.0], 3)];
         let start = vec![vec![1.0, 0.0, 0.0], vec![2.0, 0.0, 0.0]];
-        assert!(em_pca(&rows, &[0.0; 3], start, 10, 1e-9).is_none());
+        assert!(em_pca(&[&rows[0]], &[0.0; 3], start, 10, 1e-9).is_none());
     }
 }

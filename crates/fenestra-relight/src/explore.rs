@@ -100,12 +100,15 @@ pub fn explore(
         let tree = PointTree::new(&at);
         let ranks: Vec<f64> = (0..explored.len())
             .into_par_iter()
-            .map_init(Vec::new, |near, k| {
-                tree.nearest(&at[k], options.neighbours, near);
-                let rows: Vec<&SparseVec> =
-                    near.iter().map(|&(_, r)| &explored[r as usize].1).collect();
-                rank(&rows, options.rank_tolerance)
-            })
+            .map_init(
+                || (Vec::new(), Vec::new()),
+                |(near, dense), k| {
+                    tree.nearest(&at[k], options.neighbours, near);
+                    let rows: Vec<&SparseVec> =
+                        near.iter().map(|&(_, r)| &explored[r as usize].1).collect();
+                    rank(&rows, options.rank_tolerance, dense)
+                },
+            )
             .collect();
         weights
             .par_iter_mut()
@@ -130,12 +133,22 @@ pub fn distance(a: &ViewSample, b: &ViewSample, w_space: f32, w_time: f32) -> f3
 }
 
 /// The numerical rank of the matrix whose rows are `rows`, from the eigenvalues of their
-/// Gram matrix (the squares of its singular values; the sparse rows never densified).
-fn rank(rows: &[&SparseVec], tolerance: f64) -> f64 {
-    if rows.is_empty() {
+/// Gram matrix (the squares of its singular values), each row's products from it laid out
+/// densely in `dense` (scratch, left as zeros).
+fn rank(rows: &[&SparseVec], tolerance: f64, dense: &mut Vec<f64>) -> f64 {
+    let Some(first) = rows.first() else {
         return 1.0;
+    };
+    dense.resize(first.len, 0.0);
+    let mut gram = Mat::<f64>::zeros(rows.len(), rows.len());
+    for (a, x) in rows.iter().enumerate() {
+        x.iter().for_each(|(i, v)| dense[i] = v);
+        for (b, y) in rows.iter().enumerate().take(a + 1) {
+            gram[(a, b)] = y.dot(dense);
+            gram[(b, a)] = gram[(a, b)];
+        }
+        x.iter().for_each(|(i, _)| dense[i] = 0.0);
     }
-    let gram = Mat::<f64>::from_fn(rows.len(), rows.len(), |a, b| rows[a].dot_sparse(rows[b]));
     let Ok(eigen) = gram.singular_values() else {
         return 1.0;
     };

@@ -14,7 +14,6 @@ use crate::reconstruct::{reconstruct, Signals};
 use crate::sparse::{Packed, SparseVec};
 use crate::transfer::{element, gather_points, monte_carlo, transfer, ViewPoint};
 use crate::wlpca::{wlpca, WlpcaOptions};
-use fenestra_core::distribution::Distribution1D;
 use fenestra_core::{Rgb, Sampler, Vec2, Vec3};
 use fenestra_lpca::{Schedule, Subspace};
 use fenestra_render::bsdf::Bsdf;
@@ -207,7 +206,7 @@ impl FrameTransfer {
             .into_par_iter()
             .map_init(
                 || {
-                    let signals = Signals::new(4 * o.neighbours.max(8));
+                    let signals = Signals::new(4 * o.neighbours.max(8), gather.samples.len());
                     (Vec::new(), Vec::new(), signals, Vec::new())
                 },
                 |(near, products, signals, sums), i| {
@@ -228,16 +227,12 @@ impl FrameTransfer {
                         let slots: Vec<usize> =
                             near.iter().map(|&(_, r)| signals.load(&rows, r)).collect();
                         let dense: Vec<&[f64]> = slots.iter().map(|&s| signals.signal(s)).collect();
-                        // The elements to fit at, drawn where the neighbours' transfer is (by the
-                        // magnitude of their sum): uniform indices mostly land on gather
-                        // samples the point cannot see, where every neighbour is zero too.
-                        let magnitude: Vec<f32> = (0..gather.samples.len())
-                            .map(|j| dense.iter().map(|x| x[j]).sum::<f64>().abs() as f32)
-                            .collect();
-                        let pick = Distribution1D::new(&magnitude);
+                        // The elements to fit at, drawn where the neighbours' transfer is (by its
+                        // magnitude): uniform indices mostly land on gather samples the point
+                        // cannot see, where every neighbour is zero too.
                         let mut sampler = Sampler::new(o.seed ^ 0x7e1, pixel as u64, 0);
                         let indices: Vec<usize> = (0..o.elements.max(near.len()))
-                            .map(|_| pick.sample_discrete(sampler.next_1d()).0)
+                            .map(|_| signals.pick(&slots, sampler.next_1d() as f64))
                             .collect();
                         let shading = v.si.shading_frame();
                         let mut r = 0;

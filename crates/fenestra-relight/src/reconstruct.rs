@@ -101,21 +101,33 @@ fn combine(neighbours: &[&SparseVec], alpha: &[f64], sums: &mut Vec<f64>) -> Spa
 }
 
 /// The signals (inverse transforms) of explored samples' transfer, made on demand and kept
-/// for the next pixels, the least recently used replaced.
+/// for the next pixels, the least recently used replaced; with each, the running sum of its
+/// magnitude over the first `elements` entries (the gather samples), to draw elements where
+/// the transfer is.
 pub struct Signals {
-    /// (explored row, its signal, when last used).
-    slots: Vec<(u32, Vec<f64>, u64)>,
+    slots: Vec<Slot>,
     capacity: usize,
+    elements: usize,
     clock: u64,
     scratch: Vec<f64>,
 }
 
+struct Slot {
+    row: u32,
+    signal: Vec<f64>,
+    /// cumulative[j] = sum of |signal| over entries before j + 1.
+    cumulative: Vec<f64>,
+    used: u64,
+}
+
 impl Signals {
-    /// Room for `capacity` signals: more than the neighbours a pixel asks for at once.
-    pub fn new(capacity: usize) -> Self {
+    /// Room for `capacity` signals (more than the neighbours a pixel asks for at once), of
+    /// which the first `elements` entries can be drawn.
+    pub fn new(capacity: usize, elements: usize) -> Self {
         Signals {
             slots: Vec::new(),
             capacity,
+            elements,
             clock: 0,
             scratch: Vec::new(),
         }
@@ -125,32 +137,65 @@ impl Signals {
     /// last `capacity - 1` calls stay valid.
     pub fn load(&mut self, rows: &[SparseVec], r: u32) -> usize {
         self.clock += 1;
-        if let Some(s) = self.slots.iter().position(|slot| slot.0 == r) {
-            self.slots[s].2 = self.clock;
+        if let Some(s) = self.slots.iter().position(|slot| slot.row == r) {
+            self.slots[s].used = self.clock;
             return s;
         }
         let s = if self.slots.len() < self.capacity {
-            self.slots.push((r, Vec::new(), 0));
+            self.slots.push(Slot {
+                row: r,
+                signal: Vec::new(),
+                cumulative: Vec::new(),
+                used: 0,
+            });
             self.slots.len() - 1
         } else {
             (0..self.slots.len())
-                .min_by_key(|&s| self.slots[s].2)
+                .min_by_key(|&s| self.slots[s].used)
                 .expect("capacity above zero")
         };
         let x = &rows[r as usize];
         let (slot, scratch) = (&mut self.slots[s], &mut self.scratch);
-        slot.1.clear();
-        slot.1.resize(x.len, 0.0);
-        x.iter().for_each(|(i, v)| slot.1[i] = v);
+        slot.signal.clear();
+        slot.signal.resize(x.len, 0.0);
+        x.iter().for_each(|(i, v)| slot.signal[i] = v);
         scratch.resize(x.len, 0.0);
-        haar::inverse(&mut slot.1, scratch);
-        (slot.0, slot.2) = (r, self.clock);
+        haar::inverse(&mut slot.signal, scratch);
+        slot.cumulative.clear();
+        let mut sum = 0.0;
+        (slot.cumulative).extend(slot.signal[..self.elements].iter().map(|v| {
+            sum += v.abs();
+            sum
+        }));
+        (slot.row, slot.used) = (r, self.clock);
         s
     }
 
     /// The signal in slot `s`.
     pub fn signal(&self, s: usize) -> &[f64] {
-        &self.slots[s].1
+        &self.slots[s].signal
+    }
+
+    /// An element drawn by `u` in [0, 1) with probability in proportion to the sum of the
+    /// magnitudes of the signals in `slots` there (a slot by its total, then an element of
+    /// it); uniform where they are all zero.
+    pub fn pick(&self, slots: &[usize], u: f64) -> usize {
+        let total = |s: usize| self.slots[s].cumulative.last().copied().unwrap_or(0.0);
+        let sum: f64 = slots.iter().map(|&s| total(s)).sum();
+        if !sum.is_finite() || sum <= 0.0 {
+            return ((u * self.elements as f64) as usize).min(self.elements - 1);
+        }
+        let mut target = u * sum;
+        for &s in slots {
+            if target < total(s) {
+                let c = &self.slots[s].cumulative;
+                return c.partition_point(|&v| v <= target).min(c.len() - 1);
+            }
+            target -= total(s);
+        }
+        // Rounding left the target past the last total: its last element with weight.
+        let c = &self.slots[*slots.last().expect("a slot")].cumulative;
+        c.partition_point(|&v| v < c[c.len() - 1]).min(c.len() - 1)
     }
 }
 
@@ -234,7 +279,7 @@ mod tests {
         };
         // Room for four: asking for rows in a pattern that evicts, the last three asked for
         // stay where they were given.
-        let mut signals = Signals::new(4);
+        let mut signals = Signals::new(4, n);
         let order = [0u32, 1, 2, 0, 3, 4, 5, 0, 9, 1, 1, 8, 2, 7];
         let mut given: Vec<(u32, usize)> = Vec::new();
         for &r in &order {
@@ -248,6 +293,51 @@ mod tests {
                 );
             }
         }
+    }
+
+    #[test]
+    fn elements_are_drawn_by_the_signals_magnitude() {
+        let n = 16;
+        let mut s = Sampler::new(8, 0, 0);
+        let rows: Vec<SparseVec> = (0..3)
+            .map(|r| {
+                let x: Vec<f64> = (0..n)
+                    .map(|j| {
+                        if r == 2 || j % 5 == 0 {
+                            0.0
+                        } else {
+                            s.next_1d() as f64 - 0.2
+                        }
+                    })
+                    .collect();
+                SparseVec::largest(&x, n)
+            })
+            .collect();
+        // The first 12 entries can be drawn.
+        let mut signals = Signals::new(4, 12);
+        let slots: Vec<usize> = (0..2).map(|r| signals.load(&rows, r)).collect();
+        let mut want = [0.0; 12];
+        for &slot in &slots {
+            (want.iter_mut().zip(signals.signal(slot))).for_each(|(w, v)| *w += v.abs());
+        }
+        let total: f64 = want.iter().sum();
+        let draws = 100_000;
+        let mut got = [0usize; 12];
+        for i in 0..draws {
+            got[signals.pick(&slots, (i as f64 + 0.5) / draws as f64)] += 1;
+        }
+        for j in 0..12 {
+            let p = want[j] / total;
+            let f = got[j] as f64 / draws as f64;
+            assert!((f - p).abs() < 1e-3, "element {j}: drawn {f}, weight {p}");
+        }
+        // A zero signal: uniform over the entries that can be drawn.
+        let zero = [signals.load(&rows, 2)];
+        let mut got = [0usize; 12];
+        for i in 0..1200 {
+            got[signals.pick(&zero, (i as f64 + 0.5) / 1200.0)] += 1;
+        }
+        assert!(got.iter().all(|&c| c == 100), "{got:?}");
     }
 
     #[test]

@@ -53,23 +53,6 @@ impl SparseVec {
         self.iter().map(|(i, v)| v * y[i]).sum()
     }
 
-    /// x . y for a sparse y (both index lists ascending).
-    pub fn dot_sparse(&self, y: &SparseVec) -> f64 {
-        let (mut a, mut b, mut sum) = (0, 0, 0.0);
-        while a < self.indices.len() && b < y.indices.len() {
-            match self.indices[a].cmp(&y.indices[b]) {
-                std::cmp::Ordering::Less => a += 1,
-                std::cmp::Ordering::Greater => b += 1,
-                std::cmp::Ordering::Equal => {
-                    sum += self.values[a] * y.values[b];
-                    a += 1;
-                    b += 1;
-                }
-            }
-        }
-        sum
-    }
-
     /// The dense vector.
     pub fn to_dense(&self) -> Vec<f64> {
         let mut d = vec![0.0; self.len];

@@ -6,7 +6,7 @@
 //! after Alg. 4); a test checks the assignments against fenestra-lpca's.
 
 use crate::empca::em_pca;
-use crate::sparse::{classify, classify_sorted, Packed, SparseVec};
+use crate::sparse::{classify_sorted, Packed, SparseVec};
 use fenestra_lpca::{Schedule, Subspace};
 use rayon::prelude::*;
 
@@ -47,7 +47,9 @@ pub fn wlpca(rows: &[SparseVec], centroids: &[usize], options: &WlpcaOptions) ->
         .map(|&i| Subspace::point(rows[i].to_dense()))
         .collect();
     let packed = |models: &[Subspace]| models.iter().map(Packed::new).collect::<Vec<_>>();
-    let (mut assignments, mut distances2) = classify(rows, &packed(&models));
+    // Every row starts from the first cluster; the pruning finds the nearest all the same.
+    let (mut assignments, mut distances2) =
+        classify_sorted(rows, &models, &packed(&models), &vec![0; rows.len()]);
     for &(dim, iterations) in &options.schedule.0 {
         for _ in 0..iterations {
             models = (0..models.len())
@@ -76,44 +78,103 @@ fn fit(
     dim: usize,
     options: &WlpcaOptions,
 ) -> Subspace {
-    let members: Vec<SparseVec> = (rows.iter().zip(assignments))
+    let members: Vec<&SparseVec> = (rows.iter().zip(assignments))
         .filter(|(_, &a)| a == c)
-        .map(|(r, _)| r.clone())
+        .map(|(r, _)| r)
         .collect();
     if members.is_empty() {
         return previous.clone();
     }
-    let d = previous.mean.len();
-    let mut mean = vec![0.0; d];
-    for r in &members {
+    // The members' coefficients lie on the union of their indices (in the relight room a
+    // few hundred of 4,096), and so do their mean and principal directions: the fit runs
+    // there and is spread back.
+    let support = Support::of(&members, previous.mean.len());
+    let local: Vec<SparseVec> = members.iter().map(|r| support.restrict(r)).collect();
+    let local: Vec<&SparseVec> = local.iter().collect();
+    let mut mean = vec![0.0; support.indices.len()];
+    for r in &local {
         r.iter().for_each(|(i, v)| mean[i] += v);
     }
     mean.iter_mut().for_each(|m| *m /= members.len() as f64);
     let dim = dim.min(members.len() - 1);
     if dim == 0 {
-        return Subspace::point(mean);
+        return Subspace::point(support.spread(&mean));
     }
-    let mut start: Vec<Vec<f64>> = previous.basis.iter().take(dim).cloned().collect();
-    for r in &members {
-        if start.len() == dim {
-            break;
+    let rows_start = |start: &mut Vec<Vec<f64>>| {
+        for r in &local {
+            if start.len() == dim {
+                break;
+            }
+            let mut v = r.to_dense();
+            v.iter_mut().zip(&mean).for_each(|(a, m)| *a -= m);
+            start.push(v);
         }
-        let mut v = r.to_dense();
-        v.iter_mut().zip(&mean).for_each(|(a, m)| *a -= m);
-        start.push(v);
+    };
+    let mut start: Vec<Vec<f64>> = (previous.basis.iter().take(dim))
+        .map(|e| support.gather(e))
+        .collect();
+    rows_start(&mut start);
+    let fit = |start| {
+        let (iterations, tolerance) = (options.em_iterations, options.em_tolerance);
+        em_pca(&local, &mean, start, iterations, tolerance)
+    };
+    // The previous directions cut to the support may have become dependent: the members'
+    // rows then.
+    let principal = fit(start).or_else(|| {
+        let mut start = Vec::new();
+        rows_start(&mut start);
+        fit(start)
+    });
+    Subspace {
+        mean: support.spread(&mean),
+        basis: principal.map_or(Vec::new(), |p| {
+            p.directions.iter().map(|e| support.spread(e)).collect()
+        }),
     }
-    match em_pca(
-        &members,
-        &mean,
-        start,
-        options.em_iterations,
-        options.em_tolerance,
-    ) {
-        Some(p) => Subspace {
-            mean,
-            basis: p.directions,
-        },
-        None => Subspace::point(mean),
+}
+
+/// The indices where some of a cluster's rows are not zero, and each index's place among
+/// them.
+struct Support {
+    indices: Vec<u32>,
+    place: Vec<u32>,
+}
+
+impl Support {
+    fn of(rows: &[&SparseVec], d: usize) -> Self {
+        let mut place = vec![u32::MAX; d];
+        rows.iter()
+            .for_each(|r| r.indices.iter().for_each(|&i| place[i as usize] = 0));
+        let mut indices = Vec::new();
+        for (i, p) in place.iter_mut().enumerate() {
+            if *p == 0 {
+                *p = indices.len() as u32;
+                indices.push(i as u32);
+            }
+        }
+        Support { indices, place }
+    }
+
+    /// `x` (non-zero only on the support) on the support's indices.
+    fn restrict(&self, x: &SparseVec) -> SparseVec {
+        SparseVec {
+            len: self.indices.len(),
+            indices: x.indices.iter().map(|&i| self.place[i as usize]).collect(),
+            values: x.values.clone(),
+            norm2: x.norm2,
+        }
+    }
+
+    /// A dense vector's entries on the support.
+    fn gather(&self, x: &[f64]) -> Vec<f64> {
+        self.indices.iter().map(|&i| x[i as usize]).collect()
+    }
+
+    /// A vector on the support as a dense vector of the full length.
+    fn spread(&self, x: &[f64]) -> Vec<f64> {
+        let mut full = vec![0.0; self.place.len()];
+        (self.indices.iter().zip(x)).for_each(|(&i, &v)| full[i as usize] = v);
+        full
     }
 }
 
