@@ -262,16 +262,27 @@ mod tests {
     use crate::haar;
     use fenestra_core::Sampler;
 
+    /// `count` rows of length `n` with entries `value(row, index, u)` (u uniform), the `keep`
+    /// largest kept.
+    fn rows(
+        count: usize,
+        n: usize,
+        keep: usize,
+        value: impl Fn(usize, usize, f64) -> f64,
+    ) -> Vec<SparseVec> {
+        let mut s = Sampler::new(5, 0, 0);
+        (0..count)
+            .map(|r| {
+                let x: Vec<f64> = (0..n).map(|j| value(r, j, s.next_1d() as f64)).collect();
+                SparseVec::largest(&x, keep)
+            })
+            .collect()
+    }
+
     #[test]
     fn kept_signals_are_the_inverse_transforms() {
         let n = 32;
-        let mut s = Sampler::new(5, 0, 0);
-        let rows: Vec<SparseVec> = (0..10)
-            .map(|_| {
-                let x: Vec<f64> = (0..n).map(|_| s.next_1d() as f64 - 0.5).collect();
-                SparseVec::largest(&x, 12)
-            })
-            .collect();
+        let rows = rows(10, n, 12, |_, _, u| u - 0.5);
         let truth = |r: usize| {
             let mut d = rows[r].to_dense();
             haar::inverse(&mut d, &mut vec![0.0; n]);
@@ -298,21 +309,18 @@ mod tests {
     #[test]
     fn elements_are_drawn_by_the_signals_magnitude() {
         let n = 16;
-        let mut s = Sampler::new(8, 0, 0);
-        let rows: Vec<SparseVec> = (0..3)
-            .map(|r| {
-                let x: Vec<f64> = (0..n)
-                    .map(|j| {
-                        if r == 2 || j % 5 == 0 {
-                            0.0
-                        } else {
-                            s.next_1d() as f64 - 0.2
-                        }
-                    })
-                    .collect();
-                SparseVec::largest(&x, n)
-            })
-            .collect();
+        let rows = rows(
+            3,
+            n,
+            n,
+            |r, j, u| {
+                if r == 2 || j % 5 == 0 {
+                    0.0
+                } else {
+                    u - 0.2
+                }
+            },
+        );
         // The first 12 entries can be drawn.
         let mut signals = Signals::new(4, 12);
         let slots: Vec<usize> = (0..2).map(|r| signals.load(&rows, r)).collect();
