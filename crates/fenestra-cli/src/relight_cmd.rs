@@ -230,8 +230,9 @@ fn precompute(a: &PrecomputeArgs) -> Result<()> {
     if !(a.explored > 0.0 && a.explored <= 1.0) {
         bail!("--explored must be in (0, 1], not {}", a.explored);
     }
-    if a.gather == 0 || a.keep == 0 || a.clusters == 0 || a.batches == 0 {
-        bail!("--gather, --keep, --clusters and --batches must be at least 1");
+    if a.gather == 0 || a.keep == 0 || a.clusters == 0 || a.batches == 0 || a.neighbours == 0 {
+        // Without neighbours no unexplored pixel could be reconstructed: it would stay dark.
+        bail!("--gather, --keep, --clusters, --batches and --neighbours must be at least 1");
     }
     let options = FrameOptions {
         threshold: a.threshold,

@@ -196,6 +196,12 @@ fn precompute_resumes_render_relights_and_export_gives_the_ground_truth() {
     assert!(
         !o.status.success() && String::from_utf8_lossy(&o.stderr).contains("bad --frames '2..5'")
     );
+    let o = precompute(&tmp("relight-no-neighbours"), &["--neighbours", "0"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        !o.status.success() && err.contains("--neighbours must be at least 1"),
+        "{err}"
+    );
     std::fs::write(
         &doubled_path,
         r#"{ "lights": [ { "type": "point", "position": [0, 0, 0] } ] }"#,
