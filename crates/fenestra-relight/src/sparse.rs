@@ -127,36 +127,11 @@ impl Packed {
     }
 }
 
-/// Rows classified together, so that a subspace's coefficients stay in cache across them.
-const BLOCK: usize = 64;
-
-/// Alg. 4 over all `rows`: each row's nearest of the subspaces `a` (the first of equals) and
-/// its squared distance; in parallel over blocks of rows, each block against one subspace
-/// after another.
-pub fn classify(rows: &[SparseVec], a: &[Packed]) -> (Vec<u32>, Vec<f64>) {
-    use rayon::prelude::*;
-    rows.par_chunks(BLOCK)
-        .flat_map_iter(|block| {
-            let mut best = [(0u32, f64::INFINITY); BLOCK];
-            let mut products = Vec::new();
-            for (c, s) in a.iter().enumerate() {
-                for (x, b) in block.iter().zip(&mut best) {
-                    let d = s.distance2(x, &mut products);
-                    if d < b.1 {
-                        *b = (c as u32, d);
-                    }
-                }
-            }
-            best.into_iter().take(block.len())
-        })
-        .unzip()
-}
-
 /// Alg. 4 with SortCluster-LPCA's pruning (seed 003 Alg. 2, from fenestra-lpca): each row
 /// starts at its `previous` cluster and visits the others in order of their distance from it
 /// (D, a lower bound on subspace distances), stopping when the triangle inequality
 /// d(x, a_j) >= D_ij - d(x, a_i) proves no farther one nearer. The same assignments and
-/// distances as [`classify`].
+/// distances as the exhaustive search (the first of equals), which a test checks.
 pub fn classify_sorted(
     rows: &[SparseVec],
     models: &[Subspace],
@@ -245,6 +220,23 @@ mod tests {
             let transformed = Packed::new(&wa).distance2(&full, &mut products);
             assert!((original - transformed).abs() < 1e-5 * original.max(1.0));
         }
+    }
+
+    /// Alg. 4 by exhaustive search: each row's nearest subspace (the first of equals).
+    fn classify(rows: &[SparseVec], a: &[Packed]) -> (Vec<u32>, Vec<f64>) {
+        let mut products = Vec::new();
+        (rows.iter())
+            .map(|x| {
+                let mut best = (0u32, f64::INFINITY);
+                for (c, s) in a.iter().enumerate() {
+                    let d = s.distance2(x, &mut products);
+                    if d < best.1 {
+                        best = (c as u32, d);
+                    }
+                }
+                best
+            })
+            .unzip()
     }
 
     #[test]
