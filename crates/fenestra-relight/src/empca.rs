@@ -10,7 +10,7 @@
 //! directions; the span is then turned into them, in order, by the eigenvectors of the l x l
 //! covariance of the rows' coordinates in it.
 
-use crate::sparse::SparseVec;
+use crate::sparse::{interleaved_products, SparseVec};
 use faer::linalg::solvers::Solve;
 use faer::{Mat, Side};
 
@@ -58,14 +58,7 @@ pub fn em_pca(
         let c_mean: Vec<f64> = c.iter().map(|ci| dot(ci, mean)).collect();
         let mut rhs = Mat::<f64>::zeros(l, rows.len());
         for (r, row) in rows.iter().enumerate() {
-            products.iter_mut().for_each(|p| *p = 0.0);
-            for (i, v) in row.iter() {
-                let column = &interleaved[i * l..(i + 1) * l];
-                products
-                    .iter_mut()
-                    .zip(column)
-                    .for_each(|(p, &e)| *p += v * e);
-            }
+            interleaved_products(&interleaved, row, &mut products);
             for j in 0..l {
                 rhs[(j, r)] = products[j] - c_mean[j];
             }

@@ -98,14 +98,8 @@ impl Packed {
     /// x . mu and V^T x into `products` (resized to 1 + l); each sum runs over x's
     /// coefficients in order, as [`SparseVec::dot`]'s does.
     fn products(&self, x: &SparseVec, products: &mut Vec<f64>) {
-        products.clear();
         products.resize(self.width, 0.0);
-        for (i, v) in x.iter() {
-            let column = &self.data[i * self.width..(i + 1) * self.width];
-            for (p, &c) in products.iter_mut().zip(column) {
-                *p += v * c;
-            }
-        }
+        interleaved_products(&self.data, x, products);
     }
 
     /// Eq. 4.3-4.4: the squared distance of `x` to the subspace (`products`: scratch).
@@ -125,6 +119,48 @@ impl Packed {
             .map(|(&p, &em)| (p - em) as f32)
             .collect()
     }
+}
+
+/// The products of `x` with `out.len()` vectors stored interleaved in `data` (coefficient
+/// i of vector j at `data[i * out.len() + j]`): `out[j]` = sum over x's coefficients (i, v),
+/// in order, of v * data[i * out.len() + j]. The sums are kept in registers, up to 16 at a
+/// time (summed in memory, each coefficient waited for the store of the one before: half of
+/// Alg. 4's time).
+pub fn interleaved_products(data: &[f64], x: &SparseVec, out: &mut [f64]) {
+    let stride = out.len();
+    for (block, out) in out.chunks_mut(16).enumerate() {
+        let start = block * 16;
+        macro_rules! widths {
+            ($($w:literal)*) => {
+                match out.len() {
+                    $($w => register_sums::<$w>(data, stride, start, x, out),)*
+                    _ => unreachable!("chunks of at most 16"),
+                }
+            };
+        }
+        widths!(1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16);
+    }
+}
+
+/// [`interleaved_products`] for the `W` vectors from `start` on.
+#[inline]
+fn register_sums<const W: usize>(
+    data: &[f64],
+    stride: usize,
+    start: usize,
+    x: &SparseVec,
+    out: &mut [f64],
+) {
+    let mut sums = [0.0f64; W];
+    for (i, v) in x.iter() {
+        let column: &[f64; W] = (data[i * stride + start..][..W])
+            .try_into()
+            .expect("W entries");
+        for (s, &c) in sums.iter_mut().zip(column) {
+            *s += v * c;
+        }
+    }
+    out.copy_from_slice(&sums);
 }
 
 /// Alg. 4 with SortCluster-LPCA's pruning (seed 003 Alg. 2, from fenestra-lpca): each row
@@ -185,6 +221,28 @@ mod tests {
             basis.push(v.into_iter().map(|a| a / n).collect());
         }
         Subspace { mean, basis }
+    }
+
+    #[test]
+    fn interleaved_products_are_the_dot_products_at_every_width() {
+        let d = 64;
+        let mut s = Sampler::new(8, 0, 0);
+        let mut r = || s.next_1d() as f64 * 2.0 - 1.0;
+        let dense: Vec<f64> = (0..d).map(|_| r()).collect();
+        let x = SparseVec::largest(&dense, 20);
+        // Widths within one block of sums, at its edge, and spanning two blocks.
+        for width in [1, 9, 16, 17, 25, 40] {
+            let vectors: Vec<Vec<f64>> =
+                (0..width).map(|_| (0..d).map(|_| r()).collect()).collect();
+            let data: Vec<f64> = (0..d)
+                .flat_map(|i| vectors.iter().map(move |v| v[i]))
+                .collect();
+            let mut out = vec![f64::NAN; width];
+            interleaved_products(&data, &x, &mut out);
+            for (j, v) in vectors.iter().enumerate() {
+                assert_eq!(out[j], x.dot(v), "width {width}, vector {j}");
+            }
+        }
     }
 
     #[test]
