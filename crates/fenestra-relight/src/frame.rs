@@ -12,7 +12,7 @@ use crate::haar;
 use crate::neighbours::PointTree;
 use crate::reconstruct::{reconstruct, Signals};
 use crate::sparse::{Packed, SparseVec};
-use crate::transfer::{element, gather_points, monte_carlo, transfer, ViewPoint};
+use crate::transfer::{elements, gather_points, monte_carlo, transfer, ViewPoint};
 use crate::wlpca::{wlpca, WlpcaOptions};
 use fenestra_core::{Rgb, Sampler, Vec2, Vec3};
 use fenestra_lpca::{Schedule, Subspace};
@@ -250,9 +250,8 @@ impl FrameTransfer {
                             .collect();
                         let shading = v.si.shading_frame();
                         let mut r = 0;
-                        let values: Vec<f64> = (indices.iter())
-                            .map(|&j| element(scene, &v, &shading, &gather.samples[j], &mut r))
-                            .collect();
+                        let samples = indices.iter().map(|&j| &gather.samples[j]);
+                        let values = elements(scene, &v, &shading, samples, &mut r);
                         rays.fetch_add(r, Ordering::Relaxed);
                         let Some(x) =
                             reconstruct(&neighbours, &dense, &indices, &values, o.ridge, sums)

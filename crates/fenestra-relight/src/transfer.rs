@@ -18,7 +18,7 @@ use fenestra_core::{warp, Frame, Ray, Rgb, Sampler, Vec2, Vec3};
 use fenestra_render::bsdf::Bsdf;
 use fenestra_render::light::Light;
 use fenestra_render::RenderScene;
-use fenestra_scene::SurfaceInteraction;
+use fenestra_scene::{SurfaceInteraction, PACKET};
 
 /// A point seen by the camera, for its transfer.
 pub struct ViewPoint<'a> {
@@ -46,46 +46,72 @@ impl ViewPoint<'_> {
     }
 }
 
-/// Eq. 4.1 from `g` to `v` (`frame` v's shading frame); counts the visibility ray.
-pub fn element(
-    scene: &RenderScene,
-    v: &ViewPoint,
-    frame: &Frame,
-    g: &GatherSample,
-    rays: &mut u64,
-) -> f64 {
+/// Eq. 4.1 from `g` to `v` (`frame` v's shading frame) but for the visibility term, with
+/// the visibility ray and its length; `None` where the element is zero whatever lies between.
+fn unoccluded(v: &ViewPoint, frame: &Frame, g: &GatherSample) -> Option<(f64, Ray, f32)> {
     let d = g.p - v.si.p;
     let dist2 = d.length_squared();
     if dist2 <= 0.0 {
-        return 0.0;
+        return None;
     }
     let dist = dist2.sqrt();
     let w = d / dist;
     let cos_g = w.dot(g.n).abs();
     let (wi, wo) = (frame.to_local(w), frame.to_local(v.wo));
     if cos_g <= 0.0 || wi.z * wo.z <= 0.0 || w.dot(v.si.ng) * v.wo.dot(v.si.ng) <= 0.0 {
-        return 0.0;
+        return None;
     }
     let f = v.bsdf.eval(wo, wi).luminance();
     if f <= 0.0 {
-        return 0.0;
+        return None;
     }
-    *rays += 1;
     let origin = v.si.spawn(w);
     let to = g.p - origin;
     let reach = to.length();
-    if scene
-        .scene
-        .occluded(&Ray::new(origin, to / reach), reach * (1.0 - 1e-3))
-    {
-        return 0.0;
-    }
     // The form factor of a disk of the sample's area (Wallace et al. 1989), A cos cos / (pi r^2
     // + A), in place of the point's A cos cos / (pi r^2): the same far away, bounded by 1 near,
     // where a gather sample beside the view point would otherwise make a spike that no
     // cluster's subspace represents (and that projects to negative light elsewhere).
     let pi = std::f32::consts::PI;
-    (g.area * f * wi.z.abs() * cos_g * pi / (pi * dist2 + g.area)) as f64
+    let value = (g.area * f * wi.z.abs() * cos_g * pi / (pi * dist2 + g.area)) as f64;
+    Some((value, Ray::new(origin, to / reach), reach * (1.0 - 1e-3)))
+}
+
+/// Eq. 4.1 from each of `samples` to `v` (`frame` v's shading frame), their visibility rays
+/// traced in packets of eight (one origin, so coherent: Embree's packet queries answer them
+/// faster than one at a time); adds the rays traced to `rays`.
+pub fn elements<'g>(
+    scene: &RenderScene,
+    v: &ViewPoint,
+    frame: &Frame,
+    samples: impl Iterator<Item = &'g GatherSample>,
+    rays: &mut u64,
+) -> Vec<f64> {
+    let mut values = Vec::new();
+    let mut pending: Vec<(usize, Ray, f32)> = Vec::new();
+    for g in samples {
+        if let Some((value, ray, reach)) = unoccluded(v, frame, g) {
+            pending.push((values.len(), ray, reach));
+            values.push(value);
+        } else {
+            values.push(0.0);
+        }
+    }
+    *rays += pending.len() as u64;
+    for packet in pending.chunks(PACKET) {
+        // A short last packet repeats its last ray.
+        let lane = |i: usize| &packet[i.min(packet.len() - 1)];
+        let blocked = (scene.scene).occluded8(
+            &std::array::from_fn(|i| lane(i).1),
+            std::array::from_fn(|i| lane(i).2),
+        );
+        for (&(at, _, _), blocked) in packet.iter().zip(blocked) {
+            if blocked {
+                values[at] = 0.0;
+            }
+        }
+    }
+    values
 }
 
 /// The transfer vector of `v` by the N-body traversal (subtrees whose area over the squared
@@ -102,7 +128,9 @@ pub fn transfer(
     if gather.nodes.is_empty() {
         return (x, rays);
     }
-    let frame = v.si.shading_frame();
+    // The nodes where the traversal stops (their samples' range), then their
+    // representatives' elements at once.
+    let mut stops = Vec::new();
     let mut stack = vec![0u32];
     while let Some(n) = stack.pop() {
         let node = &gather.nodes[n as usize];
@@ -110,14 +138,19 @@ pub fn transfer(
         let dist2 = nearest.distance_squared(v.si.p);
         let small = dist2 > 0.0 && node.area / dist2 < threshold;
         if node.children == [0, 0] || small {
-            let (lo, hi) = (node.lo as usize, node.hi as usize);
-            let rep = &gather.samples[(lo + hi) / 2];
-            let value = element(scene, v, &frame, rep, &mut rays);
-            for (xj, g) in x[lo..hi].iter_mut().zip(&gather.samples[lo..hi]) {
-                *xj = value * (g.area / rep.area) as f64;
-            }
+            stops.push((node.lo as usize, node.hi as usize));
         } else {
             stack.extend(node.children);
+        }
+    }
+    let rep = |&(lo, hi): &(usize, usize)| &gather.samples[(lo + hi) / 2];
+    let frame = v.si.shading_frame();
+    let values = elements(scene, v, &frame, stops.iter().map(rep), &mut rays);
+    for (stop, value) in stops.iter().zip(values) {
+        let (lo, hi) = *stop;
+        let area = rep(stop).area;
+        for (xj, g) in x[lo..hi].iter_mut().zip(&gather.samples[lo..hi]) {
+            *xj = value * (g.area / area) as f64;
         }
     }
     (x, rays)
@@ -180,10 +213,7 @@ pub fn gather_points(gather: &Gather) -> PointTree {
 /// traversal).
 pub fn brute_force(scene: &RenderScene, gather: &Gather, v: &ViewPoint) -> Vec<f64> {
     let frame = v.si.shading_frame();
-    let mut rays = 0;
-    (gather.samples.iter())
-        .map(|g| element(scene, v, &frame, g, &mut rays))
-        .collect()
+    elements(scene, v, &frame, gather.samples.iter(), &mut 0)
 }
 
 /// Direct irradiance at `p` on both sides of the surface of normal `n` (summed), from every
