@@ -221,14 +221,16 @@ impl FrameTransfer {
             .map_init(
                 || {
                     let signals = Signals::new(SIGNALS.max(4 * o.neighbours), gather.samples.len());
-                    (Vec::new(), Vec::new(), signals, Vec::new())
+                    (Vec::new(), Vec::new(), signals)
                 },
-                |(near, products, signals, sums), i| {
+                |(near, products, signals), i| {
                     let v = view(i).point();
                     let pixel = seen[i];
-                    let (x, candidates) = if row_of[i] != usize::MAX {
+                    let c = if row_of[i] != usize::MAX {
                         let r = row_of[i];
-                        (rows[r].clone(), vec![model.assignments[r]])
+                        let c = model.assignments[r];
+                        packed[c as usize].products(&rows[r], products);
+                        c
                     } else {
                         // Eq. 4.5 from the nearest explored samples, fitted at a few elements.
                         tree.nearest(
@@ -236,8 +238,6 @@ impl FrameTransfer {
                             o.neighbours,
                             near,
                         );
-                        let neighbours: Vec<&SparseVec> =
-                            near.iter().map(|&(_, r)| &rows[r as usize]).collect();
                         let slots: Vec<usize> =
                             near.iter().map(|&(_, r)| signals.load(&rows, r)).collect();
                         let dense: Vec<&[f64]> = slots.iter().map(|&s| signals.signal(s)).collect();
@@ -253,31 +253,36 @@ impl FrameTransfer {
                         let samples = indices.iter().map(|&j| &gather.samples[j]);
                         let values = elements(scene, &v, &shading, samples, &mut r);
                         rays.fetch_add(r, Ordering::Relaxed);
-                        let Some(x) =
-                            reconstruct(&neighbours, &dense, &indices, &values, o.ridge, sums)
-                        else {
+                        let Some(weights) = reconstruct(&dense, &indices, &values, o.ridge) else {
                             return (pixel, None);
                         };
                         // The cluster among its neighbours' (Alg. 4 over all clusters would cost
-                        // a distance per cluster per pixel; neighbours lie in one or two).
+                        // a distance per cluster per pixel; neighbours lie in one or two), by
+                        // the distance less |x|^2, which is the same for all.
                         let mut candidates: Vec<u32> = near
                             .iter()
                             .map(|&(_, r)| model.assignments[r as usize])
                             .collect();
                         candidates.sort_unstable();
                         candidates.dedup();
-                        (x, candidates)
+                        let mut best = (f64::INFINITY, candidates[0]);
+                        for &c in &candidates {
+                            let a = &packed[c as usize];
+                            signals.products(&rows, &slots, &weights, c, a, products);
+                            if a.excess(products) < best.0 {
+                                best = (a.excess(products), c);
+                            }
+                        }
+                        let (a, c) = (&packed[best.1 as usize], best.1);
+                        signals.products(&rows, &slots, &weights, c, a, products);
+                        c
                     };
-                    let c = (candidates.iter())
-                        .map(|&c| (packed[c as usize].distance2(&x, products), c))
-                        .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)))
-                        .map_or(0, |(_, c)| c as usize);
-                    let coefficients = packed[c].coordinates(&x, products);
+                    let coefficients = packed[c as usize].coordinates(products);
                     let colour = v.colour();
                     (
                         pixel,
                         Some(Pixel {
-                            cluster: c as u32,
+                            cluster: c,
                             coefficients,
                             colour,
                         }),

@@ -4,28 +4,28 @@
 //! element indices I (|I| >= k), which are cheap to evaluate (eq. 4.1 for single gather
 //! samples). The seed reads the neighbours' elements at I from their sparse images; here
 //! their whole signals are inverse-transformed once and kept ([`Signals`]), since the next
-//! pixels mostly have the same neighbours and need their elements too.
+//! pixels mostly have the same neighbours and need their elements too. The combination
+//! itself is never formed: what a pixel keeps, its subspace coordinates, and what picks its
+//! cluster are linear in it, so they are the same combination of the neighbours' products
+//! with the subspace, which are kept with their signals.
 
 use crate::haar;
-use crate::sparse::SparseVec;
+use crate::sparse::{Packed, SparseVec};
 
-/// The sparse wavelet image of the vector whose elements at `indices` are `values`, as a
-/// least-squares combination of `neighbours` (sparse wavelet images, all of length `n`, a
-/// power of two, with `signals` their inverse transforms), or their average where the
-/// elements at `indices` say nothing about the weights; `None` when there are fewer indices
-/// than neighbours. `ridge` > 0 pulls the weights towards the neighbours' average (1 / k
-/// each) with that weight relative to the system's mean squared column norm: a few elements
-/// of spiky transfer vectors otherwise buy a fit with large weights of opposite signs that
-/// is wrong everywhere else. `sums`: scratch, left as zeros.
+/// The weights of eq. 4.5's combination of `signals` (the neighbours' transfer, inverse
+/// transforms of their sparse wavelet images) that fits `values` at `indices` by least
+/// squares, or their average where the elements at `indices` say nothing about the weights;
+/// `None` when there are fewer indices than neighbours. `ridge` > 0 pulls the weights
+/// towards the neighbours' average (1 / k each) with that weight relative to the system's
+/// mean squared column norm: a few elements of spiky transfer vectors otherwise buy a fit
+/// with large weights of opposite signs that is wrong everywhere else.
 pub fn reconstruct(
-    neighbours: &[&SparseVec],
     signals: &[&[f64]],
     indices: &[usize],
     values: &[f64],
     ridge: f64,
-    sums: &mut Vec<f64>,
-) -> Option<SparseVec> {
-    let k = neighbours.len();
+) -> Option<Vec<f64>> {
+    let k = signals.len();
     if k == 0 || indices.len() < k || indices.len() != values.len() {
         return None;
     }
@@ -62,41 +62,10 @@ pub fn reconstruct(
     }
     // Neighbours that are all zero at I (a pixel in shadow where they are lit) say nothing
     // about the weights: their average then.
-    let alpha = if norm2 > 0.0 {
-        non_negative(&m, &rhs, k).unwrap_or(average)
+    if norm2 > 0.0 {
+        Some(non_negative(&m, &rhs, k).unwrap_or(average))
     } else {
-        average
-    };
-    Some(combine(neighbours, &alpha, sums))
-}
-
-/// Eq. 4.5 on the sparse images: sum_r alpha_r x_r, summed per coefficient in neighbour
-/// order in `sums` (zeros of length n, left as zeros) and read back in index order.
-fn combine(neighbours: &[&SparseVec], alpha: &[f64], sums: &mut Vec<f64>) -> SparseVec {
-    let n = neighbours[0].len;
-    sums.resize(n, 0.0);
-    let mut touched = vec![0u64; n.div_ceil(64)];
-    for (x, &w) in neighbours.iter().zip(alpha) {
-        for (i, v) in x.iter() {
-            sums[i] += w * v;
-            touched[i / 64] |= 1 << (i % 64);
-        }
-    }
-    let (mut indices, mut values) = (Vec::new(), Vec::new());
-    for (word, &bits) in touched.iter().enumerate() {
-        let mut bits = bits;
-        while bits != 0 {
-            let i = word * 64 + bits.trailing_zeros() as usize;
-            bits &= bits - 1;
-            indices.push(i as u32);
-            values.push(std::mem::take(&mut sums[i]));
-        }
-    }
-    SparseVec {
-        len: n,
-        norm2: values.iter().map(|v| v * v).sum(),
-        indices,
-        values,
+        Some(average)
     }
 }
 
@@ -117,6 +86,8 @@ struct Slot {
     signal: Vec<f64>,
     /// cumulative[j] = sum of |signal| over entries before j + 1.
     cumulative: Vec<f64>,
+    /// The row's products with subspaces asked for ([`Packed::products`]), by cluster.
+    products: Vec<(u32, Vec<f64>)>,
     used: u64,
 }
 
@@ -146,6 +117,7 @@ impl Signals {
                 row: r,
                 signal: Vec::new(),
                 cumulative: Vec::new(),
+                products: Vec::new(),
                 used: 0,
             });
             self.slots.len() - 1
@@ -167,8 +139,39 @@ impl Signals {
             sum += v.abs();
             sum
         }));
+        slot.products.clear();
         (slot.row, slot.used) = (r, self.clock);
         s
+    }
+
+    /// Eq. 4.5's combination with `weights` of the rows in `slots`, as its products with
+    /// cluster `c`'s subspace `a` ([`Packed::products`]) into `out`: the same combination of
+    /// the rows' products, each made once and kept with its signal.
+    pub fn products(
+        &mut self,
+        rows: &[SparseVec],
+        slots: &[usize],
+        weights: &[f64],
+        c: u32,
+        a: &Packed,
+        out: &mut Vec<f64>,
+    ) {
+        out.clear();
+        for (&s, &w) in slots.iter().zip(weights) {
+            let slot = &mut self.slots[s];
+            let kept = match slot.products.iter().position(|(k, _)| *k == c) {
+                Some(k) => k,
+                None => {
+                    let mut p = Vec::new();
+                    a.products(&rows[slot.row as usize], &mut p);
+                    slot.products.push((c, p));
+                    slot.products.len() - 1
+                }
+            };
+            let p = &slot.products[kept].1;
+            out.resize(p.len(), 0.0);
+            out.iter_mut().zip(p).for_each(|(o, &v)| *o += w * v);
+        }
     }
 
     /// The signal in slot `s`.
@@ -382,20 +385,20 @@ mod tests {
         };
         let signals = dense(&refs);
         let signals: Vec<&[f64]> = signals.iter().map(|s| s.as_slice()).collect();
-        let mut sums = Vec::new();
-        let got = reconstruct(&refs, &signals, &indices, &values, 0.0, &mut sums).expect("fit");
-        let mut back = got.to_dense();
-        haar::inverse(&mut back, &mut scratch);
+        // Eq. 4.5's combination of the signals with the fitted weights.
+        let combined = |signals: &[&[f64]], weights: &[f64]| -> Vec<f64> {
+            let mut sum = vec![0.0; n];
+            for (x, &w) in signals.iter().zip(weights) {
+                sum.iter_mut().zip(x.iter()).for_each(|(s, v)| *s += w * v);
+            }
+            sum
+        };
+        let got = reconstruct(&signals, &indices, &values, 0.0).expect("fit");
+        let back = combined(&signals, &got);
         for (j, (a, b)) in back.iter().zip(&truth).enumerate() {
             assert!((a - b).abs() < 1e-9, "element {j}: {a} vs {b}");
         }
-        assert!(
-            sums.iter().all(|&v| v == 0.0),
-            "the scratch is left as zeros"
-        );
-        assert!(
-            reconstruct(&refs, &signals, &indices[..2], &values[..2], 0.0, &mut sums).is_none()
-        );
+        assert!(reconstruct(&signals, &indices[..2], &values[..2], 0.0).is_none());
         // Values no non-negative combination reaches (a spike at one element): the weights
         // stay non-negative, where least squares alone would subtract neighbours.
         // (Whole images: truncated ones may dip below zero themselves.)
@@ -411,20 +414,59 @@ mod tests {
         spiky[0] *= 50.0;
         let whole_signals = dense(&whole);
         let whole_signals: Vec<&[f64]> = whole_signals.iter().map(|s| s.as_slice()).collect();
-        let got =
-            reconstruct(&whole, &whole_signals, &indices, &spiky, 0.0, &mut sums).expect("fit");
-        let mut back = got.to_dense();
-        haar::inverse(&mut back, &mut scratch);
+        let got = reconstruct(&whole_signals, &indices, &spiky, 0.0).expect("fit");
+        assert!(got.iter().all(|&w| w >= 0.0), "negative weights: {got:?}");
+        let back = combined(&whole_signals, &got);
         assert!(back.iter().all(|&v| v >= -1e-9), "negative light: {back:?}");
         // A neighbour twice: the two copies share its weight, the fit is the same.
-        let twice = [refs[0], refs[0], refs[1], refs[2]];
         let twice_signals = [signals[0], signals[0], signals[1], signals[2]];
-        let got =
-            reconstruct(&twice, &twice_signals, &indices, &values, 0.0, &mut sums).expect("fit");
-        let mut back = got.to_dense();
-        haar::inverse(&mut back, &mut scratch);
+        let got = reconstruct(&twice_signals, &indices, &values, 0.0).expect("fit");
+        let back = combined(&twice_signals, &got);
         for (j, (a, b)) in back.iter().zip(&truth).enumerate() {
             assert!((a - b).abs() < 1e-6, "twice, element {j}: {a} vs {b}");
+        }
+    }
+
+    #[test]
+    fn subspace_products_of_a_combination_combine_the_rows_products() {
+        let (n, l) = (64, 3);
+        let rows = rows(
+            5,
+            n,
+            20,
+            |r, j, u| if (r + j) % 4 == 0 { 0.0 } else { u - 0.3 },
+        );
+        let mut s = Sampler::new(12, 0, 0);
+        let mut r = || s.next_1d() as f64 - 0.5;
+        let subspace = |r: &mut dyn FnMut() -> f64| fenestra_lpca::Subspace {
+            mean: (0..n).map(|_| r()).collect(),
+            basis: (0..l).map(|_| (0..n).map(|_| r()).collect()).collect(),
+        };
+        let a = [
+            Packed::new(&subspace(&mut r)),
+            Packed::new(&subspace(&mut r)),
+        ];
+        let mut signals = Signals::new(3, n);
+        let weights = [0.5, 1.5, 0.25];
+        // Rows 1, 3, 4; then 0, 3, 4 after row 1's slot went to row 0.
+        for (pass, picked) in [[1u32, 3, 4], [0, 3, 4], [0, 3, 4]].iter().enumerate() {
+            let slots: Vec<usize> = picked.iter().map(|&r| signals.load(&rows, r)).collect();
+            let mut dense = vec![0.0; n];
+            for (&r, w) in picked.iter().zip(weights) {
+                rows[r as usize].iter().for_each(|(i, v)| dense[i] += w * v);
+            }
+            let x = SparseVec::largest(&dense, n);
+            for (c, a) in a.iter().enumerate() {
+                let (mut want, mut got) = (Vec::new(), Vec::new());
+                a.products(&x, &mut want);
+                signals.products(&rows, &slots, &weights, c as u32, a, &mut got);
+                for (g, w) in got.iter().zip(&want) {
+                    assert!(
+                        (g - w).abs() < 1e-12,
+                        "pass {pass}, cluster {c}: {got:?} vs {want:?}"
+                    );
+                }
+            }
         }
     }
 }

@@ -98,7 +98,7 @@ impl Packed {
     }
 
     /// x . mu and V^T x into `products` (resized to 1 + l).
-    fn products(&self, x: &SparseVec, products: &mut Vec<f64>) {
+    pub fn products(&self, x: &SparseVec, products: &mut Vec<f64>) {
         products.resize(self.width, 0.0);
         interleaved_products(&self.data, x, products);
     }
@@ -106,16 +106,20 @@ impl Packed {
     /// Eq. 4.3-4.4: the squared distance of `x` to the subspace (`products`: scratch).
     pub fn distance2(&self, x: &SparseVec, products: &mut Vec<f64>) -> f64 {
         self.products(x, products);
-        let y = x.norm2 - 2.0 * products[0] + self.mean2;
+        (x.norm2 + self.excess(products)).max(0.0)
+    }
+
+    /// d^2(x, a) - |x|^2 from x's [`Packed::products`]: what orders subspaces by their
+    /// distance from x (linear in them but for the square of V^T x).
+    pub fn excess(&self, products: &[f64]) -> f64 {
         let z: f64 = (products[1..].iter().zip(&self.basis_mean))
             .map(|(&p, &em)| (p - em) * (p - em))
             .sum();
-        (y - z).max(0.0)
+        self.mean2 - 2.0 * products[0] - z
     }
 
-    /// The coordinates V^T (x - mu) of `x` in the subspace (`products`: scratch).
-    pub fn coordinates(&self, x: &SparseVec, products: &mut Vec<f64>) -> Vec<f32> {
-        self.products(x, products);
+    /// The coordinates V^T (x - mu) in the subspace of x with [`Packed::products`] `products`.
+    pub fn coordinates(&self, products: &[f64]) -> Vec<f32> {
         (products[1..].iter().zip(&self.basis_mean))
             .map(|(&p, &em)| (p - em) as f32)
             .collect()
