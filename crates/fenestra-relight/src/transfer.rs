@@ -46,35 +46,53 @@ impl ViewPoint<'_> {
     }
 }
 
-/// Eq. 4.1 from `g` to `v` (`frame` v's shading frame) but for the visibility term, with
-/// the visibility ray and its length; `None` where the element is zero whatever lies between.
-fn unoccluded(v: &ViewPoint, frame: &Frame, g: &GatherSample) -> Option<(f64, Ray, f32)> {
-    let d = g.p - v.si.p;
-    let dist2 = d.length_squared();
-    if dist2 <= 0.0 {
-        return None;
+/// What eq. 4.1 needs of a view point, made once for all its elements.
+struct Receiver<'a> {
+    v: &'a ViewPoint<'a>,
+    frame: &'a Frame,
+    /// w_o in the shading frame.
+    wo: Vec3,
+    /// The side of the geometric normal w_o is on (elements from the other side are zero).
+    side: f32,
+    /// Where visibility rays start: every ray that counts leaves on w_o's side, so from one
+    /// offset origin.
+    origin: Vec3,
+}
+
+impl Receiver<'_> {
+    /// Eq. 4.1 from `g` but for the visibility term, with the visibility ray and its length;
+    /// `None` where the element is zero whatever lies between.
+    fn unoccluded(&self, g: &GatherSample) -> Option<(f64, Ray, f32)> {
+        let d = g.p - self.v.si.p;
+        let dist2 = d.length_squared();
+        if dist2 <= 0.0 {
+            return None;
+        }
+        let w = d / dist2.sqrt();
+        let cos_g = w.dot(g.n).abs();
+        let wi = self.frame.to_local(w);
+        if cos_g <= 0.0 || wi.z * self.wo.z <= 0.0 || w.dot(self.v.si.ng) * self.side <= 0.0 {
+            return None;
+        }
+        let f = self.v.bsdf.eval(self.wo, wi).luminance();
+        if f <= 0.0 {
+            return None;
+        }
+        let to = g.p - self.origin;
+        let reach = to.length();
+        // The form factor of a disk of the sample's area (Wallace et al. 1989), A cos cos /
+        // (pi r^2 + A), in place of the point's A cos cos / (pi r^2): the same far away,
+        // bounded by 1 near, where a gather sample beside the view point would otherwise make
+        // a spike that no cluster's subspace represents (and that projects to negative light
+        // elsewhere).
+        let pi = std::f32::consts::PI;
+        let value = (g.area * f * wi.z.abs() * cos_g * pi / (pi * dist2 + g.area)) as f64;
+        Some((
+            value,
+            Ray::new(self.origin, to / reach),
+            reach * (1.0 - 1e-3),
+        ))
     }
-    let dist = dist2.sqrt();
-    let w = d / dist;
-    let cos_g = w.dot(g.n).abs();
-    let (wi, wo) = (frame.to_local(w), frame.to_local(v.wo));
-    if cos_g <= 0.0 || wi.z * wo.z <= 0.0 || w.dot(v.si.ng) * v.wo.dot(v.si.ng) <= 0.0 {
-        return None;
-    }
-    let f = v.bsdf.eval(wo, wi).luminance();
-    if f <= 0.0 {
-        return None;
-    }
-    let origin = v.si.spawn(w);
-    let to = g.p - origin;
-    let reach = to.length();
-    // The form factor of a disk of the sample's area (Wallace et al. 1989), A cos cos / (pi r^2
-    // + A), in place of the point's A cos cos / (pi r^2): the same far away, bounded by 1 near,
-    // where a gather sample beside the view point would otherwise make a spike that no
-    // cluster's subspace represents (and that projects to negative light elsewhere).
-    let pi = std::f32::consts::PI;
-    let value = (g.area * f * wi.z.abs() * cos_g * pi / (pi * dist2 + g.area)) as f64;
-    Some((value, Ray::new(origin, to / reach), reach * (1.0 - 1e-3)))
 }
 
 /// Eq. 4.1 from each of `samples` to `v` (`frame` v's shading frame), their visibility rays
@@ -87,10 +105,17 @@ pub fn elements<'g>(
     samples: impl Iterator<Item = &'g GatherSample>,
     rays: &mut u64,
 ) -> Vec<f64> {
+    let receiver = Receiver {
+        v,
+        frame,
+        wo: frame.to_local(v.wo),
+        side: v.wo.dot(v.si.ng),
+        origin: v.si.spawn(v.wo),
+    };
     let mut values = Vec::new();
     let mut pending: Vec<(usize, Ray, f32)> = Vec::new();
     for g in samples {
-        if let Some((value, ray, reach)) = unoccluded(v, frame, g) {
+        if let Some((value, ray, reach)) = receiver.unoccluded(g) {
             pending.push((values.len(), ray, reach));
             values.push(value);
         } else {
