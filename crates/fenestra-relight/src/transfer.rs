@@ -171,7 +171,8 @@ pub fn transfer(
     let rep = |&(lo, hi): &(usize, usize)| &gather.samples[(lo + hi) / 2];
     let frame = v.si.shading_frame();
     let values = elements(scene, v, &frame, stops.iter().map(rep), &mut rays);
-    for (stop, value) in stops.iter().zip(values) {
+    // Most stops are hidden or face away: their samples stay zero.
+    for (stop, value) in stops.iter().zip(values).filter(|(_, v)| *v != 0.0) {
         let (lo, hi) = *stop;
         let area = rep(stop).area;
         for (xj, g) in x[lo..hi].iter_mut().zip(&gather.samples[lo..hi]) {
