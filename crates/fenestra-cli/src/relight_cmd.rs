@@ -121,11 +121,14 @@ struct PrecomputeArgs {
     /// instead of the N-body traversal.
     #[arg(long)]
     transfer_rays: Option<u32>,
-    /// Explored neighbours and evaluated elements per reconstructed view sample.
+    /// Explored neighbours whose transfer is combined for a reconstructed view sample (eq. 4.5).
     #[arg(long, default_value_t = 6)]
     neighbours: usize,
+    /// Gather samples at which a reconstructed view sample's transfer is evaluated, to fit the
+    /// combination's weights (at least --neighbours).
     #[arg(long, default_value_t = 32)]
     elements: usize,
+    /// Seed of the gather samples, the exploration's draws and the elements' choice.
     #[arg(long, default_value_t = 1)]
     seed: u64,
     /// Frames to precompute, FIRST..END (END excluded; default all): machines can share a
