@@ -100,22 +100,25 @@ impl View {
 pub fn views(scene: &RenderScene, width: u32, height: u32) -> Vec<Option<View>> {
     (0..width * height)
         .into_par_iter()
-        .map(|i| {
-            let c = Vec2::new((i % width) as f32 + 0.5, (i / width) as f32 + 0.5);
-            let ray = scene.scene.camera.generate_ray(c, width, height);
-            let hit = scene.scene.intersect(&ray, f32::INFINITY)?;
-            if scene.scene.shapes[hit.shape as usize].emission.is_some() {
-                return None;
-            }
-            let si = scene.scene.interaction(&ray, &hit);
-            let bsdf = scene.bsdf_at(&si).into_owned();
-            Some(View {
-                si,
-                bsdf,
-                wo: -ray.d,
-            })
-        })
+        .map(|i| view(scene, i, width, height))
         .collect()
+}
+
+/// The view sample of pixel `i` (row-major) of `scene`'s camera at `width` x `height`.
+pub fn view(scene: &RenderScene, i: u32, width: u32, height: u32) -> Option<View> {
+    let c = Vec2::new((i % width) as f32 + 0.5, (i / width) as f32 + 0.5);
+    let ray = scene.scene.camera.generate_ray(c, width, height);
+    let hit = scene.scene.intersect(&ray, f32::INFINITY)?;
+    if scene.scene.shapes[hit.shape as usize].emission.is_some() {
+        return None;
+    }
+    let si = scene.scene.interaction(&ray, &hit);
+    let bsdf = scene.bsdf_at(&si).into_owned();
+    Some(View {
+        si,
+        bsdf,
+        wo: -ray.d,
+    })
 }
 
 impl FrameTransfer {

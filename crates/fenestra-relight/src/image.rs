@@ -4,7 +4,7 @@
 //! direct light at the view samples, and emitters and the environment seen directly, are
 //! added by tracing the same pixel-centre rays as the precomputation.
 
-use crate::frame::{views, FrameTransfer};
+use crate::frame::{view, FrameTransfer};
 use crate::gather::Gather;
 use crate::transfer::{direct, radiosity};
 use fenestra_core::{Rgb, Sampler, Vec2};
@@ -31,11 +31,13 @@ pub fn relit_image(
     let b = radiosity(scene, gather, o.light_samples, o.seed);
     let indirect = frame.relight(&b);
     let (w, h) = (frame.width, frame.height);
-    let views = views(scene, w, h);
-    let direct_light: Vec<Rgb> = (views.par_iter().enumerate())
-        .map(|(i, v)| {
-            let Some(v) = v else {
-                return seen_directly(scene, i as u32, w, h);
+    // Each pixel's view sample made, used and dropped (a frame's views held at once are
+    // tens of megabytes, fresh pages every frame).
+    let direct_light: Vec<Rgb> = (0..w * h)
+        .into_par_iter()
+        .map(|i| {
+            let Some(v) = view(scene, i, w, h) else {
+                return seen_directly(scene, i, w, h);
             };
             let shading = v.si.shading_frame();
             let wo = shading.to_local(v.wo);
