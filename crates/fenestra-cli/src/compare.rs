@@ -97,7 +97,7 @@ pub fn run(args: CompareArgs) -> Result<()> {
         let time_s = sidecar.as_ref().map(|s| s.time_s);
         rows.push(json!({
             "image": path, "mse": m.mse, "rel_mse": m.rel_mse, "mae": m.mae, "mean": m.mean,
-            "ref_mean": m.ref_mean, "region_error": m.region_error, "time_s": time_s, "efficiency": time_s.map(|t| metrics::efficiency(m.mse, t)),
+            "ref_mean": m.ref_mean, "region_error": m.region_error, "worst_share": m.worst_share, "time_s": time_s, "efficiency": time_s.map(|t| metrics::efficiency(m.mse, t)),
             "shadow_rays_per_pixel": sidecar.as_ref().map(|s| s.shadow_rays_per_pixel),
             "spp": sidecar.as_ref().map(|s| s.spp),
         }));
@@ -107,8 +107,8 @@ pub fn run(args: CompareArgs) -> Result<()> {
         return Ok(());
     }
     println!(
-        "{:<40} {:>11} {:>11} {:>11} {:>11} {:>11} {:>9} {:>11}",
-        "image", "MSE", "relMSE", "MAE", "mean", "region err", "time s", "efficiency"
+        "{:<40} {:>11} {:>11} {:>11} {:>11} {:>11} {:>9} {:>9} {:>11}",
+        "image", "MSE", "relMSE", "MAE", "mean", "region err", "worst 1%", "time s", "efficiency"
     );
     let opt = |v: &Value, digits: usize| {
         v.as_f64()
@@ -116,13 +116,16 @@ pub fn run(args: CompareArgs) -> Result<()> {
     };
     for r in &rows {
         println!(
-            "{:<40} {:>11} {:>11} {:>11} {:>11} {:>11} {:>9} {:>11}",
+            "{:<40} {:>11} {:>11} {:>11} {:>11} {:>11} {:>9} {:>9} {:>11}",
             r["image"].as_str().unwrap_or("?"),
             opt(&r["mse"], 3),
             opt(&r["rel_mse"], 3),
             opt(&r["mae"], 3),
             opt(&r["mean"], 3),
             opt(&r["region_error"], 3),
+            r["worst_share"]
+                .as_f64()
+                .map_or("-".to_string(), |w| format!("{:.1}%", 100.0 * w)),
             r["time_s"]
                 .as_f64()
                 .map_or("-".to_string(), |t| format!("{t:.2}")),

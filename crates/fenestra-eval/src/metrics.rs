@@ -22,6 +22,22 @@ pub struct Metrics {
     /// hardly moves with noise, so it tells a different picture from a noisy one.
     #[serde(default)]
     pub region_error: f64,
+    /// The share of [`Metrics::rel_mse`]'s sum in the worst 1% of pixels (at least one): 0.01
+    /// when the relative error is spread evenly, near 1 when a few pixels (fireflies, edges,
+    /// corners) carry it.
+    #[serde(default)]
+    pub worst_share: f64,
+}
+
+/// The share of `errors`' sum in its largest hundredth (at least one; 0 for a zero sum).
+fn worst_share(mut errors: Vec<f64>) -> f64 {
+    let total: f64 = errors.iter().sum();
+    if errors.is_empty() || total <= 0.0 {
+        return 0.0;
+    }
+    let worst = errors.len().div_ceil(100);
+    errors.select_nth_unstable_by(worst - 1, |a, b| b.total_cmp(a));
+    errors[..worst].iter().sum::<f64>() / total
 }
 
 /// Regions per side of [`Metrics::region_error`]'s grid.
@@ -75,6 +91,7 @@ pub fn compare_where(
     let (mut se, mut rel, mut ae, mut sum, mut ref_sum) = (0.0f64, 0.0f64, 0.0f64, 0.0f64, 0.0f64);
     let kept = |i: usize| mask.is_none_or(|m| m.get(i).copied().unwrap_or(false));
     let mut count = 0usize;
+    let mut pixel_rel = Vec::new();
     for (_, (p, r)) in img
         .pixels
         .iter()
@@ -83,6 +100,7 @@ pub fn compare_where(
         .filter(|(i, _)| kept(*i))
     {
         count += 1;
+        let rel_before = rel;
         for (x, r) in p.to_array().into_iter().zip(r.to_array()) {
             let (x, r) = (x as f64, r as f64);
             let d = x - r;
@@ -92,6 +110,7 @@ pub fn compare_where(
             sum += x;
             ref_sum += r;
         }
+        pixel_rel.push(rel - rel_before);
     }
     let n = (count * 3).max(1) as f64;
     let (mut region_diff, mut region_ref) = (0.0f64, 0.0f64);
@@ -112,6 +131,7 @@ pub fn compare_where(
         } else {
             region_diff
         },
+        worst_share: worst_share(pixel_rel),
     })
 }
 
@@ -151,6 +171,34 @@ mod tests {
         let m = compare_where(&x, &r, Some(&[false, true])).expect("same size");
         assert!((m.mse - 0.25 / 3.0).abs() < 1e-12 && (m.mae - 0.5 / 3.0).abs() < 1e-12);
         assert!((m.mean - 0.5 / 3.0).abs() < 1e-12 && m.ref_mean == 0.0);
+    }
+
+    #[test]
+    fn the_worst_hundredth_s_share_of_the_relative_error() {
+        // 250 pixels: 3 rounded up to the worst hundredth. Spread evenly: 3 / 250.
+        let reference = Image::new(250, 1);
+        let mut even = Image::new(250, 1);
+        (0..250).for_each(|x| even.set(x, 0, Rgb::splat(0.1)));
+        let m = compare(&even, &reference).expect("same size");
+        assert!(
+            (m.worst_share - 3.0 / 250.0).abs() < 1e-12,
+            "{}",
+            m.worst_share
+        );
+        // Three pixels off by 1 on black (1 / 0.01 a channel), the others by 0.1 (0.1^2 /
+        // 0.01, 1 but for 0.1's rounding to f32): 300 / (300 + 247).
+        [7, 100, 249].iter().for_each(|&x| even.set(x, 0, Rgb::ONE));
+        let m = compare(&even, &reference).expect("same size");
+        let want = 300.0 / (300.0 + 247.0);
+        assert!(
+            (m.worst_share - want).abs() < 1e-6,
+            "{} vs {want}",
+            m.worst_share
+        );
+        assert_eq!(
+            compare(&reference, &reference).expect("same").worst_share,
+            0.0
+        );
     }
 
     #[test]
