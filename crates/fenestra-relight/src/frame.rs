@@ -272,8 +272,9 @@ impl FrameTransfer {
                         for &c in &candidates {
                             let a = &packed[c as usize];
                             signals.products(&rows, &slots, &weights, c, a, products);
-                            if a.excess(products) < best.0 {
-                                best = (a.excess(products), c);
+                            let excess = a.excess(products);
+                            if excess < best.0 {
+                                best = (excess, c);
                             }
                         }
                         let (a, c) = (&packed[best.1 as usize], best.1);

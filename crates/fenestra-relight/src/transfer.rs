@@ -1,7 +1,7 @@
 //! Direct-to-indirect transfer (seed 003 §4.4.1-4.4.3) and relighting with it (§4.6).
 //!
 //! The transfer from gather sample g to a view point v is eq. 4.1, A(g) f_r(v -> g) G(v, g)
-//! V(v, g) (G with the disk form factor's bounded 1 / (r^2 + A / pi), see [`element`]), with
+//! V(v, g) (G with the disk form factor's bounded 1 / (r^2 + A / pi), see [`elements`]), with
 //! f_r's luminance (the point's colour, f_r(w_o, n) over its luminance, is
 //! applied when relighting: exact for BRDFs whose colour does not change with direction).
 //! [`transfer`] evaluates it by Hasan et al.'s N-body traversal of the gather tree: a subtree
