@@ -12,7 +12,7 @@ use crate::haar;
 use crate::neighbours::PointTree;
 use crate::reconstruct::{reconstruct, Signals};
 use crate::sparse::{Packed, SparseVec};
-use crate::transfer::{elements, gather_points, monte_carlo, transfer, ViewPoint};
+use crate::transfer::{elements, monte_carlo, transfer, ViewPoint};
 use crate::wlpca::{wlpca, WlpcaOptions};
 use fenestra_core::{Rgb, Sampler, Vec2, Vec3};
 use fenestra_lpca::{Schedule, Subspace};
@@ -167,7 +167,7 @@ impl FrameTransfer {
             seed: o.seed,
         };
         let rays = AtomicU64::new(0);
-        let near = (o.mc_rays > 0).then(|| gather_points(gather));
+        let near = (o.mc_rays > 0).then(|| gather.points());
         let explored = explore(&samples, &explore_options, |i| {
             let (mut w, r) = match &near {
                 None => transfer(scene, gather, &view(i).point(), o.threshold),

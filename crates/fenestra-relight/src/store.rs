@@ -33,6 +33,10 @@ pub struct Manifest {
     /// Monte Carlo rays per transfer vector (0: the N-body traversal).
     #[serde(default)]
     pub mc_rays: u32,
+    /// Points a gather sample's patch area is measured with (0: frames made when every
+    /// sample had an equal share of the area).
+    #[serde(default)]
+    pub patch_points: usize,
     pub explored: f32,
     pub batches: usize,
     pub keep: usize,
@@ -63,6 +67,7 @@ impl Manifest {
             gather,
             threshold: o.threshold,
             mc_rays: o.mc_rays,
+            patch_points: crate::gather::PATCH_POINTS,
             explored: o.explored,
             batches: o.batches,
             keep: o.keep,

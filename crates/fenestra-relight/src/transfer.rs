@@ -184,8 +184,8 @@ pub fn transfer(
 
 /// The transfer vector of `v` by Monte Carlo, the alternative to the N-body traversal the
 /// issue compares against: `rays` cosine-weighted rays (stream `sampler`); each that hits a
-/// surface credits the gather sample standing for the hit point (the nearest of `near` in
-/// the hit surface's plane orientation) with f pi / rays, so that sum_j x_j B_j estimates the one-bounce light.
+/// surface credits the gather sample whose patch it lands in ([`Gather::owner`], `near` from
+/// [`Gather::points`]) with f pi / rays, so that sum_j x_j B_j estimates the one-bounce light.
 /// The near field is integrated by the rays, not by the gather samples' positions.
 pub fn monte_carlo(
     scene: &RenderScene,
@@ -212,27 +212,12 @@ pub fn monte_carlo(
             continue;
         };
         let h = scene.scene.interaction(&ray, &hit);
-        near.nearest(&[h.p.x, h.p.y, h.p.z, 0.0], 4, &mut found);
-        let facing = found.iter().find(|&&(_, j)| {
-            let g = &gather.samples[j as usize];
-            g.n.dot(h.ng).abs() > 0.5
-        });
-        if let Some(&(_, j)) = facing {
+        if let Some(j) = gather.owner(near, h.p, h.ng, hit.shape, &mut found) {
             let f = v.bsdf.eval(wo, local).luminance();
             x[j as usize] += (f * std::f32::consts::PI / rays as f32) as f64;
         }
     }
     x
-}
-
-/// The gather samples' positions for [`monte_carlo`]'s nearest-sample search.
-pub fn gather_points(gather: &Gather) -> PointTree {
-    let points: Vec<[f32; 4]> = gather
-        .samples
-        .iter()
-        .map(|g| [g.p.x, g.p.y, g.p.z, 0.0])
-        .collect();
-    PointTree::new(&points)
 }
 
 /// The transfer vector of `v` with every element evaluated (the reference for the N-body
@@ -370,7 +355,7 @@ mod tests {
             );
             assert!(rays < gather.samples.len() as u64 / 4, "{rays} rays");
             let l = relit(v.colour(), &x, &b);
-            let near = gather_points(&gather);
+            let near = gather.points();
             let mc_x = monte_carlo(&scene, &gather, &near, &v, 4096, &mut Sampler::new(9, 0, 0));
             let l_mc = relit(v.colour(), &mc_x, &b);
             // Monte Carlo: cosine-weighted directions from v, the radiosity of what they hit.
