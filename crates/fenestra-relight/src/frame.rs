@@ -348,7 +348,10 @@ impl FrameTransfer {
                     let (mean, basis) = &lights[p.cluster as usize];
                     let l =
                         (p.coefficients.iter().zip(basis)).fold(*mean, |acc, (&w, e)| acc + *e * w);
-                    p.colour * l
+                    // Light is not negative: a subspace that fits a pixel's transfer poorly
+                    // can give it negative coordinates' worth of light (a pixel at -0.6 where
+                    // the truth is 0.06).
+                    p.colour * l.map(|c| c.max(0.0))
                 }
             })
             .collect()
@@ -424,6 +427,39 @@ mod tests {
         let frame = FrameTransfer::precompute(&scene, &gather, 8, 8, &options);
         assert_eq!(frame.explored, 0);
         assert!(frame.relight(&[]).iter().all(|&l| l == Rgb::ZERO));
+    }
+
+    #[test]
+    fn relit_light_is_never_negative() {
+        // Two gather samples (padded length 2); one cluster whose direction, at the pixels'
+        // coordinates, outweighs its mean at the second sample.
+        let pixel = |c: f32| {
+            Some(Pixel {
+                cluster: 0,
+                coefficients: vec![c],
+                colour: Rgb::splat(1.0),
+            })
+        };
+        let frame = FrameTransfer {
+            width: 2,
+            height: 1,
+            gather: 2,
+            // Haar domain: (x0 + x1) / sqrt 2 and (x0 - x1) / sqrt 2.
+            clusters: vec![Subspace {
+                mean: vec![std::f64::consts::SQRT_2, 0.0],
+                basis: vec![vec![0.0, 1.0]],
+            }],
+            pixels: vec![pixel(0.5), pixel(-3.0)],
+            explored: 0,
+            rays: 0,
+        };
+        // Element vectors (1.35, 0.65) and (-1.12, 3.12): the first relit as is, the second's
+        // negative light at red clamped.
+        let image = frame.relight(&[Rgb::new(1.0, 0.0, 0.0), Rgb::new(0.0, 1.0, 0.0)]);
+        let x = 0.5 * std::f32::consts::FRAC_1_SQRT_2;
+        assert!((image[0].r - (1.0 + x)).abs() < 1e-5 && (image[0].g - (1.0 - x)).abs() < 1e-5);
+        assert_eq!(image[1].r, 0.0);
+        assert!((image[1].g - (1.0 + 3.0 * std::f32::consts::FRAC_1_SQRT_2)).abs() < 1e-5);
     }
 
     #[test]
