@@ -163,7 +163,7 @@ impl Gather {
             gather.build(0, gather.samples.len());
             // Each sample's area its patch's: the share of `PATCH_POINTS` points a sample
             // that fall in it.
-            let mut area = vec![0.0; count];
+            let mut area = vec![0.0; gather.samples.len()];
             for (j, point) in gather.patch_points(scene, &surfaces, seed) {
                 area[j as usize] += point.area;
             }
