@@ -128,6 +128,10 @@ struct PrecomputeArgs {
     /// combination's weights (at least --neighbours).
     #[arg(long, default_value_t = 32)]
     elements: usize,
+    /// Share of view samples evaluated after reconstruction after all and kept uncompressed:
+    /// those whose light under the scene's own lights departs most from their neighbours'.
+    #[arg(long, default_value_t = 0.03)]
+    refined: f32,
     /// Seed of the gather samples, the exploration's draws and the elements' choice.
     #[arg(long, default_value_t = 1)]
     seed: u64,
@@ -233,6 +237,9 @@ fn precompute(a: &PrecomputeArgs) -> Result<()> {
     if !(a.explored > 0.0 && a.explored <= 1.0) {
         bail!("--explored must be in (0, 1], not {}", a.explored);
     }
+    if !(0.0..=1.0).contains(&a.refined) {
+        bail!("--refined must be in [0, 1], not {}", a.refined);
+    }
     if a.gather == 0 || a.keep == 0 || a.clusters == 0 || a.batches == 0 || a.neighbours == 0 {
         // Without neighbours no unexplored pixel could be reconstructed: it would stay dark.
         bail!("--gather, --keep, --clusters, --batches and --neighbours must be at least 1");
@@ -248,6 +255,7 @@ fn precompute(a: &PrecomputeArgs) -> Result<()> {
         neighbours: a.neighbours.max(1),
         elements: a.elements.max(a.neighbours),
         ridge: 0.1,
+        refined: a.refined,
         seed: a.seed,
     };
     // Scene files are kept by absolute path: `relight render` runs from anywhere.

@@ -4,11 +4,14 @@
 //! every other view sample's transfer reconstructed from its nearest explored ones at a few
 //! elements (eq. 4.5) and assigned to its nearest cluster. Relighting then costs, per cluster,
 //! (1 + l) dot products of the gather samples' radiosity with the mean and basis (in the
-//! wavelet domain: <x, B> = <Wx, WB>), and per pixel l multiply-adds.
+//! wavelet domain: <x, B> = <Wx, WB>), and per pixel l multiply-adds. Beyond the seed, the
+//! few pixels the scene's own light shows to be reconstructed badly ([`LightCheck`]) are
+//! evaluated after all and kept uncompressed.
 
 use crate::explore::{explore, ExploreOptions, ViewSample};
 use crate::gather::Gather;
 use crate::haar;
+use crate::light_check::LightCheck;
 use crate::neighbours::PointTree;
 use crate::reconstruct::{reconstruct, Signals};
 use crate::sparse::{Packed, SparseVec};
@@ -53,17 +56,32 @@ pub struct FrameOptions {
     pub elements: usize,
     /// The reconstruction's pull towards the neighbours' average ([`reconstruct`]).
     pub ridge: f64,
+    /// Share of the view samples evaluated after reconstruction and kept uncompressed: those
+    /// whose reconstructed light departs most from their neighbours'
+    /// ([`LightCheck::departure`]).
+    pub refined: f32,
     /// Seed of every random choice.
     pub seed: u64,
 }
 
-/// A pixel's compressed transfer: its cluster, its coordinates in the cluster's subspace, and
-/// the colour its BSDF gives reflected light.
+/// A pixel's transfer, and the colour its BSDF gives reflected light.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Pixel {
-    pub cluster: u32,
-    pub coefficients: Vec<f32>,
+    pub transfer: Transfer,
     pub colour: Rgb,
+}
+
+/// A pixel's transfer as it is stored.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Transfer {
+    /// Its cluster and its coordinates in the cluster's subspace (nearly every pixel).
+    Compressed {
+        cluster: u32,
+        coefficients: Vec<f32>,
+    },
+    /// Its sparse wavelet image itself (wavelet indices, ascending, and values): a pixel its
+    /// cluster would relight badly.
+    Kept { indices: Vec<u32>, values: Vec<f32> },
 }
 
 /// A precomputed frame.
@@ -171,7 +189,9 @@ impl FrameTransfer {
         };
         let rays = AtomicU64::new(0);
         let near = (o.mc_rays > 0).then(|| gather.points());
-        let explored = explore(&samples, &explore_options, |i| {
+        // A view sample's transfer vector (eq. 4.1 by the N-body traversal, or Monte Carlo),
+        // wavelet-transformed and kept sparse.
+        let evaluate = |i: usize| {
             let (mut w, r) = match &near {
                 None => transfer(scene, gather, &view(i).point(), o.threshold),
                 Some(near) => {
@@ -191,9 +211,13 @@ impl FrameTransfer {
             w.resize(n, 0.0);
             haar::forward(&mut w, &mut vec![0.0; n]);
             SparseVec::largest(&w, o.keep)
-        });
+        };
+        // The explored view samples and their transfer (the rows of Wavelet-LPCA).
+        let (explored, rows): (Vec<usize>, Vec<SparseVec>) =
+            explore(&samples, &explore_options, evaluate)
+                .into_iter()
+                .unzip();
         let k = o.clusters.min(explored.len()).max(1);
-        let rows: Vec<SparseVec> = explored.iter().map(|(_, x)| x.clone()).collect();
         let centroids: Vec<usize> = (0..k).map(|c| c * rows.len() / k).collect();
         let model = wlpca(
             &rows,
@@ -207,12 +231,13 @@ impl FrameTransfer {
             },
         );
         let packed: Vec<Packed> = model.models.iter().map(Packed::new).collect();
+        let check = LightCheck::new(scene, gather, &rows, &model.models, o.seed);
         let mut row_of = vec![usize::MAX; samples.len()];
-        for (r, (i, _)) in explored.iter().enumerate() {
+        for (r, i) in explored.iter().enumerate() {
             row_of[*i] = r;
         }
         let at: Vec<_> = (explored.iter())
-            .map(|(i, _)| samples[*i].point(explore_options.w_space, 1.0))
+            .map(|&i| samples[i].point(explore_options.w_space, 1.0))
             .collect();
         let tree = PointTree::new(&at);
         // Pixels in tiles of 16 x 16, so that a worker's kept signals (below) serve a tile's
@@ -222,7 +247,9 @@ impl FrameTransfer {
             let (x, y) = (seen[i] % width as usize, seen[i] / width as usize);
             (y / TILE, x / TILE, y, x)
         });
-        let pixels: Vec<(usize, Option<Pixel>)> = order
+        // Every pixel's transfer, with how far a reconstructed one's light departs from its
+        // neighbours' (0 for explored ones).
+        let mut pixels: Vec<(usize, Option<Pixel>, f64)> = order
             .into_par_iter()
             .map_init(
                 || {
@@ -232,6 +259,7 @@ impl FrameTransfer {
                 |(near, products, signals), i| {
                     let v = view(i).point();
                     let pixel = seen[i];
+                    near.clear();
                     let c = if row_of[i] != usize::MAX {
                         let r = row_of[i];
                         let c = model.assignments[r];
@@ -249,7 +277,7 @@ impl FrameTransfer {
                         // other wall, whose transfer is nothing like its own.
                         let n = v.si.ng;
                         near.sort_by_key(|&(_, r)| {
-                            view(explored[r as usize].0).si.ng.dot(n).abs() <= 0.7
+                            view(explored[r as usize]).si.ng.dot(n).abs() <= 0.7
                         });
                         near.truncate(o.neighbours);
                         let slots: Vec<usize> =
@@ -275,7 +303,7 @@ impl FrameTransfer {
                             .collect();
                         rays.fetch_add(r, Ordering::Relaxed);
                         let Some(weights) = reconstruct(&dense, &indices, &values, o.ridge) else {
-                            return (pixel, None);
+                            return (i, None, 0.0);
                         };
                         // The cluster among its neighbours' (Alg. 4 over all clusters would cost
                         // a distance per cluster per pixel; neighbours lie in one or two), by
@@ -300,23 +328,40 @@ impl FrameTransfer {
                         c
                     };
                     let coefficients = packed[c as usize].coordinates(products);
+                    let rows: Vec<u32> = near.iter().map(|&(_, r)| r).collect();
+                    let departure = match rows.is_empty() {
+                        true => 0.0,
+                        false => check.departure(c, &coefficients, &rows),
+                    };
+                    let transfer = Transfer::Compressed {
+                        cluster: c,
+                        coefficients,
+                    };
                     let colour = v.colour();
-                    (
-                        pixel,
-                        Some(Pixel {
-                            cluster: c,
-                            coefficients,
-                            colour,
-                        }),
-                    )
+                    (i, Some(Pixel { transfer, colour }), departure)
                 },
             )
             .collect();
-        for (i, p) in pixels {
-            frame.pixels[i] = p;
+        // The reconstructions departing most from their neighbours are evaluated after all
+        // and kept uncompressed: their clusters, fitted to the common transfer, would give
+        // them their neighbours' light again.
+        let mut worst: Vec<usize> = (0..pixels.len()).filter(|&k| pixels[k].2 > 0.0).collect();
+        worst.sort_by(|&a, &b| pixels[b].2.total_cmp(&pixels[a].2).then(a.cmp(&b)));
+        worst.truncate((o.refined * seen.len() as f32) as usize);
+        let refined: Vec<SparseVec> = worst.par_iter().map(|&k| evaluate(pixels[k].0)).collect();
+        for (&k, x) in worst.iter().zip(refined) {
+            if let Some(p) = pixels[k].1.as_mut() {
+                p.transfer = Transfer::Kept {
+                    indices: x.indices,
+                    values: x.values.iter().map(|&v| v as f32).collect(),
+                };
+            }
+        }
+        for (i, p, _) in pixels {
+            frame.pixels[seen[i]] = p;
         }
         frame.clusters = model.models;
-        frame.explored = explored.len();
+        frame.explored = explored.len() + worst.len();
         frame.rays = rays.into_inner();
         frame
     }
@@ -325,7 +370,10 @@ impl FrameTransfer {
     pub fn bytes(&self) -> usize {
         let vectors: usize = self.clusters.iter().map(|c| 1 + c.basis.len()).sum();
         let pixels: usize = (self.pixels.iter().flatten())
-            .map(|p| 32 + 4 * p.coefficients.len())
+            .map(|p| match &p.transfer {
+                Transfer::Compressed { coefficients, .. } => 40 + 4 * coefficients.len(),
+                Transfer::Kept { indices, .. } => 64 + 8 * indices.len(),
+            })
             .sum();
         vectors * haar::padded_len(self.gather) * 8 + pixels + self.pixels.len() * 8
     }
@@ -363,9 +411,24 @@ impl FrameTransfer {
             .map(|p| match p {
                 None => Rgb::ZERO,
                 Some(p) => {
-                    let (mean, basis) = &lights[p.cluster as usize];
-                    let l =
-                        (p.coefficients.iter().zip(basis)).fold(*mean, |acc, (&w, e)| acc + *e * w);
+                    let l = match &p.transfer {
+                        Transfer::Compressed {
+                            cluster,
+                            coefficients,
+                        } => {
+                            let (mean, basis) = &lights[*cluster as usize];
+                            (coefficients.iter().zip(basis))
+                                .fold(*mean, |acc, (&w, e)| acc + *e * w)
+                        }
+                        Transfer::Kept { indices, values } => {
+                            let at = |i: u32| {
+                                let i = i as usize;
+                                Rgb::new(wb[0][i] as f32, wb[1][i] as f32, wb[2][i] as f32)
+                            };
+                            (indices.iter().zip(values))
+                                .fold(Rgb::ZERO, |acc, (&i, &v)| acc + at(i) * v)
+                        }
+                    };
                     // Light is not negative: a subspace that fits a pixel's transfer poorly
                     // can give it negative coordinates' worth of light (a pixel at -0.6 where
                     // the truth is 0.06).
@@ -390,11 +453,25 @@ mod tests {
         frame: &FrameTransfer,
         threshold: f32,
     ) -> f64 {
+        error_at(scene, gather, frame, threshold, |_| true)
+    }
+
+    /// The same over the pixels `at` picks.
+    fn error_at(
+        scene: &RenderScene,
+        gather: &Gather,
+        frame: &FrameTransfer,
+        threshold: f32,
+        at: impl Fn(&Pixel) -> bool,
+    ) -> f64 {
         let b = radiosity(scene, gather, 8, 2);
         let image = frame.relight(&b);
         let (w, h) = (frame.width, frame.height);
         let (mut err2, mut ref2) = (0.0f64, 0.0f64);
         for (i, got) in image.iter().enumerate() {
+            if !frame.pixels[i].as_ref().is_some_and(&at) {
+                continue;
+            }
             let c = Vec2::new((i as u32 % w) as f32 + 0.5, (i as u32 / w) as f32 + 0.5);
             let ray = scene.scene.camera.generate_ray(c, w, h);
             let Some(hit) = scene.scene.intersect(&ray, f32::INFINITY) else {
@@ -439,6 +516,7 @@ mod tests {
             neighbours: 2,
             elements: 4,
             ridge: 0.1,
+            refined: 0.0,
             seed: 1,
         };
         let gather = Gather::new(&scene, 64, 1);
@@ -453,8 +531,10 @@ mod tests {
         // coordinates, outweighs its mean at the second sample.
         let pixel = |c: f32| {
             Some(Pixel {
-                cluster: 0,
-                coefficients: vec![c],
+                transfer: Transfer::Compressed {
+                    cluster: 0,
+                    coefficients: vec![c],
+                },
                 colour: Rgb::splat(1.0),
             })
         };
@@ -496,6 +576,7 @@ mod tests {
             neighbours: 6,
             elements: 32,
             ridge: 0.1,
+            refined: 0.0,
             seed: 1,
         };
         // Every view sample explored: the compression alone, nearly exact at this size.
@@ -523,13 +604,40 @@ mod tests {
             36,
             &FrameOptions {
                 ridge: 1e6,
-                ..tenth
+                ..tenth.clone()
             },
         );
         let e_avg = error_against_full_transfer(&scene, &gather, &average, base.threshold);
         assert!(
             e_fit < 0.25 && e_fit < e_avg,
             "a tenth explored: fitted {e_fit}, averaged {e_avg}"
+        );
+        // The 5% of pixels departing most from their neighbours evaluated and kept: each as
+        // its full transfer relights it (nothing truncated at this size), the frame nearer
+        // the full transfer than the reconstruction alone.
+        let refined = FrameTransfer::precompute(
+            &scene,
+            &gather,
+            48,
+            36,
+            &FrameOptions {
+                refined: 0.05,
+                ..tenth
+            },
+        );
+        let kept = |p: &Pixel| matches!(p.transfer, Transfer::Kept { .. });
+        let seen = fitted.pixels.iter().flatten().count();
+        assert_eq!(
+            refined.pixels.iter().flatten().filter(|p| kept(p)).count(),
+            seen / 20
+        );
+        assert_eq!(refined.explored, fitted.explored + seen / 20);
+        let e_kept = error_at(&scene, &gather, &refined, base.threshold, kept);
+        assert!(e_kept < 1e-5, "kept pixels: relative RMS error {e_kept}");
+        let e_refined = error_against_full_transfer(&scene, &gather, &refined, base.threshold);
+        assert!(
+            e_refined < 0.9 * e_fit,
+            "a tenth explored: refined {e_refined}, reconstructed {e_fit}"
         );
     }
 }

@@ -3,17 +3,19 @@
 //!
 //! ```text
 //! magic    "FENESTRA-RELIGHT\n"                     17 bytes
-//! version  u32 little-endian (1)
+//! version  u32 little-endian (2; version 1, without kept pixels, is read too)
 //! length   u32 little-endian: bytes of the header
 //! header   JSON (FrameHeader): size, gather samples, clusters' dimensions, statistics
 //! clusters per cluster: its mean, then its directions, each of the padded gather length,
 //!          f32 little-endian
 //! pixels   row-major; per pixel its cluster u32 (u32::MAX: none), then if it has one its
-//!          colour (3 f32) and its coefficients (the cluster's dimension, f32)
+//!          colour (3 f32) and its coefficients (the cluster's dimension, f32); a kept pixel
+//!          (u32::MAX - 1) its colour, its count of wavelet coefficients u32, and per
+//!          coefficient its index u32 and its value f32
 //! crc      u32 little-endian: CRC-32 of every byte before it
 //! ```
 
-use crate::frame::{FrameTransfer, Pixel};
+use crate::frame::{FrameTransfer, Pixel, Transfer};
 use crate::haar;
 use fenestra_core::Rgb;
 use fenestra_lpca::Subspace;
@@ -21,7 +23,10 @@ use serde::{Deserialize, Serialize};
 use std::path::Path;
 
 const MAGIC: &[u8; 17] = b"FENESTRA-RELIGHT\n";
-const VERSION: u32 = 1;
+const VERSION: u32 = 2;
+/// A pixel's cluster field when it has none, and when its transfer is kept uncompressed.
+const NONE: u32 = u32::MAX;
+const KEPT: u32 = u32::MAX - 1;
 
 /// What a frame file says about itself.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -74,13 +79,28 @@ pub fn encode(frame: &FrameTransfer, seconds: f64) -> Vec<u8> {
     }
     for p in &frame.pixels {
         match p {
-            None => out.extend_from_slice(&u32::MAX.to_le_bytes()),
+            None => out.extend_from_slice(&NONE.to_le_bytes()),
             Some(p) => {
-                out.extend_from_slice(&p.cluster.to_le_bytes());
-                [p.colour.r, p.colour.g, p.colour.b]
-                    .into_iter()
-                    .chain(p.coefficients.iter().copied())
-                    .for_each(|x| put(&mut out, x));
+                let colour = [p.colour.r, p.colour.g, p.colour.b];
+                match &p.transfer {
+                    Transfer::Compressed {
+                        cluster,
+                        coefficients,
+                    } => {
+                        out.extend_from_slice(&cluster.to_le_bytes());
+                        (colour.into_iter().chain(coefficients.iter().copied()))
+                            .for_each(|x| put(&mut out, x));
+                    }
+                    Transfer::Kept { indices, values } => {
+                        out.extend_from_slice(&KEPT.to_le_bytes());
+                        colour.into_iter().for_each(|x| put(&mut out, x));
+                        out.extend_from_slice(&(indices.len() as u32).to_le_bytes());
+                        for (&i, &v) in indices.iter().zip(values) {
+                            out.extend_from_slice(&i.to_le_bytes());
+                            put(&mut out, v);
+                        }
+                    }
+                }
             }
         }
     }
@@ -122,8 +142,10 @@ pub fn decode(bytes: &[u8]) -> Result<(FrameHeader, FrameTransfer), String> {
     }
     let mut r = Reader(&body[MAGIC.len()..]);
     let version = r.u32()?;
-    if version != VERSION {
-        return Err(format!("version {version}, this build reads {VERSION}"));
+    if version != VERSION && version != 1 {
+        return Err(format!(
+            "version {version}, this build reads 1 and {VERSION}"
+        ));
     }
     let length = r.u32()? as usize;
     let header: FrameHeader =
@@ -142,21 +164,37 @@ pub fn decode(bytes: &[u8]) -> Result<(FrameHeader, FrameTransfer), String> {
     let mut pixels = Vec::with_capacity(count);
     for _ in 0..count {
         let c = r.u32()?;
-        if c == u32::MAX {
+        if c == NONE {
             pixels.push(None);
             continue;
         }
-        let d = *header
-            .dimensions
-            .get(c as usize)
-            .ok_or_else(|| format!("pixel names cluster {c} of {}", clusters.len()))?;
         let colour = Rgb::new(r.f32()?, r.f32()?, r.f32()?);
-        let coefficients = (0..d).map(|_| r.f32()).collect::<Result<_, _>>()?;
-        pixels.push(Some(Pixel {
-            cluster: c,
-            coefficients,
-            colour,
-        }));
+        let transfer = if c == KEPT && version > 1 {
+            let n = r.u32()? as usize;
+            let (mut indices, mut values) = (Vec::with_capacity(n), Vec::with_capacity(n));
+            for _ in 0..n {
+                let i = r.u32()?;
+                if i as usize >= haar::padded_len(header.gather) {
+                    return Err(format!(
+                        "kept pixel's coefficient {i} beyond the gather samples"
+                    ));
+                }
+                indices.push(i);
+                values.push(r.f32()?);
+            }
+            Transfer::Kept { indices, values }
+        } else {
+            let d = *header
+                .dimensions
+                .get(c as usize)
+                .ok_or_else(|| format!("pixel names cluster {c} of {}", clusters.len()))?;
+            let coefficients = (0..d).map(|_| r.f32()).collect::<Result<_, _>>()?;
+            Transfer::Compressed {
+                cluster: c,
+                coefficients,
+            }
+        };
+        pixels.push(Some(Pixel { transfer, colour }));
     }
     if !r.0.is_empty() {
         return Err(format!("{} bytes after the pixels", r.0.len()));
@@ -191,5 +229,71 @@ impl<'a> Reader<'a> {
     }
     fn f32(&mut self) -> Result<f32, String> {
         self.u32().map(f32::from_bits)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn frame() -> FrameTransfer {
+        let pixel = |transfer| {
+            Some(Pixel {
+                transfer,
+                colour: Rgb::new(0.25, 0.5, 0.75),
+            })
+        };
+        FrameTransfer {
+            width: 3,
+            height: 1,
+            gather: 3,
+            clusters: vec![Subspace {
+                mean: vec![0.5, -1.0, 2.0, 0.0],
+                basis: vec![vec![1.0, 0.0, 0.0, 0.0], vec![0.0, 0.0, 0.0, 1.0]],
+            }],
+            pixels: vec![
+                pixel(Transfer::Compressed {
+                    cluster: 0,
+                    coefficients: vec![0.125, -3.0],
+                }),
+                None,
+                pixel(Transfer::Kept {
+                    indices: vec![0, 3],
+                    values: vec![1.5, -0.25],
+                }),
+            ],
+            explored: 2,
+            rays: 17,
+        }
+    }
+
+    #[test]
+    fn frames_read_back_as_written() {
+        let bytes = encode(&frame(), 1.5);
+        let (header, back) = decode(&bytes).expect("decode");
+        assert_eq!(header.seconds, 1.5);
+        assert_eq!(back.pixels, frame().pixels);
+        assert_eq!(back.clusters, frame().clusters);
+        assert_eq!((back.explored, back.rays), (2, 17));
+    }
+
+    #[test]
+    fn damaged_and_malformed_frames_are_refused() {
+        let mut bytes = encode(&frame(), 1.5);
+        let last = bytes.len() - 9;
+        bytes[last] ^= 1;
+        let err = decode(&bytes).expect_err("a flipped byte");
+        assert_eq!(err, "damaged (checksum mismatch)");
+        // A kept pixel naming a coefficient past the padded length, checksum made right.
+        let mut f = frame();
+        f.pixels[2] = Some(Pixel {
+            transfer: Transfer::Kept {
+                indices: vec![4],
+                values: vec![1.0],
+            },
+            colour: Rgb::ONE,
+        });
+        let err = decode(&encode(&f, 0.0)).expect_err("a coefficient out of range");
+        assert!(err.contains("coefficient 4 beyond"), "{err}");
     }
 }

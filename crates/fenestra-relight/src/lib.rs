@@ -13,6 +13,7 @@
 //! - [`empca`]: Roweis's EM-PCA on sparse rows, Wavelet-LPCA's subspace update (§4.5.2.2);
 //! - [`wlpca`]: Wavelet-LPCA, the two together (§4.5);
 //! - [`reconstruct`]: transfer at unexplored view samples from nearby ones (eq. 4.5);
+//! - [`light_check`]: pixels the scene's own light shows reconstructed or compressed badly;
 //! - [`frame`]: one frame precomputed (all of the above) and relit.
 
 pub mod animation;
@@ -23,6 +24,7 @@ pub mod frame_file;
 pub mod gather;
 pub mod haar;
 pub mod image;
+pub mod light_check;
 pub mod lights_file;
 pub mod neighbours;
 pub mod player;

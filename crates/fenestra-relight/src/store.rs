@@ -45,6 +45,10 @@ pub struct Manifest {
     pub neighbours: usize,
     pub elements: usize,
     pub ridge: f64,
+    /// Share of view samples evaluated after reconstruction and kept uncompressed (0: frames
+    /// made before this existed).
+    #[serde(default)]
+    pub refined: f32,
     pub seed: u64,
 }
 
@@ -76,6 +80,7 @@ impl Manifest {
             neighbours: o.neighbours,
             elements: o.elements,
             ridge: o.ridge,
+            refined: o.refined,
             seed: o.seed,
         }
     }
