@@ -112,7 +112,7 @@ struct PrecomputeArgs {
     #[arg(long, default_value_t = 64)]
     clusters: usize,
     /// Wavelet-LPCA's schedule, DIM:ITERATIONS,...
-    #[arg(long, default_value = "0:2,8:2")]
+    #[arg(long, default_value = "0:1,8:2")]
     schedule: String,
     /// The N-body traversal's threshold (area over squared distance).
     #[arg(long, default_value_t = 0.02)]
