@@ -328,10 +328,9 @@ impl FrameTransfer {
                         c
                     };
                     let coefficients = packed[c as usize].coordinates(products);
-                    let rows: Vec<u32> = near.iter().map(|&(_, r)| r).collect();
-                    let departure = match rows.is_empty() {
+                    let departure = match near.is_empty() {
                         true => 0.0,
-                        false => check.departure(c, &coefficients, &rows),
+                        false => check.departure(c, &coefficients, near.iter().map(|&(_, r)| r)),
                     };
                     let transfer = Transfer::Compressed {
                         cluster: c,
