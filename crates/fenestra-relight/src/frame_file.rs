@@ -171,6 +171,14 @@ pub fn decode(bytes: &[u8]) -> Result<(FrameHeader, FrameTransfer), String> {
         let colour = Rgb::new(r.f32()?, r.f32()?, r.f32()?);
         let transfer = if c == KEPT && version > 1 {
             let n = r.u32()? as usize;
+            // No more coefficients than the padded length: a count read from a damaged or
+            // foreign file must not size an allocation.
+            if n > haar::padded_len(header.gather) {
+                return Err(format!(
+                    "kept pixel with {n} coefficients of {}",
+                    header.gather
+                ));
+            }
             let (mut indices, mut values) = (Vec::with_capacity(n), Vec::with_capacity(n));
             for _ in 0..n {
                 let i = r.u32()?;
@@ -295,5 +303,15 @@ mod tests {
         });
         let err = decode(&encode(&f, 0.0)).expect_err("a coefficient out of range");
         assert!(err.contains("coefficient 4 beyond"), "{err}");
+        // More coefficients than the padded length.
+        f.pixels[2] = Some(Pixel {
+            transfer: Transfer::Kept {
+                indices: vec![0; 5],
+                values: vec![1.0; 5],
+            },
+            colour: Rgb::ONE,
+        });
+        let err = decode(&encode(&f, 0.0)).expect_err("too many coefficients");
+        assert!(err.contains("kept pixel with 5 coefficients"), "{err}");
     }
 }
