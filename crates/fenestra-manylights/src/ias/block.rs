@@ -408,6 +408,16 @@ impl BlockRender<'_> {
         }
         // Each point's samples this pass.
         let mut sums: Vec<PointSums> = vec![PointSums::default(); p.points.len()];
+        // Pass 0 only seeds the statistics (§3.5.2): under its uniform PDF a pixel beside a
+        // bright light most often misses it, and its estimate, counted at its share of the
+        // rays, pulled such pixels down by a quarter. With shared weights it is dropped once
+        // a pass that learned from it is drawn; a pixel done after pass 0 keeps it.
+        if pass == 1 && options.combine == Combine::Samples {
+            p.weight = 0.0;
+            p.weighted = [0.0; 3];
+            p.variance = 0.0;
+            p.channel_variance = [0.0; 3];
+        }
         let pdfs: Vec<Vec<f32>> = (0..p.points.len())
             .map(|i| self.point_pdf(&p.points[i], p, pass, block, slot))
             .collect();

@@ -41,7 +41,9 @@ pub enum Combine {
     /// (low estimate, low variance) weighs more: the image comes out darker (measured in
     /// docs/manylights.md).
     InverseVariance,
-    /// By shadow rays: every ray weighs the same, whatever pass it came in; unbiased.
+    /// By shadow rays: every ray after pass 0 weighs the same, whatever pass it came in;
+    /// unbiased. Pass 0, drawn uniformly over the cut to seed the statistics ("not to
+    /// estimate the value of the pixel", §3.5.2), counts only for a pixel done after it.
     Samples,
 }
 

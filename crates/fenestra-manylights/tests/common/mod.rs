@@ -90,6 +90,37 @@ pub fn many_lights() -> SceneDesc {
     }
 }
 
+/// A floor lit by one bright point light 0.3 above it and 169 dim ones on a grid 2 m up,
+/// seen from above where the bright light gives nearly all the light: most of the dim lights
+/// are clusters of their own, so a pass uniform over the clusters often misses the bright one.
+pub fn one_bright_among_many() -> SceneDesc {
+    let mut lights = vec![LightDesc::Point {
+        position: Vec3::new(0.0, 0.0, 0.3),
+        intensity: Rgb::splat(2.0),
+    }];
+    for i in 0..13 {
+        for j in 0..13 {
+            lights.push(LightDesc::Point {
+                position: Vec3::new(i as f32 * 0.67 - 4.0, j as f32 * 0.67 - 4.0, 2.0),
+                intensity: Rgb::splat(0.02),
+            });
+        }
+    }
+    SceneDesc {
+        name: "one bright among many".into(),
+        shapes: vec![Shape::new(
+            ShapeKind::Mesh(TriangleMesh::quad(Vec3::ZERO, Vec3::X * 4.0, Vec3::Y * 4.0)),
+            0,
+        )],
+        materials: vec![Material::diffuse(0.6)],
+        lights,
+        camera: Camera::look_at(Vec3::new(0.0, 0.0, 3.0), Vec3::ZERO, Vec3::Y, 20.0)
+            .expect("camera"),
+        defaults: RenderDefaults::default(),
+        portals: Vec::new(),
+    }
+}
+
 /// af_hf with the light BVH.
 pub fn bvh_af_hf(options: PathOptions) -> PathTracer<LightNextEvent> {
     PathTracer::new(
