@@ -74,6 +74,27 @@ pub struct Cluster {
     pub light: u32,
     /// The cluster it belongs to ([`NO_PARENT`] for a root).
     pub parent: u32,
+    /// The angles of its normal cone and of its emission spread (theta_o, theta_e), for the
+    /// cuts' facing test.
+    angles: [f32; 2],
+}
+
+impl Cluster {
+    fn new(sphere: Sphere, bounds: LightBounds, power: f32, children: Option<[u32; 2]>) -> Self {
+        let angles = [
+            bounds.normals.cos_theta.clamp(-1.0, 1.0).acos(),
+            bounds.cos_theta_e.clamp(-1.0, 1.0).acos(),
+        ];
+        Cluster {
+            sphere,
+            bounds,
+            power,
+            children,
+            light: u32::MAX,
+            parent: NO_PARENT,
+            angles,
+        }
+    }
 }
 
 /// The parent of a root.
@@ -130,12 +151,8 @@ impl Forest {
                 Light::Distant(_) | Light::Environment(_) => continue,
             };
             groups[tree_of(&bounds)].push(Cluster {
-                sphere,
-                bounds,
-                power: light.power(scene),
-                children: None,
                 light: i as u32,
-                parent: NO_PARENT,
+                ..Cluster::new(sphere, bounds, light.power(scene), None)
             });
         }
         let mut forest = Forest {
@@ -223,14 +240,12 @@ impl Forest {
 
     fn join(&mut self, a: u32, b: u32) -> u32 {
         let (x, y) = (&self.nodes[a as usize], &self.nodes[b as usize]);
-        let cluster = Cluster {
-            sphere: Sphere::union(x.sphere, y.sphere),
-            bounds: LightBounds::union(&x.bounds, &y.bounds),
-            power: x.power + y.power,
-            children: Some([a, b]),
-            light: u32::MAX,
-            parent: NO_PARENT,
-        };
+        let cluster = Cluster::new(
+            Sphere::union(x.sphere, y.sphere),
+            LightBounds::union(&x.bounds, &y.bounds),
+            x.power + y.power,
+            Some([a, b]),
+        );
         let node = self.nodes.len() as u32;
         self.nodes.push(cluster);
         self.nodes[a as usize].parent = node;
@@ -310,9 +325,8 @@ fn reaches(c: &Cluster, p: Vec3, n: Vec3) -> bool {
     }
     // Angle from the cone's axis to the direction from the cluster to p.
     let theta_w = b.normals.w.dot(-to_c / d).clamp(-1.0, 1.0).acos();
-    let theta_o = b.normals.cos_theta.clamp(-1.0, 1.0).acos();
+    let [theta_o, theta_e] = c.angles;
     let theta_b = (c.sphere.radius / d).clamp(0.0, 1.0).asin();
-    let theta_e = b.cos_theta_e.clamp(-1.0, 1.0).acos();
     theta_w - theta_o - theta_b < theta_e
 }
 
@@ -352,23 +366,23 @@ mod tests {
 
     #[test]
     fn a_cluster_behind_the_surface_or_facing_away_is_pruned() {
-        let cluster = |center: Vec3, w: Vec3| Cluster {
-            sphere: Sphere {
+        let cluster = |center: Vec3, w: Vec3| {
+            let sphere = Sphere {
                 center,
                 radius: 0.1,
-            },
-            bounds: LightBounds {
+            };
+            let bounds = LightBounds {
                 lo: center - Vec3::splat(0.05),
                 hi: center + Vec3::splat(0.05),
                 phi: 1.0,
                 normals: facing(w),
                 cos_theta_e: 0.0,
                 two_sided: false,
-            },
-            power: 1.0,
-            children: None,
-            light: 0,
-            parent: NO_PARENT,
+            };
+            Cluster {
+                light: 0,
+                ..Cluster::new(sphere, bounds, 1.0, None)
+            }
         };
         let (p, n) = (Vec3::ZERO, Vec3::Z);
         // Above the point, facing down onto it: reaches.

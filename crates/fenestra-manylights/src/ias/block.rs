@@ -2,7 +2,7 @@
 //! then passes of light samples with feedback between them.
 
 use super::estimate::{luminance, pass_estimate, PointSums};
-use super::feedback::{blend, component, normal_class, Stat};
+use super::feedback::{blend, component, guarded, normal_class, unguarded, Stat};
 use super::{BlockResult, Combine, Far, Ias, Pdf, PdfTrace, PixelOut, REFERENCE_PASS_RAYS};
 use crate::forest::{Forest, NO_PARENT};
 use fenestra_core::stats::RayCounters;
@@ -168,14 +168,18 @@ impl BlockRender<'_> {
                 points += 1;
             }
         }
-        let mut cdf = Vec::new();
         for pass in 0..self.ias.options.max_passes {
             if pixels.iter().all(|p| p.done) {
                 break;
             }
             let mut pass_block: Vec<Vec<Stat>> = vec![vec![Stat::default(); k]; 6];
+            // The block's F per cluster and class, as its PDF reads them this pass.
+            let block_f: Vec<Vec<Option<f64>>> = block
+                .iter()
+                .map(|rows| rows.iter().map(guarded).collect())
+                .collect();
             for p in pixels.iter_mut().filter(|p| !p.done) {
-                self.pixel_pass(p, pass, &block, &slot, &mut pass_block, &mut cdf, &mut rays);
+                self.pixel_pass(p, pass, &block_f, &slot, &mut pass_block, &mut rays);
             }
             // Feedback (Step FB): this pass's block statistics join the earlier ones.
             for (all, new) in block.iter_mut().zip(&pass_block) {
@@ -383,10 +387,9 @@ impl BlockRender<'_> {
         &self,
         p: &mut PixelState,
         pass: u32,
-        block: &[Vec<Stat>],
+        block_f: &[Vec<Option<f64>>],
         slot: &[u32],
         pass_block: &mut [Vec<Stat>],
-        cdf: &mut Vec<f32>,
         rays: &mut RayCounters,
     ) {
         let options = &self.ias.options;
@@ -419,27 +422,33 @@ impl BlockRender<'_> {
             p.channel_variance = [0.0; 3];
         }
         let pdfs: Vec<Vec<f32>> = (0..p.points.len())
-            .map(|i| self.point_pdf(&p.points[i], p, pass, block, slot))
+            .map(|i| self.point_pdf(&p.points[i], p, pass, block_f, slot))
             .collect();
         if let Some(trace) = &mut p.trace {
             trace.push(pdfs[largest(&p.points)].clone());
         }
+        let cdfs: Vec<Vec<f32>> = pdfs
+            .iter()
+            .map(|pdf| {
+                pdf.iter()
+                    .scan(0.0f32, |acc, &w| {
+                        *acc += w;
+                        Some(*acc)
+                    })
+                    .collect()
+            })
+            .collect();
         let pixel_index = u64::from(p.y) * u64::from(self.width) + u64::from(p.x);
         let mut drawn = 0u32;
         let mut round = budget;
         loop {
             for (i, q) in p.points.iter().enumerate() {
+                let cdf = &cdfs[i];
                 // No light can reach the point (the reference's PDF may say so exactly).
-                if pdfs[i].iter().sum::<f32>() <= 0.0 {
+                if cdf.last().is_none_or(|&total| total <= 0.0) {
                     continue;
                 }
                 let n = ((round as f32 * q.area).round() as u32).max(1);
-                cdf.clear();
-                let mut acc = 0.0;
-                for &w in &pdfs[i] {
-                    acc += w;
-                    cdf.push(acc);
-                }
                 for _ in 0..n {
                     let mut sampler = Sampler::new(self.seed, pixel_index, p.next_sample);
                     p.next_sample = p.next_sample.wrapping_add(1);
@@ -523,24 +532,25 @@ impl BlockRender<'_> {
         q: &Point,
         p: &PixelState,
         pass: u32,
-        block: &[Vec<Stat>],
+        block_f: &[Vec<Option<f64>>],
         slot: &[u32],
     ) -> Vec<f32> {
         if self.ias.options.pdf == Pdf::Irradiance {
             return self.irradiance_pdf(q);
         }
-        let of = |stats: &[Stat]| -> Vec<Stat> {
-            q.cut
-                .iter()
-                .map(|&c| stats[slot[c as usize] as usize])
-                .collect()
-        };
+        let block = &block_f[q.class];
         let pixel = p.stats.iter().find(|(c, _)| *c == q.class);
         blend(
             q.cut.len(),
             pass,
-            component(&of(&block[q.class]), true),
-            pixel.and_then(|(_, s)| component(&of(s), false)),
+            component(q.cut.iter().map(|&c| block[slot[c as usize] as usize])),
+            pixel.and_then(|(_, s)| {
+                component(
+                    q.cut
+                        .iter()
+                        .map(|&c| unguarded(&s[slot[c as usize] as usize])),
+                )
+            }),
         )
     }
 

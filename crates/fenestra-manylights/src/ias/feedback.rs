@@ -17,30 +17,44 @@ pub(super) fn weights(pass: u32) -> [f32; 3] {
     }
 }
 
-/// A feedback PDF over a cut from its clusters' statistics (eq. 3.8): in proportion to
-/// F = C / sqrt(u). With `guard` (the block PDF, §4.6.2), a cluster without samples, or with
-/// fewer than four all occluded, gets the mean F of the others instead of its own. `None`
-/// when nothing has weight yet.
-pub(super) fn component(stats: &[Stat], guard: bool) -> Option<Vec<f64>> {
-    let raw: Vec<Option<f64>> = stats
-        .iter()
-        .map(|s| {
-            if guard && (s.count == 0 || s.count < 4 && s.visible == 0) {
-                None
-            } else {
-                Some(s.weight().unwrap_or(0.0))
-            }
-        })
-        .collect();
-    let known: Vec<f64> = raw.iter().flatten().copied().collect();
-    let mean = if known.is_empty() {
+/// A cluster's F = C / sqrt(u) (eq. 3.7) for the block PDF, `None` where the undersampling
+/// guard (§4.6.2) does not trust it yet: no samples, or fewer than four, all occluded.
+pub(super) fn guarded(s: &Stat) -> Option<f64> {
+    if s.count == 0 || s.count < 4 && s.visible == 0 {
+        None
+    } else {
+        Some(s.weight().unwrap_or(0.0))
+    }
+}
+
+/// A cluster's F for the pixel PDF: zero without samples.
+pub(super) fn unguarded(s: &Stat) -> Option<f64> {
+    Some(s.weight().unwrap_or(0.0))
+}
+
+/// A feedback PDF over a cut from its clusters' F (eq. 3.8): in proportion to F, a cluster
+/// whose F is not trusted (`None`) given the mean F of the others. `None` when nothing has
+/// weight yet.
+pub(super) fn component(f: impl Iterator<Item = Option<f64>> + Clone) -> Option<Vec<f64>> {
+    let (mut known, mut count) = (0.0f64, 0usize);
+    for v in f.clone().flatten() {
+        known += v;
+        count += 1;
+    }
+    let mean = if count == 0 {
         0.0
     } else {
-        known.iter().sum::<f64>() / known.len() as f64
+        known / count as f64
     };
-    let f: Vec<f64> = raw.iter().map(|r| r.unwrap_or(mean)).collect();
+    let mut f: Vec<f64> = f.map(|v| v.unwrap_or(mean)).collect();
     let total: f64 = f.iter().sum();
-    (total > 0.0 && total.is_finite()).then(|| f.iter().map(|v| v / total).collect())
+    if !(total > 0.0 && total.is_finite()) {
+        return None;
+    }
+    for v in &mut f {
+        *v /= total;
+    }
+    Some(f)
 }
 
 /// The PDF of pass `pass` over `n` clusters (eq. 3.2): the uniform, block and pixel PDFs by
@@ -127,7 +141,7 @@ mod tests {
                 count: 1000,
                 visible: (1000.0 * u[i]) as u32,
             };
-            let pdf = component(&[stat(0), stat(1)], false).expect("weights");
+            let pdf = component([stat(0), stat(1)].iter().map(unguarded)).expect("weights");
             // The numerical minimum over p, on a fine grid.
             let best = (1..10_000)
                 .map(|k| k as f64 / 10_000.0)
@@ -160,7 +174,12 @@ mod tests {
         };
         let stats = [lit, dark, lit];
         for pass in 0..20 {
-            let pdf = blend(3, pass, component(&stats, true), component(&stats, false));
+            let pdf = blend(
+                3,
+                pass,
+                component(stats.iter().map(guarded)),
+                component(stats.iter().map(unguarded)),
+            );
             let total: f32 = pdf.iter().sum();
             assert!((total - 1.0).abs() < 1e-5, "pass {pass}: sums to {total}");
             assert!(pdf[1] >= 0.1 / 3.0 - 1e-6, "pass {pass}: {pdf:?}");
@@ -171,11 +190,14 @@ mod tests {
             count: 3,
             visible: 0,
         };
-        let pdf = component(&[lit, barely], true).expect("weights");
+        let pdf = component([lit, barely].iter().map(guarded)).expect("weights");
         assert!(
             (pdf[0] - 0.5).abs() < 1e-9 && (pdf[1] - 0.5).abs() < 1e-9,
             "{pdf:?}"
         );
-        assert_eq!(component(&[lit, barely], false).expect("weights")[1], 0.0);
+        assert_eq!(
+            component([lit, barely].iter().map(unguarded)).expect("weights")[1],
+            0.0
+        );
     }
 }
