@@ -171,6 +171,11 @@ pub struct IasArgs {
     /// takes the environment whole).
     #[arg(long, default_value_t = 300)]
     ias_sky_regions: usize,
+    /// Most eye rays a pixel takes while what they see emitted varies (the edge of a light
+    /// seen directly), until its mean is within --ias-threshold; 0 keeps the seed's counts
+    /// (25 per surface at up to 512x512, up to three surfaces).
+    #[arg(long, default_value_t = fenestra_manylights::ias::EMITTED_RAYS)]
+    ias_emitted_rays: u32,
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -456,6 +461,7 @@ pub fn registry<'a>() -> Registry<Config<'a>> {
                         IasCombine::InverseVariance => Combine::InverseVariance,
                     },
                     sky_regions: a.ias_sky_regions,
+                    emitted_rays: a.ias_emitted_rays,
                     ..IasOptions::default()
                 })?))
             },
@@ -463,7 +469,13 @@ pub fn registry<'a>() -> Registry<Config<'a>> {
         .register(
             "ias_reference",
             "the reference seed 004 measures ias against: lights picked by unoccluded irradiance, rays until each pixel is within --ias-threshold",
-            |c: &Config| Ok(Box::new(Ias::new(IasOptions::reference(c.args.ias.ias_threshold))?)),
+            |c: &Config| {
+                let a = &c.args.ias;
+                Ok(Box::new(Ias::new(IasOptions {
+                    emitted_rays: a.ias_emitted_rays,
+                    ..IasOptions::reference(a.ias_threshold)
+                })?))
+            },
         )
         .register(
             "sdrc",

@@ -60,6 +60,36 @@ fn a_pixel_whose_first_pass_missed_its_brightest_light_is_not_pulled_down() {
 }
 
 #[test]
+fn more_eye_rays_where_a_light_is_seen_at_its_edge_lower_the_error() {
+    // The 40-light scene shows spheres, disks and quads directly: the seed's 25 eye rays a
+    // surface estimate their edges' coverage; more rays where what the rays see emitted
+    // varies take that error down.
+    let direct = PathOptions {
+        max_depth: 2,
+        ..Default::default()
+    };
+    let reference = render(many_lights(), &mut bvh_af_hf(direct), 1024, 2);
+    let reference = reference.estimate().mean;
+    let error = |emitted_rays: u32| {
+        let mut ias = Ias::new(IasOptions {
+            emitted_rays,
+            ..Default::default()
+        })
+        .expect("options");
+        let image = render(many_lights(), &mut ias, 1, 2).estimate().mean;
+        let squares = image.pixels.iter().zip(&reference.pixels);
+        squares
+            .map(|(a, r)| (a.luminance() - r.luminance()).powi(2))
+            .sum::<f32>()
+    };
+    let (seeds, more) = (error(0), error(IasOptions::default().emitted_rays));
+    assert!(
+        more < 0.5 * seeds,
+        "squared error {more} with more rays, {seeds} without"
+    );
+}
+
+#[test]
 fn the_seeds_reference_renders_the_same_direct_light() {
     let direct = PathOptions {
         max_depth: 2,

@@ -14,9 +14,8 @@ use fenestra_scene::SurfaceInteraction;
 
 /// Side of a block.
 pub(super) const BLOCK: u32 = 8;
-/// Most eye rays a pixel takes (three surfaces' worth at 25 each); its shadow rays' sample
-/// streams come after them.
-const MAX_EYE_RAYS: u32 = 75;
+/// Where a pixel's shadow rays' sample streams begin: after the most eye rays it may take.
+pub(super) const MAX_EYE_RAYS: u32 = 4096;
 
 /// Eye rays per unique surface in a pixel by image size (§4.6.3): 25 up to 512x512, 20 up
 /// to 1024x1024, 15 beyond.
@@ -109,6 +108,48 @@ impl PixelState {
         let weight = self.weight + w;
         let mean = (luminance(self.weighted) + w * luminance(estimate)) / weight;
         (mean, (self.variance + w * w * s2) / (weight * weight))
+    }
+}
+
+/// Sums of what a pixel's eye rays see emitted, and of its squares, per channel and in
+/// luminance.
+#[derive(Default)]
+struct Emitted {
+    sum: Rgb,
+    sq: [f64; 3],
+    luminance: f64,
+    luminance_sq: f64,
+}
+
+impl Emitted {
+    fn add(&mut self, le: Rgb) {
+        self.sum += le;
+        for (c, v) in le.to_array().into_iter().enumerate() {
+            self.sq[c] += f64::from(v) * f64::from(v);
+        }
+        let l = f64::from(le.luminance());
+        self.luminance += l;
+        self.luminance_sq += l * l;
+    }
+
+    /// The mean over `n` rays and the variance of that mean, per channel.
+    fn mean(&self, n: u32) -> (Rgb, [f64; 3]) {
+        let mean = self.sum * (1.0 / n as f32);
+        let n = f64::from(n);
+        let variance = std::array::from_fn(|c| {
+            let m = f64::from(mean.to_array()[c]);
+            ((self.sq[c] / n - m * m) / (n - 1.0).max(1.0)).max(0.0)
+        });
+        (mean, variance)
+    }
+
+    /// Whether the mean luminance over `n` rays is lit but its relative variance is at
+    /// least `threshold`.
+    fn uncertain(&self, n: u32, threshold: f32) -> bool {
+        let n = f64::from(n);
+        let m = self.luminance / n;
+        let variance = ((self.luminance_sq / n - m * m) / (n - 1.0).max(1.0)).max(0.0);
+        m > 0.0 && variance >= f64::from(threshold) * m * m
     }
 }
 
@@ -255,16 +296,21 @@ impl BlockRender<'_> {
             .d;
         let pixel_angle = d0.angle_between(d1);
         let mut regions: Vec<Region> = Vec::new();
-        // Sums of what each eye ray sees emitted, and of its squares.
-        let (mut emitted, mut emitted_sq) = (Rgb::ZERO, [0.0f64; 3]);
-        let mut see = |le: Rgb| {
-            emitted += le;
-            for (c, v) in le.to_array().into_iter().enumerate() {
-                emitted_sq[c] += f64::from(v) * f64::from(v);
-            }
-        };
+        let mut seen = Emitted::default();
+        let options = &self.ias.options;
+        let most = options.emitted_rays;
         let (mut traced, mut target, mut surfaces) = (0u32, per_surface, 0u32);
-        while traced < target {
+        loop {
+            if traced >= target {
+                // Beyond the seed: where what the rays see emitted differs from ray to ray
+                // (the edge of a visible light), more rays, until its mean is within the
+                // pixel threshold or the pixel has `emitted_rays`.
+                if traced < most && seen.uncertain(traced, options.threshold) {
+                    target = (traced + per_surface).min(most);
+                } else {
+                    break;
+                }
+            }
             let mut sampler = Sampler::new(self.seed, pixel, traced);
             traced += 1;
             let film = Vec2::new(x as f32, y as f32) + sampler.next_2d();
@@ -272,16 +318,18 @@ impl BlockRender<'_> {
             rays.camera += 1;
             let Some(hit) = scene.scene.intersect(&ray, f32::INFINITY) else {
                 let sky = scene.lights.environments.iter();
-                see(sky.fold(Rgb::ZERO, |acc, &e| {
+                seen.add(sky.fold(Rgb::ZERO, |acc, &e| {
                     acc + scene.lights.lights[e].le(LightHit::Escaped, ray.d)
                 }));
                 continue;
             };
             let si = scene.scene.interaction(&ray, &hit);
-            see(scene
-                .lights
-                .surface_emission(&si, ray.d)
-                .map_or(Rgb::ZERO, |(_, le)| le));
+            seen.add(
+                scene
+                    .lights
+                    .surface_emission(&si, ray.d)
+                    .map_or(Rgb::ZERO, |(_, le)| le),
+            );
             let material = scene.scene.shapes[si.shape].material;
             let n = if si.ng.dot(ray.d) <= 0.0 {
                 si.ng
@@ -296,7 +344,7 @@ impl BlockRender<'_> {
             };
             if !regions.iter().any(same_surface) {
                 surfaces += 1;
-                target = per_surface * surfaces.min(3);
+                target = target.max(per_surface * surfaces.min(3));
             }
             if let Some(r) = regions
                 .iter_mut()
@@ -342,12 +390,7 @@ impl BlockRender<'_> {
             });
         }
         let share = 1.0 / traced as f32;
-        let n = f64::from(traced);
-        let mean = emitted * share;
-        let emitted_variance = std::array::from_fn(|c| {
-            let m = f64::from(mean.to_array()[c]);
-            ((emitted_sq[c] / n - m * m) / (n - 1.0).max(1.0)).max(0.0)
-        });
+        let (mean, emitted_variance) = seen.mean(traced);
         let points: Vec<Point> = regions
             .into_iter()
             // Mirrors and glass get no direct light (the seed's scope): only what is seen

@@ -74,6 +74,10 @@ pub struct IasOptions {
     /// Regions an environment is cut into for the adaptive sampler (the seed's 300; 0
     /// takes each environment whole, as one cluster).
     pub sky_regions: usize,
+    /// Most eye rays a pixel takes while what they see emitted varies (the edge of a light
+    /// seen directly): beyond the seed's counts, until the mean is within the threshold; 0
+    /// keeps the seed's counts.
+    pub emitted_rays: u32,
 }
 
 impl Default for IasOptions {
@@ -85,6 +89,7 @@ impl Default for IasOptions {
             combine: Combine::Samples,
             pdf: Pdf::Adaptive,
             sky_regions: SKY_REGIONS,
+            emitted_rays: EMITTED_RAYS,
         }
     }
 }
@@ -100,6 +105,7 @@ impl IasOptions {
             combine: Combine::Samples,
             pdf: Pdf::Irradiance,
             sky_regions: 0,
+            emitted_rays: EMITTED_RAYS,
         }
     }
 
@@ -111,6 +117,9 @@ impl IasOptions {
         }
     }
 }
+
+/// Most eye rays a pixel takes at the edge of a light seen directly, by default.
+pub const EMITTED_RAYS: u32 = 256;
 
 /// Most environment regions (each is a cluster of every cut).
 const MAX_SKY_REGIONS: usize = 4096;
@@ -151,6 +160,13 @@ impl Ias {
             return Err(IntegratorError::Options(
                 "ias needs at least one pass and a positive cluster solid angle".into(),
             ));
+        }
+        if o.emitted_rays > block::MAX_EYE_RAYS {
+            return Err(IntegratorError::Options(format!(
+                "ias takes at most {} eye rays a pixel, asked for {}",
+                block::MAX_EYE_RAYS,
+                o.emitted_rays
+            )));
         }
         if o.sky_regions > MAX_SKY_REGIONS {
             return Err(IntegratorError::Options(format!(
@@ -245,6 +261,7 @@ impl Integrator for Ias {
             "max_passes": self.options.max_passes,
             "solid_angle": self.options.solid_angle,
             "sky_regions": self.options.sky_regions,
+            "emitted_rays": self.options.emitted_rays,
             "pdf": match self.options.pdf {
                 Pdf::Adaptive => "adaptive",
                 Pdf::Irradiance => "irradiance",
