@@ -190,6 +190,19 @@ fn bad_input_gets_a_clear_error() {
         "ias cuts an environment into at most 4096 regions, asked for 100000",
     );
     assert_clear_error(
+        &[
+            "render",
+            "builtin:kitchen-72",
+            "--integrator",
+            "ias",
+            "--ias-emitted-rays",
+            "5000",
+            "-o",
+            o,
+        ],
+        "ias takes at most 4096 eye rays a pixel, asked for 5000",
+    );
+    assert_clear_error(
         &["render", "builtin:box-hole", "--spp", "0", "-o", o],
         "--spp must be at least 1",
     );
