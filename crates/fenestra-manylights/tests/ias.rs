@@ -8,8 +8,8 @@ use common::{bvh_af_hf, many_lights, one_bright_among_many, render};
 use fenestra_manylights::ias::Combine;
 use fenestra_manylights::{Ias, IasOptions};
 use fenestra_render::integrator::PathOptions;
-use fenestra_render::{Integrator, RenderControl, RenderScene};
-use fenestra_scene::{Backend, Scene};
+use fenestra_render::{Film, Integrator, RenderControl, RenderScene};
+use fenestra_scene::{Backend, Scene, SceneDesc};
 
 fn ias(combine: Combine) -> Ias {
     Ias::new(IasOptions {
@@ -19,13 +19,18 @@ fn ias(combine: Combine) -> Ias {
     .expect("options")
 }
 
-#[test]
-fn ias_renders_the_direct_light_af_hf_renders() {
+/// af_hf with the light BVH, direct light only (path length 2), at `spp` samples.
+fn direct_light(desc: SceneDesc, spp: u32) -> Film {
     let direct = PathOptions {
         max_depth: 2,
         ..Default::default()
     };
-    let reference = render(many_lights(), &mut bvh_af_hf(direct), 1024, 2);
+    render(desc, &mut bvh_af_hf(direct), spp, 2)
+}
+
+#[test]
+fn ias_renders_the_direct_light_af_hf_renders() {
+    let reference = direct_light(many_lights(), 1024);
     let adaptive = render(many_lights(), &mut ias(Combine::Samples), 1, 2);
     let t = fenestra_eval::agreement(&reference.estimate(), &adaptive.estimate(), 0.01, 8)
         .expect("sizes");
@@ -37,11 +42,7 @@ fn a_pixel_whose_first_pass_missed_its_brightest_light_is_not_pulled_down() {
     // Pass 0 samples ~100 clusters uniformly and misses the light that gives nearly all of a
     // pixel's light about one time in five; counted at its share of the rays, such a pass
     // left those pixels a third dark. Only the passes that learned from it may count.
-    let direct = PathOptions {
-        max_depth: 2,
-        ..Default::default()
-    };
-    let reference = render(one_bright_among_many(), &mut bvh_af_hf(direct), 256, 2);
+    let reference = direct_light(one_bright_among_many(), 256);
     let reference = reference.estimate().mean;
     let image = render(one_bright_among_many(), &mut ias(Combine::Samples), 1, 2);
     let image = image.estimate().mean;
@@ -64,11 +65,7 @@ fn more_eye_rays_where_a_light_is_seen_at_its_edge_lower_the_error() {
     // The 40-light scene shows spheres, disks and quads directly: the seed's 25 eye rays a
     // surface estimate their edges' coverage; more rays where what the rays see emitted
     // varies take that error down.
-    let direct = PathOptions {
-        max_depth: 2,
-        ..Default::default()
-    };
-    let reference = render(many_lights(), &mut bvh_af_hf(direct), 1024, 2);
+    let reference = direct_light(many_lights(), 1024);
     let reference = reference.estimate().mean;
     let error = |emitted_rays: u32| {
         let mut ias = Ias::new(IasOptions {
@@ -91,11 +88,7 @@ fn more_eye_rays_where_a_light_is_seen_at_its_edge_lower_the_error() {
 
 #[test]
 fn the_seeds_reference_renders_the_same_direct_light() {
-    let direct = PathOptions {
-        max_depth: 2,
-        ..Default::default()
-    };
-    let reference = render(many_lights(), &mut bvh_af_hf(direct), 1024, 2);
+    let reference = direct_light(many_lights(), 1024);
     let mut seeds = Ias::new(IasOptions::reference(1e-3)).expect("options");
     let image = render(many_lights(), &mut seeds, 1, 2);
     let t =
