@@ -134,23 +134,25 @@ impl Emitted {
 
     /// The mean over `n` rays and the variance of that mean, per channel.
     fn mean(&self, n: u32) -> (Rgb, [f64; 3]) {
-        let mean = self.sum * (1.0 / n as f32);
-        let n = f64::from(n);
-        let variance = std::array::from_fn(|c| {
-            let m = f64::from(mean.to_array()[c]);
-            ((self.sq[c] / n - m * m) / (n - 1.0).max(1.0)).max(0.0)
-        });
-        (mean, variance)
+        let sums = self.sum.to_array();
+        let variance = std::array::from_fn(|c| variance_of_mean(f64::from(sums[c]), self.sq[c], n));
+        (self.sum * (1.0 / n as f32), variance)
     }
 
     /// Whether the mean luminance over `n` rays is lit but its relative variance is at
     /// least `threshold`.
     fn uncertain(&self, n: u32, threshold: f32) -> bool {
-        let n = f64::from(n);
-        let m = self.luminance / n;
-        let variance = ((self.luminance_sq / n - m * m) / (n - 1.0).max(1.0)).max(0.0);
+        let m = self.luminance / f64::from(n);
+        let variance = variance_of_mean(self.luminance, self.luminance_sq, n);
         m > 0.0 && variance >= f64::from(threshold) * m * m
     }
+}
+
+/// The variance of the mean of `n` values from their sum and the sum of their squares.
+fn variance_of_mean(sum: f64, sq: f64, n: u32) -> f64 {
+    let n = f64::from(n);
+    let m = sum / n;
+    ((sq / n - m * m) / (n - 1.0).max(1.0)).max(0.0)
 }
 
 /// Everything a block's render reads.
