@@ -50,6 +50,8 @@ pub(super) struct Point {
     pub(super) area: f32,
     /// The clusters of its cut (forest nodes; past the forest's nodes, lights at infinity).
     pub(super) cut: Vec<u32>,
+    /// The seed's reference: its PDF over the cut, the same in every pass (empty for ias).
+    pub(super) irradiance: Vec<f32>,
 }
 
 /// The index of the point of the largest region.
@@ -388,12 +390,13 @@ impl BlockRender<'_> {
                     class: normal_class(n),
                     area: 0.0,
                     cut,
+                    irradiance: Vec::new(),
                 },
             });
         }
         let share = 1.0 / traced as f32;
         let (mean, emitted_variance) = seen.mean(traced);
-        let points: Vec<Point> = regions
+        let mut points: Vec<Point> = regions
             .into_iter()
             // Mirrors and glass get no direct light (the seed's scope): only what is seen
             // emitted there counts.
@@ -403,6 +406,11 @@ impl BlockRender<'_> {
                 ..r.point
             })
             .collect();
+        if options.pdf == Pdf::Irradiance {
+            for q in &mut points {
+                q.irradiance = self.irradiance_pdf(q);
+            }
+        }
         PixelState {
             x,
             y,
@@ -581,7 +589,7 @@ impl BlockRender<'_> {
         slot: &[u32],
     ) -> Vec<f32> {
         if self.ias.options.pdf == Pdf::Irradiance {
-            return self.irradiance_pdf(q);
+            return q.irradiance.clone();
         }
         let block = &block_f[q.class];
         let pixel = p.stats.iter().find(|(c, _)| *c == q.class);
