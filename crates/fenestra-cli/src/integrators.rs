@@ -163,8 +163,9 @@ pub struct IasArgs {
     /// Largest solid angle of a light cluster in a cut, in steradians.
     #[arg(long, default_value_t = 0.02)]
     ias_solid_angle: f32,
-    /// How a pixel's passes are combined: samples (every shadow ray weighs the same;
-    /// unbiased) or inverse-variance (the seed's eq. 3.3-3.4; less noise, slightly dark).
+    /// How a pixel's passes are combined: samples (every shadow ray after pass 0, which only
+    /// seeds the statistics, weighs the same; unbiased) or inverse-variance (the seed's eq.
+    /// 3.3-3.4, every pass; slightly dark).
     #[arg(long, value_enum, default_value = "samples")]
     ias_combine: IasCombine,
     /// Regions an environment is cut into, each a cluster of the cuts (the seed's 300; 0
