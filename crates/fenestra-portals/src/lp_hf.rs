@@ -192,26 +192,23 @@ impl PortalNextEvent {
         let ray = Ray::new(si.spawn(wi), wi);
         // Radiance found beyond and the light sampler's density of that direction.
         let (li, light_pdf) = match scene.through_glass(ray, f32::INFINITY) {
-            (tr, Some(hit)) => {
-                let beyond = scene.scene.interaction(&ray, &hit);
-                match scene.lights.surface_emission(&beyond, wi) {
-                    Some((index, le)) if seen(index) => {
-                        let pdf = if light_mix > 0.0 {
-                            light_sampler.pmf(&ctx, index)
-                                * scene.lights.lights[index].pdf_li(
-                                    &scene.scene,
-                                    si.p,
-                                    wi,
-                                    LightHit::Surface(&beyond),
-                                )
-                        } else {
-                            0.0
-                        };
-                        (tr * le, pdf)
-                    }
-                    _ => (Rgb::ZERO, 0.0),
+            (tr, Some(beyond)) => match scene.lights.surface_emission(&beyond, wi) {
+                Some((index, le)) if seen(index) => {
+                    let pdf = if light_mix > 0.0 {
+                        light_sampler.pmf(&ctx, index)
+                            * scene.lights.lights[index].pdf_li(
+                                &scene.scene,
+                                si.p,
+                                wi,
+                                LightHit::Surface(&beyond),
+                            )
+                    } else {
+                        0.0
+                    };
+                    (tr * le, pdf)
                 }
-            }
+                _ => (Rgb::ZERO, 0.0),
+            },
             (tr, None) => scene.lights.environments.iter().filter(|&&e| seen(e)).fold(
                 (Rgb::ZERO, 0.0),
                 |(l, pdf), &e| {

@@ -4,7 +4,7 @@
 use crate::bsdf::{self, Bsdf};
 use crate::light::Lights;
 use fenestra_core::{Ray, Rgb};
-use fenestra_scene::{Hit, Material, Scene, SurfaceInteraction};
+use fenestra_scene::{Material, Scene, SurfaceInteraction};
 use std::borrow::Cow;
 
 /// Panes a ray passes before it counts as blocked.
@@ -47,13 +47,14 @@ impl RenderScene {
 
     /// Follows a ray through thin glass panes (pbrt's "thindielectric", windows): each pane
     /// lets the fraction 1 - R' of the light through along the same line. Returns that
-    /// transmittance and the first other surface hit before `tmax` (`None`: nothing but
+    /// transmittance and the first other surface met before `tmax` (`None`: nothing but
     /// panes in the way). Visibility rays of next-event estimation use it, and path tracing
     /// counts no vertex for the straight-through part, so both techniques see the same
     /// light (MIS stays consistent).
-    pub fn through_glass(&self, mut ray: Ray, mut tmax: f32) -> (Rgb, Option<Hit>) {
+    pub fn through_glass(&self, mut ray: Ray, mut tmax: f32) -> (Rgb, Option<SurfaceInteraction>) {
         if !self.thin_glass {
-            return (Rgb::ONE, self.scene.intersect(&ray, tmax));
+            let hit = self.scene.intersect(&ray, tmax);
+            return (Rgb::ONE, hit.map(|hit| self.scene.interaction(&ray, &hit)));
         }
         let mut tr = Rgb::ONE;
         for _ in 0..MAX_PANES {
@@ -62,7 +63,7 @@ impl RenderScene {
             };
             let si = self.scene.interaction(&ray, &hit);
             let Bsdf::ThinDielectric(pane) = &self.bsdfs[self.material_at(&si)] else {
-                return (tr, Some(hit));
+                return (tr, Some(si));
             };
             tr *= 1.0 - pane.reflectance(si.ng.dot(ray.d));
             ray = Ray::new(si.spawn(ray.d), ray.d);
