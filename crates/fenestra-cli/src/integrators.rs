@@ -10,7 +10,7 @@ use fenestra_cache::{GlossyCache, Gradients, Sdrc, SdrcOptions};
 use fenestra_core::mis::MisHeuristic;
 use fenestra_eval::hash::debug_hash;
 use fenestra_eval::suite::slug;
-use fenestra_manylights::ias::Combine;
+use fenestra_manylights::ias::{BsdfSamples, Combine};
 use fenestra_manylights::learned::Base;
 use fenestra_manylights::{Ias, IasOptions, LearnedLights, LearnedOptions, LightBvh};
 use fenestra_portals::estimate::Model;
@@ -177,6 +177,29 @@ pub struct IasArgs {
     /// (25 per surface at up to 512x512, up to three surfaces).
     #[arg(long, default_value_t = fenestra_manylights::ias::EMITTED_RAYS)]
     ias_emitted_rays: u32,
+    /// Which points take a BSDF sample with each light sample, the two weighed by MIS:
+    /// glossy (every BSDF but a Lambertian one; a polished floor needs it), all, or none
+    /// (light samples only, and mirrors and glass show only what they see emitted: the
+    /// seed).
+    #[arg(long, value_enum, default_value = "auto")]
+    ias_bsdf_samples: IasBsdfSamples,
+}
+
+#[derive(Clone, Copy, Debug, ValueEnum)]
+enum IasBsdfSamples {
+    Auto,
+    All,
+    None,
+}
+
+impl IasBsdfSamples {
+    fn mode(self) -> BsdfSamples {
+        match self {
+            IasBsdfSamples::Auto => BsdfSamples::Auto,
+            IasBsdfSamples::All => BsdfSamples::All,
+            IasBsdfSamples::None => BsdfSamples::None,
+        }
+    }
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -463,6 +486,7 @@ pub fn registry<'a>() -> Registry<Config<'a>> {
                     },
                     sky_regions: a.ias_sky_regions,
                     emitted_rays: a.ias_emitted_rays,
+                    bsdf_samples: a.ias_bsdf_samples.mode(),
                     ..IasOptions::default()
                 })?))
             },
@@ -474,6 +498,7 @@ pub fn registry<'a>() -> Registry<Config<'a>> {
                 let a = &c.args.ias;
                 Ok(Box::new(Ias::new(IasOptions {
                     emitted_rays: a.ias_emitted_rays,
+                    bsdf_samples: a.ias_bsdf_samples.mode(),
                     ..IasOptions::reference(a.ias_threshold)
                 })?))
             },

@@ -109,6 +109,8 @@ pub struct Forest {
     pub roots: Vec<u32>,
     /// Lights at infinity (environments, distant lights), outside the trees.
     pub infinite: Vec<usize>,
+    /// Each light's leaf by light index ([`NO_PARENT`] for lights outside the trees).
+    pub leaf_of: Vec<u32>,
 }
 
 /// Which tree a light goes to: 0 for omnidirectional, 1 + the cube face of its normal.
@@ -159,10 +161,16 @@ impl Forest {
             nodes: Vec::new(),
             roots: Vec::new(),
             infinite,
+            leaf_of: vec![NO_PARENT; lights.lights.len()],
         };
         for group in groups.into_iter().filter(|g| !g.is_empty()) {
             let root = forest.build_tree(group);
             forest.roots.push(root);
+        }
+        for (i, node) in forest.nodes.iter().enumerate() {
+            if node.children.is_none() {
+                forest.leaf_of[node.light as usize] = i as u32;
+            }
         }
         forest
     }
@@ -278,20 +286,38 @@ impl Forest {
     /// node and its probability given `i`.
     pub fn pick_by_power(&self, mut i: u32, mut u: f32) -> (u32, f32) {
         let mut p = 1.0;
-        while let Some([a, b]) = self.nodes[i as usize].children {
-            let (pa, pb) = (self.nodes[a as usize].power, self.nodes[b as usize].power);
-            let first = if pa + pb > 0.0 { pa / (pa + pb) } else { 0.5 };
+        while let Some(children) = self.nodes[i as usize].children {
+            let first = self.first_share(children);
             if u < first {
                 u = (u / first).min(1.0 - f32::EPSILON);
                 p *= first;
-                i = a;
+                i = children[0];
             } else {
                 u = ((u - first) / (1.0 - first)).min(1.0 - f32::EPSILON);
                 p *= 1.0 - first;
-                i = b;
+                i = children[1];
             }
         }
         (i, p)
+    }
+
+    /// The probability that a pick by power between `children` goes to the first.
+    fn first_share(&self, [a, b]: [u32; 2]) -> f32 {
+        let (pa, pb) = (self.nodes[a as usize].power, self.nodes[b as usize].power);
+        if pa + pb > 0.0 {
+            pa / (pa + pb)
+        } else {
+            0.5
+        }
+    }
+
+    /// The cluster that node `i` belongs to, and the probability that a pick by power there
+    /// goes towards `i` (`None` at a root).
+    pub fn up(&self, i: u32) -> Option<(u32, f32)> {
+        let parent = self.nodes[i as usize].parent;
+        let children = self.nodes.get(parent as usize)?.children?;
+        let first = self.first_share(children);
+        Some((parent, if children[0] == i { first } else { 1.0 - first }))
     }
 
     /// The lights below node `i`.

@@ -73,6 +73,16 @@ impl SkyRegion {
         Vec3::new(sin_t * phi.cos(), sin_t * phi.sin(), cos_t)
     }
 
+    /// Whether unit direction `d` lies in the region (regions tile the sphere: each
+    /// direction lies in one of an environment's regions).
+    pub fn contains(&self, d: Vec3) -> bool {
+        let theta = d.z.clamp(-1.0, 1.0).acos();
+        let phi = d.y.atan2(d.x);
+        let phi = if phi < 0.0 { phi + 2.0 * PI } else { phi };
+        let inside = |v: f32, [lo, hi]: [f32; 2], end: f32| v >= lo && (v < hi || hi >= end);
+        inside(theta, self.theta, PI) && inside(phi, self.phi, 2.0 * PI)
+    }
+
     /// Whether some direction of the region lies above the plane of normal `n` (always, for
     /// a zero normal).
     pub fn above(&self, n: Vec3) -> bool {
@@ -162,6 +172,8 @@ mod tests {
             for _ in 0..200 {
                 let d = r.sample(rng.next_2d());
                 assert!(r.axis.angle_between(d) <= r.half_angle + 1e-5);
+                let holders: Vec<&SkyRegion> = regions.iter().filter(|o| o.contains(d)).collect();
+                assert!(holders.len() == 1 && holders[0] == r, "{d} in {holders:?}");
                 // A direction above a plane makes its region count as above it.
                 let n = fenestra_core::warp::square_to_uniform_sphere(rng.next_2d());
                 if d.dot(n) > 0.0 {

@@ -4,8 +4,11 @@
 
 mod common;
 
-use common::{bvh_af_hf, many_lights, one_bright_among_many, render};
-use fenestra_manylights::ias::Combine;
+use common::{
+    bvh_af_hf, glossy_many_lights, many_lights, one_bright_among_many, polished_floor_by_a_panel,
+    render,
+};
+use fenestra_manylights::ias::{BsdfSamples, Combine};
 use fenestra_manylights::{Ias, IasOptions};
 use fenestra_render::integrator::PathOptions;
 use fenestra_render::{Film, Integrator, RenderControl, RenderScene};
@@ -35,6 +38,58 @@ fn ias_renders_the_direct_light_af_hf_renders() {
     let t = fenestra_eval::agreement(&reference.estimate(), &adaptive.estimate(), 0.01, 8)
         .expect("sizes");
     assert!(t.passed(), "{t:?}");
+}
+
+#[test]
+fn bsdf_samples_weighed_by_mis_keep_the_image() {
+    // A polished floor, a glass ball and a panel standing on the floor: BSDF samples with
+    // MIS at glossy points and near the panel, and light through the glass one bounce on.
+    let reference = direct_light(glossy_many_lights(), 1024);
+    // The sky as 300 regions and whole (its own density then).
+    for (bsdf_samples, sky_regions) in [
+        (BsdfSamples::Auto, 300),
+        (BsdfSamples::All, 300),
+        (BsdfSamples::Auto, 0),
+    ] {
+        let mut ias = Ias::new(IasOptions {
+            bsdf_samples,
+            sky_regions,
+            ..Default::default()
+        })
+        .expect("options");
+        let image = render(glossy_many_lights(), &mut ias, 1, 2);
+        let t = fenestra_eval::agreement(&reference.estimate(), &image.estimate(), 0.01, 8)
+            .expect("sizes");
+        assert!(
+            t.passed(),
+            "{bsdf_samples:?}, {sky_regions} sky regions: {t:?}"
+        );
+    }
+}
+
+#[test]
+fn bsdf_samples_lower_the_error_on_a_polished_floor_by_a_panel() {
+    let reference = direct_light(polished_floor_by_a_panel(), 1024);
+    let reference = reference.estimate().mean;
+    let error = |bsdf_samples: BsdfSamples| {
+        let mut ias = Ias::new(IasOptions {
+            bsdf_samples,
+            ..Default::default()
+        })
+        .expect("options");
+        let image = render(polished_floor_by_a_panel(), &mut ias, 1, 2)
+            .estimate()
+            .mean;
+        let pairs = image.pixels.iter().zip(&reference.pixels);
+        pairs
+            .map(|(a, r)| (a.luminance() - r.luminance()).powi(2))
+            .sum::<f32>()
+    };
+    let (none, auto) = (error(BsdfSamples::None), error(BsdfSamples::Auto));
+    assert!(
+        auto < 0.25 * none,
+        "squared error {auto} with BSDF samples, {none} without"
+    );
 }
 
 #[test]

@@ -1,9 +1,12 @@
 //! One 8x8 block rendered to completion (seed 004 Fig. 3.4): its pixels' points and cuts,
 //! then passes of light samples with feedback between them.
 
+use super::bsdf_samples::{self, cut_lookup, PassPdf};
 use super::estimate::{luminance, pass_estimate, PointSums};
 use super::feedback::{blend, component, guarded, normal_class, unguarded, Stat};
-use super::{BlockResult, Combine, Far, Ias, Pdf, PdfTrace, PixelOut, REFERENCE_PASS_RAYS};
+use super::{
+    BlockResult, BsdfSamples, Combine, Far, Ias, Pdf, PdfTrace, PixelOut, REFERENCE_PASS_RAYS,
+};
 use crate::forest::{Forest, NO_PARENT};
 use fenestra_core::stats::RayCounters;
 use fenestra_core::{Ray, Rgb, Sampler, Vec2, Vec3};
@@ -52,6 +55,9 @@ pub(super) struct Point {
     pub(super) cut: Vec<u32>,
     /// The seed's reference: its PDF over the cut, the same in every pass (empty for ias).
     pub(super) irradiance: Vec<f32>,
+    /// At points that take BSDF samples too (module `bsdf_samples`), the cut's clusters sorted, with
+    /// their index in the cut; empty at points that sample lights only.
+    pub(super) lookup: Vec<(u32, u32)>,
 }
 
 /// The index of the point of the largest region.
@@ -62,10 +68,10 @@ fn largest(points: &[Point]) -> usize {
 }
 
 /// One pixel of the block.
-struct PixelState {
+pub(super) struct PixelState {
     x: u32,
     y: u32,
-    points: Vec<Point>,
+    pub(super) points: Vec<Point>,
     /// What the eye rays see emitted (no shadow ray), and the variance of that mean over
     /// the eye rays, per channel.
     emitted: Rgb,
@@ -287,7 +293,7 @@ impl BlockRender<'_> {
     /// plane within half the pixel's footprint radius of its first hit, else starts one.
     /// Each region's first hit is its point, its share of the rays its area, with a cut
     /// through the forest. What the rays see emitted is averaged over all of them.
-    fn pixel_points(&self, x: u32, y: u32, rays: &mut RayCounters) -> PixelState {
+    pub(super) fn pixel_points(&self, x: u32, y: u32, rays: &mut RayCounters) -> PixelState {
         let scene = self.scene;
         let camera = &scene.scene.camera;
         let pixel = u64::from(y) * u64::from(self.width) + u64::from(x);
@@ -328,18 +334,22 @@ impl BlockRender<'_> {
                 continue;
             };
             let si = scene.scene.interaction(&ray, &hit);
-            seen.add(
-                scene
-                    .lights
-                    .surface_emission(&si, ray.d)
-                    .map_or(Rgb::ZERO, |(_, le)| le),
-            );
             let material = scene.scene.shapes[si.shape].material;
             let n = if si.ng.dot(ray.d) <= 0.0 {
                 si.ng
             } else {
                 -si.ng
             };
+            let bsdf = scene.bsdf_at(&si);
+            let mut le = scene
+                .lights
+                .surface_emission(&si, ray.d)
+                .map_or(Rgb::ZERO, |(_, le)| le);
+            if options.bsdf_samples != BsdfSamples::None && bsdf.is_delta() {
+                // Beyond the seed: what a mirror or glass shows one bounce on.
+                le += self.specular_emission(&si, &bsdf, (-ray.d, n), &mut sampler, rays);
+            }
+            seen.add(le);
             let same_surface = |r: &Region| {
                 r.shape == si.shape
                     && r.material == material
@@ -357,7 +367,7 @@ impl BlockRender<'_> {
                 r.rays += 1;
                 continue;
             }
-            let bsdf = scene.bsdf_at(&si).into_owned();
+            let bsdf = bsdf.into_owned();
             let receiver = if bsdf.is_transmissive() {
                 Vec3::ZERO
             } else {
@@ -377,6 +387,11 @@ impl BlockRender<'_> {
                     cut.push(first_far + k as u32);
                 }
             }
+            let lookup = if self.takes_bsdf_samples(&bsdf, si.p, &cut, options.bsdf_samples) {
+                cut_lookup(&cut)
+            } else {
+                Vec::new()
+            };
             regions.push(Region {
                 shape: si.shape,
                 material,
@@ -391,6 +406,7 @@ impl BlockRender<'_> {
                     area: 0.0,
                     cut,
                     irradiance: Vec::new(),
+                    lookup,
                 },
             });
         }
@@ -398,8 +414,8 @@ impl BlockRender<'_> {
         let (mean, emitted_variance) = seen.mean(traced);
         let mut points: Vec<Point> = regions
             .into_iter()
-            // Mirrors and glass get no direct light (the seed's scope): only what is seen
-            // emitted there counts.
+            // Mirrors and glass get no light samples (the seed's scope): only what is seen
+            // emitted there, and one bounce on (module `bsdf_samples`), counts.
             .filter(|r| !r.point.cut.is_empty())
             .map(|r| Point {
                 area: r.rays as f32 * share,
@@ -509,7 +525,17 @@ impl BlockRender<'_> {
                     p.shadow_rays += 1;
                     p.seen_light |= s.visible;
                     p.visible_rays += u32::from(s.visible);
-                    sums[i].add(s.value);
+                    let bsdf = if q.lookup.is_empty() {
+                        Rgb::ZERO
+                    } else {
+                        let pass = PassPdf {
+                            pdf: &pdfs[i],
+                            total: cdf[cdf.len() - 1],
+                        };
+                        self.bsdf_sample(q, pass, &mut sampler, rays)
+                    };
+                    p.seen_light |= !bsdf.is_black();
+                    sums[i].add(s.value + bsdf);
                     let pixel = p.stats.iter_mut().find(|(c, _)| *c == q.class);
                     let stat = (s.leaf, s.contribution, s.power, s.visible);
                     let pixel = pixel.map(|(_, st)| st.as_mut_slice());
@@ -649,7 +675,7 @@ impl BlockRender<'_> {
     }
 
     /// One light sample at point `q`.
-    fn sample(
+    pub(super) fn sample(
         &self,
         q: &Point,
         pdf: &[f32],
@@ -682,6 +708,8 @@ impl BlockRender<'_> {
             leaf,
             contribution: 0.0,
             power,
+            wi: Vec3::ZERO,
+            density: 0.0,
         };
         let scene = self.scene;
         let s = match target {
@@ -724,7 +752,20 @@ impl BlockRender<'_> {
         let seen = unoccluded * scene.transmittance(Ray::new(origin, s.wi), tmax);
         eval.visible = !seen.is_black();
         eval.contribution = f64::from(seen.luminance());
-        eval.value = seen / (p_cluster * p_light);
+        eval.wi = s.wi;
+        eval.density = if s.delta {
+            0.0
+        } else {
+            p_cluster * p_light * s.pdf
+        };
+        // Weighed against the point's BSDF samples, if it takes them; the statistics learn
+        // the whole contribution.
+        let weight = if q.lookup.is_empty() || s.delta {
+            1.0
+        } else {
+            bsdf_samples::HEURISTIC.weight(eval.density, q.bsdf.pdf(wo, wi))
+        };
+        eval.value = seen * (weight / (p_cluster * p_light));
         eval
     }
 
@@ -770,15 +811,19 @@ impl BlockRender<'_> {
 }
 
 /// What one light sample gives.
-struct LightEval {
+pub(super) struct LightEval {
     /// Its contribution over its probability (the point's estimator).
     value: Rgb,
     /// Whether the shadow ray reached the light.
-    visible: bool,
+    pub(super) visible: bool,
     /// The light's node (for the statistics).
     leaf: u32,
     /// The light's own contribution estimate (luminance, occlusion included).
     contribution: f64,
     /// The light's power.
     power: f32,
+    /// The sampled direction and the light technique's solid-angle density of it (0 for a
+    /// Dirac light).
+    pub(super) wi: Vec3,
+    pub(super) density: f32,
 }

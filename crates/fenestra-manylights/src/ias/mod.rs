@@ -20,6 +20,7 @@
 //! what it sees emitted.
 
 mod block;
+mod bsdf_samples;
 mod estimate;
 mod feedback;
 
@@ -45,6 +46,19 @@ pub enum Combine {
     /// unbiased. Pass 0, drawn uniformly over the cut to seed the statistics ("not to
     /// estimate the value of the pixel", §3.5.2), counts only for a pixel done after it.
     Samples,
+}
+
+/// Which points take BSDF samples besides light samples (beyond the seed).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BsdfSamples {
+    /// None: light samples only, and mirrors and glass show only what they see emitted (the
+    /// seed).
+    None,
+    /// Every BSDF but a Lambertian one, and every BSDF where a light of the cut is near
+    /// (subtends much); mirrors and glass show light one bounce on.
+    Auto,
+    /// Every BSDF that light sampling can reach; mirrors and glass as with `Glossy`.
+    All,
 }
 
 /// Where the PDFs over a point's lights come from.
@@ -78,6 +92,10 @@ pub struct IasOptions {
     /// seen directly): beyond the seed's counts, until the mean is within the threshold; 0
     /// keeps the seed's counts.
     pub emitted_rays: u32,
+    /// Beyond the seed: which points take a BSDF sample with each light sample, the two
+    /// weighed by MIS, and whether mirrors and glass show light one bounce on (module
+    /// `bsdf_samples`).
+    pub bsdf_samples: BsdfSamples,
 }
 
 impl Default for IasOptions {
@@ -90,6 +108,7 @@ impl Default for IasOptions {
             pdf: Pdf::Adaptive,
             sky_regions: SKY_REGIONS,
             emitted_rays: EMITTED_RAYS,
+            bsdf_samples: BsdfSamples::Auto,
         }
     }
 }
@@ -106,6 +125,7 @@ impl IasOptions {
             pdf: Pdf::Irradiance,
             sky_regions: 0,
             emitted_rays: EMITTED_RAYS,
+            bsdf_samples: BsdfSamples::Auto,
         }
     }
 
@@ -262,6 +282,11 @@ impl Integrator for Ias {
             "solid_angle": self.options.solid_angle,
             "sky_regions": self.options.sky_regions,
             "emitted_rays": self.options.emitted_rays,
+            "bsdf_samples": match self.options.bsdf_samples {
+                BsdfSamples::None => "none",
+                BsdfSamples::Auto => "auto",
+                BsdfSamples::All => "all",
+            },
             "pdf": match self.options.pdf {
                 Pdf::Adaptive => "adaptive",
                 Pdf::Irradiance => "irradiance",
@@ -314,6 +339,7 @@ impl Integrator for Ias {
             nodes: Vec::new(),
             roots: Vec::new(),
             infinite: Vec::new(),
+            leaf_of: Vec::new(),
         };
         let forest = self.forest.as_ref().unwrap_or(&empty);
         // A cropped film renders the blocks of its window (which split() keeps on the block

@@ -90,6 +90,85 @@ pub fn many_lights() -> SceneDesc {
     }
 }
 
+/// The forty-light room with a polished floor (Phong, exponent 300), a brighter sky, a glass
+/// ball on the floor and a tiled emitting panel standing on it: narrow lobes, a mirror-like
+/// surface and points near a light, where light samples alone do poorly.
+pub fn glossy_many_lights() -> SceneDesc {
+    let mut desc = many_lights();
+    desc.name = "glossy many lights".into();
+    desc.materials[0] = Material::Phong {
+        diffuse: Rgb::splat(0.2),
+        specular: Rgb::splat(0.5),
+        exponent: 300.0,
+    };
+    desc.materials.push(Material::Dielectric { eta: 1.5 });
+    // A brighter sky, which the floor mirrors.
+    desc.lights[0] = LightDesc::Environment(EnvironmentDesc::Constant(Rgb::splat(0.4)));
+    desc.shapes.push(Shape::new(
+        ShapeKind::Sphere {
+            center: Vec3::new(-0.8, 0.5, 0.5),
+            radius: 0.5,
+        },
+        1,
+    ));
+    // The panel as 8 x 6 tiles (96 lights), so that far from it its lights form clusters.
+    for i in 0..8 {
+        for k in 0..6 {
+            let c = Vec3::new(1.0 + 0.125 * i as f32, 2.5, 0.1 + 0.125 * k as f32);
+            let tile = TriangleMesh::quad(c, Vec3::X * 0.0625, Vec3::Z * 0.0625);
+            let glow = Emission::radiance(Rgb::splat(2.0));
+            desc.shapes
+                .push(Shape::new(ShapeKind::Mesh(tile), 0).emitting(glow));
+        }
+    }
+    desc
+}
+
+/// A polished floor (Phong, exponent 300) and a wall meeting it, lit by a panel that stands
+/// on the floor against the wall and by 25 dim point lights 2 m up; seen from where the
+/// floor mirrors the panel. Light samples alone do poorly at both: the floor's lobe is
+/// narrow, and the wall's points beside the panel see it across a wide angle.
+pub fn polished_floor_by_a_panel() -> SceneDesc {
+    let mut lights = Vec::new();
+    for i in 0..5 {
+        for j in 0..5 {
+            lights.push(LightDesc::Point {
+                position: Vec3::new(i as f32 - 2.0, j as f32 - 2.0, 2.0),
+                intensity: Rgb::splat(0.05),
+            });
+        }
+    }
+    let floor = TriangleMesh::quad(Vec3::new(0.0, 0.0, 0.0), Vec3::X * 3.0, Vec3::Y * 3.0);
+    let wall = TriangleMesh::quad(Vec3::new(0.0, 1.5, 1.0), Vec3::X * 3.0, Vec3::Z * 1.0);
+    let panel = TriangleMesh::quad(Vec3::new(0.0, 1.45, 0.4), Vec3::X * 0.6, Vec3::Z * 0.4);
+    SceneDesc {
+        name: "polished floor by a panel".into(),
+        shapes: vec![
+            Shape::new(ShapeKind::Mesh(floor), 0),
+            Shape::new(ShapeKind::Mesh(wall), 1),
+            Shape::new(ShapeKind::Mesh(panel), 1).emitting(Emission::radiance(Rgb::splat(3.0))),
+        ],
+        materials: vec![
+            Material::Phong {
+                diffuse: Rgb::splat(0.1),
+                specular: Rgb::splat(0.6),
+                exponent: 300.0,
+            },
+            Material::diffuse(0.7),
+        ],
+        lights,
+        camera: Camera::look_at(
+            Vec3::new(0.0, -1.5, 0.8),
+            Vec3::new(0.0, 1.0, 0.2),
+            Vec3::Z,
+            60.0,
+        )
+        .expect("camera"),
+        defaults: RenderDefaults::default(),
+        portals: Vec::new(),
+    }
+}
+
 /// A floor lit by one bright point light 0.3 above it and 169 dim ones on a grid 2 m up,
 /// seen from above where the bright light gives nearly all the light: most of the dim lights
 /// are clusters of their own, so a pass uniform over the clusters often misses the bright one.
