@@ -323,7 +323,8 @@ impl BlockRender<'_> {
             }
             let mut sampler = Sampler::new(self.seed, pixel, traced);
             traced += 1;
-            let film = Vec2::new(x as f32, y as f32) + sampler.next_2d();
+            // Through a point drawn from the pixel filter, as the path tracers take theirs.
+            let film = Vec2::new(x as f32, y as f32) + camera.filter.sample(sampler.next_2d());
             let ray = camera.generate_ray(film, self.width, self.height);
             rays.camera += 1;
             let Some(hit) = scene.scene.intersect(&ray, f32::INFINITY) else {
