@@ -388,11 +388,12 @@ impl BlockRender<'_> {
                     cut.push(first_far + k as u32);
                 }
             }
-            let lookup = if self.takes_bsdf_samples(&bsdf, si.p, &cut, options.bsdf_samples) {
-                cut_lookup(&cut)
-            } else {
-                Vec::new()
-            };
+            let lookup =
+                if self.takes_bsdf_samples((&si, &bsdf, -ray.d), &cut, options.bsdf_samples) {
+                    cut_lookup(&cut)
+                } else {
+                    Vec::new()
+                };
             regions.push(Region {
                 shape: si.shape,
                 material,

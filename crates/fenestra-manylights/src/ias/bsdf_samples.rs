@@ -19,39 +19,45 @@ use crate::forest::NO_PARENT;
 use fenestra_core::mis::MisHeuristic;
 use fenestra_core::stats::RayCounters;
 use fenestra_core::{Ray, Rgb, Sampler, Vec3};
-use fenestra_render::bsdf::{Bsdf, BsdfSample};
+use fenestra_render::bsdf::{reflect_z, Bsdf, BsdfSample};
 use fenestra_render::light::LightHit;
 use fenestra_scene::SurfaceInteraction;
-
-/// The solid angle (sr) beyond which a light counts as near a point: within it, the
-/// light's density of directions varies too much across the light for light samples alone
-/// (the jamb of a lit doorway; docs/manylights.md measures it).
-const NEAR_SOLID_ANGLE: f32 = 2.0;
 
 /// How the two techniques are weighed.
 pub(super) const HEURISTIC: MisHeuristic = MisHeuristic::Power { beta: 2.0 };
 
 impl BlockRender<'_> {
-    /// Whether a point at `p` with `bsdf` and `cut` takes BSDF samples besides light
-    /// samples under `mode`.
+    /// Whether a point (`si`, `bsdf`, seen from direction `wo`) with `cut` takes BSDF
+    /// samples besides light samples under `mode`. `Auto`: where a light of its cut subtends
+    /// more than the BSDF's lobe, 1 / the lobe's peak density. There light samples
+    /// alone do poorly: a light larger than a narrow lobe is rarely sampled where the BSDF
+    /// is large (a polished floor mirroring a lamp), and a light wider than a Lambertian
+    /// lobe (pi sr) has a density that varies a lot across it (a wall beside a large
+    /// emitter). Lights smaller than the lobe are what light samples do best (Veach 1997).
     pub(super) fn takes_bsdf_samples(
         &self,
-        bsdf: &Bsdf,
-        p: Vec3,
+        (si, bsdf, wo): (&SurfaceInteraction, &Bsdf, Vec3),
         cut: &[u32],
         mode: BsdfSamples,
     ) -> bool {
-        let lambertian = matches!(bsdf, Bsdf::Diffuse(_) | Bsdf::DiffuseTransmission(_));
-        let near = || {
-            let nodes = &self.forest.nodes;
-            cut.iter()
-                .filter_map(|&c| nodes.get(c as usize))
-                .any(|c| c.sphere.solid_angle(p) > NEAR_SOLID_ANGLE)
-        };
+        if bsdf.is_delta() {
+            return false;
+        }
         match mode {
             BsdfSamples::None => false,
-            BsdfSamples::Auto => !bsdf.is_delta() && (!lambertian || near()),
-            BsdfSamples::All => !bsdf.is_delta(),
+            BsdfSamples::All => true,
+            BsdfSamples::Auto => {
+                let wo = si.shading_frame().to_local(wo);
+                // The peak: towards the mirror direction (glossy lobes) or the normal
+                // (Lambertian ones).
+                let normal = Vec3::Z * wo.z.signum();
+                let lobe = 1.0 / bsdf.pdf(wo, reflect_z(wo)).max(bsdf.pdf(wo, normal));
+                let nodes = &self.forest.nodes;
+                cut.iter()
+                    .filter_map(|&c| nodes.get(c as usize))
+                    .filter(|c| c.children.is_none())
+                    .any(|c| c.sphere.solid_angle(si.p) > lobe)
+            }
         }
     }
 }

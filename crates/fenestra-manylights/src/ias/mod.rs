@@ -54,8 +54,9 @@ pub enum BsdfSamples {
     /// None: light samples only, and mirrors and glass show only what they see emitted (the
     /// seed).
     None,
-    /// Every BSDF but a Lambertian one, and every BSDF where a light of the cut is near
-    /// (subtends much); mirrors and glass show light one bounce on.
+    /// Where a light of the cut subtends more than the BSDF's lobe (a polished floor
+    /// under a lamp, a wall beside a large emitter); mirrors and glass show light one
+    /// bounce on.
     Auto,
     /// Every BSDF that light sampling can reach; mirrors and glass as with `Glossy`.
     All,
