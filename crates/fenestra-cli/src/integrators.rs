@@ -177,10 +177,11 @@ pub struct IasArgs {
     /// (25 per surface at up to 512x512, up to three surfaces).
     #[arg(long, default_value_t = fenestra_manylights::ias::EMITTED_RAYS)]
     ias_emitted_rays: u32,
-    /// Which points take a BSDF sample with each light sample, the two weighed by MIS:
-    /// glossy (every BSDF but a Lambertian one; a polished floor needs it), all, or none
-    /// (light samples only, and mirrors and glass show only what they see emitted: the
-    /// seed).
+    /// Which points take a BSDF sample with each light sample, the two weighed by MIS: auto
+    /// (where a light of the point's cut subtends more than the BSDF's lobe: a polished floor
+    /// mirroring a window, a wall beside a large emitter), all, or none (light samples only,
+    /// and mirrors and glass show only what they see emitted: the seed). With auto and all,
+    /// eye rays follow mirrors and glass one bounce on.
     #[arg(long, value_enum, default_value = "auto")]
     ias_bsdf_samples: IasBsdfSamples,
 }

@@ -16,8 +16,8 @@
 //!
 //! After a render it offers maps of its work (passes, shadow rays, visible share, clusters
 //! per cut, regions per pixel; the seed's Fig. 4.9 and 4.11) for `render --maps`. Direct
-//! light only, as the seed: a camera ray that meets a mirror or glass gets nothing beyond
-//! what it sees emitted.
+//! light only, as the seed; beyond it, BSDF samples weighed by MIS where a light outsizes the
+//! BSDF's lobe, and one bounce on from mirrors and glass (module `bsdf_samples`).
 
 mod block;
 mod bsdf_samples;
@@ -58,7 +58,7 @@ pub enum BsdfSamples {
     /// under a lamp, a wall beside a large emitter); mirrors and glass show light one
     /// bounce on.
     Auto,
-    /// Every BSDF that light sampling can reach; mirrors and glass as with `Glossy`.
+    /// Every BSDF that light sampling can reach; mirrors and glass as with `Auto`.
     All,
 }
 
