@@ -171,6 +171,9 @@ pub(super) struct BlockRender<'a> {
     pub(super) seed: u64,
     pub(super) width: u32,
     pub(super) height: u32,
+    /// The relative variance at which a pixel is done (the options' unless a time budget
+    /// sets it).
+    pub(super) threshold: f32,
     /// A pixel whose PDFs to keep pass by pass (the seed's Fig. 4.10).
     pub(super) trace: Option<(u32, u32)>,
 }
@@ -315,7 +318,7 @@ impl BlockRender<'_> {
                 // Beyond the seed: where what the rays see emitted differs from ray to ray
                 // (the edge of a visible light), more rays, until its mean is within the
                 // pixel threshold or the pixel has `emitted_rays`.
-                if traced < most && seen.uncertain(traced, options.threshold) {
+                if traced < most && seen.uncertain(traced, self.threshold) {
                     target = (traced + per_surface).min(most);
                 } else {
                     break;
@@ -551,7 +554,7 @@ impl BlockRender<'_> {
             let w = self.pass_weight(p, s2);
             let (mean, var) = p.with_pass(estimate, s2, w);
             let relative = var / (mean * mean).max(f64::MIN_POSITIVE);
-            let t = f64::from(options.threshold);
+            let t = f64::from(self.threshold);
             if adaptive && relative >= t && relative < 2.0 * t && drawn < 4 * budget {
                 round = 25;
                 continue;
@@ -600,7 +603,7 @@ impl BlockRender<'_> {
         let (mean, var, _) = p.estimate();
         let m = luminance(mean);
         // Termination on relative variance (§3.5.3); samples all alike and lit are exact.
-        let converged = m > 0.0 && var / (m * m) < f64::from(options.threshold);
+        let converged = m > 0.0 && var / (m * m) < f64::from(self.threshold);
         // The black-pixel rule (§4.6.4).
         let black = !p.seen_light && p.passes >= 3 && p.shadow_rays >= options.black_after();
         p.done = converged || black || p.passes >= options.max_passes;

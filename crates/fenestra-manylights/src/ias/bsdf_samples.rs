@@ -310,6 +310,7 @@ mod tests {
             seed: 3,
             width: 16,
             height: 16,
+            threshold: 1e-3,
             trace: None,
         };
         let mut rays = RayCounters::default();

@@ -21,12 +21,14 @@
 
 mod block;
 mod bsdf_samples;
+mod budget;
 mod estimate;
 mod feedback;
 
 use crate::forest::{Forest, CUT_SOLID_ANGLE};
 use crate::sky::{self, SkyRegion, SKY_REGIONS};
 use block::{BlockRender, BLOCK};
+use budget::Budget;
 use fenestra_core::stats::{RayCounters, RenderStats};
 use fenestra_render::control::RenderControl;
 use fenestra_render::integrator::{Integrator, IntegratorError, Split, WorkMap};
@@ -261,6 +263,7 @@ impl Ias {
             seed,
             width,
             height,
+            threshold: self.options.threshold,
             trace: Some((x, y)),
         }
         .render(x / BLOCK * BLOCK, y / BLOCK * BLOCK);
@@ -331,11 +334,6 @@ impl Integrator for Ias {
         settings: &RenderSettings,
         control: &RenderControl,
     ) -> RenderStats {
-        if settings.time_limit.is_some() {
-            control.progress.note(
-                "ias decides its own samples and stops on --ias-threshold: --time is not used",
-            );
-        }
         let empty = Forest {
             nodes: Vec::new(),
             roots: Vec::new(),
@@ -348,13 +346,29 @@ impl Integrator for Ias {
         let (width, height) = (film.width, film.height);
         let window = film.window;
         let (bx, by) = (width.div_ceil(BLOCK), height.div_ceil(BLOCK));
+        // With --time every block takes the threshold that fits the time left; without, the
+        // options' (module `budget`).
+        let budget = settings.time_limit.map(|limit| {
+            control.progress.note(
+                "ias with --time: each block's threshold is set from what the blocks before it cost and the time left (not reproducible from run to run)",
+            );
+            // The limit is the rendering's, preparation on top (as the path tracers count it).
+            let deadline = control.elapsed() + limit;
+            let threads = rayon::current_num_threads();
+            Budget::new(deadline, (bx * by) as usize, threads, self.options.threshold)
+        });
         control.progress.start(Some(u64::from(bx * by)));
-        let results: Vec<Option<BlockResult>> = (0..bx * by)
+        let order = budget::shuffled(bx * by);
+        let mut results: Vec<(u32, Option<BlockResult>)> = order
             .into_par_iter()
             .map(|b| {
                 if control.cancelled() {
-                    return None;
+                    return (b, None);
                 }
+                let threshold = budget
+                    .as_ref()
+                    .map_or(self.options.threshold, Budget::threshold);
+                let started = control.elapsed();
                 let r = BlockRender {
                     ias: self,
                     forest,
@@ -362,13 +376,20 @@ impl Integrator for Ias {
                     seed: settings.seed,
                     width: window.full_width,
                     height: window.full_height,
+                    threshold,
                     trace: None,
                 }
                 .render(window.x0 + (b % bx) * BLOCK, window.y0 + (b / bx) * BLOCK);
+                if let Some(budget) = &budget {
+                    let now = control.elapsed();
+                    budget.finished(now - started, threshold, now);
+                }
                 control.progress.advance(1);
-                Some(r)
+                (b, Some(r))
             })
             .collect();
+        results.sort_unstable_by_key(|(b, _)| *b);
+        let results: Vec<Option<BlockResult>> = results.into_iter().map(|(_, r)| r).collect();
         let mut stats = RenderStats {
             scene: scene.scene.name.clone(),
             backend: scene.scene.backend.name().to_string(),
@@ -440,6 +461,14 @@ impl Integrator for Ias {
             .collect();
         if let Ok(mut m) = self.maps.lock() {
             *m = made;
+        }
+        if let Some([finest, coarsest]) = budget.as_ref().map(Budget::range) {
+            stats
+                .extra
+                .insert("threshold_finest".into(), f64::from(finest));
+            stats
+                .extra
+                .insert("threshold_coarsest".into(), f64::from(coarsest));
         }
         stats.time_s = control.elapsed();
         stats.derive_rates();
