@@ -184,6 +184,11 @@ pub struct IasArgs {
     /// eye rays follow mirrors and glass one bounce on.
     #[arg(long, value_enum, default_value = "auto")]
     ias_bsdf_samples: IasBsdfSamples,
+    /// Most eye-ray hits of an anti-aliasing region that its light samples take in turn, so
+    /// that the region's estimate is of the whole region and not of its first hit (1: the
+    /// first hit stands for the region, as the seed).
+    #[arg(long, default_value_t = fenestra_manylights::ias::REGION_HITS)]
+    ias_region_hits: u32,
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -488,6 +493,7 @@ pub fn registry<'a>() -> Registry<Config<'a>> {
                     sky_regions: a.ias_sky_regions,
                     emitted_rays: a.ias_emitted_rays,
                     bsdf_samples: a.ias_bsdf_samples.mode(),
+                    region_hits: a.ias_region_hits,
                     ..IasOptions::default()
                 })?))
             },
@@ -500,6 +506,7 @@ pub fn registry<'a>() -> Registry<Config<'a>> {
                 Ok(Box::new(Ias::new(IasOptions {
                     emitted_rays: a.ias_emitted_rays,
                     bsdf_samples: a.ias_bsdf_samples.mode(),
+                    region_hits: a.ias_region_hits,
                     ..IasOptions::reference(a.ias_threshold)
                 })?))
             },

@@ -142,6 +142,35 @@ fn more_eye_rays_where_a_light_is_seen_at_its_edge_lower_the_error() {
 }
 
 #[test]
+fn light_samples_taken_in_turn_at_a_regions_hits_lower_the_error() {
+    // A region's first hit stood for all of it (the seed): where the light changes across
+    // a pixel (here the falloff on a floor under a point light 0.3 above it), the pixel
+    // converged to the value at one random point of it. Taking the region's hits in turn
+    // estimates the whole region.
+    let reference = direct_light(one_bright_among_many(), 1024);
+    let reference = reference.estimate().mean;
+    let error = |region_hits: u32| {
+        let mut ias = Ias::new(IasOptions {
+            region_hits,
+            ..Default::default()
+        })
+        .expect("options");
+        let image = render(one_bright_among_many(), &mut ias, 1, 2)
+            .estimate()
+            .mean;
+        let pairs = image.pixels.iter().zip(&reference.pixels);
+        pairs
+            .map(|(a, r)| (a.luminance() - r.luminance()).powi(2))
+            .sum::<f32>()
+    };
+    let (first, all) = (error(1), error(IasOptions::default().region_hits));
+    assert!(
+        all < 0.5 * first,
+        "squared error {all} with every hit, {first} with the first"
+    );
+}
+
+#[test]
 fn the_seeds_reference_renders_the_same_direct_light() {
     let reference = direct_light(many_lights(), 1024);
     let mut seeds = Ias::new(IasOptions::reference(1e-3)).expect("options");

@@ -40,12 +40,18 @@ struct Region {
     point: Point,
 }
 
-/// A point to shade: where an eye ray met a surface.
-pub(super) struct Point {
+/// Where an eye ray met a surface.
+pub(super) struct Shade {
     pub(super) si: SurfaceInteraction,
     pub(super) bsdf: Bsdf,
     /// Towards the eye.
     pub(super) wo: Vec3,
+}
+
+/// A point to shade: a region's eye-ray hits (its first one first), which its light samples
+/// take in turn, with one cut, PDF and statistics for all.
+pub(super) struct Point {
+    pub(super) hits: Vec<Shade>,
     /// Normal on the eye's side.
     pub(super) n: Vec3,
     pub(super) class: usize,
@@ -358,7 +364,7 @@ impl BlockRender<'_> {
                 r.shape == si.shape
                     && r.material == material
                     && r.point.n.dot(n) > 0.999
-                    && (si.p - r.point.si.p).dot(r.point.n).abs() <= 1e-4 * (1.0 + hit.t)
+                    && (si.p - r.point.hits[0].si.p).dot(r.point.n).abs() <= 1e-4 * (1.0 + hit.t)
             };
             if !regions.iter().any(same_surface) {
                 surfaces += 1;
@@ -366,9 +372,17 @@ impl BlockRender<'_> {
             }
             if let Some(r) = regions
                 .iter_mut()
-                .find(|r| same_surface(r) && (si.p - r.point.si.p).length() <= r.radius)
+                .find(|r| same_surface(r) && (si.p - r.point.hits[0].si.p).length() <= r.radius)
             {
                 r.rays += 1;
+                // Beyond the seed: the region's light samples go to its hits in turn.
+                if r.point.hits.len() < options.region_hits as usize {
+                    r.point.hits.push(Shade {
+                        si,
+                        bsdf: bsdf.into_owned(),
+                        wo: -ray.d,
+                    });
+                }
                 continue;
             }
             let bsdf = bsdf.into_owned();
@@ -403,9 +417,11 @@ impl BlockRender<'_> {
                 radius: 0.5 * hit.t * pixel_angle,
                 rays: 1,
                 point: Point {
-                    si,
-                    bsdf,
-                    wo: -ray.d,
+                    hits: vec![Shade {
+                        si,
+                        bsdf,
+                        wo: -ray.d,
+                    }],
                     n,
                     class: normal_class(n),
                     area: 0.0,
@@ -525,8 +541,9 @@ impl BlockRender<'_> {
                 let n = ((round as f32 * q.area).round() as u32).max(1);
                 for _ in 0..n {
                     let mut sampler = Sampler::new(self.seed, pixel_index, p.next_sample);
+                    let at = &q.hits[p.next_sample as usize % q.hits.len()];
                     p.next_sample = p.next_sample.wrapping_add(1);
-                    let s = self.sample(q, &pdfs[i], cdf, &mut sampler, rays);
+                    let s = self.sample(q, at, &pdfs[i], cdf, &mut sampler, rays);
                     p.shadow_rays += 1;
                     p.seen_light |= s.visible;
                     p.visible_rays += u32::from(s.visible);
@@ -537,7 +554,7 @@ impl BlockRender<'_> {
                             pdf: &pdfs[i],
                             total: cdf[cdf.len() - 1],
                         };
-                        self.bsdf_sample(q, pass, &mut sampler, rays)
+                        self.bsdf_sample(q, at, pass, &mut sampler, rays)
                     };
                     p.seen_light |= !bsdf.is_black();
                     sums[i].add(s.value + bsdf);
@@ -643,7 +660,8 @@ impl BlockRender<'_> {
     /// bounds do not give, share the probability of one more light with the rest.
     fn irradiance_pdf(&self, q: &Point) -> Vec<f32> {
         let forest = self.forest;
-        let n = if q.bsdf.is_transmissive() {
+        let first = &q.hits[0];
+        let n = if first.bsdf.is_transmissive() {
             Vec3::ZERO
         } else {
             q.n
@@ -652,7 +670,7 @@ impl BlockRender<'_> {
             .cut
             .iter()
             .map(|&c| match forest.nodes.get(c as usize) {
-                Some(node) => f64::from(node.bounds.importance(q.si.p, n)),
+                Some(node) => f64::from(node.bounds.importance(first.si.p, n)),
                 None => 0.0,
             })
             .collect();
@@ -679,10 +697,11 @@ impl BlockRender<'_> {
         w.into_iter().map(|v| v as f32).collect()
     }
 
-    /// One light sample at point `q`.
+    /// One light sample at point `q`, shaded at its hit `at`.
     pub(super) fn sample(
         &self,
         q: &Point,
+        at: &Shade,
         pdf: &[f32],
         cdf: &[f32],
         sampler: &mut Sampler,
@@ -719,7 +738,7 @@ impl BlockRender<'_> {
         let scene = self.scene;
         let s = match target {
             Far::Light(l) => {
-                scene.lights.lights[l].sample_li(&scene.scene, q.si.p, sampler.next_2d())
+                scene.lights.lights[l].sample_li(&scene.scene, at.si.p, sampler.next_2d())
             }
             // A direction uniform in solid angle over the region (§3.5.1's environment
             // regions).
@@ -738,17 +757,17 @@ impl BlockRender<'_> {
         let Some(s) = s else {
             return eval;
         };
-        let frame = q.si.shading_frame();
-        let (wo, wi) = (frame.to_local(q.wo), frame.to_local(s.wi));
+        let frame = at.si.shading_frame();
+        let (wo, wi) = (frame.to_local(at.wo), frame.to_local(s.wi));
         // Shading normals must not leak light through the surface.
-        if !q.bsdf.is_transmissive() && (s.wi.dot(q.n) > 0.0) != (wi.z * wo.z > 0.0) {
+        if !at.bsdf.is_transmissive() && (s.wi.dot(q.n) > 0.0) != (wi.z * wo.z > 0.0) {
             return eval;
         }
-        let unoccluded = q.bsdf.eval(wo, wi) * wi.z.abs() * s.li / s.pdf;
+        let unoccluded = at.bsdf.eval(wo, wi) * wi.z.abs() * s.li / s.pdf;
         if unoccluded.is_black() || !unoccluded.is_finite() {
             return eval;
         }
-        let origin = q.si.spawn(s.wi);
+        let origin = at.si.spawn(s.wi);
         let tmax = match s.point {
             Some(y) => (y - origin).length() * (1.0 - 1e-4),
             None => f32::INFINITY,
@@ -768,7 +787,7 @@ impl BlockRender<'_> {
         let weight = if q.lookup.is_empty() || s.delta {
             1.0
         } else {
-            bsdf_samples::HEURISTIC.weight(eval.density, q.bsdf.pdf(wo, wi))
+            bsdf_samples::HEURISTIC.weight(eval.density, at.bsdf.pdf(wo, wi))
         };
         eval.value = seen * (weight / (p_cluster * p_light));
         eval

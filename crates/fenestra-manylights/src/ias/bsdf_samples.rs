@@ -13,7 +13,7 @@
 //! At mirrors and glass: an eye ray follows one sampled bounce and adds the light it meets,
 //! as a path tracer limited to direct light (path length 2) does.
 
-use super::block::{BlockRender, Point};
+use super::block::{BlockRender, Point, Shade};
 use super::{BsdfSamples, Far};
 use crate::forest::NO_PARENT;
 use fenestra_core::mis::MisHeuristic;
@@ -113,23 +113,24 @@ impl PassPdf<'_> {
 }
 
 impl BlockRender<'_> {
-    /// One BSDF sample at `q`: the light it finds over its density, weighed against the
-    /// light technique of the pass (`pass`).
+    /// One BSDF sample at point `q`'s hit `at`: the light it finds over its density,
+    /// weighed against the light technique of the pass (`pass`).
     pub(super) fn bsdf_sample(
         &self,
         q: &Point,
+        at: &Shade,
         pass: PassPdf,
         sampler: &mut Sampler,
         rays: &mut RayCounters,
     ) -> Rgb {
-        let Some((bs, wi)) = sample_direction(&q.si, &q.bsdf, (q.wo, q.n), sampler) else {
+        let Some((bs, wi)) = sample_direction(&at.si, &at.bsdf, (at.wo, q.n), sampler) else {
             return Rgb::ZERO;
         };
-        let found = self.light_along(&q.si, wi, rays, |source| {
+        let found = self.light_along(&at.si, wi, rays, |source| {
             if bs.delta {
                 return 1.0;
             }
-            HEURISTIC.weight(bs.pdf, self.source_density(q, pass, wi, source))
+            HEURISTIC.weight(bs.pdf, self.source_density((q, at.si.p), pass, wi, source))
         });
         bs.weight * found
     }
@@ -176,20 +177,21 @@ impl BlockRender<'_> {
         tr * found
     }
 
-    /// Solid-angle density with which a light sample of the pass at `q` gives direction `wi`
-    /// towards `source`.
-    fn source_density(&self, q: &Point, pass: PassPdf, wi: Vec3, source: Source) -> f32 {
+    /// Solid-angle density with which a light sample of the pass at point `q`'s hit at `p`
+    /// gives direction `wi` towards `source`.
+    fn source_density(
+        &self,
+        (q, p): (&Point, Vec3),
+        pass: PassPdf,
+        wi: Vec3,
+        source: Source,
+    ) -> f32 {
         match source {
-            Source::Environment(e) => self.environment_pdf(q, pass, e, wi),
+            Source::Environment(e) => self.environment_pdf((q, p), pass, e, wi),
             Source::Surface(light, si) => {
                 let scene = self.scene;
                 self.cluster_share(q, pass, self.forest.leaf_of[light])
-                    * scene.lights.lights[light].pdf_li(
-                        &scene.scene,
-                        q.si.p,
-                        wi,
-                        LightHit::Surface(si),
-                    )
+                    * scene.lights.lights[light].pdf_li(&scene.scene, p, wi, LightHit::Surface(si))
             }
         }
     }
@@ -216,7 +218,13 @@ impl BlockRender<'_> {
     /// Solid-angle density with which a light sample of the pass at `q` gives direction `wi`
     /// of environment `light`: its region's probability over the region's solid angle, or
     /// the environment's own density where it is one cluster.
-    fn environment_pdf(&self, q: &Point, pass: PassPdf, light: usize, wi: Vec3) -> f32 {
+    fn environment_pdf(
+        &self,
+        (q, p): (&Point, Vec3),
+        pass: PassPdf,
+        light: usize,
+        wi: Vec3,
+    ) -> f32 {
         let first_far = self.forest.nodes.len() as u32;
         for (k, far) in self.ias.far.iter().enumerate() {
             let node = first_far + k as u32;
@@ -226,12 +234,8 @@ impl BlockRender<'_> {
                 }
                 Far::Light(l) if *l == light => {
                     let scene = self.scene;
-                    let p = scene.lights.lights[light].pdf_li(
-                        &scene.scene,
-                        q.si.p,
-                        wi,
-                        LightHit::Escaped,
-                    );
+                    let p =
+                        scene.lights.lights[light].pdf_li(&scene.scene, p, wi, LightHit::Escaped);
                     return pass.of(q, node).unwrap_or(0.0) * p;
                 }
                 _ => {}
@@ -334,14 +338,15 @@ mod tests {
                 };
                 for i in 0..400 {
                     let mut sampler = Sampler::new(3, u64::from(y * 16 + x), i);
-                    let s = block.sample(q, &pdf, &cdf, &mut sampler, &mut rays);
+                    let at = &q.hits[i as usize % q.hits.len()];
+                    let s = block.sample(q, at, &pdf, &cdf, &mut sampler, &mut rays);
                     if !s.visible || s.density == 0.0 {
                         continue;
                     }
                     let (found, sky) = (Cell::new(None), Cell::new(false));
-                    block.light_along(&q.si, s.wi, &mut rays, |source| {
+                    block.light_along(&at.si, s.wi, &mut rays, |source| {
                         sky.set(matches!(source, Source::Environment(_)));
-                        found.set(Some(block.source_density(q, pass, s.wi, source)));
+                        found.set(Some(block.source_density((q, at.si.p), pass, s.wi, source)));
                         1.0
                     });
                     let found = found.get().expect("the visible light is met");

@@ -99,6 +99,9 @@ pub struct IasOptions {
     /// weighed by MIS, and whether mirrors and glass show light one bounce on (module
     /// `bsdf_samples`).
     pub bsdf_samples: BsdfSamples,
+    /// Beyond the seed: most eye-ray hits of a region that its light samples take in turn
+    /// (1: the region's first hit stands for all of it, as the seed).
+    pub region_hits: u32,
 }
 
 impl Default for IasOptions {
@@ -112,6 +115,7 @@ impl Default for IasOptions {
             sky_regions: SKY_REGIONS,
             emitted_rays: EMITTED_RAYS,
             bsdf_samples: BsdfSamples::Auto,
+            region_hits: REGION_HITS,
         }
     }
 }
@@ -129,6 +133,7 @@ impl IasOptions {
             sky_regions: 0,
             emitted_rays: EMITTED_RAYS,
             bsdf_samples: BsdfSamples::Auto,
+            region_hits: REGION_HITS,
         }
     }
 
@@ -140,6 +145,9 @@ impl IasOptions {
         }
     }
 }
+
+/// Most eye-ray hits of a region shaded in turn, by default.
+pub const REGION_HITS: u32 = 64;
 
 /// Most eye rays a pixel takes at the edge of a light seen directly, by default.
 pub const EMITTED_RAYS: u32 = 256;
@@ -190,6 +198,11 @@ impl Ias {
                 block::MAX_EYE_RAYS,
                 o.emitted_rays
             )));
+        }
+        if o.region_hits == 0 {
+            return Err(IntegratorError::Options(
+                "ias shades at least one hit of a region (--ias-region-hits 1: the seed's)".into(),
+            ));
         }
         if o.sky_regions > MAX_SKY_REGIONS {
             return Err(IntegratorError::Options(format!(
@@ -286,6 +299,7 @@ impl Integrator for Ias {
             "solid_angle": self.options.solid_angle,
             "sky_regions": self.options.sky_regions,
             "emitted_rays": self.options.emitted_rays,
+            "region_hits": self.options.region_hits,
             "bsdf_samples": match self.options.bsdf_samples {
                 BsdfSamples::None => "none",
                 BsdfSamples::Auto => "auto",
