@@ -31,6 +31,20 @@ fn direct_light(desc: SceneDesc, spp: u32) -> Film {
     render(desc, &mut bvh_af_hf(direct), spp, 2)
 }
 
+/// The squared luminance error, summed over the pixels, of ias with each of `options` on
+/// `scene`, against 1,024 samples a pixel of af_hf.
+fn squared_errors<const N: usize>(scene: fn() -> SceneDesc, options: [IasOptions; N]) -> [f32; N] {
+    let reference = direct_light(scene(), 1024).estimate().mean;
+    options.map(|o| {
+        let mut ias = Ias::new(o).expect("options");
+        let image = render(scene(), &mut ias, 1, 2).estimate().mean;
+        let pairs = image.pixels.iter().zip(&reference.pixels);
+        pairs
+            .map(|(a, r)| (a.luminance() - r.luminance()).powi(2))
+            .sum::<f32>()
+    })
+}
+
 #[test]
 fn ias_renders_the_direct_light_af_hf_renders() {
     let reference = direct_light(many_lights(), 1024);
@@ -69,23 +83,14 @@ fn bsdf_samples_weighed_by_mis_keep_the_image() {
 
 #[test]
 fn bsdf_samples_lower_the_error_on_a_polished_floor_by_a_panel() {
-    let reference = direct_light(polished_floor_by_a_panel(), 1024);
-    let reference = reference.estimate().mean;
-    let error = |bsdf_samples: BsdfSamples| {
-        let mut ias = Ias::new(IasOptions {
-            bsdf_samples,
-            ..Default::default()
-        })
-        .expect("options");
-        let image = render(polished_floor_by_a_panel(), &mut ias, 1, 2)
-            .estimate()
-            .mean;
-        let pairs = image.pixels.iter().zip(&reference.pixels);
-        pairs
-            .map(|(a, r)| (a.luminance() - r.luminance()).powi(2))
-            .sum::<f32>()
+    let with = |bsdf_samples| IasOptions {
+        bsdf_samples,
+        ..Default::default()
     };
-    let (none, auto) = (error(BsdfSamples::None), error(BsdfSamples::Auto));
+    let [none, auto] = squared_errors(
+        polished_floor_by_a_panel,
+        [with(BsdfSamples::None), with(BsdfSamples::Auto)],
+    );
     assert!(
         auto < 0.25 * none,
         "squared error {auto} with BSDF samples, {none} without"
@@ -120,21 +125,11 @@ fn more_eye_rays_where_a_light_is_seen_at_its_edge_lower_the_error() {
     // The 40-light scene shows spheres, disks and quads directly: the seed's 25 eye rays a
     // surface estimate their edges' coverage; more rays where what the rays see emitted
     // varies take that error down.
-    let reference = direct_light(many_lights(), 1024);
-    let reference = reference.estimate().mean;
-    let error = |emitted_rays: u32| {
-        let mut ias = Ias::new(IasOptions {
-            emitted_rays,
-            ..Default::default()
-        })
-        .expect("options");
-        let image = render(many_lights(), &mut ias, 1, 2).estimate().mean;
-        let squares = image.pixels.iter().zip(&reference.pixels);
-        squares
-            .map(|(a, r)| (a.luminance() - r.luminance()).powi(2))
-            .sum::<f32>()
+    let seeds = IasOptions {
+        emitted_rays: 0,
+        ..Default::default()
     };
-    let (seeds, more) = (error(0), error(IasOptions::default().emitted_rays));
+    let [seeds, more] = squared_errors(many_lights, [seeds, IasOptions::default()]);
     assert!(
         more < 0.5 * seeds,
         "squared error {more} with more rays, {seeds} without"
@@ -147,23 +142,11 @@ fn light_samples_taken_in_turn_at_a_regions_hits_lower_the_error() {
     // a pixel (here the falloff on a floor under a point light 0.3 above it), the pixel
     // converged to the value at one random point of it. Taking the region's hits in turn
     // estimates the whole region.
-    let reference = direct_light(one_bright_among_many(), 1024);
-    let reference = reference.estimate().mean;
-    let error = |region_hits: u32| {
-        let mut ias = Ias::new(IasOptions {
-            region_hits,
-            ..Default::default()
-        })
-        .expect("options");
-        let image = render(one_bright_among_many(), &mut ias, 1, 2)
-            .estimate()
-            .mean;
-        let pairs = image.pixels.iter().zip(&reference.pixels);
-        pairs
-            .map(|(a, r)| (a.luminance() - r.luminance()).powi(2))
-            .sum::<f32>()
+    let first = IasOptions {
+        region_hits: 1,
+        ..Default::default()
     };
-    let (first, all) = (error(1), error(IasOptions::default().region_hits));
+    let [first, all] = squared_errors(one_bright_among_many, [first, IasOptions::default()]);
     assert!(
         all < 0.5 * first,
         "squared error {all} with every hit, {first} with the first"
