@@ -61,8 +61,8 @@ pub(super) struct Point {
     pub(super) cut: Vec<u32>,
     /// The seed's reference: its PDF over the cut, the same in every pass (empty for ias).
     pub(super) irradiance: Vec<f32>,
-    /// At points that take BSDF samples too (module `bsdf_samples`), the cut's clusters sorted, with
-    /// their index in the cut; empty at points that sample lights only.
+    /// At points that take BSDF samples too (module `bsdf_samples`), the cut's clusters
+    /// sorted, with their index in the cut; empty at points that sample lights only.
     pub(super) lookup: Vec<(u32, u32)>,
 }
 
@@ -300,8 +300,9 @@ impl BlockRender<'_> {
     /// pixel (25, 20 or 15 per unique surface by resolution, at most three surfaces' worth),
     /// grouped into sub-pixel regions: a hit joins a region of the same shape, material and
     /// plane within half the pixel's footprint radius of its first hit, else starts one.
-    /// Each region's first hit is its point, its share of the rays its area, with a cut
-    /// through the forest. What the rays see emitted is averaged over all of them.
+    /// Each region is a point, its share of the rays its area, with a cut through the forest
+    /// at its first hit; beyond the seed it keeps its hits (up to `region_hits`) for its
+    /// light samples to take in turn. What the rays see emitted is averaged over all of them.
     pub(super) fn pixel_points(&self, x: u32, y: u32, rays: &mut RayCounters) -> PixelState {
         let scene = self.scene;
         let camera = &scene.scene.camera;
