@@ -189,6 +189,11 @@ pub struct IasArgs {
     /// first hit stands for the region, as the seed).
     #[arg(long, default_value_t = fenestra_manylights::ias::REGION_HITS)]
     ias_region_hits: u32,
+    /// Eye rays, in units of the seed's per surface, that a pixel takes at least when a
+    /// neighbour's rays saw the edge of a light and its own did not (it may hold a sliver of
+    /// the light they missed); 0 leaves such pixels their own counts.
+    #[arg(long, default_value_t = fenestra_manylights::ias::EDGE_RAYS)]
+    ias_edge_rays: u32,
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -494,6 +499,7 @@ pub fn registry<'a>() -> Registry<Config<'a>> {
                     emitted_rays: a.ias_emitted_rays,
                     bsdf_samples: a.ias_bsdf_samples.mode(),
                     region_hits: a.ias_region_hits,
+                    edge_rays: a.ias_edge_rays,
                     ..IasOptions::default()
                 })?))
             },
@@ -507,6 +513,7 @@ pub fn registry<'a>() -> Registry<Config<'a>> {
                     emitted_rays: a.ias_emitted_rays,
                     bsdf_samples: a.ias_bsdf_samples.mode(),
                     region_hits: a.ias_region_hits,
+                    edge_rays: a.ias_edge_rays,
                     ..IasOptions::reference(a.ias_threshold)
                 })?))
             },

@@ -82,6 +82,8 @@ pub(super) struct PixelState {
     /// the eye rays, per channel.
     emitted: Rgb,
     emitted_variance: [f64; 3],
+    /// Whether its eye rays saw the edge of a light.
+    edge: bool,
     /// Over the passes, with pass weights w: sum w, sum w I (per channel), and the sums
     /// w^2 s^2 of the luminance's and each channel's variance.
     weight: f64,
@@ -133,6 +135,8 @@ struct Emitted {
     sq: [f64; 3],
     luminance: f64,
     luminance_sq: f64,
+    /// The least and the most luminance a ray saw (`None` before the first ray).
+    range: Option<[f64; 2]>,
 }
 
 impl Emitted {
@@ -144,6 +148,13 @@ impl Emitted {
         let l = f64::from(le.luminance());
         self.luminance += l;
         self.luminance_sq += l * l;
+        self.range = Some(self.range.map_or([l, l], |[lo, hi]| [lo.min(l), hi.max(l)]));
+    }
+
+    /// Whether the rays saw the edge of a light: some saw it, others saw less than half as
+    /// much (a smooth sky does not count).
+    fn edge(&self) -> bool {
+        self.range.is_some_and(|[lo, hi]| hi > 0.0 && lo < 0.5 * hi)
     }
 
     /// The mean over `n` rays and the variance of that mean, per channel.
@@ -188,12 +199,14 @@ impl BlockRender<'_> {
     /// Renders the block at (x0, y0) to completion.
     pub(super) fn render(&self, x0: u32, y0: u32) -> BlockResult {
         let mut rays = RayCounters::default();
+        let (x1, y1) = ((x0 + BLOCK).min(self.width), (y0 + BLOCK).min(self.height));
         let mut pixels = Vec::new();
-        for y in y0..(y0 + BLOCK).min(self.height) {
-            for x in x0..(x0 + BLOCK).min(self.width) {
-                pixels.push(self.pixel_points(x, y, &mut rays));
+        for y in y0..y1 {
+            for x in x0..x1 {
+                pixels.push(self.pixel_points((x, y), 0, &mut rays));
             }
         }
+        self.beside_light_edges(&mut pixels, (x0, y0, x1, y1), &mut rays);
         // Slots of every cut node of the block (node ids past the forest's nodes are lights
         // at infinity).
         let node_count = self.forest.nodes.len() + self.ias.far.len();
@@ -296,6 +309,90 @@ impl BlockRender<'_> {
         }
     }
 
+    /// Beyond the seed: a pixel none of whose eye rays saw the edge of a light that a
+    /// neighbour's rays saw (some of them met it) may hold a sliver of that light that its
+    /// own rays missed; it is traced again with `edge_rays` times the seed's eye rays (and
+    /// more while they disagree, as any pixel). Neighbours outside the block (x0..x1,
+    /// y0..y1) are probed with their first eye rays, so blocks stay independent.
+    fn beside_light_edges(
+        &self,
+        pixels: &mut [PixelState],
+        (x0, y0, x1, y1): (u32, u32, u32, u32),
+        rays: &mut RayCounters,
+    ) {
+        let options = &self.ias.options;
+        if options.emitted_rays == 0 || options.edge_rays == 0 {
+            return;
+        }
+        let per_surface = rays_per_surface(self.width, self.height);
+        let w = x1 - x0;
+        let mut probed: Vec<(u32, u32, bool)> = Vec::new();
+        let mut edge = |x: u32, y: u32, pixels: &[PixelState], rays: &mut RayCounters| {
+            if (x0..x1).contains(&x) && (y0..y1).contains(&y) {
+                return pixels[((y - y0) * w + (x - x0)) as usize].edge;
+            }
+            if let Some(&(_, _, e)) = probed.iter().find(|p| (p.0, p.1) == (x, y)) {
+                return e;
+            }
+            let e = self.probe_edge((x, y), per_surface, rays);
+            probed.push((x, y, e));
+            e
+        };
+        let mut again = Vec::new();
+        for (i, p) in pixels.iter().enumerate() {
+            if p.edge {
+                continue;
+            }
+            let near = (-1i64..=1).flat_map(|dy| (-1i64..=1).map(move |dx| (dx, dy)));
+            let near = near.filter(|&d| d != (0, 0)).any(|(dx, dy)| {
+                let (nx, ny) = (i64::from(p.x) + dx, i64::from(p.y) + dy);
+                let inside = (0..i64::from(self.width)).contains(&nx)
+                    && (0..i64::from(self.height)).contains(&ny);
+                inside && edge(nx as u32, ny as u32, pixels, rays)
+            });
+            if near {
+                again.push(i);
+            }
+        }
+        for i in again {
+            let (x, y) = (pixels[i].x, pixels[i].y);
+            pixels[i] = self.pixel_points((x, y), options.edge_rays * per_surface, rays);
+        }
+    }
+
+    /// Whether the first `n` eye rays of pixel (x, y), the ones its own render takes, see
+    /// the edge of a light (what they see emitted directly; mirrors and glass not followed).
+    fn probe_edge(&self, (x, y): (u32, u32), n: u32, rays: &mut RayCounters) -> bool {
+        let scene = self.scene;
+        let camera = &scene.scene.camera;
+        let pixel = u64::from(y) * u64::from(self.width) + u64::from(x);
+        let mut seen = Emitted::default();
+        for i in 0..n {
+            let mut sampler = Sampler::new(self.seed, pixel, i);
+            let film = Vec2::new(x as f32, y as f32) + camera.filter.sample(sampler.next_2d());
+            let ray = camera.generate_ray(film, self.width, self.height);
+            rays.camera += 1;
+            seen.add(match scene.scene.intersect(&ray, f32::INFINITY) {
+                None => self.sky_along(ray.d),
+                Some(hit) => {
+                    let si = scene.scene.interaction(&ray, &hit);
+                    let le = scene.lights.surface_emission(&si, ray.d);
+                    le.map_or(Rgb::ZERO, |(_, le)| le)
+                }
+            });
+        }
+        seen.edge()
+    }
+
+    /// What the environments send along direction `d`.
+    fn sky_along(&self, d: Vec3) -> Rgb {
+        let lights = &self.scene.lights;
+        let sky = lights.environments.iter();
+        sky.fold(Rgb::ZERO, |acc, &e| {
+            acc + lights.lights[e].le(LightHit::Escaped, d)
+        })
+    }
+
     /// Step 1 with the adaptive anti-aliasing of §3.6 and §4.6.3: eye rays through the
     /// pixel (25, 20 or 15 per unique surface by resolution, at most three surfaces' worth),
     /// grouped into sub-pixel regions: a hit joins a region of the same shape, material and
@@ -303,7 +400,12 @@ impl BlockRender<'_> {
     /// Each region is a point, its share of the rays its area, with a cut through the forest
     /// at its first hit; beyond the seed it keeps its hits (up to `region_hits`) for its
     /// light samples to take in turn. What the rays see emitted is averaged over all of them.
-    pub(super) fn pixel_points(&self, x: u32, y: u32, rays: &mut RayCounters) -> PixelState {
+    pub(super) fn pixel_points(
+        &self,
+        (x, y): (u32, u32),
+        least: u32,
+        rays: &mut RayCounters,
+    ) -> PixelState {
         let scene = self.scene;
         let camera = &scene.scene.camera;
         let pixel = u64::from(y) * u64::from(self.width) + u64::from(x);
@@ -319,7 +421,7 @@ impl BlockRender<'_> {
         let mut seen = Emitted::default();
         let options = &self.ias.options;
         let most = options.emitted_rays;
-        let (mut traced, mut target, mut surfaces) = (0u32, per_surface, 0u32);
+        let (mut traced, mut target, mut surfaces) = (0u32, per_surface.max(least), 0u32);
         loop {
             if traced >= target {
                 // Beyond the seed: where what the rays see emitted differs from ray to ray
@@ -338,10 +440,7 @@ impl BlockRender<'_> {
             let ray = camera.generate_ray(film, self.width, self.height);
             rays.camera += 1;
             let Some(hit) = scene.scene.intersect(&ray, f32::INFINITY) else {
-                let sky = scene.lights.environments.iter();
-                seen.add(sky.fold(Rgb::ZERO, |acc, &e| {
-                    acc + scene.lights.lights[e].le(LightHit::Escaped, ray.d)
-                }));
+                seen.add(self.sky_along(ray.d));
                 continue;
             };
             let si = scene.scene.interaction(&ray, &hit);
@@ -456,6 +555,7 @@ impl BlockRender<'_> {
             points,
             emitted: mean,
             emitted_variance,
+            edge: seen.edge(),
             weight: 0.0,
             weighted: [0.0; 3],
             variance: 0.0,

@@ -321,7 +321,7 @@ mod tests {
         let mut rng = Rng::new(11);
         let (mut checked, mut regions) = (0, 0);
         for (x, y) in [(8, 8), (3, 12), (12, 10), (8, 14)] {
-            let pixel = block.pixel_points(x, y, &mut rays);
+            let pixel = block.pixel_points((x, y), 0, &mut rays);
             for q in &pixel.points {
                 assert!(!q.lookup.is_empty(), "every point takes BSDF samples");
                 let pdf: Vec<f32> = q.cut.iter().map(|_| 0.1 + rng.next_f32()).collect();

@@ -102,6 +102,10 @@ pub struct IasOptions {
     /// Beyond the seed: most eye-ray hits of a region that its light samples take in turn
     /// (1: the region's first hit stands for all of it, as the seed).
     pub region_hits: u32,
+    /// Beyond the seed: eye rays, in units of the seed's per surface, that a pixel takes at
+    /// least when a neighbour's rays saw the edge of a light and its own did not (it may
+    /// hold a sliver of the light they missed); 0 leaves such pixels their own counts.
+    pub edge_rays: u32,
 }
 
 impl Default for IasOptions {
@@ -116,6 +120,7 @@ impl Default for IasOptions {
             emitted_rays: EMITTED_RAYS,
             bsdf_samples: BsdfSamples::Auto,
             region_hits: REGION_HITS,
+            edge_rays: EDGE_RAYS,
         }
     }
 }
@@ -134,6 +139,7 @@ impl IasOptions {
             emitted_rays: EMITTED_RAYS,
             bsdf_samples: BsdfSamples::Auto,
             region_hits: REGION_HITS,
+            edge_rays: EDGE_RAYS,
         }
     }
 
@@ -145,6 +151,9 @@ impl IasOptions {
         }
     }
 }
+
+/// Eye rays (in units of the seed's per surface) of a pixel beside a light's edge, by default.
+pub const EDGE_RAYS: u32 = 4;
 
 /// Most eye-ray hits of a region shaded in turn, by default.
 pub const REGION_HITS: u32 = 64;
@@ -300,6 +309,7 @@ impl Integrator for Ias {
             "sky_regions": self.options.sky_regions,
             "emitted_rays": self.options.emitted_rays,
             "region_hits": self.options.region_hits,
+            "edge_rays": self.options.edge_rays,
             "bsdf_samples": match self.options.bsdf_samples {
                 BsdfSamples::None => "none",
                 BsdfSamples::Auto => "auto",
