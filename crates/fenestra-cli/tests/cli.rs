@@ -203,6 +203,32 @@ fn bad_input_gets_a_clear_error() {
         "ias takes at most 4096 eye rays a pixel, asked for 5000",
     );
     assert_clear_error(
+        &[
+            "render",
+            "builtin:kitchen-72",
+            "--integrator",
+            "ias",
+            "--ias-edge-rays",
+            "200",
+            "-o",
+            o,
+        ],
+        "--ias-edge-rays may be at most 163, asked for 200",
+    );
+    assert_clear_error(
+        &[
+            "render",
+            "builtin:kitchen-72",
+            "--integrator",
+            "ias",
+            "--ias-region-hits",
+            "0",
+            "-o",
+            o,
+        ],
+        "ias shades at least one hit of a region",
+    );
+    assert_clear_error(
         &["render", "builtin:box-hole", "--spp", "0", "-o", o],
         "--spp must be at least 1",
     );

@@ -20,11 +20,14 @@ pub(super) const BLOCK: u32 = 8;
 /// Where a pixel's shadow rays' sample streams begin: after the most eye rays it may take.
 pub(super) const MAX_EYE_RAYS: u32 = 4096;
 
+/// The most eye rays per unique surface (small images).
+pub(super) const MOST_RAYS_PER_SURFACE: u32 = 25;
+
 /// Eye rays per unique surface in a pixel by image size (§4.6.3): 25 up to 512x512, 20 up
 /// to 1024x1024, 15 beyond.
 fn rays_per_surface(width: u32, height: u32) -> u32 {
     match u64::from(width) * u64::from(height) {
-        0..=262_144 => 25,
+        0..=262_144 => MOST_RAYS_PER_SURFACE,
         262_145..=1_048_576 => 20,
         _ => 15,
     }

@@ -208,6 +208,17 @@ impl Ias {
                 o.emitted_rays
             )));
         }
+        // A pixel beside a light's edge takes edge_rays x the seed's eye rays a surface (25
+        // at most).
+        let edge = u64::from(o.edge_rays) * u64::from(block::MOST_RAYS_PER_SURFACE);
+        if edge > u64::from(block::MAX_EYE_RAYS) {
+            return Err(IntegratorError::Options(format!(
+                "ias takes at most {} eye rays a pixel: --ias-edge-rays may be at most {}, asked for {}",
+                block::MAX_EYE_RAYS,
+                block::MAX_EYE_RAYS / block::MOST_RAYS_PER_SURFACE,
+                o.edge_rays
+            )));
+        }
         if o.region_hits == 0 {
             return Err(IntegratorError::Options(
                 "ias shades at least one hit of a region (--ias-region-hits 1: the seed's)".into(),
