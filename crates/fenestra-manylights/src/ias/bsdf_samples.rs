@@ -1,10 +1,11 @@
 //! BSDF samples (beyond the seed, which samples lights only and gives mirrors and glass
 //! nothing but what they show emitted).
 //!
-//! At glossy points: on a narrow lobe, a polished floor, a light sample rarely lands where
-//! the BSDF is large, however well the pass's PDF picks clusters, and the pixel stays noisy.
-//! There each light sample comes with a BSDF sample, the two weighed by the power heuristic
-//! (Veach 1997). The light technique's density of a direction is the pass's own: the
+//! Where a light of the cut is larger than the BSDF's lobe: on a narrow lobe (a polished
+//! floor mirroring a window) a light sample rarely lands where the BSDF is large, however
+//! well the pass's PDF picks clusters, and beside a large emitter its density varies a lot
+//! across it; the pixel stays noisy. There each light sample comes with a BSDF sample, the
+//! two weighed by the power heuristic (Veach 1997). The light technique's density of a direction is the pass's own: the
 //! probability of the cluster of the cut the light lies in, times the light's share of that
 //! cluster by power, times the light's density of the direction. Both techniques use the
 //! same PDF throughout a pass, so each pass's estimate stays unbiased; the statistics still
