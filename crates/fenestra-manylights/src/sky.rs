@@ -73,12 +73,10 @@ impl SkyRegion {
         Vec3::new(sin_t * phi.cos(), sin_t * phi.sin(), cos_t)
     }
 
-    /// Whether unit direction `d` lies in the region (regions tile the sphere: each
-    /// direction lies in one of an environment's regions).
-    pub fn contains(&self, d: Vec3) -> bool {
-        let theta = d.z.clamp(-1.0, 1.0).acos();
-        let phi = d.y.atan2(d.x);
-        let phi = if phi < 0.0 { phi + 2.0 * PI } else { phi };
+    /// Whether the direction of polar angles `[theta, phi]` (from [`polar`]) lies in the
+    /// region (regions tile the sphere: each direction lies in one of an environment's
+    /// regions).
+    pub fn holds(&self, [theta, phi]: [f32; 2]) -> bool {
         let inside = |v: f32, [lo, hi]: [f32; 2], end: f32| v >= lo && (v < hi || hi >= end);
         inside(theta, self.theta, PI) && inside(phi, self.phi, 2.0 * PI)
     }
@@ -88,6 +86,13 @@ impl SkyRegion {
     pub fn above(&self, n: Vec3) -> bool {
         n == Vec3::ZERO || self.axis.angle_between(n) - self.half_angle < 0.5 * PI
     }
+}
+
+/// The polar angle from +z and the azimuth in [0, 2 pi) of unit direction `d`.
+pub fn polar(d: Vec3) -> [f32; 2] {
+    let phi = d.y.atan2(d.x);
+    let phi = if phi < 0.0 { phi + 2.0 * PI } else { phi };
+    [d.z.clamp(-1.0, 1.0).acos(), phi]
 }
 
 /// The regions of every environment light of `lights`, `count` for each.
@@ -172,7 +177,8 @@ mod tests {
             for _ in 0..200 {
                 let d = r.sample(rng.next_2d());
                 assert!(r.axis.angle_between(d) <= r.half_angle + 1e-5);
-                let holders: Vec<&SkyRegion> = regions.iter().filter(|o| o.contains(d)).collect();
+                let holders: Vec<&SkyRegion> =
+                    regions.iter().filter(|o| o.holds(polar(d))).collect();
                 assert!(holders.len() == 1 && holders[0] == r, "{d} in {holders:?}");
                 // A direction above a plane makes its region count as above it.
                 let n = fenestra_core::warp::square_to_uniform_sphere(rng.next_2d());

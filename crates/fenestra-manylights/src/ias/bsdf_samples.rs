@@ -17,6 +17,7 @@
 use super::block::{BlockRender, Point, Shade};
 use super::{BsdfSamples, Far};
 use crate::forest::NO_PARENT;
+use crate::sky::polar;
 use fenestra_core::mis::MisHeuristic;
 use fenestra_core::stats::RayCounters;
 use fenestra_core::{Ray, Rgb, Sampler, Vec3};
@@ -227,10 +228,11 @@ impl BlockRender<'_> {
         wi: Vec3,
     ) -> f32 {
         let first_far = self.forest.nodes.len() as u32;
+        let angles = polar(wi);
         for (k, far) in self.ias.far.iter().enumerate() {
             let node = first_far + k as u32;
             match far {
-                Far::Region(r) if r.light == light && r.contains(wi) => {
+                Far::Region(r) if r.light == light && r.holds(angles) => {
                     return pass.of(q, node).unwrap_or(0.0) / r.solid_angle();
                 }
                 Far::Light(l) if *l == light => {
