@@ -247,7 +247,8 @@ pub struct PathArgs {
 #[derive(Args, Clone, Debug)]
 pub struct LightArgs {
     /// How next-event estimation picks a light: power (in proportion to emitted power),
-    /// uniform, bvh (a light tree that weighs lights by their power, distance and
+    /// uniform, all (a sample of every light in each estimate; beyond 8 lights, of one light
+    /// in each of 8 groups of about equal power), bvh (a light tree that weighs lights by their power, distance and
     /// orientation at each point), or learned (the tree mixed with what the first passes
     /// learn about which lights each region of the scene actually sees).
     #[arg(long, value_enum, default_value = "power")]
@@ -294,11 +295,17 @@ enum LearnedBase {
 enum LightChoice {
     Power,
     Uniform,
+    All,
     Bvh,
     Learned,
 }
 
 impl LightArgs {
+    /// Whether a next-event estimate takes several lights.
+    fn splits(&self) -> bool {
+        self.bvh_split > 0.0 || matches!(self.light_selection, LightChoice::All)
+    }
+
     /// Light sampling with the chosen light sampler (af_hf's next event; lp_hf's for its share
     /// of light sampling and for Dirac lights); `learns`: whether the integrator lets a
     /// learned sampler learn from its passes.
@@ -317,6 +324,7 @@ impl LightArgs {
         Ok(match self.light_selection {
             LightChoice::Power => LightNextEvent::new(LightSelection::Power),
             LightChoice::Uniform => LightNextEvent::new(LightSelection::Uniform),
+            LightChoice::All => LightNextEvent::new(LightSelection::All),
             LightChoice::Bvh if self.bvh_split > 0.0 => {
                 let split = self.bvh_split;
                 LightNextEvent::with_sampler(
@@ -543,10 +551,10 @@ pub fn registry<'a>() -> Registry<Config<'a>> {
             "path tracing that aims through windows and openings (light portals; seed 000's LP_HF)",
             |c: &Config| {
                 let options = c.args.portals.options(c.scene)?;
-                if options.light_mix > 0.0 && c.args.lights.bvh_split > 0.0 {
+                if options.light_mix > 0.0 && c.args.lights.splits() {
                     return Err(IntegratorError::Options(
-                        "--portal-light-mix draws one light at a time: not with --bvh-split, \
-                         whose estimates take several"
+                        "--portal-light-mix draws one light at a time: not with --bvh-split \
+                         or --light-selection all, whose estimates take several"
                             .into(),
                     ));
                 }

@@ -229,6 +229,21 @@ fn bad_input_gets_a_clear_error() {
         "ias shades at least one hit of a region",
     );
     assert_clear_error(
+        &[
+            "render",
+            "builtin:box-hole",
+            "--integrator",
+            "lp_hf",
+            "--portal-light-mix",
+            "0.5",
+            "--light-selection",
+            "all",
+            "-o",
+            o,
+        ],
+        "--portal-light-mix draws one light at a time",
+    );
+    assert_clear_error(
         &["render", "builtin:box-hole", "--spp", "0", "-o", o],
         "--spp must be at least 1",
     );

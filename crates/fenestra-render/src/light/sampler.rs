@@ -81,6 +81,9 @@ pub enum LightSelection {
     Uniform,
     /// In proportion to emitted power.
     Power,
+    /// Every light in each estimate (split into [`MAX_PICKS`] groups of about equal power
+    /// when there are more).
+    All,
 }
 
 impl std::str::FromStr for LightSelection {
@@ -89,7 +92,12 @@ impl std::str::FromStr for LightSelection {
         match s {
             "uniform" => Ok(LightSelection::Uniform),
             "power" => Ok(LightSelection::Power),
-            _ => Err(UnknownName::new("light selection", s, "uniform or power")),
+            "all" => Ok(LightSelection::All),
+            _ => Err(UnknownName::new(
+                "light selection",
+                s,
+                "uniform, power or all",
+            )),
         }
     }
 }
@@ -100,6 +108,7 @@ impl LightSelection {
         match self {
             LightSelection::Uniform => "uniform",
             LightSelection::Power => "power",
+            LightSelection::All => "all",
         }
     }
 
@@ -108,6 +117,7 @@ impl LightSelection {
         match self {
             LightSelection::Uniform => Box::new(UniformLightSampler::new(lights)),
             LightSelection::Power => Box::new(PowerLightSampler::new(scene, lights)),
+            LightSelection::All => Box::new(AllLightSampler::new(scene, lights)),
         }
     }
 }
@@ -168,5 +178,114 @@ impl LightSampler for PowerLightSampler {
         self.distribution
             .as_ref()
             .map_or(0.0, |d| d.discrete_pmf(light))
+    }
+}
+
+/// Every light in each next-event estimate, as pbrt's "uniform sample all lights" direct
+/// lighting: a light sample per light, each with probability 1, where a scene has at most
+/// [`MAX_PICKS`] lights (a few spots and a sky, a sun and a sky). More lights are split, in
+/// index order, into [`MAX_PICKS`] groups of about equal power; an estimate takes one light
+/// of each group, in proportion to its power within the group.
+pub struct AllLightSampler {
+    /// Per group: its first light and the power distribution over its lights.
+    groups: Vec<(usize, Distribution1D)>,
+    /// Per light: its group.
+    group_of: Vec<usize>,
+}
+
+impl AllLightSampler {
+    /// A sampler over `lights` of `scene`.
+    pub fn new(scene: &Scene, lights: &Lights) -> Self {
+        let powers: Vec<f32> = lights.lights.iter().map(|l| l.power(scene)).collect();
+        let ends = group_ends(&powers, MAX_PICKS);
+        let mut groups = Vec::with_capacity(ends.len());
+        let mut group_of = vec![0; powers.len()];
+        let mut start = 0;
+        for (g, &end) in ends.iter().enumerate() {
+            group_of[start..end].fill(g);
+            // A group of dark lights is sampled uniformly (Distribution1D's rule for zero sums).
+            groups.push((start, Distribution1D::new(&powers[start..end])));
+            start = end;
+        }
+        AllLightSampler { groups, group_of }
+    }
+}
+
+/// Ends of at most `count` consecutive non-empty groups of `powers` of about equal power:
+/// every light its own group when there are at most `count`.
+fn group_ends(powers: &[f32], count: usize) -> Vec<usize> {
+    let n = powers.len();
+    if n <= count {
+        return (1..=n).collect();
+    }
+    let total: f64 = powers.iter().map(|&p| p as f64).sum();
+    let mut ends = Vec::with_capacity(count);
+    let mut sum = 0.0f64;
+    for (i, &p) in powers.iter().enumerate() {
+        sum += p as f64;
+        let groups_left = count - ends.len();
+        // Close the group once it holds its share, leaving a light for each later group.
+        let share = total * (ends.len() + 1) as f64 / count as f64;
+        if groups_left > 1 && (sum >= share || n - (i + 1) < groups_left) {
+            ends.push(i + 1);
+        }
+    }
+    ends.push(n);
+    ends
+}
+
+impl LightSampler for AllLightSampler {
+    /// One pick alone: a group uniformly, then a light of it by power (with its probability
+    /// of that; `pmf` gives the splitting estimate's, so one-pick mixtures refuse this sampler).
+    fn sample(&self, _: &LightContext, u: f32) -> Option<(usize, f32)> {
+        let n = self.groups.len();
+        let g = ((u * n as f32) as usize).min(n.checked_sub(1)?);
+        let (start, d) = &self.groups[g];
+        let (i, pmf, _) = d.sample_discrete(u * n as f32 - g as f32);
+        (pmf > 0.0).then_some((start + i, pmf / n as f32))
+    }
+
+    fn pmf(&self, _: &LightContext, light: usize) -> f32 {
+        self.group_of.get(light).map_or(0.0, |&g| {
+            let (start, d) = &self.groups[g];
+            d.discrete_pmf(light - start)
+        })
+    }
+
+    fn sample_all(&self, _: &LightContext, u: f32, picks: &mut Picks) {
+        for (start, d) in &self.groups {
+            let (i, pmf, _) = d.sample_discrete(u);
+            if pmf > 0.0 {
+                picks.push((start + i, pmf));
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn groups_cover_the_lights_in_order_with_about_equal_power() {
+        assert_eq!(group_ends(&[1.0, 5.0, 2.0], 8), vec![1, 2, 3]);
+        assert_eq!(group_ends(&[], 8), Vec::<usize>::new());
+        let mut rng = fenestra_core::Rng::new(3);
+        for n in [9, 10, 17, 72, 500] {
+            let powers: Vec<f32> = (0..n).map(|_| rng.next_f32().powi(3) * 10.0).collect();
+            let ends = group_ends(&powers, 8);
+            assert_eq!(ends.len(), 8, "{n} lights");
+            assert_eq!(*ends.last().unwrap(), n);
+            let total: f32 = powers.iter().sum();
+            let largest = powers.iter().copied().fold(0.0, f32::max);
+            let mut start = 0;
+            for &end in &ends {
+                assert!(end > start, "groups are not empty: {ends:?}");
+                let power: f32 = powers[start..end].iter().sum();
+                // A group closes at the first light that takes it past its share.
+                assert!(power <= total / 8.0 + largest + 1e-3, "{n}: {ends:?}");
+                start = end;
+            }
+        }
     }
 }
