@@ -103,10 +103,11 @@ impl CacheGather<'_> {
         }
         match s.bsdf {
             Bsdf::Diffuse(d) if self.sdrc.options.diffuse => Some(Served::Diffuse(d.reflectance)),
-            b if is_glossy(b) => Some(match self.sdrc.options.glossy {
-                GlossyCache::Directional => Served::Glossy,
-                GlossyCache::Harmonics { rays } => Served::Harmonics(rays),
-            }),
+            b if is_glossy(b) => match self.sdrc.options.glossy {
+                GlossyCache::Directional => Some(Served::Glossy),
+                GlossyCache::Harmonics { rays } => Some(Served::Harmonics(rays)),
+                GlossyCache::Path => None,
+            },
             _ => None,
         }
     }

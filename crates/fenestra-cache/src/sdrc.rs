@@ -52,6 +52,10 @@ pub enum GlossyCache {
         /// Rays per record.
         rays: u32,
     },
+    /// None: glossy surfaces path traced by BSDF sampling, the rest as sdrc (the seed's
+    /// Monte Carlo baseline, §2.6: the same caches and direct light but for the glossy
+    /// first bounce).
+    Path,
 }
 
 /// Options of `sdrc` (and of `shrc`, its baseline).
@@ -345,9 +349,10 @@ impl Integrator for Sdrc {
                     "photons": self.options.photons,
                     "photon_k": self.options.photon_k,
                     "photon_radius": self.options.photon_radius,
-                    "sh_rays": match self.options.glossy {
-                        GlossyCache::Harmonics { rays } => Some(rays),
-                        GlossyCache::Directional => None,
+                    "glossy": match self.options.glossy {
+                        GlossyCache::Directional => "sdrc".to_string(),
+                        GlossyCache::Harmonics { rays } => format!("sh ({rays} rays a record)"),
+                        GlossyCache::Path => "path".to_string(),
                     },
                 }),
             );
@@ -433,6 +438,7 @@ impl Integrator for Sdrc {
             GlossyCache::Harmonics { .. } => {
                 figures(&mut stats, "shrc", &caches.harmonics, placed.1, false)
             }
+            GlossyCache::Path => {}
         }
         figures(
             &mut stats,
@@ -485,7 +491,7 @@ impl Integrator for Sdrc {
 /// The integrator's name for its glossy cache.
 fn name(glossy: GlossyCache) -> &'static str {
     match glossy {
-        GlossyCache::Directional => "sdrc",
+        GlossyCache::Directional | GlossyCache::Path => "sdrc",
         GlossyCache::Harmonics { .. } => "shrc",
     }
 }

@@ -60,9 +60,15 @@ fn with_a_vanishing_error_the_cache_gives_af_hf_answer() {
         256,
         2,
     );
-    // The kettle's Ward BSDF whole in SDRC, and its Lambertian lobe apart in the irradiance
-    // cache.
-    for split in [false, true] {
+    // The kettle's Ward BSDF whole in SDRC, its Lambertian lobe apart in the irradiance
+    // cache, and the kettle path traced (the seed's Monte Carlo baseline): only the walls
+    // are served then.
+    let mut served_pixels = Vec::new();
+    for (split, glossy) in [
+        (false, GlossyCache::Directional),
+        (true, GlossyCache::Directional),
+        (false, GlossyCache::Path),
+    ] {
         let mut cache = sdrc(SdrcOptions {
             a: 1e-3,
             irradiance_a: 1e-3,
@@ -70,6 +76,7 @@ fn with_a_vanishing_error_the_cache_gives_af_hf_answer() {
             n: 64,
             irradiance_rays: 16,
             split,
+            glossy,
             ..Default::default()
         });
         let film = render(&mut cache, &scene, 32, 16, 1);
@@ -79,13 +86,15 @@ fn with_a_vanishing_error_the_cache_gives_af_hf_answer() {
             .find(|m| m.name == "cached")
             .expect("cached map");
         let served = cached.values.iter().filter(|&&v| v > 0.0).count();
-        assert!(
-            served > 100,
-            "the cache served {served} pixels of the teapot"
-        );
+        served_pixels.push(served);
+        assert!(served > 100, "the caches served {served} pixels");
         let agree = agreement(&film.estimate(), &reference.estimate(), 0.01, 8).expect("same size");
-        assert!(agree.passed(), "split {split}: {agree:#?}");
+        assert!(agree.passed(), "split {split}, {glossy:?}: {agree:#?}");
     }
+    assert!(
+        served_pixels[2] + 50 < served_pixels[0],
+        "with the kettle path traced, fewer pixels are served: {served_pixels:?}"
+    );
 }
 
 /// A closed box whose diffuse walls (albedo `albedo`) all emit radiance 1; with a glossy

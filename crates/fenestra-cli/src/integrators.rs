@@ -70,7 +70,11 @@ pub struct SdrcArgs {
     /// Indirect light on diffuse surfaces: cache (an irradiance cache with gradients, as the
     /// seed) or path (path tracing, as af_hf).
     #[arg(long, value_enum, default_value = "cache")]
-    sdrc_diffuse: SdrcDiffuse,
+    sdrc_diffuse: CacheOrPath,
+    /// sdrc: indirect light on glossy surfaces: cache (SDRC) or path (path tracing by BSDF
+    /// sampling with everything else as sdrc: the seed's Monte Carlo baseline).
+    #[arg(long, value_enum, default_value = "cache")]
+    sdrc_glossy: CacheOrPath,
     /// Rays per irradiance-cache record (stratified over rings and sectors).
     #[arg(long, default_value_t = 1024)]
     sdrc_irradiance_rays: u32,
@@ -114,7 +118,7 @@ impl SdrcArgs {
             m: self.sdrc_m,
             r_max: self.sdrc_r_max,
             min_reach: self.sdrc_min_reach,
-            diffuse: matches!(self.sdrc_diffuse, SdrcDiffuse::Cache),
+            diffuse: matches!(self.sdrc_diffuse, CacheOrPath::Cache),
             irradiance_rays: self.sdrc_irradiance_rays,
             irradiance_a: self.sdrc_irradiance_a,
             irradiance_gradients: match self.sdrc_irradiance_gradients {
@@ -144,8 +148,9 @@ enum LambertianLobe {
     Glossy,
 }
 
+/// Whether a kind of surface takes its indirect light from a cache or from path tracing.
 #[derive(Clone, Copy, Debug, ValueEnum)]
-enum SdrcDiffuse {
+enum CacheOrPath {
     Cache,
     Path,
 }
@@ -530,7 +535,10 @@ pub fn registry<'a>() -> Registry<Config<'a>> {
             "sdrc",
             "af_hf with the first bounce of indirect light on glossy surfaces cached and interpolated (spatial directional radiance caching, seed 003)",
             |c: &Config| {
-                let options = c.args.sdrc.options(GlossyCache::Directional);
+                let options = c.args.sdrc.options(match c.args.sdrc.sdrc_glossy {
+                    CacheOrPath::Cache => GlossyCache::Directional,
+                    CacheOrPath::Path => GlossyCache::Path,
+                });
                 Ok(Box::new(Sdrc::new(options, c.path, c.args.lights.next_event(false)?)?))
             },
         )
@@ -538,6 +546,13 @@ pub fn registry<'a>() -> Registry<Config<'a>> {
             "shrc",
             "sdrc's baseline: the same, with spherical-harmonic radiance caching (order 10) on glossy surfaces (Krivanek et al. 2005)",
             |c: &Config| {
+                if let CacheOrPath::Path = c.args.sdrc.sdrc_glossy {
+                    return Err(IntegratorError::Options(
+                        "--sdrc-glossy path leaves glossy surfaces to path tracing: use it with \
+                         --integrator sdrc (shrc caches them)"
+                            .into(),
+                    ));
+                }
                 let rays = c.args.sdrc.shrc_rays;
                 let options = SdrcOptions {
                     a: c.args.sdrc.shrc_a,

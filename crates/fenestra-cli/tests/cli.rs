@@ -244,6 +244,19 @@ fn bad_input_gets_a_clear_error() {
         "--portal-light-mix draws one light at a time",
     );
     assert_clear_error(
+        &[
+            "render",
+            "builtin:teapot-box",
+            "--integrator",
+            "shrc",
+            "--sdrc-glossy",
+            "path",
+            "-o",
+            o,
+        ],
+        "--sdrc-glossy path leaves glossy surfaces to path tracing",
+    );
+    assert_clear_error(
         &["render", "builtin:box-hole", "--spp", "0", "-o", o],
         "--spp must be at least 1",
     );
