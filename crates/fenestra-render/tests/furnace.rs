@@ -9,7 +9,7 @@ use common::integrator;
 use fenestra_core::{Rgb, Vec3};
 use fenestra_render::integrator::PathOptions;
 use fenestra_scene::light::Emission;
-use fenestra_scene::{Camera, Material, RenderDefaults, SceneDesc, Shape, ShapeKind};
+use fenestra_scene::{Camera, Material, RenderDefaults, SceneDesc, Shape, ShapeKind, TriangleMesh};
 
 fn furnace(albedo: f32, le: f32) -> SceneDesc {
     furnace_of(vec![Material::diffuse(albedo)], le)
@@ -130,4 +130,51 @@ fn diffuse_transmission_loses_what_it_transmits_out_of_the_furnace() {
         transmittance: Rgb::splat(0.4),
     };
     check_furnace("diffusetransmission", furnace_of(vec![dt], 1.0), 2.0);
+}
+
+/// The seed-000 box (walls of zero thickness meeting at its edges, a ceiling with a hole) with
+/// the hole closed by a quad of its own and the panel above removed, every wall emitting
+/// radiance 1 on both sides with albedo 1/2. Light is lost only where a ray slips out
+/// between two walls.
+fn furnace_box() -> SceneDesc {
+    let mut desc = fenestra_builtin::load("box-hole").expect("builtin");
+    desc.shapes.retain(|s| s.emission.is_none());
+    let hole = TriangleMesh::quad(Vec3::new(0.0, 0.0, 0.5), Vec3::X * 0.125, Vec3::Y * 0.125);
+    desc.shapes.push(Shape::new(ShapeKind::Mesh(hole), 0));
+    desc.materials = vec![Material::diffuse(0.5)];
+    let glow = Emission {
+        radiance: Rgb::ONE,
+        two_sided: true,
+    };
+    for shape in &mut desc.shapes {
+        shape.material = 0;
+        shape.emission = Some(glow);
+    }
+    desc.portals.clear();
+    desc
+}
+
+#[test]
+fn no_light_leaks_out_of_the_box_between_its_walls() {
+    // hf with no Russian roulette: every path inside a closed furnace brings exactly
+    // 1 + 1/2 + ... + 1/2^(d-1); a path that leaves between two walls brings less.
+    let depth = 20;
+    let expect = (0..depth).map(|k| 0.5f64.powi(k)).sum::<f64>();
+    let options = PathOptions {
+        max_depth: depth as u32,
+        rr_depth: 1000,
+        ..Default::default()
+    };
+    let (film, _) = common::render(furnace_box(), integrator("hf", options).as_mut(), 64, 64, 3);
+    let values: Vec<f64> = film.pixels.iter().map(|p| p.mean()[0]).collect();
+    let mean = values.iter().sum::<f64>() / values.len() as f64;
+    let short = values
+        .iter()
+        .filter(|&&v| v < expect * (1.0 - 1e-4))
+        .count();
+    assert!(
+        (mean - expect).abs() < 1e-5 * expect && short <= 2,
+        "mean {mean:.7} of the exact {expect:.7}; {short} of {} pixels short",
+        values.len()
+    );
 }
