@@ -52,7 +52,7 @@ pub enum GlossyCache {
         /// Rays per record.
         rays: u32,
     },
-    /// None: glossy surfaces path traced by BSDF sampling, the rest as sdrc (the seed's
+    /// No cache: glossy surfaces path traced by BSDF sampling, the rest as sdrc (the seed's
     /// Monte Carlo baseline, §2.6: the same caches and direct light but for the glossy
     /// first bounce).
     Path,

@@ -253,9 +253,10 @@ pub struct PathArgs {
 pub struct LightArgs {
     /// How next-event estimation picks a light: power (in proportion to emitted power),
     /// uniform, all (a sample of every light in each estimate; beyond 8 lights, of one light
-    /// in each of 8 groups of about equal power), bvh (a light tree that weighs lights by their power, distance and
-    /// orientation at each point), or learned (the tree mixed with what the first passes
-    /// learn about which lights each region of the scene actually sees).
+    /// in each of 8 groups of about equal power), bvh (a light tree that weighs lights by
+    /// their power, distance and orientation at each point), or learned (the tree mixed with
+    /// what the first passes learn about which lights each region of the scene actually
+    /// sees).
     #[arg(long, value_enum, default_value = "power")]
     light_selection: LightChoice,
     /// With --light-selection bvh: adaptive splitting. Near the top of the tree, a node whose
