@@ -197,7 +197,12 @@ impl AllLightSampler {
     /// A sampler over `lights` of `scene`.
     pub fn new(scene: &Scene, lights: &Lights) -> Self {
         let powers: Vec<f32> = lights.lights.iter().map(|l| l.power(scene)).collect();
-        let ends = group_ends(&powers, MAX_PICKS);
+        Self::from_powers(&powers)
+    }
+
+    /// A sampler over lights of these powers.
+    fn from_powers(powers: &[f32]) -> Self {
+        let ends = group_ends(powers, MAX_PICKS);
         let mut groups = Vec::with_capacity(ends.len());
         let mut group_of = vec![0; powers.len()];
         let mut start = 0;
@@ -265,6 +270,56 @@ impl LightSampler for AllLightSampler {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn one_pick_and_the_splitting_picks_have_the_probabilities_they_claim() {
+        let mut rng = fenestra_core::Rng::new(8);
+        let sample = SampleContext {
+            x: 0,
+            y: 0,
+            width: 1,
+            height: 1,
+            block: 0,
+            pass: 0,
+            index: 0,
+        };
+        let ctx = LightContext {
+            p: Vec3::ZERO,
+            n: Vec3::Z,
+            sample: &sample,
+        };
+        for n in [5, 30] {
+            let powers: Vec<f32> = (0..n).map(|_| rng.next_f32() + 0.01).collect();
+            let all = AllLightSampler::from_powers(&powers);
+            // u on a fine stratified grid: each light's share of the picks is its probability.
+            let draws = 100_000;
+            let (mut one, mut split) = (vec![0.0f64; n], vec![0.0f64; n]);
+            for k in 0..draws {
+                let u = (k as f32 + 0.5) / draws as f32;
+                let (i, p) = all.sample(&ctx, u).expect("a pick");
+                assert!((p - all.pmf(&ctx, i) / all.groups.len() as f32).abs() < 1e-6);
+                one[i] += 1.0 / draws as f64;
+                let mut picks = Picks::default();
+                all.sample_all(&ctx, u, &mut picks);
+                for &(i, p) in picks.as_slice() {
+                    assert_eq!(p, all.pmf(&ctx, i));
+                    split[i] += 1.0 / draws as f64;
+                }
+            }
+            for i in 0..n {
+                let pmf = all.pmf(&ctx, i) as f64;
+                assert!(
+                    (split[i] - pmf).abs() < 1e-3,
+                    "{n} lights, light {i}: {split:?}"
+                );
+                let share = pmf / all.groups.len() as f64;
+                assert!(
+                    (one[i] - share).abs() < 1e-3,
+                    "{n} lights, light {i}: {one:?}"
+                );
+            }
+        }
+    }
 
     #[test]
     fn groups_cover_the_lights_in_order_with_about_equal_power() {
