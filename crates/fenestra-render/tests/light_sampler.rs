@@ -128,7 +128,8 @@ fn sampling_every_light_agrees_with_power_sampling() {
         max_depth: 2,
         ..Default::default()
     };
-    let scenes: [(&str, fn() -> SceneDesc); 2] = [
+    type Load = fn() -> SceneDesc;
+    let scenes: [(&str, Load); 2] = [
         ("chess", || builtin::load("chess").expect("builtin")),
         ("polished floor under tiles", polished_floor_under_tiles),
     ];

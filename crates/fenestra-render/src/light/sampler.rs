@@ -330,7 +330,7 @@ mod tests {
             let powers: Vec<f32> = (0..n).map(|_| rng.next_f32().powi(3) * 10.0).collect();
             let ends = group_ends(&powers, 8);
             assert_eq!(ends.len(), 8, "{n} lights");
-            assert_eq!(*ends.last().unwrap(), n);
+            assert_eq!(ends.last(), Some(&n));
             let total: f32 = powers.iter().sum();
             let largest = powers.iter().copied().fold(0.0, f32::max);
             let mut start = 0;
