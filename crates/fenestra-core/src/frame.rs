@@ -27,15 +27,21 @@ impl Frame {
     /// Builds a frame from a unit normal and a tangent hint (for anisotropic materials); the
     /// tangent is orthogonalised against the normal, falling back to `from_normal`.
     pub fn from_normal_tangent(n: Vec3, tangent: Vec3) -> Self {
-        // The tangent's length is the surface's scale: normalise it first so the test below
-        // is relative.
-        let tangent = crate::ray::robust_normalize(tangent);
+        // The tangent's length is the surface's scale, so the test for a tangent along the
+        // normal is relative to it. Tangents of ordinary length are used as they are (one
+        // square root less on every shading point); others are normalised first.
+        let t2 = tangent.length_squared();
+        let tangent = if t2 > 1e-30 && t2 < 1e30 {
+            tangent
+        } else {
+            crate::ray::robust_normalize(tangent)
+        };
         let s = tangent - n * n.dot(tangent);
-        let len = s.length();
-        if len < 1e-6 || !len.is_finite() {
+        let s2 = s.length_squared();
+        if !(s2 > 1e-12 * tangent.length_squared()) || !s2.is_finite() {
             return Frame::from_normal(n);
         }
-        let s = s / len;
+        let s = s * (1.0 / s2.sqrt());
         Frame {
             s,
             t: n.cross(s),

@@ -27,11 +27,11 @@ impl MisHeuristic {
         match self {
             MisHeuristic::Balance => pa / (pa + pb),
             MisHeuristic::Power { beta } => {
-                // Divide through by the larger density to keep pa^beta from overflowing.
-                let m = pa.max(pb);
-                let a = (pa / m).powf(beta);
-                let b = (pb / m).powf(beta);
-                a / (a + b)
+                // pa^beta / (pa^beta + pb^beta) = 1 / (1 + r^beta) with r = pb / pa, which
+                // neither overflows nor underflows where it matters (r = inf gives 0).
+                let r = pb / pa;
+                let rb = if beta == 2.0 { r * r } else { r.powf(beta) };
+                1.0 / (1.0 + rb)
             }
         }
     }

@@ -60,6 +60,12 @@ pub fn robust_length(v: Vec3) -> f32 {
 /// `v` of unit length, or zero for a zero or non-finite `v`; without the overflow of
 /// `normalize` for vectors longer than about 1e19 or the underflow below about 1e-19.
 pub fn robust_normalize(v: Vec3) -> Vec3 {
+    // Most vectors are far from both ends: their squared length is exact enough to use as
+    // it is (the slow path costs a division more on every hit point and shading frame).
+    let l2 = v.length_squared();
+    if l2 > 1e-30 && l2 < 1e30 {
+        return v * (1.0 / l2.sqrt());
+    }
     let m = v.abs().max_element();
     if m > 0.0 && m.is_finite() {
         (v / m).normalize_or_zero()

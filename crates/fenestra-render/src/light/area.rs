@@ -107,32 +107,34 @@ impl AreaLight {
             return None;
         }
         let shape = &scene.shapes[self.shape];
-        let (q, ng, pdf) = match &shape.kind {
-            ShapeKind::Sphere { center, radius }
-                if Self::sphere_cone(*center, *radius, p).is_some() =>
-            {
-                let cone = Self::sphere_cone(*center, *radius, p)?;
-                let q = Self::sample_sphere(*center, *radius, p, cone, u);
+        let cone = match &shape.kind {
+            ShapeKind::Sphere { center, radius } => {
+                Self::sphere_cone(*center, *radius, p).map(|cone| (*center, *radius, cone))
+            }
+            _ => None,
+        };
+        let (q, ng) = match cone {
+            Some((center, radius, cone)) => {
+                let q = Self::sample_sphere(center, radius, p, cone, u);
                 let si = SurfaceInteraction::on_surface(shape, self.shape, 0, q, 0.0, 0.0);
-                (si.p, si.ng, warp::uniform_cone_pdf(cone.1))
+                (si.p, si.ng)
             }
-            _ => {
-                let (q, ng) = self.sample_point(shape, u);
-                let d = q - p;
-                let pdf = warp::area_to_solid_angle(
-                    1.0 / self.area,
-                    d.length_squared(),
-                    ng.dot(d.normalize_or_zero()),
-                );
-                (q, ng, pdf)
-            }
+            None => self.sample_point(shape, u),
         };
         let d = q - p;
-        let dist = d.length();
-        if pdf <= 0.0 || dist == 0.0 {
+        let dist_sq = d.length_squared();
+        let dist = dist_sq.sqrt();
+        if dist == 0.0 {
             return None;
         }
         let wi = d / dist;
+        let pdf = match cone {
+            Some((_, _, (_, cap))) => warp::uniform_cone_pdf(cap),
+            None => warp::area_to_solid_angle(1.0 / self.area, dist_sq, ng.dot(wi)),
+        };
+        if pdf <= 0.0 {
+            return None;
+        }
         let li = self.emitted(ng, -wi);
         (!li.is_black()).then_some(LightSample {
             wi,
