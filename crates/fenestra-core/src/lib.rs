@@ -15,6 +15,7 @@ pub mod rgb;
 pub mod rng;
 pub mod sampler;
 pub mod stats;
+pub mod trig;
 pub mod warp;
 
 pub use frame::Frame;

@@ -1,5 +1,6 @@
 //! Warps from the unit square to shapes and directions, with their densities.
 
+use crate::trig::sin_cos_quarter;
 use crate::{INV_4PI, INV_PI, PI};
 use glam::{Vec2, Vec3};
 
@@ -9,12 +10,14 @@ pub fn square_to_disk_concentric(u: Vec2) -> Vec2 {
     if o.x == 0.0 && o.y == 0.0 {
         return Vec2::ZERO;
     }
-    let (r, theta) = if o.x.abs() > o.y.abs() {
-        (o.x, 0.25 * PI * (o.y / o.x))
+    // theta = phi in the first case, pi/2 - phi in the second, with |phi| <= pi/4.
+    if o.x.abs() > o.y.abs() {
+        let (sin, cos) = sin_cos_quarter(0.25 * PI * (o.y / o.x));
+        o.x * Vec2::new(cos, sin)
     } else {
-        (o.y, 0.5 * PI - 0.25 * PI * (o.x / o.y))
-    };
-    r * Vec2::new(theta.cos(), theta.sin())
+        let (sin, cos) = sin_cos_quarter(0.25 * PI * (o.x / o.y));
+        o.y * Vec2::new(sin, cos)
+    }
 }
 
 /// Cosine-weighted hemisphere around +z (Malley's method); density cos(theta)/pi.

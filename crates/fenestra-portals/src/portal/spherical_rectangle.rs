@@ -3,7 +3,8 @@
 //! sampling, every direction through the portal gets the same density 1/S, so near portals
 //! seen at grazing angles no longer waste samples on their far side.
 
-use fenestra_core::{Vec2, Vec3, PI};
+use fenestra_core::{trig, Vec2, Vec3, PI};
+use glam::Vec4;
 
 /// A rectangle as seen from a point, ready to sample.
 #[derive(Clone, Copy, Debug)]
@@ -43,17 +44,14 @@ impl SphericalRectangle {
         }
         let (x0, y0) = (d.dot(x), d.dot(y));
         let (x1, y1) = (x0 + lx, y0 + ly);
-        // Normals of the four planes through o and an edge, and the interior angles.
-        let n0 = Vec3::new(0.0, z0, -y0) / (z0 * z0 + y0 * y0).sqrt();
-        let n1 = Vec3::new(-z0, 0.0, x1) / (z0 * z0 + x1 * x1).sqrt();
-        let n2 = Vec3::new(0.0, -z0, y1) / (z0 * z0 + y1 * y1).sqrt();
-        let n3 = Vec3::new(z0, 0.0, -x0) / (z0 * z0 + x0 * x0).sqrt();
-        let g0 = (-n0.z * n1.z).clamp(-1.0, 1.0).acos();
-        let g1 = (-n1.z * n2.z).clamp(-1.0, 1.0).acos();
-        let g2 = (-n2.z * n3.z).clamp(-1.0, 1.0).acos();
-        let g3 = (-n3.z * n0.z).clamp(-1.0, 1.0).acos();
-        let k = 2.0 * PI - g2 - g3;
-        let solid_angle = g0 + g1 - k;
+        // The z components of the unit normals of the four planes through o and an edge
+        // ((0, z0, -y0), (-z0, 0, x1), (0, -z0, y1), (z0, 0, -x0), normalised), four at once,
+        // and the interior angles between neighbouring planes.
+        let along = Vec4::new(-y0, x1, y1, -x0);
+        let nz = along / (along * along + z0 * z0).sqrt();
+        let g = trig::acos4(-nz * Vec4::new(nz.y, nz.z, nz.w, nz.x));
+        let k = 2.0 * PI - g.z - g.w;
+        let solid_angle = g.x + g.y - k;
         (solid_angle > 0.0 && solid_angle.is_finite()).then_some(SphericalRectangle {
             o,
             x,
@@ -64,8 +62,8 @@ impl SphericalRectangle {
             x1,
             y0,
             y1,
-            b0: n0.z,
-            b1: n2.z,
+            b0: nz.x,
+            b1: nz.z,
             k,
             solid_angle,
         })
@@ -74,7 +72,8 @@ impl SphericalRectangle {
     /// A point on the rectangle whose direction from `o` is uniform in solid angle.
     pub fn sample(&self, u: Vec2) -> Vec3 {
         let au = u.x * self.solid_angle + self.k;
-        let fu = (au.cos() * self.b0 - self.b1) / au.sin();
+        let (sin, cos) = trig::sin_cos(au);
+        let fu = (cos * self.b0 - self.b1) / sin;
         let cu = (1.0 / (fu * fu + self.b0 * self.b0).sqrt())
             .copysign(fu)
             .clamp(-1.0, 1.0);
