@@ -11,6 +11,8 @@ use std::sync::LazyLock;
 #[derive(Clone, Debug)]
 pub struct Sampler {
     pixel_seed: u32,
+    /// `hash_u32` of the index's block of [`SOBOL_LENGTH`] samples.
+    block_hash: u32,
     index: u32,
     dim: u32,
     /// The current 4D group's values (one `sample_4d` call fills all four).
@@ -19,7 +21,7 @@ pub struct Sampler {
 }
 
 /// A 32-bit integer hash (Wellons' lowbias32).
-pub fn hash_u32(mut x: u32) -> u32 {
+pub const fn hash_u32(mut x: u32) -> u32 {
     x ^= x >> 16;
     x = x.wrapping_mul(0x7feb_352d);
     x ^= x >> 15;
@@ -30,13 +32,30 @@ pub fn hash_u32(mut x: u32) -> u32 {
 
 /// Hashes two 32-bit values into one (for seeding streams).
 pub fn hash_combine(a: u32, b: u32) -> u32 {
+    combine_hashed(a, hash_u32(b))
+}
+
+/// [`hash_combine`]`(a, b)` from `a` and `hash_u32(b)`.
+const fn combine_hashed(a: u32, hashed_b: u32) -> u32 {
     hash_u32(
-        a ^ hash_u32(b)
+        a ^ hashed_b
             .wrapping_add(0x9e37_79b9)
             .wrapping_add(a << 6)
             .wrapping_add(a >> 2),
     )
 }
+
+/// `hash_u32` of the first 4D groups' indices, so that a group's seed takes two hashes
+/// rather than four.
+static GROUP_HASHES: [u32; 64] = {
+    let mut t = [0; 64];
+    let mut g = 0;
+    while g < 64 {
+        t[g] = hash_u32(g as u32);
+        g += 1;
+    }
+    t
+};
 
 /// Number of samples one Sobol scramble covers; beyond it the stream is re-seeded.
 const SOBOL_LENGTH: u32 = 1 << 16;
@@ -48,6 +67,7 @@ impl Sampler {
         let p = hash_combine(pixel as u32, (pixel >> 32) as u32);
         Sampler {
             pixel_seed: hash_combine(s, p),
+            block_hash: hash_u32(index / SOBOL_LENGTH),
             index,
             dim: 0,
             group: [0.0; 4],
@@ -61,8 +81,13 @@ impl Sampler {
         self.dim += 1;
         if d / 4 != self.group_index {
             self.group_index = d / 4;
-            let block = self.index / SOBOL_LENGTH;
-            let seed = hash_combine(hash_combine(self.pixel_seed, d / 4), block);
+            let group = d / 4;
+            let group_hash = match GROUP_HASHES.get(group as usize) {
+                Some(&h) => h,
+                None => hash_u32(group),
+            };
+            // hash_combine(hash_combine(pixel seed, group), block).
+            let seed = combine_hashed(combine_hashed(self.pixel_seed, group_hash), self.block_hash);
             self.group = sobol_4d(self.index % SOBOL_LENGTH, seed);
         }
         self.group[(d % 4) as usize]
