@@ -38,7 +38,7 @@ impl Frame {
         };
         let s = tangent - n * n.dot(tangent);
         let s2 = s.length_squared();
-        if !(s2 > 1e-12 * tangent.length_squared()) || !s2.is_finite() {
+        if !s2.is_finite() || s2 <= 1e-12 * tangent.length_squared() {
             return Frame::from_normal(n);
         }
         let s = s * (1.0 / s2.sqrt());

@@ -6,6 +6,7 @@
 
 use glam::Vec4;
 use std::f32::consts::{FRAC_2_PI, FRAC_PI_2, PI};
+use std::ops::{Add, Mul};
 
 /// sin and cos of `x` in [-pi/4, pi/4] (a little beyond stays accurate).
 pub fn sin_cos_quarter(x: f32) -> (f32, f32) {
@@ -33,9 +34,13 @@ pub fn sin_cos(x: f32) -> (f32, f32) {
     }
 }
 
-/// Cephes' asinf polynomial: asin(t) = t + t z p(z) with z = t^2, |t| <= 1/2.
-fn asin_poly(z: f32) -> f32 {
-    (((4.216_32e-2 * z + 2.418_131_1e-2) * z + 4.547_002_6e-2) * z + 7.495_300_3e-2) * z
+/// Cephes' asinf polynomial: asin(t) = t + t z p(z) with z = t^2, |t| <= 1/2; for one
+/// value or four, with the same operations in the same order.
+fn asin_poly<T>(z: T) -> T
+where
+    T: Copy + Mul<f32, Output = T> + Add<f32, Output = T> + Mul<T, Output = T>,
+{
+    (((z * 4.216_32e-2 + 2.418_131e-2) * z + 4.547_002_6e-2) * z + 7.495_300_3e-2) * z
         + 1.666_675_2e-1
 }
 
@@ -63,9 +68,7 @@ pub fn acos4(x: Vec4) -> Vec4 {
     let big = a.cmpgt(Vec4::splat(0.5));
     let z = Vec4::select(big, 0.5 * (Vec4::ONE - a), a * a);
     let t = Vec4::select(big, z.sqrt(), a);
-    let p = (((4.216_32e-2 * z + 2.418_131_1e-2) * z + 4.547_002_6e-2) * z + 7.495_300_3e-2) * z
-        + 1.666_675_2e-1;
-    let r = t + t * z * p;
+    let r = t + t * z * asin_poly(z);
     let negative = x.cmplt(Vec4::ZERO);
     let small = Vec4::select(negative, FRAC_PI_2 + r, FRAC_PI_2 - r);
     let large = Vec4::select(negative, PI - 2.0 * r, 2.0 * r);
