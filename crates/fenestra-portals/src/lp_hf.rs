@@ -16,9 +16,10 @@ use fenestra_core::stats::{RayCounters, RenderStats};
 use fenestra_core::{Ray, Rgb, Sampler, Vec3};
 use fenestra_render::driver::SampleContext;
 use fenestra_render::integrator::{
-    Found, LightNextEvent, NextEvent, PathOptions, PathTracer, Scattered, Shading,
+    Beyond, Found, LightNextEvent, LightRays, NextEvent, PathOptions, PathTracer, ProbeRay,
+    Scattered, Shading,
 };
-use fenestra_render::light::{LightHit, LightRecords};
+use fenestra_render::light::{LightContext, LightHit, LightRecords};
 use fenestra_render::{IntegratorError, RenderControl, RenderScene};
 use serde_json::json;
 use std::path::{Path, PathBuf};
@@ -149,8 +150,10 @@ impl PortalNextEvent {
     }
 
     /// Portal sampling at `s` (eq. 4.1), or with probability `light_mix` light sampling: a
-    /// direction, the radiance of whatever the ray meets first beyond thin glass (emitter or
-    /// environment), weighted by MIS against the BSDF with the mixture's density.
+    /// direction, and the probe ray that finds whatever lies beyond thin glass along it
+    /// (emitter or environment); [`PortalNextEvent::probed`] weighs that by MIS against the
+    /// BSDF with the mixture's density.
+    #[allow(clippy::too_many_arguments)]
     fn sample_portal(
         &self,
         scene: &RenderScene,
@@ -159,83 +162,65 @@ impl PortalNextEvent {
         mis: MisHeuristic,
         sampler: &mut Sampler,
         rays: &mut RayCounters,
-    ) -> Rgb {
+    ) -> Option<ProbeRay<PortalProbe>> {
         let light_mix = self.options.light_mix;
         let by_light = light_mix > 0.0 && sampler.next_1d() < light_mix;
         let u_pick = sampler.next_1d();
         let u = sampler.next_2d();
         let si = s.si;
-        let ctx = s.light_context();
-        let light_sampler = self.lights.sampler();
         // The light sampled in light mode: only it may be found along the ray (as a shadow
         // ray would have it), so the mixture density counts that light's density alone.
         let (wi, sampled, portal_pdf) = if by_light {
-            let Some((index, _)) = light_sampler.sample(&ctx, u_pick) else {
-                return Rgb::ZERO;
-            };
+            let (index, _) = self.lights.sampler().sample(&s.light_context(), u_pick)?;
             match scene.lights.lights[index].sample_li(&scene.scene, si.p, u) {
                 // Dirac lights have their own estimator.
                 Some(ls) if !ls.delta => (ls.wi, Some(index), None),
-                _ => return Rgb::ZERO,
+                _ => return None,
             }
         } else {
-            let Some(ps) = self.portals.sample(&v.weights, u_pick, u) else {
-                return Rgb::ZERO;
-            };
+            let ps = self.portals.sample(&v.weights, u_pick, u)?;
             (ps.wi, None, Some(ps.pdf))
         };
-        let seen = |index: usize| sampled.is_none_or(|s| s == index);
-        let Some((wi_local, f)) = s.bsdf_toward(wi) else {
-            return Rgb::ZERO;
-        };
+        let (wi_local, f) = s.bsdf_toward(wi)?;
         rays.shadow += 1;
-        let ray = Ray::new(si.spawn(wi), wi);
-        // Radiance found beyond and the light sampler's density of that direction.
-        let (li, light_pdf) = match scene.through_glass(ray, f32::INFINITY) {
-            (tr, Some(beyond)) => match scene.lights.surface_emission(&beyond, wi) {
-                Some((index, le)) if seen(index) => {
-                    let pdf = if light_mix > 0.0 {
-                        light_sampler.pmf(&ctx, index)
-                            * scene.lights.lights[index].pdf_li(
-                                &scene.scene,
-                                si.p,
-                                wi,
-                                LightHit::Surface(&beyond),
-                            )
-                    } else {
-                        0.0
-                    };
-                    (tr * le, pdf)
-                }
-                _ => (Rgb::ZERO, 0.0),
+        Some(ProbeRay {
+            ray: Ray::new(si.spawn(wi), wi),
+            beta: Rgb::ONE,
+            probe: PortalProbe {
+                p: si.p,
+                n: si.ns,
+                cos: wi_local.z.abs(),
+                f,
+                bsdf_pdf: s.bsdf.pdf(s.wo_local, wi_local),
+                sampled,
+                portal_pdf: portal_pdf.unwrap_or_else(|| self.portals.pdf(&v.weights, wi)),
+                mis,
             },
-            (tr, None) => scene.lights.environments.iter().filter(|&&e| seen(e)).fold(
-                (Rgb::ZERO, 0.0),
-                |(l, pdf), &e| {
-                    let light = &scene.lights.lights[e];
-                    (
-                        l + tr * light.le(LightHit::Escaped, wi),
-                        pdf + light_sampler.pmf(&ctx, e)
-                            * light.pdf_li(&scene.scene, si.p, wi, LightHit::Escaped),
-                    )
-                },
-            ),
-        };
-        if li.is_black() {
-            return Rgb::ZERO;
-        }
-        let portal_pdf = portal_pdf.unwrap_or_else(|| self.portals.pdf(&v.weights, wi));
-        let pdf = (1.0 - light_mix) * portal_pdf + light_mix * light_pdf;
-        if !(pdf > 0.0) {
-            return Rgb::ZERO;
-        }
-        let weight = mis.weight(pdf, s.bsdf.pdf(s.wo_local, wi_local));
-        f * li * (wi_local.z.abs() * weight / pdf)
+        })
     }
+}
+
+/// What lp_hf keeps of a portal (or light) sample while its probe ray is traced.
+#[derive(Clone, Copy, Debug)]
+pub struct PortalProbe {
+    /// The shading point and its shading normal (what the light sampler saw).
+    p: Vec3,
+    n: Vec3,
+    /// |cos| of the direction at the point, and the BSDF there.
+    cos: f32,
+    f: Rgb,
+    /// The BSDF's density of the direction, for MIS.
+    bsdf_pdf: f32,
+    /// The light sampled in light mode: the only one the ray may find.
+    sampled: Option<usize>,
+    /// The portals' density of the direction.
+    portal_pdf: f32,
+    mis: MisHeuristic,
 }
 
 impl NextEvent for PortalNextEvent {
     type Vertex = PortalVertex;
+    type Probe = PortalProbe;
 
     fn settings(&self) -> serde_json::Value {
         let o = &self.options;
@@ -342,14 +327,79 @@ impl NextEvent for PortalNextEvent {
         sampler: &mut Sampler,
         records: &mut LightRecords,
         rays: &mut RayCounters,
+        out: &mut LightRays<PortalProbe>,
     ) -> Rgb {
-        let mut l = self.sample_portal(scene, s, v, mis, sampler, rays);
-        if scene.lights.has_delta {
-            l += self
-                .lights
-                .sample_light(scene, s, true, mis, sampler, records, rays);
+        if let Some(probe) = self.sample_portal(scene, s, v, mis, sampler, rays) {
+            out.probes.push(probe);
         }
-        l
+        if scene.lights.has_delta {
+            let shadows = &mut out.shadows;
+            self.lights
+                .sample_light(scene, s, true, mis, sampler, records, rays, shadows);
+        }
+        Rgb::ZERO
+    }
+
+    /// The radiance found beyond the probe's glass (an emitter the sample may find, or the
+    /// environment), weighted by MIS against the BSDF with the mixture's density.
+    fn probed(
+        &self,
+        scene: &RenderScene,
+        probe: &PortalProbe,
+        ray: &Ray,
+        beyond: &Beyond,
+        sample: &SampleContext,
+    ) -> Rgb {
+        let light_mix = self.options.light_mix;
+        let wi = ray.d;
+        let ctx = LightContext {
+            p: probe.p,
+            n: probe.n,
+            sample,
+        };
+        let light_sampler = self.lights.sampler();
+        let seen = |index: usize| probe.sampled.is_none_or(|s| s == index);
+        let tr = beyond.tr;
+        // Radiance found beyond and the light sampler's density of that direction.
+        let (li, light_pdf) = match &beyond.surface {
+            Some(surface) => match scene.lights.surface_emission(surface, wi) {
+                Some((index, le)) if seen(index) => {
+                    let pdf = if light_mix > 0.0 {
+                        light_sampler.pmf(&ctx, index)
+                            * scene.lights.lights[index].pdf_li(
+                                &scene.scene,
+                                probe.p,
+                                wi,
+                                LightHit::Surface(surface),
+                            )
+                    } else {
+                        0.0
+                    };
+                    (tr * le, pdf)
+                }
+                _ => (Rgb::ZERO, 0.0),
+            },
+            None => scene.lights.environments.iter().filter(|&&e| seen(e)).fold(
+                (Rgb::ZERO, 0.0),
+                |(l, pdf), &e| {
+                    let light = &scene.lights.lights[e];
+                    (
+                        l + tr * light.le(LightHit::Escaped, wi),
+                        pdf + light_sampler.pmf(&ctx, e)
+                            * light.pdf_li(&scene.scene, probe.p, wi, LightHit::Escaped),
+                    )
+                },
+            ),
+        };
+        if li.is_black() {
+            return Rgb::ZERO;
+        }
+        let pdf = (1.0 - light_mix) * probe.portal_pdf + light_mix * light_pdf;
+        if !(pdf > 0.0) {
+            return Rgb::ZERO;
+        }
+        let weight = probe.mis.weight(pdf, probe.bsdf_pdf);
+        probe.f * li * (probe.cos * weight / pdf)
     }
 
     /// The portal density of `wi`, whatever the ray found beyond, mixed with the light

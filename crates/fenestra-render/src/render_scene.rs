@@ -45,6 +45,11 @@ impl RenderScene {
         }
     }
 
+    /// Whether any material is thin glass (visibility then follows rays through panes).
+    pub fn has_thin_glass(&self) -> bool {
+        self.thin_glass
+    }
+
     /// Follows a ray through thin glass panes (pbrt's "thindielectric", windows): each pane
     /// lets the fraction 1 - R' of the light through along the same line. Returns that
     /// transmittance and the first other surface met before `tmax` (`None`: nothing but

@@ -81,6 +81,22 @@ pub trait PassEstimator: Sync {
         rays: &mut RayCounters,
     ) -> Rgb;
 
+    /// The samples `ctxs` (each with its stream in `samplers`) into `out`; by default one
+    /// after another with [`PassEstimator::sample`].
+    fn sample_many(
+        &self,
+        scene: &RenderScene,
+        ctxs: &[SampleContext],
+        samplers: &mut [Sampler],
+        stats: &mut Self::BlockStats,
+        rays: &mut RayCounters,
+        out: &mut [Rgb],
+    ) {
+        for (i, ctx) in ctxs.iter().enumerate() {
+            out[i] = self.sample(scene, ctx, &mut samplers[i], stats, rays);
+        }
+    }
+
     /// Called after each completed pass with the film and every block's statistics in block
     /// order: whether to go on.
     fn end_pass(&mut self, scene: &RenderScene, film: &Film, blocks: Vec<Self::BlockStats>)
@@ -227,13 +243,14 @@ impl Pass {
         if control.cancelled() {
             return (stats, counters);
         }
-        let mut samples = 0u64;
-        for (dy, row) in view.rows.into_iter().enumerate() {
+        // Every sample of the block's pass, pixel by pixel, each pixel's in index order.
+        let mut ctxs = Vec::new();
+        let mut counts = Vec::with_capacity((BLOCK_SIZE * BLOCK_SIZE) as usize);
+        for (dy, row) in view.rows.iter().enumerate() {
             let Some((pixels, taken)) = row else { continue };
             let y = self.window.y0 + view.y0 + dy as u32;
-            for (dx, (pixel, taken)) in pixels.iter_mut().zip(taken.iter_mut()).enumerate() {
+            for (dx, (pixel, &first)) in pixels.iter().zip(taken.iter()).enumerate() {
                 let x = self.window.x0 + view.x0 + dx as u32;
-                let first = *taken;
                 let n = estimator.samples(&PixelState {
                     x,
                     y,
@@ -242,8 +259,9 @@ impl Pass {
                     taken: first,
                     film: pixel,
                 });
-                let last = first.saturating_add(n);
-                let mut ctx = SampleContext {
+                let n = n.min(u32::MAX - first);
+                counts.push(n);
+                let ctx = SampleContext {
                     x,
                     y,
                     width: self.window.full_width,
@@ -252,21 +270,38 @@ impl Pass {
                     pass: self.index,
                     index: first,
                 };
-                for s in first..last {
-                    ctx.index = s;
-                    let mut sampler = Sampler::new(self.seed, ctx.pixel(), s);
-                    let l = estimator.sample(scene, &ctx, &mut sampler, &mut stats, &mut counters);
+                ctxs.extend((first..first + n).map(|index| SampleContext { index, ..ctx }));
+            }
+        }
+        let mut samplers: Vec<Sampler> = ctxs
+            .iter()
+            .map(|ctx| Sampler::new(self.seed, ctx.pixel(), ctx.index))
+            .collect();
+        let mut out = vec![Rgb::ZERO; ctxs.len()];
+        estimator.sample_many(
+            scene,
+            &ctxs,
+            &mut samplers,
+            &mut stats,
+            &mut counters,
+            &mut out,
+        );
+        let mut values = out.into_iter();
+        let mut counts = counts.into_iter();
+        for (pixels, taken) in view.rows.into_iter().flatten() {
+            for (pixel, taken) in pixels.iter_mut().zip(taken.iter_mut()) {
+                let n = counts.next().unwrap_or(0);
+                for l in values.by_ref().take(n as usize) {
                     if Pixel::accepts(l) {
                         pixel.add(l);
                     } else {
                         counters.dropped += 1;
                     }
                 }
-                *taken = last;
-                samples += (last - first) as u64;
+                *taken += n;
             }
         }
-        control.progress.advance(samples);
+        control.progress.advance(ctxs.len() as u64);
         (stats, counters)
     }
 }

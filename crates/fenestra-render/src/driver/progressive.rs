@@ -28,6 +28,25 @@ pub trait PathEstimator: Sync {
         rays: &mut RayCounters,
     ) -> Rgb;
 
+    /// The radiance along each of `cameras` (sample `ctxs[i]` with its stream
+    /// `samplers[i]`) into `out`; by default one after another.
+    #[allow(clippy::too_many_arguments)]
+    fn li_many(
+        &self,
+        scene: &RenderScene,
+        cameras: &[Ray],
+        samplers: &mut [Sampler],
+        ctxs: &[SampleContext],
+        records: &mut LightRecords,
+        rays: &mut RayCounters,
+        out: &mut [Rgb],
+    ) {
+        for (i, &ray) in cameras.iter().enumerate() {
+            records.start_sample(&ctxs[i]);
+            out[i] = self.li(scene, ray, &mut samplers[i], &ctxs[i], records, rays);
+        }
+    }
+
     /// Whether the estimator learns from the light samples of pass `pass`.
     fn learns(&self, _pass: u32) -> bool {
         false
@@ -160,6 +179,24 @@ impl<E: PathEstimator> PassEstimator for Schedule<'_, E> {
         records.start_sample(ctx);
         let ray = ctx.camera_ray(scene, sampler, rays);
         self.estimator.li(scene, ray, sampler, ctx, records, rays)
+    }
+
+    fn sample_many(
+        &self,
+        scene: &RenderScene,
+        ctxs: &[SampleContext],
+        samplers: &mut [Sampler],
+        records: &mut LightRecords,
+        rays: &mut RayCounters,
+        out: &mut [Rgb],
+    ) {
+        let cameras: Vec<Ray> = ctxs
+            .iter()
+            .zip(samplers.iter_mut())
+            .map(|(ctx, sampler)| ctx.camera_ray(scene, sampler, rays))
+            .collect();
+        self.estimator
+            .li_many(scene, &cameras, samplers, ctxs, records, rays, out);
     }
 
     fn end_pass(&mut self, _: &RenderScene, film: &Film, blocks: Vec<LightRecords>) -> bool {

@@ -3,7 +3,7 @@
 //! §5.2).
 
 use super::next_event::{Found, NextEvent, Scattered, Shading};
-use super::IntegratorError;
+use super::{IntegratorError, LightRays, ShadowRay};
 use crate::control::RenderControl;
 use crate::driver::SampleContext;
 use crate::light::{LightContext, LightRecord, LightRecords, LightSampler, LightSelection, Picks};
@@ -81,11 +81,12 @@ impl LightNextEvent {
         self.sampler.as_ref()
     }
 
-    /// One light sample at `s`, weighted by MIS against the BSDF. With `delta_only`, only
-    /// Dirac lights contribute (strategies that reach the other lights by other means use
-    /// it for point, spot and distant lights); the light pick probability still divides, so
-    /// the estimate of the Dirac lights' share stays unbiased. A sample that finds light
-    /// goes to `records`.
+    /// One light sample at `s`, weighted by MIS against the BSDF: its shadow rays (one per
+    /// light picked) go to `shadows`, each with its record if `records` keeps this sample's.
+    /// Other strategies call it for their share of light sampling.
+    /// With `delta_only`, only Dirac lights contribute (strategies that reach the other
+    /// lights by other means use it for point, spot and distant lights); the light pick
+    /// probability still divides, so the estimate of the Dirac lights' share stays unbiased.
     #[allow(clippy::too_many_arguments)]
     pub fn sample_light(
         &self,
@@ -94,23 +95,28 @@ impl LightNextEvent {
         delta_only: bool,
         mis: MisHeuristic,
         sampler: &mut Sampler,
-        records: &mut LightRecords,
+        records: &LightRecords,
         rays: &mut RayCounters,
-    ) -> Rgb {
+        shadows: &mut Vec<ShadowRay>,
+    ) {
         let u_pick = sampler.next_1d();
         let u = sampler.next_2d();
         let mut picks = Picks::default();
         self.sampler
             .sample_all(&s.light_context(), u_pick, &mut picks);
-        let mut l = Rgb::ZERO;
         for &(index, pick) in picks.as_slice() {
-            l += self.light_sample(scene, s, (index, pick), u, delta_only, mis, records, rays);
+            if let Some(shadow) =
+                self.light_sample(scene, s, (index, pick), u, delta_only, mis, records)
+            {
+                rays.shadow += 1;
+                shadows.push(shadow);
+            }
         }
-        l
     }
 
-    /// What light `index`, picked with probability `pick`, brings to `s` through a point
-    /// drawn with `u` on it, weighted by MIS; see [`LightNextEvent::sample_light`].
+    /// The shadow ray towards light `index`, picked with probability `pick`, through a
+    /// point drawn with `u` on it, and what it brings to `s` weighted by MIS; see
+    /// [`LightNextEvent::sample_light`].
     #[allow(clippy::too_many_arguments)]
     fn light_sample(
         &self,
@@ -120,42 +126,35 @@ impl LightNextEvent {
         u: Vec2,
         delta_only: bool,
         mis: MisHeuristic,
-        records: &mut LightRecords,
-        rays: &mut RayCounters,
-    ) -> Rgb {
-        let Some(ls) = scene.lights.lights[index].sample_li(&scene.scene, s.si.p, u) else {
-            return Rgb::ZERO;
-        };
+        records: &LightRecords,
+    ) -> Option<ShadowRay> {
+        let ls = scene.lights.lights[index].sample_li(&scene.scene, s.si.p, u)?;
         if delta_only && !ls.delta {
-            return Rgb::ZERO;
+            return None;
         }
-        let Some((wi_local, f)) = s.bsdf_toward(ls.wi) else {
-            return Rgb::ZERO;
-        };
+        let (wi_local, f) = s.bsdf_toward(ls.wi)?;
         let origin = s.si.spawn(ls.wi);
         let tmax = ls
             .point
             .map_or(f32::INFINITY, |q| (q - origin).length() * (1.0 - 1e-4));
-        rays.shadow += 1;
-        let tr = scene.transmittance(Ray::new(origin, ls.wi), tmax);
-        if tr.is_black() {
-            return Rgb::ZERO;
-        }
         let light_pdf = pick * ls.pdf;
         let weight = if ls.delta {
             1.0
         } else {
             mis.weight(light_pdf, s.bsdf.pdf(s.wo_local, wi_local))
         };
-        if records.on() {
-            records.push(LightRecord {
-                p: s.si.p,
-                n: s.si.ns,
-                light: index as u32,
-                weight: (f * ls.li * tr).luminance() * wi_local.z.abs() / light_pdf,
-            });
-        }
-        f * ls.li * tr * (wi_local.z.abs() * weight / light_pdf)
+        let record = records.on().then(|| LightRecord {
+            p: s.si.p,
+            n: s.si.ns,
+            light: index as u32,
+            weight: (f * ls.li).luminance() * wi_local.z.abs() / light_pdf,
+        });
+        Some(ShadowRay {
+            ray: Ray::new(origin, ls.wi),
+            tmax,
+            value: f * ls.li * (wi_local.z.abs() * weight / light_pdf),
+            record,
+        })
     }
 
     /// Density with which [`LightNextEvent::sample_light`] at `ctx` gives the direction `wi`
@@ -174,6 +173,7 @@ impl LightNextEvent {
 
 impl NextEvent for LightNextEvent {
     type Vertex = ();
+    type Probe = ();
 
     fn settings(&self) -> serde_json::Value {
         serde_json::json!({ "light_selection": self.name })
@@ -195,8 +195,11 @@ impl NextEvent for LightNextEvent {
         sampler: &mut Sampler,
         records: &mut LightRecords,
         rays: &mut RayCounters,
+        out: &mut LightRays<()>,
     ) -> Rgb {
-        self.sample_light(scene, s, false, mis, sampler, records, rays)
+        let shadows = &mut out.shadows;
+        self.sample_light(scene, s, false, mis, sampler, records, rays, shadows);
+        Rgb::ZERO
     }
 
     fn learning(&self) -> bool {

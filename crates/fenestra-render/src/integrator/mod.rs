@@ -7,10 +7,12 @@
 //! strategy ([`NextEvent`]): none (`hf`), light sampling (`af_hf`), and strategies of the
 //! research crates (light through openings, learned light samplers).
 
+mod light_rays;
 mod light_sampling;
 mod next_event;
 mod path;
 
+pub use light_rays::{trace_probes, trace_shadows, Beyond, LightRays, ProbeRay, ShadowRay};
 pub use light_sampling::LightNextEvent;
 pub use next_event::{Found, NextEvent, NoNextEvent, Scattered, Shading};
 pub use path::{Gather, NoGather, PathOptions, PathTracer, Start};

@@ -6,12 +6,12 @@
 use crate::bsdf::Bsdf;
 use crate::control::RenderControl;
 use crate::driver::SampleContext;
-use crate::integrator::IntegratorError;
+use crate::integrator::{Beyond, IntegratorError, LightRays};
 use crate::light::{LightContext, LightHit, LightRecords};
 use crate::render_scene::RenderScene;
 use fenestra_core::mis::MisHeuristic;
 use fenestra_core::stats::{RayCounters, RenderStats};
-use fenestra_core::{Frame, Rgb, Sampler, Vec3};
+use fenestra_core::{Frame, Ray, Rgb, Sampler, Vec3};
 use fenestra_scene::SurfaceInteraction;
 
 /// A shading point as next-event strategies see it.
@@ -102,6 +102,10 @@ pub trait NextEvent: Send + Sync {
     /// sample and by the MIS weight of light that the next BSDF-sampled ray finds.
     type Vertex: Copy + Default;
 
+    /// What the strategy keeps of a sample while its probe ray is traced (`()` for
+    /// strategies that make none).
+    type Probe: Copy;
+
     /// The strategy's settings (part of the integrator's).
     fn settings(&self) -> serde_json::Value;
 
@@ -119,8 +123,11 @@ pub trait NextEvent: Send + Sync {
     fn vertex(&self, scene: &RenderScene, s: &Shading) -> Self::Vertex;
 
     /// One next-event sample at `s`: the light it finds, weighted by MIS (`mis`) against
-    /// BSDF sampling and divided by its density. Light samples that learned samplers learn
-    /// from go to `records`.
+    /// BSDF sampling and divided by its density. Samples that need a ray traced leave it in
+    /// `out` (the path loop traces them, several paths' at once): a shadow ray with what
+    /// the sample brings if the way is clear, or a probe ray that [`NextEvent::probed`]
+    /// finishes; the return value is what samples without rays bring. Light samples that
+    /// learning samplers learn from go to `records`, or with their shadow ray.
     #[allow(clippy::too_many_arguments)]
     fn sample(
         &self,
@@ -131,7 +138,22 @@ pub trait NextEvent: Send + Sync {
         sampler: &mut Sampler,
         records: &mut LightRecords,
         rays: &mut RayCounters,
+        out: &mut LightRays<Self::Probe>,
     ) -> Rgb;
+
+    /// Finishes the sample `probe`, whose probe ray `ray` met `beyond`: what it brings,
+    /// weighted and divided as [`NextEvent::sample`] says. `sample` is the path sample it
+    /// belongs to.
+    fn probed(
+        &self,
+        _scene: &RenderScene,
+        _probe: &Self::Probe,
+        _ray: &Ray,
+        _beyond: &Beyond,
+        _sample: &SampleContext,
+    ) -> Rgb {
+        Rgb::ZERO
+    }
 
     /// Whether the strategy learns from the render's passes at all (known before
     /// `prepare`): such a render cannot be split into pieces.
@@ -168,6 +190,7 @@ pub struct NoNextEvent;
 impl NextEvent for NoNextEvent {
     const SAMPLES: bool = false;
     type Vertex = ();
+    type Probe = ();
 
     fn settings(&self) -> serde_json::Value {
         serde_json::json!({})
@@ -184,6 +207,7 @@ impl NextEvent for NoNextEvent {
         _: &mut Sampler,
         _: &mut LightRecords,
         _: &mut RayCounters,
+        _: &mut LightRays<()>,
     ) -> Rgb {
         Rgb::ZERO
     }

@@ -7,6 +7,7 @@
 //! it answers, its estimate replaces the path's continuation, and the BSDF-sampled ray only
 //! collects the emitters it finds.
 
+use super::light_rays::{trace_probes, trace_shadows, LightRays};
 use super::next_event::{Found, NextEvent, Scattered, Shading};
 use super::{Integrator, IntegratorError, Split};
 use crate::bsdf::Bsdf;
@@ -19,7 +20,7 @@ use crate::settings::RenderSettings;
 use fenestra_core::mis::MisHeuristic;
 use fenestra_core::stats::{RayCounters, RenderStats};
 use fenestra_core::{Ray, Rgb, Sampler, Vec3};
-use fenestra_scene::Hit;
+use fenestra_scene::{Hit, PACKET};
 
 /// Consecutive panes a path may pass straight through (as visibility rays do).
 const MAX_PANES: u32 = 16;
@@ -210,12 +211,64 @@ impl<N: NextEvent> PathEstimator for PathTracer<N> {
         )
     }
 
+    fn li_many(
+        &self,
+        scene: &RenderScene,
+        cameras: &[Ray],
+        samplers: &mut [Sampler],
+        ctxs: &[SampleContext],
+        records: &mut LightRecords,
+        rays: &mut RayCounters,
+        out: &mut [Rgb],
+    ) {
+        self.trace_wave(scene, cameras, samplers, ctxs, records, rays, out);
+    }
+
     fn learns(&self, pass: u32) -> bool {
         self.next_event.learns(pass)
     }
 
     fn learn(&self, blocks: &[LightRecords]) {
         self.next_event.learn(blocks);
+    }
+}
+
+/// A path between two of its vertices: the ray to trace next and what the path has gathered.
+pub(crate) struct PathState<V> {
+    /// The ray leaving the last vertex.
+    pub ray: Ray,
+    /// Radiance gathered so far.
+    pub l: Rgb,
+    beta: Rgb,
+    /// The vertex the current ray left from, for MIS (`None` at the camera and after a
+    /// delta bounce).
+    from: Option<Scattered<V>>,
+    /// The path's segments up to the vertex being shaded; passing straight through a thin
+    /// pane adds none (visibility rays pass panes too).
+    segments: u32,
+    panes: u32,
+    /// Whether the current ray is the path's first (not counted as a bounce).
+    first: bool,
+    /// Whether light emitted where the current ray ends counts.
+    emitted: bool,
+    /// Set once a gather has supplied the indirect light: the next hit only adds emission.
+    gathered: bool,
+}
+
+impl<V> PathState<V> {
+    /// A path about to trace `ray`, which starts as `start` says.
+    pub fn new(ray: Ray, start: &Start) -> Self {
+        PathState {
+            ray,
+            l: Rgb::ZERO,
+            beta: Rgb::ONE,
+            from: None,
+            segments: start.segments,
+            panes: 0,
+            first: start.segments == 0,
+            emitted: start.emitted,
+            gathered: false,
+        }
     }
 }
 
@@ -227,7 +280,7 @@ impl<N: NextEvent> PathTracer<N> {
     pub fn trace(
         &self,
         scene: &RenderScene,
-        mut ray: Ray,
+        ray: Ray,
         start: Start,
         sampler: &mut Sampler,
         ctx: &SampleContext,
@@ -235,141 +288,246 @@ impl<N: NextEvent> PathTracer<N> {
         rays: &mut RayCounters,
         gather: &mut (impl Gather + ?Sized),
     ) -> Rgb {
-        let max_depth = self.options.max_depth;
-        let mut l = Rgb::ZERO;
-        let mut beta = Rgb::ONE;
-        // The vertex the current ray left from, for MIS (`None` at the camera and after a
-        // delta bounce).
-        let mut from: Option<Scattered<N::Vertex>> = None;
-        // `segments` counts the path's segments up to the vertex being shaded; passing
-        // straight through a thin pane adds none (visibility rays pass panes too).
-        let mut segments = start.segments;
-        let mut panes = 0;
-        let mut first = start.segments == 0;
-        let mut emitted = start.emitted;
+        let mut path = PathState::new(ray, &start);
         let mut known = start.hit;
-        // Set once a gather has supplied the indirect light: the next hit only adds emission.
-        let mut gathered = false;
+        let mut out = LightRays::default();
         loop {
-            segments += 1;
-            if !first {
-                rays.bounce += 1;
-            }
-            first = false;
             let hit = match known.take() {
                 Some(hit) => Some(hit),
-                None => scene.scene.intersect(&ray, f32::INFINITY),
+                None => scene.scene.intersect(&path.ray, f32::INFINITY),
             };
-            let Some(hit) = hit else {
-                for &e in scene.lights.environments.iter().filter(|_| emitted) {
-                    let found = Found {
-                        light: e,
-                        hit: LightHit::Escaped,
-                    };
-                    let w = self.bsdf_weight(scene, from.as_ref(), ray.d, found, ctx);
-                    l += beta * scene.lights.lights[e].le(LightHit::Escaped, ray.d) * w;
-                }
-                break;
-            };
-            let si = scene.scene.interaction(&ray, &hit);
-            if let Some((index, le)) = scene
-                .lights
-                .surface_emission(&si, ray.d)
-                .filter(|_| emitted)
-            {
-                if !le.is_black() {
-                    let found = Found {
-                        light: index,
-                        hit: LightHit::Surface(&si),
-                    };
-                    l += beta * le * self.bsdf_weight(scene, from.as_ref(), ray.d, found, ctx);
-                }
+            let go_on = self.step(
+                scene, &mut path, hit, sampler, ctx, records, rays, gather, &mut out,
+            );
+            for shadow in out.shadows.drain(..) {
+                path.l += shadow.trace(scene, records);
             }
-            emitted = true;
-            if gathered {
+            for probe in out.probes.drain(..) {
+                let beyond = probe.trace(scene);
+                path.l += probe.beta
+                    * self
+                        .next_event
+                        .probed(scene, &probe.probe, &probe.ray, &beyond, ctx);
+            }
+            if !go_on {
                 break;
             }
-            let bsdf = scene.bsdf_at(&si);
-            let bsdf = bsdf.as_ref();
-            let pane = matches!(bsdf, Bsdf::ThinDielectric(_));
-            // At the last vertex only a pane's straight-through part may continue the path.
-            let at_limit = segments >= max_depth;
-            if at_limit && !pane {
-                break;
-            }
-            let frame = si.shading_frame();
-            let wo = -ray.d;
-            let shading = Shading {
-                si: &si,
-                bsdf,
-                frame,
-                wo,
-                wo_local: frame.to_local(wo),
-                sample: ctx,
-            };
-            let vertex = if bsdf.is_delta() {
-                N::Vertex::default()
-            } else {
-                self.next_event.vertex(scene, &shading)
-            };
-            if N::SAMPLES && !bsdf.is_delta() {
-                l += beta
-                    * self.next_event.sample(
-                        scene,
-                        &shading,
-                        &vertex,
-                        self.options.mis,
-                        sampler,
-                        records,
-                        rays,
-                    );
-            }
-            if !bsdf.is_delta() {
-                if let Some(indirect) = gather.indirect(scene, &shading, segments, rays) {
-                    l += beta * indirect;
-                    gathered = true;
-                }
-            }
-            let uc = sampler.next_1d();
-            let u = sampler.next_2d();
-            let Some(bs) = bsdf.sample(shading.wo_local, uc, u) else {
-                break;
-            };
-            let wi = frame.to_world(bs.wi);
-            if !shading.sides_agree(wi, bs.wi.z) {
-                break;
-            }
-            beta *= bs.weight;
-            if pane && bs.wi.z * shading.wo_local.z < 0.0 {
-                // Straight through a pane: the same line, so MIS keeps the previous vertex.
-                panes += 1;
-                if panes > MAX_PANES {
-                    break;
-                }
-                segments -= 1;
-                ray = Ray::new(si.spawn(wi), wi);
-                continue;
-            }
-            if at_limit {
-                break;
-            }
-            panes = 0;
-            from = (!bs.delta).then_some(Scattered {
-                p: si.p,
-                n: si.ns,
-                bsdf_pdf: bs.pdf,
-                vertex,
-            });
-            if segments + 1 >= self.options.rr_depth {
-                // Russian roulette (seed 000 §3.2.1): continue with probability q, divide by q.
-                let q = beta.max_component().min(0.95);
-                if q <= 0.0 || sampler.next_1d() >= q {
-                    break;
-                }
-                beta *= 1.0 / q;
-            }
-            ray = Ray::new(si.spawn(wi), wi);
         }
-        l
+        path.l
+    }
+
+    /// Paths of the camera rays `cameras` (sample `ctxs[i]`, stream `samplers[i]`) traced
+    /// together as a wave: each round finds every live path's next hit, eight rays to a
+    /// packet query, takes each path one vertex further, then traces the shadow and probe
+    /// rays of all their next-event samples, eight to a packet again. Each path's radiance
+    /// goes to `out`: the estimate [`PathTracer::trace`] makes of one path, whatever the
+    /// other paths of the wave are (a ray's answer does not depend on its packet's other
+    /// rays), so images stay the same for any thread count and for any split of a render.
+    #[allow(clippy::too_many_arguments)]
+    fn trace_wave(
+        &self,
+        scene: &RenderScene,
+        cameras: &[Ray],
+        samplers: &mut [Sampler],
+        ctxs: &[SampleContext],
+        records: &mut LightRecords,
+        rays: &mut RayCounters,
+        out: &mut [Rgb],
+    ) {
+        let mut paths: Vec<PathState<N::Vertex>> = cameras
+            .iter()
+            .map(|&ray| PathState::new(ray, &Start::CAMERA))
+            .collect();
+        let mut live: Vec<usize> = (0..paths.len()).collect();
+        let mut hits = vec![None; paths.len()];
+        let mut queued = LightRays::default();
+        // The path each shadow and probe ray belongs to.
+        let (mut shadow_owners, mut probe_owners) = (Vec::new(), Vec::new());
+        while !live.is_empty() {
+            for chunk in live.chunks(PACKET) {
+                let last = chunk.len() - 1;
+                let packet = std::array::from_fn(|k| paths[chunk[k.min(last)]].ray);
+                let found = scene.scene.intersect8(&packet, [f32::INFINITY; PACKET]);
+                for (k, &i) in chunk.iter().enumerate() {
+                    hits[i] = found[k];
+                }
+            }
+            live.retain(|&i| {
+                records.start_sample(&ctxs[i]);
+                let go_on = self.step(
+                    scene,
+                    &mut paths[i],
+                    hits[i],
+                    &mut samplers[i],
+                    &ctxs[i],
+                    records,
+                    rays,
+                    &mut NoGather,
+                    &mut queued,
+                );
+                shadow_owners.resize(queued.shadows.len(), i);
+                probe_owners.resize(queued.probes.len(), i);
+                go_on
+            });
+            trace_shadows(scene, &queued.shadows, records, |k, l| {
+                paths[shadow_owners[k]].l += l;
+            });
+            trace_probes(scene, &queued.probes, |k, beyond| {
+                let (i, probe) = (probe_owners[k], &queued.probes[k]);
+                paths[i].l += probe.beta
+                    * self
+                        .next_event
+                        .probed(scene, &probe.probe, &probe.ray, &beyond, &ctxs[i]);
+            });
+            queued.shadows.clear();
+            queued.probes.clear();
+            shadow_owners.clear();
+            probe_owners.clear();
+        }
+        for (o, p) in out.iter_mut().zip(&paths) {
+            *o = p.l;
+        }
+    }
+
+    /// Takes the path one vertex further: `hit` is where its current ray ended. Returns
+    /// whether the path goes on (with its next ray in `path.ray`).
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn step(
+        &self,
+        scene: &RenderScene,
+        path: &mut PathState<N::Vertex>,
+        hit: Option<Hit>,
+        sampler: &mut Sampler,
+        ctx: &SampleContext,
+        records: &mut LightRecords,
+        rays: &mut RayCounters,
+        gather: &mut (impl Gather + ?Sized),
+        out: &mut LightRays<N::Probe>,
+    ) -> bool {
+        let ray = path.ray;
+        path.segments += 1;
+        if !path.first {
+            rays.bounce += 1;
+        }
+        path.first = false;
+        let Some(hit) = hit else {
+            for &e in scene.lights.environments.iter().filter(|_| path.emitted) {
+                let found = Found {
+                    light: e,
+                    hit: LightHit::Escaped,
+                };
+                let w = self.bsdf_weight(scene, path.from.as_ref(), ray.d, found, ctx);
+                path.l += path.beta * scene.lights.lights[e].le(LightHit::Escaped, ray.d) * w;
+            }
+            return false;
+        };
+        let si = scene.scene.interaction(&ray, &hit);
+        if let Some((index, le)) = scene
+            .lights
+            .surface_emission(&si, ray.d)
+            .filter(|_| path.emitted)
+        {
+            if !le.is_black() {
+                let found = Found {
+                    light: index,
+                    hit: LightHit::Surface(&si),
+                };
+                path.l +=
+                    path.beta * le * self.bsdf_weight(scene, path.from.as_ref(), ray.d, found, ctx);
+            }
+        }
+        path.emitted = true;
+        if path.gathered {
+            return false;
+        }
+        let bsdf = scene.bsdf_at(&si);
+        let bsdf = bsdf.as_ref();
+        let pane = matches!(bsdf, Bsdf::ThinDielectric(_));
+        // At the last vertex only a pane's straight-through part may continue the path.
+        let at_limit = path.segments >= self.options.max_depth;
+        if at_limit && !pane {
+            return false;
+        }
+        let frame = si.shading_frame();
+        let wo = -ray.d;
+        let shading = Shading {
+            si: &si,
+            bsdf,
+            frame,
+            wo,
+            wo_local: frame.to_local(wo),
+            sample: ctx,
+        };
+        let vertex = if bsdf.is_delta() {
+            N::Vertex::default()
+        } else {
+            self.next_event.vertex(scene, &shading)
+        };
+        if N::SAMPLES && !bsdf.is_delta() {
+            let (shadows, probes) = (out.shadows.len(), out.probes.len());
+            path.l += path.beta
+                * self.next_event.sample(
+                    scene,
+                    &shading,
+                    &vertex,
+                    self.options.mis,
+                    sampler,
+                    records,
+                    rays,
+                    out,
+                );
+            for shadow in &mut out.shadows[shadows..] {
+                shadow.value *= path.beta;
+            }
+            for probe in &mut out.probes[probes..] {
+                probe.beta = path.beta;
+            }
+        }
+        if !bsdf.is_delta() {
+            if let Some(indirect) = gather.indirect(scene, &shading, path.segments, rays) {
+                path.l += path.beta * indirect;
+                path.gathered = true;
+            }
+        }
+        let uc = sampler.next_1d();
+        let u = sampler.next_2d();
+        let Some(bs) = bsdf.sample(shading.wo_local, uc, u) else {
+            return false;
+        };
+        let wi = frame.to_world(bs.wi);
+        if !shading.sides_agree(wi, bs.wi.z) {
+            return false;
+        }
+        path.beta *= bs.weight;
+        if pane && bs.wi.z * shading.wo_local.z < 0.0 {
+            // Straight through a pane: the same line, so MIS keeps the previous vertex.
+            path.panes += 1;
+            if path.panes > MAX_PANES {
+                return false;
+            }
+            path.segments -= 1;
+            path.ray = Ray::new(si.spawn(wi), wi);
+            return true;
+        }
+        if at_limit {
+            return false;
+        }
+        path.panes = 0;
+        path.from = (!bs.delta).then_some(Scattered {
+            p: si.p,
+            n: si.ns,
+            bsdf_pdf: bs.pdf,
+            vertex,
+        });
+        if path.segments + 1 >= self.options.rr_depth {
+            // Russian roulette (seed 000 §3.2.1): continue with probability q, divide by q.
+            let q = path.beta.max_component().min(0.95);
+            if q <= 0.0 || sampler.next_1d() >= q {
+                return false;
+            }
+            path.beta *= 1.0 / q;
+        }
+        path.ray = Ray::new(si.spawn(wi), wi);
+        true
     }
 }

@@ -69,9 +69,9 @@ impl LightRecords {
         self.on
     }
 
-    /// Keeps `record` (callers ask [`LightRecords::on`] first, to build it only when kept).
+    /// Keeps `record` (callers ask [`LightRecords::on`] when they build it, which may be
+    /// before its shadow ray is tested and other samples have started).
     pub fn push(&mut self, record: LightRecord) {
-        debug_assert!(self.on, "a record of a sample whose records are not kept");
         self.records.push(record);
     }
 }

@@ -1,0 +1,122 @@
+//! Paths traced together in a wave (their rays eight to a packet query, their next-event
+//! samples' shadow and probe rays traced after every path has taken its step) give each path
+//! the estimate it gets alone: a pixel does not depend on which other samples share its
+//! wave, so images stay the same for any thread count, pass schedule or split of a render.
+
+use fenestra_builtin as builtin;
+use fenestra_core::{Rgb, Sampler, Vec3};
+use fenestra_portals::estimate::EstimateParams;
+use fenestra_portals::{lp_hf, PortalOptions, PortalSource};
+use fenestra_render::driver::{PathEstimator, SampleContext};
+use fenestra_render::integrator::{af_hf, hf, LightNextEvent, PathOptions};
+use fenestra_render::light::{LightRecords, LightSelection};
+use fenestra_render::{Integrator, NoProgress, RayCounters, RenderControl, RenderScene};
+use fenestra_scene::light::LightDesc;
+use fenestra_scene::{Backend, Scene};
+use std::sync::atomic::AtomicBool;
+
+const SIZE: u32 = 16;
+
+/// Every sample of a 16x16 image at 4 samples per pixel, in one wave and each alone.
+fn in_a_wave_and_alone(
+    mut integrator: impl Integrator + PathEstimator,
+    scene: &RenderScene,
+) -> (Vec<Rgb>, Vec<Rgb>) {
+    let cancel = AtomicBool::new(false);
+    integrator
+        .prepare(scene, &RenderControl::new(&cancel, &NoProgress))
+        .expect("prepared");
+    let ctxs: Vec<SampleContext> = (0..SIZE * SIZE * 4)
+        .map(|i| SampleContext {
+            x: (i / 4) % SIZE,
+            y: (i / 4) / SIZE,
+            width: SIZE,
+            height: SIZE,
+            block: 0,
+            pass: 0,
+            index: i % 4,
+        })
+        .collect();
+    let fresh = || -> Vec<Sampler> {
+        ctxs.iter()
+            .map(|c| Sampler::new(7, c.pixel(), c.index))
+            .collect()
+    };
+    let rays = &mut RayCounters::default();
+    let mut samplers = fresh();
+    let cameras: Vec<_> = ctxs
+        .iter()
+        .zip(&mut samplers)
+        .map(|(c, s)| c.camera_ray(scene, s, rays))
+        .collect();
+    let records = &mut LightRecords::off();
+    let mut wave = vec![Rgb::ZERO; ctxs.len()];
+    let mut streams = samplers.clone();
+    integrator.li_many(
+        scene,
+        &cameras,
+        &mut streams,
+        &ctxs,
+        records,
+        rays,
+        &mut wave,
+    );
+    let mut alone = vec![Rgb::ZERO; ctxs.len()];
+    for i in 0..ctxs.len() {
+        let mut stream = [samplers[i].clone()];
+        let (ray, ctx, out) = (&cameras[i..=i], &ctxs[i..=i], &mut alone[i..=i]);
+        integrator.li_many(scene, ray, &mut stream, ctx, records, rays, out);
+    }
+    (wave, alone)
+}
+
+fn assert_same(label: &str, (wave, alone): (Vec<Rgb>, Vec<Rgb>)) {
+    assert!(wave.iter().any(|l| !l.is_black()), "{label}: all black");
+    for (i, (a, b)) in wave.iter().zip(&alone).enumerate() {
+        assert!(a == b, "{label}: sample {i} {a:?} in the wave, {b:?} alone");
+    }
+}
+
+fn scene(name: &str, backend: Backend) -> RenderScene {
+    let mut desc = builtin::load(name).expect("builtin");
+    // A point light besides the emitter: lp_hf then makes shadow rays (for it) as well as
+    // probe rays (through the portal) at every vertex.
+    desc.lights.push(LightDesc::Point {
+        position: Vec3::new(0.3, -0.2, 0.1),
+        intensity: Rgb::splat(0.05),
+    });
+    RenderScene::new(Scene::build(desc, backend).expect("scene"))
+}
+
+#[test]
+fn a_path_in_a_wave_gets_the_estimate_it_gets_alone() {
+    let path = PathOptions {
+        max_depth: 6,
+        ..PathOptions::default()
+    };
+    for backend in Backend::available() {
+        let box_hole = scene("box-hole", backend);
+        let name = |n: &str| format!("{n} ({})", backend.name());
+        assert_same(&name("hf"), in_a_wave_and_alone(hf(path), &box_hole));
+        let power = af_hf(path, LightSelection::Power);
+        assert_same(&name("af_hf"), in_a_wave_and_alone(power, &box_hole));
+        // Several shadow rays a vertex: one for each light.
+        let all = af_hf(path, LightSelection::All);
+        assert_same(&name("af_hf all"), in_a_wave_and_alone(all, &box_hole));
+        let lights = LightNextEvent::new(LightSelection::Power);
+        let portals = lp_hf(path, PortalOptions::default(), lights).expect("lp_hf");
+        assert_same(&name("lp_hf"), in_a_wave_and_alone(portals, &box_hole));
+        // Thin glass: rays follow panes one query at a time (portals estimated).
+        let hall = scene("hall-windows", backend);
+        let lights = LightNextEvent::new(LightSelection::Power);
+        let estimated = PortalOptions {
+            source: PortalSource::Estimated {
+                params: EstimateParams::default(),
+                cache: None,
+            },
+            ..PortalOptions::default()
+        };
+        let portals = lp_hf(path, estimated, lights).expect("lp_hf");
+        assert_same(&name("lp_hf hall"), in_a_wave_and_alone(portals, &hall));
+    }
+}
