@@ -378,7 +378,8 @@ pub struct PortalArgs {
     #[arg(long)]
     pub portals: Option<String>,
     /// How a point is chosen on a portal: solid-angle (rectangles by the solid angle they
-    /// subtend, Urena et al. 2013) or area (seed 000 eq. 4.1).
+    /// subtend, Urena et al. 2013, where area sampling would spread the density of
+    /// directions by more than 3x) or area (seed 000 eq. 4.1).
     #[arg(long, default_value = "solid-angle")]
     portal_sampling: PortalSampling,
     /// How a portal is picked: contribution (solid angle times cosine at the point), facing

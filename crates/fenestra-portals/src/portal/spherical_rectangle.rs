@@ -74,17 +74,19 @@ impl SphericalRectangle {
         let au = u.x * self.solid_angle + self.k;
         let (sin, cos) = trig::sin_cos(au);
         let fu = (cos * self.b0 - self.b1) / sin;
-        let cu = (1.0 / (fu * fu + self.b0 * self.b0).sqrt())
-            .copysign(fu)
-            .clamp(-1.0, 1.0);
-        let xu = (-(cu * self.z0) / (1.0 - cu * cu).max(1e-12).sqrt()).clamp(self.x0, self.x1);
-        let d = (xu * xu + self.z0 * self.z0).sqrt();
-        let h0 = self.y0 / (d * d + self.y0 * self.y0).sqrt();
-        let h1 = self.y1 / (d * d + self.y1 * self.y1).sqrt();
+        // Urena et al. take cu = sign(fu) / sqrt(fu^2 + b0^2) and xu = -cu z0 / sqrt(1 - cu^2),
+        // which is -sign(fu) z0 / sqrt(fu^2 + b0^2 - 1): one root and one division fewer
+        // (1 - cu^2 is kept from vanishing as they keep it).
+        let t = fu * fu + self.b0 * self.b0;
+        let xu =
+            ((-self.z0).copysign(fu) / (t - 1.0).max(1e-12 * t).sqrt()).clamp(self.x0, self.x1);
+        let d2 = xu * xu + self.z0 * self.z0;
+        let h0 = self.y0 / (d2 + self.y0 * self.y0).sqrt();
+        let h1 = self.y1 / (d2 + self.y1 * self.y1).sqrt();
         let hv = h0 + u.y * (h1 - h0);
         let hv2 = hv * hv;
         let yv = if hv2 < 1.0 - 1e-6 {
-            (hv * d / (1.0 - hv2).sqrt()).clamp(self.y0, self.y1)
+            (hv * (d2 / (1.0 - hv2)).sqrt()).clamp(self.y0, self.y1)
         } else {
             self.y1
         };
