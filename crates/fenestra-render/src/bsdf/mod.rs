@@ -181,6 +181,15 @@ impl Bsdf {
         (albedo.max_component() > 0.0).then_some((albedo, glossy))
     }
 
+    /// Whether the BSDF may depend on the direction of the surface's tangent (anisotropic
+    /// lobes): the others look the same in any frame around the normal.
+    pub fn needs_tangent(&self) -> bool {
+        matches!(
+            self,
+            Bsdf::Ward(_) | Bsdf::RoughConductor(_) | Bsdf::CoatedConductor(_)
+        )
+    }
+
     /// Whether every lobe is a Dirac delta (light sampling is pointless there).
     pub fn is_delta(&self) -> bool {
         matches!(

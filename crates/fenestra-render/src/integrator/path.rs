@@ -19,7 +19,7 @@ use crate::render_scene::RenderScene;
 use crate::settings::RenderSettings;
 use fenestra_core::mis::MisHeuristic;
 use fenestra_core::stats::{RayCounters, RenderStats};
-use fenestra_core::{Ray, Rgb, Sampler, Vec3};
+use fenestra_core::{Frame, Ray, Rgb, Sampler, Vec3};
 use fenestra_scene::{Hit, PACKET};
 
 /// Consecutive panes a path may pass straight through (as visibility rays do).
@@ -448,7 +448,12 @@ impl<N: NextEvent> PathTracer<N> {
         if at_limit && !pane {
             return false;
         }
-        let frame = si.shading_frame();
+        // Any frame around the normal serves an isotropic BSDF, and this one is the cheapest.
+        let frame = if bsdf.needs_tangent() {
+            si.shading_frame()
+        } else {
+            Frame::from_normal(si.ns)
+        };
         let wo = -ray.d;
         let shading = Shading {
             si: &si,
