@@ -17,6 +17,16 @@ pub struct AreaLight {
     prim: usize,
     emission: Emission,
     area: f32,
+    /// A triangle of a mesh without vertex normals, kept here: its points are sampled
+    /// without reading the mesh, and its normal is the same everywhere.
+    flat: Option<FlatTriangle>,
+}
+
+/// A triangle's corners and the geometric normal rays see on it (flipped as its shape says).
+#[derive(Clone, Copy, Debug)]
+struct FlatTriangle {
+    corners: [Vec3; 3],
+    normal: Vec3,
 }
 
 impl AreaLight {
@@ -28,11 +38,22 @@ impl AreaLight {
             ShapeKind::Mesh(m) => m.triangle_area(prim),
             _ => s.area(),
         };
+        let flat = match &s.kind {
+            ShapeKind::Mesh(m) if m.normals.is_none() => {
+                let normal = MeshPoint::on_shape(s, prim, 0.0, 0.0).map(|p| p.ng);
+                normal.map(|normal| FlatTriangle {
+                    corners: m.triangle(prim),
+                    normal,
+                })
+            }
+            _ => None,
+        };
         AreaLight {
             shape,
             prim,
             emission,
             area,
+            flat,
         }
     }
 
@@ -148,6 +169,12 @@ impl AreaLight {
     /// A point uniform by area on the emitter and its geometric normal, as a ray hitting it
     /// there would see them.
     fn sample_point(&self, shape: &Shape, u: Vec2) -> (Vec3, Vec3) {
+        if let Some(t) = &self.flat {
+            // What MeshPoint computes, without the mesh.
+            let b = warp::square_to_triangle(u);
+            let [p0, p1, p2] = t.corners;
+            return (p0 * (1.0 - b.x - b.y) + p1 * b.x + p2 * b.y, t.normal);
+        }
         let (prim, point, b) = self.sample_area(&shape.kind, u);
         match MeshPoint::on_shape(shape, prim, b.x, b.y) {
             Some(m) => (m.p, m.ng),
