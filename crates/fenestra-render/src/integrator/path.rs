@@ -518,12 +518,16 @@ impl<N: NextEvent> PathTracer<N> {
             return false;
         }
         path.panes = 0;
-        path.from = (!bs.delta).then_some(Scattered {
-            p: si.p,
-            n: si.ns,
-            bsdf_pdf: bs.pdf,
-            vertex,
-        });
+        path.from = if bs.delta {
+            None
+        } else {
+            Some(Scattered {
+                p: si.p,
+                n: si.ns,
+                bsdf_pdf: bs.pdf,
+                vertex,
+            })
+        };
         if path.segments + 1 >= self.options.rr_depth {
             // Russian roulette (seed 000 §3.2.1): continue with probability q, divide by q.
             let q = path.beta.max_component().min(0.95);
