@@ -124,38 +124,7 @@ impl Portal {
 
     /// Distance along the unit direction `d` from `o` to the portal, if the ray crosses it.
     pub fn intersect(&self, o: Vec3, d: Vec3) -> Option<f32> {
-        self.intersect_plane(o, d, self.normal(), self.center())
-    }
-
-    /// [`Portal::intersect`] with the portal's normal `n` and centre `c` given.
-    fn intersect_plane(&self, o: Vec3, d: Vec3, n: Vec3, c: Vec3) -> Option<f32> {
-        let denom = n.dot(d);
-        if denom.abs() < 1e-12 || n == Vec3::ZERO {
-            return None;
-        }
-        let t = n.dot(c - o) / denom;
-        if !(t > 0.0 && t.is_finite()) {
-            return None;
-        }
-        let p = o + d * t;
-        let inside = match self {
-            Portal::Quad { corner, e1, e2 } => {
-                let (s, t) = plane_coordinates(p - *corner, *e1, *e2);
-                (-EDGE..=1.0 + EDGE).contains(&s) && (-EDGE..=1.0 + EDGE).contains(&t)
-            }
-            Portal::Triangle {
-                vertices: [a, b, c],
-            } => {
-                let (s, t) = plane_coordinates(p - *a, *b - *a, *c - *a);
-                s >= -EDGE && t >= -EDGE && s + t <= 1.0 + EDGE
-            }
-            Portal::Ellipse { center, a, b } => {
-                let x = (p - *center).dot(*a) / a.length_squared();
-                let y = (p - *center).dot(*b) / b.length_squared();
-                x * x + y * y <= 1.0 + EDGE
-            }
-        };
-        inside.then_some(t)
+        Geometry::new(self).crossing(o, d)
     }
 
     /// The portal's local frame (for plots and exports): normal and in-plane axes.
@@ -167,14 +136,6 @@ impl Portal {
 /// Relative tolerance of the inside tests: points sampled exactly on an edge must count as
 /// inside despite rounding.
 const EDGE: f32 = 1e-5;
-
-/// Coordinates (s, t) of `v` in the (not necessarily orthogonal) basis e1, e2 of a plane.
-fn plane_coordinates(v: Vec3, e1: Vec3, e2: Vec3) -> (f32, f32) {
-    let (a, b, c) = (e1.dot(e1), e1.dot(e2), e2.dot(e2));
-    let (d, e) = (v.dot(e1), v.dot(e2));
-    let det = a * c - b * b;
-    ((c * d - b * e) / det, (a * e - b * d) / det)
-}
 
 /// How a point is chosen on the picked portal.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
@@ -249,8 +210,76 @@ struct Geometry {
     center: Vec3,
     area: f32,
     corners: [Vec3; 4],
+    /// Where the in-plane coordinates of a point are measured from, and the dual basis that
+    /// gives them as dot products: a parallelogram's or triangle's (s, t) along its edges
+    /// from its first corner, an ellipse's (x, y) along its semi-axes from its centre.
+    origin: Vec3,
+    dual: [Vec3; 2],
     /// For a rectangle, its edges from the first corner; `None` for other shapes.
     rectangle: Option<Edges>,
+    outline: Outline,
+}
+
+/// What the inside test of a portal's plane coordinates is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Outline {
+    Quad,
+    Triangle,
+    Ellipse,
+}
+
+impl Geometry {
+    fn new(p: &Portal) -> Self {
+        // The dual basis of e1, e2: (u, v) with u.e1 = v.e2 = 1, u.e2 = v.e1 = 0 (within
+        // the plane).
+        let dual = |e1: Vec3, e2: Vec3| {
+            let (a, b, c) = (e1.dot(e1), e1.dot(e2), e2.dot(e2));
+            let det = a * c - b * b;
+            [(e1 * c - e2 * b) / det, (e2 * a - e1 * b) / det]
+        };
+        let (origin, dual, outline) = match *p {
+            Portal::Quad { corner, e1, e2 } => (corner, dual(e1, e2), Outline::Quad),
+            Portal::Triangle {
+                vertices: [a, b, c],
+            } => (a, dual(b - a, c - a), Outline::Triangle),
+            Portal::Ellipse { center, a, b } => (
+                center,
+                [a / a.length_squared(), b / b.length_squared()],
+                Outline::Ellipse,
+            ),
+        };
+        Geometry {
+            normal: p.normal(),
+            center: p.center(),
+            area: p.area(),
+            corners: p.corners(),
+            origin,
+            dual,
+            rectangle: p.rectangle(),
+            outline,
+        }
+    }
+
+    /// Distance along the unit direction `d` from `o` to the portal, if the ray crosses it.
+    fn crossing(&self, o: Vec3, d: Vec3) -> Option<f32> {
+        let n = self.normal;
+        let denom = n.dot(d);
+        if denom.abs() < 1e-12 || n == Vec3::ZERO {
+            return None;
+        }
+        let t = n.dot(self.center - o) / denom;
+        if !(t > 0.0 && t.is_finite()) {
+            return None;
+        }
+        let q = o + d * t - self.origin;
+        let (s, u) = (q.dot(self.dual[0]), q.dot(self.dual[1]));
+        let inside = match self.outline {
+            Outline::Quad => (-EDGE..=1.0 + EDGE).contains(&s) && (-EDGE..=1.0 + EDGE).contains(&u),
+            Outline::Triangle => s >= -EDGE && u >= -EDGE && s + u <= 1.0 + EDGE,
+            Outline::Ellipse => s * s + u * u <= 1.0 + EDGE,
+        };
+        inside.then_some(t)
+    }
 }
 
 /// A rectangle's edges from its first corner, and the same divided by their squared lengths
@@ -385,16 +414,7 @@ pub struct PickWeights {
 impl Portals {
     /// `portals`, sampled by solid angle and picked by contribution.
     pub fn new(portals: Vec<Portal>) -> Self {
-        let geometry = portals
-            .iter()
-            .map(|p| Geometry {
-                normal: p.normal(),
-                center: p.center(),
-                area: p.area(),
-                corners: p.corners(),
-                rectangle: p.rectangle(),
-            })
-            .collect();
+        let geometry = portals.iter().map(Geometry::new).collect();
         Portals {
             portals,
             geometry,
@@ -470,6 +490,11 @@ impl Portals {
         w
     }
 
+    /// Whether portal `g` is sampled by solid angle from `x`.
+    fn by_solid_angle(&self, g: &Geometry, x: Vec3) -> bool {
+        self.sampling == PortalSampling::SolidAngle && g.by_solid_angle(x)
+    }
+
     /// Portal `k`'s pick weight at `w`'s point: kept, or evaluated again past the first
     /// [`KEPT_WEIGHTS`] portals.
     fn weight_at(&self, w: &PickWeights, k: usize, g: &Geometry) -> f32 {
@@ -501,7 +526,8 @@ impl Portals {
             }
         }
         let (k, portal, g) = picked?;
-        let spherical = (self.sampling == PortalSampling::SolidAngle && g.by_solid_angle(x))
+        let spherical = self
+            .by_solid_angle(g, x)
             .then(|| portal.spherical(x))
             .flatten();
         let y = match spherical {
@@ -541,12 +567,12 @@ impl Portals {
             .zip(&self.geometry)
             .enumerate()
             .filter_map(|(k, (p, g))| {
-                let t = p.intersect_plane(x, wi, g.normal, g.center)?;
+                let t = g.crossing(x, wi)?;
                 let pick = self.weight_at(weights, k, g) / total;
                 if pick == 0.0 {
                     return Some(0.0);
                 }
-                if self.sampling == PortalSampling::SolidAngle && g.by_solid_angle(x) {
+                if self.by_solid_angle(g, x) {
                     let spherical = match known {
                         Some((j, s)) if j == k => s,
                         _ => p.spherical(x),
