@@ -1212,53 +1212,76 @@ fn outputs_never_replace_inputs_or_each_other() {
 /// nothing replaced but the integrator, and their image mean and 8x8 region means agree with
 /// Tungsten's reference renders (box-filtered to 64x64) within the stated tolerances. The
 /// region tolerance covers 256-spp noise; a material or light off by a few percent fails.
+/// veach-bidir is lit through a glass egg and a metal lamp: one 256-spp image's mean has a
+/// long tail (over 40 seeds, from -0.9% to +5.8% of the reference; a fifth beyond +2%, from
+/// rare bright paths), so that scene is judged by the medians over nine seeds, which a
+/// systematic error moves as much as the means.
 #[test]
 fn real_scenes_match_their_reference_renders() {
     let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/scenes");
-    // (scene, mean tolerance, region tolerance); at 256 spp they measured 0.14% and 0.37%
-    // (cornell-box), 0.50% and 4.1% (veach-bidir, lit indirectly and noisier).
-    for (name, mean_tol, region_tol) in [("cornell-box", 0.01, 0.015), ("veach-bidir", 0.02, 0.06)]
-    {
+    // (scene, seeds, mean tolerance, region tolerance); at 256 spp they measured 0.14% and
+    // 0.37% (cornell-box), medians of 0.4% and 4% (veach-bidir, lit indirectly, noisier).
+    for (name, seeds, mean_tol, region_tol) in [
+        ("cornell-box", 1, 0.01, 0.015),
+        ("veach-bidir", 9, 0.03, 0.06),
+    ] {
         let dir = scenes.join(name);
-        let out = tmp(&format!("{name}.exr"));
-        let o = fenestra(&[
-            "render",
-            dir.join("scene-v4.pbrt").to_str().expect("utf-8"),
-            "--resolution",
-            "64x64",
-            "--spp",
-            "256",
-            "-q",
-            "-o",
-            out.to_str().expect("utf-8"),
-        ]);
-        let err = String::from_utf8_lossy(&o.stderr);
-        assert!(o.status.success(), "{name}: {err}");
-        let warnings: Vec<&str> = err.lines().filter(|l| l.starts_with("warning")).collect();
-        assert!(
-            warnings.iter().all(|w| w.contains("Integrator \"bdpt\"")),
-            "{name}: {warnings:?}"
-        );
-        let o = fenestra(&[
-            "compare",
-            "--json",
-            "--ref",
-            dir.join("reference-64.exr").to_str().expect("utf-8"),
-            out.to_str().expect("utf-8"),
-        ]);
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-        let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("json");
-        let m = &v[0];
-        let (mean, reference) = (m["mean"].as_f64(), m["ref_mean"].as_f64());
-        let (Some(mean), Some(reference)) = (mean, reference) else {
-            panic!("{name}: no means in {m}")
-        };
-        let mean_error = (mean / reference - 1.0).abs();
-        let region_error = m["region_error"].as_f64().unwrap_or(f64::NAN);
+        let mut errors: Vec<(f64, f64, f64, f64)> = (0..seeds)
+            .map(|seed| {
+                let out = tmp(&format!("{name}-{seed}.exr"));
+                let o = fenestra(&[
+                    "render",
+                    dir.join("scene-v4.pbrt").to_str().expect("utf-8"),
+                    "--resolution",
+                    "64x64",
+                    "--spp",
+                    "256",
+                    "--seed",
+                    &seed.to_string(),
+                    "-q",
+                    "-o",
+                    out.to_str().expect("utf-8"),
+                ]);
+                let err = String::from_utf8_lossy(&o.stderr);
+                assert!(o.status.success(), "{name}: {err}");
+                let warnings: Vec<&str> =
+                    err.lines().filter(|l| l.starts_with("warning")).collect();
+                assert!(
+                    warnings.iter().all(|w| w.contains("Integrator \"bdpt\"")),
+                    "{name}: {warnings:?}"
+                );
+                let o = fenestra(&[
+                    "compare",
+                    "--json",
+                    "--ref",
+                    dir.join("reference-64.exr").to_str().expect("utf-8"),
+                    out.to_str().expect("utf-8"),
+                ]);
+                assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+                let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("json");
+                let m = &v[0];
+                let (mean, reference) = (m["mean"].as_f64(), m["ref_mean"].as_f64());
+                let (Some(mean), Some(reference)) = (mean, reference) else {
+                    panic!("{name}: no means in {m}")
+                };
+                let region_error = m["region_error"].as_f64().unwrap_or(f64::NAN);
+                (
+                    mean,
+                    reference,
+                    (mean / reference - 1.0).abs(),
+                    region_error,
+                )
+            })
+            .collect();
+        errors.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let (mean, reference, mean_error, _) = errors[errors.len() / 2];
+        let mut regions: Vec<f64> = errors.iter().map(|e| e.3).collect();
+        regions.sort_by(f64::total_cmp);
+        let region_error = regions[regions.len() / 2];
         assert!(
             mean_error < mean_tol && region_error < region_tol,
-            "{name}: mean {mean:.4} vs reference {reference:.4} ({:.2}%, tolerance {}%), \
-             region error {:.2}% (tolerance {}%)",
+            "{name}: median mean {mean:.4} vs reference {reference:.4} ({:.2}%, tolerance {}%), \
+             median region error {:.2}% (tolerance {}%)",
             100.0 * mean_error,
             100.0 * mean_tol,
             100.0 * region_error,
