@@ -1,11 +1,14 @@
 //! Minimum-volume covering ellipse of planar points by Khachiyan's conditional-gradient
 //! method (seed 000 §4.4.2, Alg. 4), with the closed-form line search and the Moore-Penrose
-//! pseudo-inverse when (Q U Q^T) is ill-conditioned.
+//! pseudo-inverse when (Q U Q^T) is ill-conditioned. It runs on the points' convex hull: the
+//! covering ellipse of a set is that of its hull's vertices, and a cluster of photons has
+//! hundreds of points but a few dozen on its hull.
 
 use crate::linalg::{condition, outer, pinv_sym, sym_eigen};
+use crate::rectangle::convex_hull;
 use glam::{DMat2, DMat3, DVec2, DVec3};
 
-/// Above this condition number (Q U Q^T) is inverted through its pseudo-inverse.
+/// Above this condition number (Frobenius; [`condition`]) (Q U Q^T) is inverted through its pseudo-inverse.
 const ILL_CONDITIONED: f64 = 1e12;
 
 /// An ellipse {x : (x - c)^T E (x - c) <= 1}, as centre and semi-axes.
@@ -39,7 +42,8 @@ impl Ellipse {
 
 /// Alg. 4 for points `p` in the plane, stopping when the weights move less than `eps`
 /// (L2) or after `max_iterations`. `None` for fewer than 3 points or all on one line.
-pub fn mvce(p: &[DVec2], eps: f64, max_iterations: usize) -> Option<Ellipse> {
+pub fn mvce(points: &[DVec2], eps: f64, max_iterations: usize) -> Option<Ellipse> {
+    let p = convex_hull(points);
     let m = p.len();
     if m < 3 {
         return None;
