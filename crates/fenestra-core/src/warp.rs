@@ -10,14 +10,17 @@ pub fn square_to_disk_concentric(u: Vec2) -> Vec2 {
     if o.x == 0.0 && o.y == 0.0 {
         return Vec2::ZERO;
     }
-    // theta = phi in the first case, pi/2 - phi in the second, with |phi| <= pi/4.
-    if o.x.abs() > o.y.abs() {
-        let (sin, cos) = sin_cos_quarter(0.25 * PI * (o.y / o.x));
-        o.x * Vec2::new(cos, sin)
+    // theta = phi when |o.x| > |o.y|, else pi/2 - phi, with |phi| <= pi/4: the two cases
+    // differ only in which coordinate is which, chosen without a branch (a coin flip).
+    let x_major = o.x.abs() > o.y.abs();
+    let (minor, major) = if x_major { (o.y, o.x) } else { (o.x, o.y) };
+    let (sin, cos) = sin_cos_quarter(0.25 * PI * (minor / major));
+    let d = if x_major {
+        Vec2::new(cos, sin)
     } else {
-        let (sin, cos) = sin_cos_quarter(0.25 * PI * (o.x / o.y));
-        o.y * Vec2::new(sin, cos)
-    }
+        Vec2::new(sin, cos)
+    };
+    major * d
 }
 
 /// Cosine-weighted hemisphere around +z (Malley's method); density cos(theta)/pi.
