@@ -167,7 +167,13 @@ pub struct Scene {
     pub backend: Backend,
     accel: Box<dyn RayQuery>,
     bounds: (Vec3, Vec3),
+    /// Whether the meshes outgrow a core's cache, so that [`Scene::prefetch_hits`] pays.
+    large: bool,
 }
+
+/// Mesh data (triangles' indices and vertices) beyond which hits are prefetched: about a
+/// core's L2 cache. Below it the data stays cached and prefetching costs 1-2% (measured).
+const PREFETCH_ABOVE_BYTES: usize = 1 << 20;
 
 impl Scene {
     /// Validates `desc` and builds its ray-query structure with `backend`.
@@ -186,6 +192,14 @@ impl Scene {
         if lo.x > hi.x {
             (lo, hi) = (Vec3::ZERO, Vec3::ZERO);
         }
+        let mesh_bytes: usize = desc
+            .shapes
+            .iter()
+            .map(|s| match &s.kind {
+                ShapeKind::Mesh(m) => m.bytes(),
+                _ => 0,
+            })
+            .sum();
         Ok(Scene {
             name: desc.name,
             shapes: desc.shapes,
@@ -197,6 +211,7 @@ impl Scene {
             backend,
             accel,
             bounds: (lo, hi),
+            large: mesh_bytes > PREFETCH_ABOVE_BYTES,
         })
     }
 
@@ -218,6 +233,29 @@ impl Scene {
     /// [`Scene::occluded`] of eight rays by one packet query.
     pub fn occluded8(&self, rays: &[Ray; PACKET], tmax: [f32; PACKET]) -> [bool; PACKET] {
         self.accel.occluded8(rays, tmax)
+    }
+
+    /// Asks the CPU to bring the mesh data of `hits` into the cache, before their surface
+    /// points are computed one after the other: their cache misses then overlap.
+    /// Does nothing for scenes whose meshes fit in the cache.
+    pub fn prefetch_hits(&self, hits: &[Option<Hit>]) {
+        if !self.large {
+            return;
+        }
+        let meshes = || {
+            hits.iter()
+                .flatten()
+                .filter_map(|h| match &self.shapes[h.shape as usize].kind {
+                    ShapeKind::Mesh(m) => Some((m, h.prim as usize)),
+                    _ => None,
+                })
+        };
+        for (m, prim) in meshes() {
+            m.prefetch_indices(prim);
+        }
+        for (m, prim) in meshes() {
+            m.prefetch_vertices(prim);
+        }
     }
 
     /// The surface point of `hit` found along `ray`.

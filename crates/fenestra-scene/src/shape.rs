@@ -71,6 +71,50 @@ impl TriangleMesh {
             _ => self.normals = None,
         }
     }
+
+    /// Bytes of its indices and vertex data.
+    pub fn bytes(&self) -> usize {
+        use std::mem::size_of_val;
+        size_of_val(self.indices.as_slice())
+            + size_of_val(self.positions.as_slice())
+            + self
+                .normals
+                .as_ref()
+                .map_or(0, |n| size_of_val(n.as_slice()))
+            + self.uvs.as_ref().map_or(0, |uv| size_of_val(uv.as_slice()))
+    }
+
+    /// Asks the CPU to bring triangle `prim`'s vertex indices into the cache.
+    pub fn prefetch_indices(&self, prim: usize) {
+        prefetch(&self.indices[prim]);
+    }
+
+    /// Asks the CPU to bring triangle `prim`'s vertex data into the cache (reads its
+    /// indices: prefetch those first).
+    pub fn prefetch_vertices(&self, prim: usize) {
+        for i in self.indices[prim].map(|i| i as usize) {
+            prefetch(&self.positions[i]);
+            if let Some(n) = &self.normals {
+                prefetch(&n[i]);
+            }
+            if let Some(uv) = &self.uvs {
+                prefetch(&uv[i]);
+            }
+        }
+    }
+}
+
+/// A hint that `x` will be read soon: in a large mesh, each hit's vertex data is a cache
+/// miss, and the misses of several hits asked for together overlap.
+fn prefetch<T>(x: &T) {
+    #[cfg(target_arch = "x86_64")]
+    // SAFETY: a prefetch only hints the cache; it reads no value and cannot fault.
+    unsafe {
+        use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+        _mm_prefetch::<_MM_HINT_T0>((x as *const T).cast());
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = x;
 }
 
 /// The largest coordinate, in metres from the origin, that fenestra ray traces: beyond it f32

@@ -339,36 +339,38 @@ impl<N: NextEvent> PathTracer<N> {
             .map(|&ray| PathState::new(ray, &Start::CAMERA))
             .collect();
         let mut live: Vec<usize> = (0..paths.len()).collect();
-        let mut hits = vec![None; paths.len()];
         let mut queued = LightRays::default();
         // The path each shadow and probe ray belongs to.
         let (mut shadow_owners, mut probe_owners) = (Vec::new(), Vec::new());
+        let mut next_live = Vec::with_capacity(live.len());
         while !live.is_empty() {
             for chunk in live.chunks(PACKET) {
                 let last = chunk.len() - 1;
                 let packet = std::array::from_fn(|k| paths[chunk[k.min(last)]].ray);
                 let found = scene.scene.intersect8(&packet, [f32::INFINITY; PACKET]);
-                for (k, &i) in chunk.iter().enumerate() {
-                    hits[i] = found[k];
+                scene.scene.prefetch_hits(&found[..chunk.len()]);
+                for (&i, hit) in chunk.iter().zip(found) {
+                    records.start_sample(&ctxs[i]);
+                    let go_on = self.step(
+                        scene,
+                        &mut paths[i],
+                        hit,
+                        &mut samplers[i],
+                        &ctxs[i],
+                        records,
+                        rays,
+                        &mut NoGather,
+                        &mut queued,
+                    );
+                    shadow_owners.resize(queued.shadows.len(), i);
+                    probe_owners.resize(queued.probes.len(), i);
+                    if go_on {
+                        next_live.push(i);
+                    }
                 }
             }
-            live.retain(|&i| {
-                records.start_sample(&ctxs[i]);
-                let go_on = self.step(
-                    scene,
-                    &mut paths[i],
-                    hits[i],
-                    &mut samplers[i],
-                    &ctxs[i],
-                    records,
-                    rays,
-                    &mut NoGather,
-                    &mut queued,
-                );
-                shadow_owners.resize(queued.shadows.len(), i);
-                probe_owners.resize(queued.probes.len(), i);
-                go_on
-            });
+            std::mem::swap(&mut live, &mut next_live);
+            next_live.clear();
             trace_shadows(scene, &queued.shadows, records, |k, l| {
                 paths[shadow_owners[k]].l += l;
             });
