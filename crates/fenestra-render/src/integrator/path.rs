@@ -317,12 +317,13 @@ impl<N: NextEvent> PathTracer<N> {
     }
 
     /// Paths of the camera rays `cameras` (sample `ctxs[i]`, stream `samplers[i]`) traced
-    /// together as a wave: each round finds every live path's next hit, eight rays to a
-    /// packet query, takes each path one vertex further, then traces the shadow and probe
-    /// rays of all their next-event samples, eight to a packet again. Each path's radiance
-    /// goes to `out`: the estimate [`PathTracer::trace`] makes of one path, whatever the
-    /// other paths of the wave are (a ray's answer does not depend on its packet's other
-    /// rays), so images stay the same for any thread count and for any split of a render.
+    /// together as a wave: each round takes the live paths eight at a time, finds their
+    /// next hits by one packet query, prefetches the hits' mesh data together and takes
+    /// each path one vertex further; then it traces the shadow and probe rays of all their
+    /// next-event samples, eight to a packet again. Each path's radiance goes to `out`: the
+    /// estimate [`PathTracer::trace`] makes of one path, whatever the other paths of the
+    /// wave are (a ray's answer does not depend on its packet's other rays), so images stay
+    /// the same for any thread count and for any split of a render.
     #[allow(clippy::too_many_arguments)]
     fn trace_wave(
         &self,
