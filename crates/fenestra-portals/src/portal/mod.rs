@@ -550,8 +550,8 @@ impl Portals {
         self.pdf_knowing(weights, wi, None)
     }
 
-    /// [`Portals::pdf`], with portal `k`'s spherical rectangle at `x` already built (by
-    /// [`Portals::sample`], which picked it).
+    /// [`Portals::pdf`], knowing how portal `k` is sampled at `x` (by [`Portals::sample`],
+    /// which picked it): by its spherical rectangle, or by area when `None`.
     fn pdf_knowing(
         &self,
         weights: &PickWeights,
@@ -572,14 +572,12 @@ impl Portals {
                 if pick == 0.0 {
                     return Some(0.0);
                 }
-                if self.by_solid_angle(g, x) {
-                    let spherical = match known {
-                        Some((j, s)) if j == k => s,
-                        _ => p.spherical(x),
-                    };
-                    if let Some(s) = spherical {
-                        return Some(pick / s.solid_angle);
-                    }
+                let spherical = match known {
+                    Some((j, s)) if j == k => s,
+                    _ => self.by_solid_angle(g, x).then(|| p.spherical(x)).flatten(),
+                };
+                if let Some(s) = spherical {
+                    return Some(pick / s.solid_angle);
                 }
                 let cos = g.normal.dot(wi).abs();
                 (cos > 0.0).then(|| pick * t * t / (cos * g.area))
