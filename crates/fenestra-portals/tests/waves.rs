@@ -1,7 +1,9 @@
 //! Paths traced together in a wave (their rays eight to a packet query, their next-event
 //! samples' shadow and probe rays traced after every path has taken its step) give each path
-//! the estimate it gets alone: a pixel does not depend on which other samples share its
-//! wave, so images stay the same for any thread count, pass schedule or split of a render.
+//! the estimate it gets alone, and the one the one-path loop gets with a query per ray: a
+//! pixel does not depend on which other samples share its wave, so images stay the same for
+//! any thread count, pass schedule or split of a render, and the packet queries (closest-hit,
+//! any-hit, any-hit probes in sky-lit scenes) answer as the single ones do.
 
 use fenestra_builtin as builtin;
 use fenestra_core::{Rgb, Sampler, Vec3};
@@ -12,16 +14,17 @@ use fenestra_render::integrator::{af_hf, hf, LightNextEvent, PathOptions};
 use fenestra_render::light::{LightRecords, LightSelection};
 use fenestra_render::{Integrator, NoProgress, RayCounters, RenderControl, RenderScene};
 use fenestra_scene::light::LightDesc;
-use fenestra_scene::{Backend, Scene};
+use fenestra_scene::{Backend, Scene, SceneDesc, Shape, ShapeKind, TriangleMesh};
 use std::sync::atomic::AtomicBool;
 
 const SIZE: u32 = 16;
 
-/// Every sample of a 16x16 image at 4 samples per pixel, in one wave and each alone.
+/// Every sample of a 16x16 image at 4 samples per pixel: in one wave, each alone in a wave
+/// of its own, and each by the one-path loop (`li`, every ray its own query).
 fn in_a_wave_and_alone(
     mut integrator: impl Integrator + PathEstimator,
     scene: &RenderScene,
-) -> (Vec<Rgb>, Vec<Rgb>) {
+) -> (Vec<Rgb>, Vec<Rgb>, Vec<Rgb>) {
     let cancel = AtomicBool::new(false);
     integrator
         .prepare(scene, &RenderControl::new(&cancel, &NoProgress))
@@ -67,18 +70,34 @@ fn in_a_wave_and_alone(
         let (ray, ctx, out) = (&cameras[i..=i], &ctxs[i..=i], &mut alone[i..=i]);
         integrator.li_many(scene, ray, &mut stream, ctx, records, rays, out);
     }
-    (wave, alone)
+    let single: Vec<Rgb> = (0..ctxs.len())
+        .map(|i| {
+            let stream = &mut samplers[i].clone();
+            integrator.li(scene, cameras[i], stream, &ctxs[i], records, rays)
+        })
+        .collect();
+    (wave, alone, single)
 }
 
-fn assert_same(label: &str, (wave, alone): (Vec<Rgb>, Vec<Rgb>)) {
+fn assert_same(label: &str, (wave, alone, single): (Vec<Rgb>, Vec<Rgb>, Vec<Rgb>)) {
     assert!(wave.iter().any(|l| !l.is_black()), "{label}: all black");
-    for (i, (a, b)) in wave.iter().zip(&alone).enumerate() {
+    for (i, ((a, b), c)) in wave.iter().zip(&alone).zip(&single).enumerate() {
         assert!(a == b, "{label}: sample {i} {a:?} in the wave, {b:?} alone");
+        assert!(
+            a == c,
+            "{label}: sample {i} {a:?} in the wave, {c:?} by the one-path loop"
+        );
     }
 }
 
 fn scene(name: &str, backend: Backend) -> RenderScene {
+    scene_with(name, backend, |_| {})
+}
+
+/// [`scene`], changed by `change` first.
+fn scene_with(name: &str, backend: Backend, change: impl FnOnce(&mut SceneDesc)) -> RenderScene {
     let mut desc = builtin::load(name).expect("builtin");
+    change(&mut desc);
     // A point light besides the emitter: lp_hf then makes shadow rays (for it) as well as
     // probe rays (through the portal) at every vertex.
     desc.lights.push(LightDesc::Point {
@@ -106,6 +125,16 @@ fn a_path_in_a_wave_gets_the_estimate_it_gets_alone() {
         let lights = LightNextEvent::new(LightSelection::Power);
         let portals = lp_hf(path, PortalOptions::default(), lights).expect("lp_hf");
         assert_same(&name("lp_hf"), in_a_wave_and_alone(portals, &box_hole));
+        // Only a sky beyond the portal: probes are any-hit queries in a wave (a slab under
+        // the hole blocks some).
+        let sky = scene_with("box-hole-sky", backend, |desc| {
+            let slab = TriangleMesh::quad(Vec3::new(0.0, 0.0, 0.3), Vec3::X * 0.1, Vec3::Y * 0.1);
+            desc.shapes.push(Shape::new(ShapeKind::Mesh(slab), 0));
+        });
+        assert!(!sky.has_surface_lights());
+        let lights = LightNextEvent::new(LightSelection::Power);
+        let portals = lp_hf(path, PortalOptions::default(), lights).expect("lp_hf");
+        assert_same(&name("lp_hf sky"), in_a_wave_and_alone(portals, &sky));
         // Thin glass: rays follow panes one query at a time (portals estimated).
         let hall = scene("hall-windows", backend);
         let lights = LightNextEvent::new(LightSelection::Power);

@@ -20,6 +20,9 @@ pub struct RenderScene {
     pub lights: Lights,
     /// Whether any material is thin glass: without it a visibility ray is an any-hit query.
     thin_glass: bool,
+    /// Whether any surface emits: without it a ray looking for emission needs only to know
+    /// whether it leaves the scene.
+    surface_lights: bool,
 }
 
 impl RenderScene {
@@ -37,17 +40,24 @@ impl RenderScene {
         }
         let lights = Lights::new(&scene);
         let thin_glass = bsdfs.iter().any(|b| matches!(b, Bsdf::ThinDielectric(_)));
+        let surface_lights = lights.first_area_light.iter().any(Option::is_some);
         RenderScene {
             scene,
             bsdfs,
             lights,
             thin_glass,
+            surface_lights,
         }
     }
 
     /// Whether any material is thin glass (visibility then follows rays through panes).
     pub fn has_thin_glass(&self) -> bool {
         self.thin_glass
+    }
+
+    /// Whether any surface emits (else only environments light what rays escape to).
+    pub fn has_surface_lights(&self) -> bool {
+        self.surface_lights
     }
 
     /// Follows a ray through thin glass panes (pbrt's "thindielectric", windows): each pane

@@ -38,7 +38,9 @@ pub struct ProbeRay<P> {
 }
 
 /// What a probe ray found: the transmittance of the thin glass it passed, and the first
-/// other surface (`None`: it left the scene).
+/// other surface (`None`: it left the scene). In a scene where no surface emits, a probe
+/// that meets a surface reports black transmittance and no surface instead: what it met
+/// could send it nothing.
 #[derive(Clone, Copy, Debug)]
 pub struct Beyond {
     /// Transmittance of the panes on the way.
@@ -123,7 +125,8 @@ pub fn trace_shadows(
 }
 
 /// Traces the probe rays `probes` and calls `met(i, beyond)` with what each meets, in order.
-/// Without thin glass, eight rays at a time by a packet query (see [`trace_shadows`]).
+/// Without thin glass, eight rays at a time by a packet query (see [`trace_shadows`]): an
+/// any-hit one where no surface emits (see [`Beyond`]).
 pub fn trace_probes<P>(
     scene: &RenderScene,
     probes: &[ProbeRay<P>],
@@ -138,6 +141,14 @@ pub fn trace_probes<P>(
     for (c, chunk) in probes.chunks(PACKET).enumerate() {
         let last = chunk.len() - 1;
         let rays = std::array::from_fn(|k| chunk[k.min(last)].ray);
+        if !scene.has_surface_lights() {
+            let blocked = scene.scene.occluded8(&rays, [f32::INFINITY; PACKET]);
+            for (k, &blocked) in blocked.iter().take(chunk.len()).enumerate() {
+                let tr = if blocked { Rgb::ZERO } else { Rgb::ONE };
+                met(c * PACKET + k, Beyond { tr, surface: None });
+            }
+            continue;
+        }
         let hits = scene.scene.intersect8(&rays, [f32::INFINITY; PACKET]);
         for (k, probe) in chunk.iter().enumerate() {
             let surface = hits[k].map(|hit| scene.scene.interaction(&probe.ray, &hit));
