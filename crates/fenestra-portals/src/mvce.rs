@@ -8,7 +8,8 @@ use crate::linalg::{condition, outer, pinv_sym, sym_eigen};
 use crate::rectangle::convex_hull;
 use glam::{DMat2, DMat3, DVec2, DVec3};
 
-/// Above this condition number (Frobenius; [`condition`]) (Q U Q^T) is inverted through its pseudo-inverse.
+/// Above this condition number (in Frobenius norms, [`condition`]) (Q U Q^T) is inverted
+/// through its pseudo-inverse.
 const ILL_CONDITIONED: f64 = 1e12;
 
 /// An ellipse {x : (x - c)^T E (x - c) <= 1}, as centre and semi-axes.

@@ -215,8 +215,9 @@ struct Geometry {
     /// from its first corner, an ellipse's (x, y) along its semi-axes from its centre.
     origin: Vec3,
     dual: [Vec3; 2],
-    /// For a rectangle, its edges from the first corner; `None` for other shapes.
-    rectangle: Option<Edges>,
+    /// For a rectangle, its edges from the first corner (the origin); `None` for other
+    /// shapes.
+    rectangle: Option<[Vec3; 2]>,
     outline: Outline,
 }
 
@@ -282,27 +283,6 @@ impl Geometry {
     }
 }
 
-/// A rectangle's edges from its first corner, and the same divided by their squared lengths
-/// (a point's coordinates along the edges are then dot products).
-#[derive(Clone, Copy, Debug)]
-struct Edges {
-    e1: Vec3,
-    e2: Vec3,
-    d1: Vec3,
-    d2: Vec3,
-}
-
-impl Edges {
-    fn new(e1: Vec3, e2: Vec3) -> Self {
-        Edges {
-            e1,
-            e2,
-            d1: e1 / e1.length_squared(),
-            d2: e2 / e2.length_squared(),
-        }
-    }
-}
-
 /// A rectangle is sampled by solid angle only where sampling it by area would spread the
 /// directions' density by more than this factor: the area density in solid angle is
 /// d^3 / (A h) at distance d from a point at height h over the portal's plane, so it varies
@@ -316,13 +296,13 @@ const AREA_DENSITY_SPREAD: f32 = 3.0;
 impl Geometry {
     /// Whether the rectangle is sampled by solid angle at `x` (see [`AREA_DENSITY_SPREAD`]).
     fn by_solid_angle(&self, x: Vec3) -> bool {
-        let Some(r) = self.rectangle else {
+        let Some([e1, e2]) = self.rectangle else {
             return false;
         };
-        let to = x - self.corners[0];
-        let nearest = self.corners[0]
-            + r.e1 * to.dot(r.d1).clamp(0.0, 1.0)
-            + r.e2 * to.dot(r.d2).clamp(0.0, 1.0);
+        let to = x - self.origin;
+        let nearest = self.origin
+            + e1 * to.dot(self.dual[0]).clamp(0.0, 1.0)
+            + e2 * to.dot(self.dual[1]).clamp(0.0, 1.0);
         let near = (x - nearest).length_squared();
         let far = self
             .corners
@@ -356,12 +336,10 @@ const MIN_SOLID_ANGLE: f32 = 1e-4;
 
 impl Portal {
     /// The edges of a quad with perpendicular edges.
-    fn rectangle(&self) -> Option<Edges> {
-        match self {
-            Portal::Quad { e1, e2, .. }
-                if e1.dot(*e2).abs() <= 1e-4 * e1.length() * e2.length() =>
-            {
-                Some(Edges::new(*e1, *e2))
+    fn rectangle(&self) -> Option<[Vec3; 2]> {
+        match *self {
+            Portal::Quad { e1, e2, .. } if e1.dot(e2).abs() <= 1e-4 * e1.length() * e2.length() => {
+                Some([e1, e2])
             }
             _ => None,
         }
