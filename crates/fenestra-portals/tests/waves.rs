@@ -107,6 +107,29 @@ fn scene_with(name: &str, backend: Backend, change: impl FnOnce(&mut SceneDesc))
     RenderScene::new(Scene::build(desc, backend).expect("scene"))
 }
 
+/// A horizontal square of side `size` from the corner `corner`, in n x n cells of two
+/// triangles.
+fn grid(corner: Vec3, size: f32, n: u32) -> TriangleMesh {
+    let step = size / n as f32;
+    let positions = (0..=n)
+        .flat_map(|j| (0..=n).map(move |i| corner + Vec3::new(i as f32, j as f32, 0.0) * step))
+        .collect();
+    let at = |i: u32, j: u32| j * (n + 1) + i;
+    let indices = (0..n)
+        .flat_map(|j| (0..n).map(move |i| (i, j)))
+        .flat_map(|(i, j)| {
+            let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+            [[a, b, c], [a, c, d]]
+        })
+        .collect();
+    TriangleMesh {
+        positions,
+        normals: None,
+        uvs: None,
+        indices,
+    }
+}
+
 #[test]
 fn a_path_in_a_wave_gets_the_estimate_it_gets_alone() {
     let path = PathOptions {
@@ -135,6 +158,17 @@ fn a_path_in_a_wave_gets_the_estimate_it_gets_alone() {
         let lights = LightNextEvent::new(LightSelection::Power);
         let portals = lp_hf(path, PortalOptions::default(), lights).expect("lp_hf");
         assert_same(&name("lp_hf sky"), in_a_wave_and_alone(portals, &sky));
+        // A mesh larger than the cache: a packet's hits are prefetched before its paths step.
+        let dense = scene_with("box-hole", backend, |desc| {
+            let floor = grid(Vec3::new(-0.5, -0.5, -0.45), 1.0, 256);
+            assert!(
+                floor.bytes() > 1 << 20,
+                "beyond the prefetch threshold (1 MiB)"
+            );
+            desc.shapes.push(Shape::new(ShapeKind::Mesh(floor), 0));
+        });
+        let power = af_hf(path, LightSelection::Power);
+        assert_same(&name("af_hf dense"), in_a_wave_and_alone(power, &dense));
         // Thin glass: rays follow panes one query at a time (portals estimated).
         let hall = scene("hall-windows", backend);
         let lights = LightNextEvent::new(LightSelection::Power);
