@@ -14,7 +14,7 @@ use fenestra_render::integrator::{af_hf, hf, LightNextEvent, PathOptions};
 use fenestra_render::light::{LightRecords, LightSelection};
 use fenestra_render::{Integrator, NoProgress, RayCounters, RenderControl, RenderScene};
 use fenestra_scene::light::LightDesc;
-use fenestra_scene::{Backend, Scene, SceneDesc, Shape, ShapeKind, TriangleMesh};
+use fenestra_scene::{mesh, Backend, Scene, SceneDesc, Shape, ShapeKind, TriangleMesh};
 use std::sync::atomic::AtomicBool;
 
 const SIZE: u32 = 16;
@@ -107,29 +107,6 @@ fn scene_with(name: &str, backend: Backend, change: impl FnOnce(&mut SceneDesc))
     RenderScene::new(Scene::build(desc, backend).expect("scene"))
 }
 
-/// A horizontal square of side `size` from the corner `corner`, in n x n cells of two
-/// triangles.
-fn grid(corner: Vec3, size: f32, n: u32) -> TriangleMesh {
-    let step = size / n as f32;
-    let positions = (0..=n)
-        .flat_map(|j| (0..=n).map(move |i| corner + Vec3::new(i as f32, j as f32, 0.0) * step))
-        .collect();
-    let at = |i: u32, j: u32| j * (n + 1) + i;
-    let indices = (0..n)
-        .flat_map(|j| (0..n).map(move |i| (i, j)))
-        .flat_map(|(i, j)| {
-            let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
-            [[a, b, c], [a, c, d]]
-        })
-        .collect();
-    TriangleMesh {
-        positions,
-        normals: None,
-        uvs: None,
-        indices,
-    }
-}
-
 #[test]
 fn a_path_in_a_wave_gets_the_estimate_it_gets_alone() {
     let path = PathOptions {
@@ -160,7 +137,7 @@ fn a_path_in_a_wave_gets_the_estimate_it_gets_alone() {
         assert_same(&name("lp_hf sky"), in_a_wave_and_alone(portals, &sky));
         // A mesh larger than the cache: a packet's hits are prefetched before its paths step.
         let dense = scene_with("box-hole", backend, |desc| {
-            let floor = grid(Vec3::new(-0.5, -0.5, -0.45), 1.0, 256);
+            let floor = mesh::grid(256, 256, false, |s, t| Vec3::new(s - 0.5, t - 0.5, -0.45));
             assert!(
                 floor.bytes() > 1 << 20,
                 "beyond the prefetch threshold (1 MiB)"
