@@ -1,10 +1,11 @@
 //! A visibility-aware light sampler learned from the render's own light samples
 //! (`--light-selection learned`). The light BVH's importance knows power, distance and
 //! orientation but not walls: in a stack of rooms it keeps aiming at lights behind floors.
-//! Here the scene is cut into cells (a grid of boxes, six normal directions each); in every
-//! cell the render's light samples that found light estimate how much each group of lights
-//! (a fixed cut through the BVH, plus each light at infinity) contributes there, visibility
-//! included; later passes pick a group from that estimate and a light inside it by the BVH.
+//! Here the scene is cut into cells (a grid of boxes, six normal directions each, and boxes
+//! of half their side where the samples are many); in every cell the render's light samples
+//! that found light estimate how much each group of lights (a fixed cut through the BVH,
+//! plus each light at infinity) contributes there, visibility included; later passes pick a
+//! group from that estimate and a light inside it by the BVH.
 //! Learning in this spirit: Vévoda et al. 2018 (Bayesian online regression per cache
 //! point), Wang et al. 2021 (light-tree cuts learned per voxel); the estimator, the cut and
 //! the mixture are ours.
@@ -16,16 +17,18 @@
 //! L_c(g) being the learned share of group g in c (the mean over c's samples of each
 //! sample's contribution over its pick probability, summed per group and normalised), and
 //! P_bvh(l | g, p) the BVH's descent from g's node. The BVH share keeps every light that can
-//! reach p samplable, so nothing learned can bias the image. Cells without samples use the
-//! BVH alone. Learning happens between passes, from every block's samples in block order:
-//! the same learned cells, and pixels, for any number of threads.
+//! reach p samplable, so nothing learned can bias the image. A point takes the finest cell
+//! that learned enough; cells without samples use the BVH alone. Learning happens between
+//! passes, from every block's samples in block order: the same learned cells, and pixels,
+//! for any number of threads.
 
 use crate::bvh::LightBvh;
 use fenestra_core::distribution::Distribution1D;
 use fenestra_core::Vec3;
 use fenestra_render::light::{LightContext, LightRecords, LightSampler, Lights};
 use fenestra_scene::Scene;
-use std::collections::HashMap;
+use rayon::prelude::*;
+use rustc_hash::FxHashMap;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Mutex, OnceLock};
 
@@ -34,6 +37,20 @@ const MAX_PASSES: u32 = 64;
 
 /// Not a group (lights that send nothing).
 const NONE: u32 = u32::MAX;
+
+/// Levels of cells: the grid's boxes, and boxes of half their side where the samples of all
+/// passes so far fill them (two: [`halves`] finds the stand-ins one level down).
+const LEVELS: u32 = 2;
+
+/// Bits of a cell's key for its box's index along an axis.
+const AXIS_BITS: u32 = 19;
+
+/// Where a cell's key keeps its level (after three axes and the normal's class).
+const LEVEL_SHIFT: u32 = 3 * AXIS_BITS + 3;
+
+/// Samples a cell finer than the grid's boxes needs to be used, in first-pass records per
+/// cell (`--learned-cell-records`, which sizes the grid's boxes).
+const FINE_SAMPLES: u32 = 8;
 
 /// Settings of the learned sampler.
 #[derive(Clone, Copy, Debug)]
@@ -114,10 +131,11 @@ struct Grid {
 }
 
 impl Grid {
-    /// The cell of a point with normal `n`.
-    fn key(&self, p: Vec3, n: Vec3) -> u64 {
-        let q = (p - self.lo) * self.inv_size;
-        let axis = |v: f32| (v.max(0.0) as u64).min((1 << 20) - 1);
+    /// The cell of a point with normal `n` on `level` (0: this grid's boxes; each level
+    /// halves them).
+    fn key(&self, p: Vec3, n: Vec3, level: u32) -> u64 {
+        let q = (p - self.lo) * (self.inv_size * (1 << level) as f32);
+        let axis = |v: f32| (v.max(0.0) as u64).min((1 << AXIS_BITS) - 1);
         let a = n.abs();
         let (k, s) = if a.x >= a.y && a.x >= a.z {
             (0, n.x)
@@ -127,7 +145,11 @@ impl Grid {
             (2, n.z)
         };
         let class = 2 * k + u64::from(s < 0.0);
-        axis(q.x) | axis(q.y) << 20 | axis(q.z) << 40 | class << 60
+        axis(q.x)
+            | axis(q.y) << AXIS_BITS
+            | axis(q.z) << (2 * AXIS_BITS)
+            | class << (3 * AXIS_BITS)
+            | u64::from(level) << LEVEL_SHIFT
     }
 }
 
@@ -144,33 +166,42 @@ struct Table {
 }
 
 impl Table {
-    /// The table of the summed weights `sums` ((cell of `grid`, group) -> sum): each group's
-    /// share in its cell in proportion to its sum.
-    fn new(grid: Grid, sums: &HashMap<(u64, u32), f64>) -> Self {
-        let mut pairs: Vec<((u64, u32), f64)> = sums
-            .iter()
-            .filter(|(_, &w)| w > 0.0 && w.is_finite())
-            .map(|(&k, &w)| (k, w))
-            .collect();
-        pairs.sort_unstable_by_key(|(k, _)| *k);
+    /// The table of `sums` (ordered by cell and group): each group's share in its cell in
+    /// proportion to its summed weight. Cells finer than the grid's boxes are kept where they
+    /// hold `min_samples` samples.
+    fn new(grid: Grid, sums: &[Sum], min_samples: u32) -> Self {
         let mut cells: Vec<(u64, u32, u32)> = Vec::new();
-        let mut entries = Vec::with_capacity(pairs.len());
-        let mut i = 0;
-        while i < pairs.len() {
-            let key = pairs[i].0 .0;
-            let end = i + pairs[i..].iter().take_while(|(k, _)| k.0 == key).count();
-            let total: f64 = pairs[i..end].iter().map(|(_, w)| w).sum();
+        let mut entries = Vec::with_capacity(sums.len());
+        let useful = |s: &&Sum| s.weight > 0.0 && s.weight.is_finite();
+        for run in sums.chunk_by(|a, b| a.key == b.key) {
+            let key = run[0].key;
+            let fine = key >> LEVEL_SHIFT > 0;
+            let samples: u32 = run.iter().map(|s| s.samples).sum();
+            let total: f64 = run.iter().filter(useful).map(|s| s.weight).sum();
+            if (fine && samples < min_samples) || total <= 0.0 || !total.is_finite() {
+                continue;
+            }
+            let first = entries.len() as u32;
             let mut acc = 0.0;
-            cells.push((key, entries.len() as u32, (end - i) as u32));
-            for ((_, group), w) in &pairs[i..end] {
-                acc += w;
-                entries.push((*group, (acc / total) as f32));
+            for s in run.iter().filter(useful) {
+                acc += s.weight;
+                entries.push((s.group, (acc / total) as f32));
             }
             if let Some(last) = entries.last_mut() {
                 last.1 = 1.0;
             }
-            i = end;
+            cells.push((key, first, entries.len() as u32 - first));
         }
+        // A point looks its finest cell up only: the finer cells that did not learn enough
+        // stand for their box's.
+        let learned_finer = |key: u64| cells.binary_search_by_key(&key, |c| c.0).is_ok();
+        let stand_ins: Vec<(u64, u32, u32)> = cells
+            .iter()
+            .filter(|c| c.0 >> LEVEL_SHIFT == 0)
+            .flat_map(|&(key, first, len)| halves(key).map(|half| (half, first, len)))
+            .filter(|c| !learned_finer(c.0))
+            .collect();
+        cells.extend(stand_ins);
         let capacity = (2 * cells.len()).next_power_of_two().max(2);
         let mut slots = vec![(0, 0, 0); capacity];
         for cell in cells {
@@ -192,7 +223,7 @@ impl Table {
         if self.entries.is_empty() {
             return None;
         }
-        self.cell(self.grid.key(p, n))
+        self.cell(self.grid.key(p, n, LEVELS - 1))
     }
 
     /// The entries of cell `key`, if it learned anything.
@@ -210,6 +241,22 @@ impl Table {
             s = (s + 1) & mask;
         }
     }
+}
+
+/// The keys of the eight boxes of half the side of cell `key`'s (its normal direction's).
+fn halves(key: u64) -> [u64; 8] {
+    let mask = (1 << AXIS_BITS) - 1;
+    let axis = |a: u32| (key >> (a * AXIS_BITS)) & mask;
+    let rest = key >> (3 * AXIS_BITS) & 7;
+    let level = (key >> LEVEL_SHIFT) + 1;
+    std::array::from_fn(|i| {
+        let half = |a: u32| (2 * axis(a) + (i as u64 >> a & 1)).min(mask);
+        half(0)
+            | half(1) << AXIS_BITS
+            | half(2) << (2 * AXIS_BITS)
+            | rest << (3 * AXIS_BITS)
+            | level << LEVEL_SHIFT
+    })
 }
 
 /// The home slot of `key` in a table of `capacity` (a power of two) slots.
@@ -257,8 +304,21 @@ pub struct LearnedLights {
     /// Tables learned so far (the first is empty: the BVH alone); `current` is in use.
     tables: Vec<OnceLock<Table>>,
     current: AtomicUsize,
-    /// Summed sample weights per (cell, group), over all passes learned from.
-    sums: Mutex<HashMap<(u64, u32), f64>>,
+    /// What the passes learned so far: per level of cells, per (cell, group), the summed
+    /// weights of the samples that found light, and their number.
+    sums: Mutex<LevelSums>,
+}
+
+/// Per level of cells, per (cell, group): summed weights and samples.
+type LevelSums = [FxHashMap<(u64, u32), (f64, u32)>; LEVELS as usize];
+
+/// The samples of one group in one cell that found light: their summed weights, and their
+/// number.
+struct Sum {
+    key: u64,
+    group: u32,
+    weight: f64,
+    samples: u32,
 }
 
 impl LearnedLights {
@@ -303,7 +363,7 @@ impl LearnedLights {
             light_group,
             tables,
             current: AtomicUsize::new(0),
-            sums: Mutex::new(HashMap::new()),
+            sums: Mutex::default(),
         }
     }
 
@@ -400,13 +460,13 @@ fn grid_for(points: &[(Vec3, Vec3)], lo: Vec3, diagonal: f32, per_cell: u32) -> 
         lo,
         inv_size: 1.0 / diagonal,
     };
-    for k in 1..20 {
+    for k in 1..=AXIS_BITS - (LEVELS - 1) {
         let finer = Grid {
             lo,
             inv_size: (1u32 << k) as f32 / diagonal,
         };
         keys.clear();
-        keys.extend(points.iter().map(|&(p, n)| finer.key(p, n)));
+        keys.extend(points.iter().map(|&(p, n)| finer.key(p, n, 0)));
         keys.sort_unstable();
         keys.dedup();
         if keys.len() > wanted {
@@ -502,15 +562,33 @@ impl LightSampler for LearnedLights {
             grid_for(&points, self.lo, self.diagonal, self.options.cell_records)
         });
         let mut sums = self.sums.lock().expect("learning is not poisoned");
-        for r in records() {
-            let group = self.light_group[r.light as usize];
-            if group != NONE && r.weight > 0.0 && r.weight.is_finite() {
-                *sums.entry((grid.key(r.p, r.n), group)).or_insert(0.0) += f64::from(r.weight);
+        // A level per thread, in sample order: the same sums whatever the threads.
+        sums.par_iter_mut().enumerate().for_each(|(level, sums)| {
+            for r in records() {
+                let group = self.light_group[r.light as usize];
+                if group != NONE && r.weight > 0.0 && r.weight.is_finite() {
+                    let key = grid.key(r.p, r.n, level as u32);
+                    let sum = sums.entry((key, group)).or_default();
+                    sum.0 += f64::from(r.weight);
+                    sum.1 += 1;
+                }
             }
-        }
+        });
         let next = self.current.load(Ordering::Acquire) + 1;
         if let Some(slot) = self.tables.get(next) {
-            let _ = slot.set(Table::new(grid, &sums));
+            let fine = FINE_SAMPLES * self.options.cell_records;
+            let mut sorted: Vec<Sum> = sums
+                .iter()
+                .flatten()
+                .map(|(&(key, group), &(weight, samples))| Sum {
+                    key,
+                    group,
+                    weight,
+                    samples,
+                })
+                .collect();
+            sorted.par_sort_unstable_by_key(|s| (s.key, s.group));
+            let _ = slot.set(Table::new(grid, &sorted, fine));
             self.current.store(next, Ordering::Release);
         }
     }
@@ -520,18 +598,32 @@ impl LightSampler for LearnedLights {
 mod tests {
     use super::*;
 
+    /// Sums of `groups(cell)` groups in each of `cells`, group g weighing 1 + g, with
+    /// `samples` samples each.
+    fn sums_of(cells: &[u64], groups: impl Fn(u64) -> u32, samples: u32) -> Vec<Sum> {
+        let mut sums: Vec<Sum> = cells
+            .iter()
+            .flat_map(|&key| {
+                (0..groups(key)).map(move |group| Sum {
+                    key,
+                    group,
+                    weight: 1.0 + group as f64,
+                    samples,
+                })
+            })
+            .collect();
+        sums.sort_by_key(|s| (s.key, s.group));
+        sums
+    }
+
     #[test]
     fn tables_find_every_cell_they_learned_and_no_other() {
-        let mut sums = HashMap::new();
-        for cell in 0..300u64 {
-            for group in 0..(cell % 5) as u32 {
-                sums.insert((cell * 7919, group), 1.0 + group as f64);
-            }
-        }
-        let table = Table::new(Grid::default(), &sums);
-        for cell in 0..300u64 {
-            let found = table.cell(cell * 7919);
-            let groups = (cell % 5) as u32;
+        let cells: Vec<u64> = (0..300u64).map(|c| c * 7919).collect();
+        let groups = |key: u64| ((key / 7919) % 5) as u32;
+        let table = Table::new(Grid::default(), &sums_of(&cells, groups, 1), 1);
+        for &key in &cells {
+            let found = table.cell(key);
+            let groups = groups(key);
             if groups == 0 {
                 assert!(found.is_none());
                 continue;
@@ -551,22 +643,66 @@ mod tests {
     }
 
     #[test]
+    fn points_take_the_finest_cell_that_learned_enough() {
+        let grid = Grid {
+            lo: Vec3::ZERO,
+            inv_size: 1.0,
+        };
+        // Two points in one box of the grid, in different half boxes.
+        let (a, b) = (Vec3::splat(0.25), Vec3::splat(0.75));
+        let coarse = grid.key(a, Vec3::Z, 0);
+        assert_eq!(coarse, grid.key(b, Vec3::Z, 0));
+        let (fine_a, fine_b) = (grid.key(a, Vec3::Z, 1), grid.key(b, Vec3::Z, 1));
+        assert_ne!(fine_a, fine_b);
+        // The box learned group 0 from 19 samples, a's half box group 1 from 5, b's group 2
+        // from 3.
+        let mut sums = sums_of(&[coarse], |_| 1, 19);
+        sums.extend(sums_of(&[fine_a], |_| 2, 5).into_iter().skip(1));
+        sums.extend(sums_of(&[fine_b], |_| 3, 3).into_iter().skip(2));
+        sums.sort_by_key(|s| (s.key, s.group));
+        let table = Table::new(grid, &sums, 4);
+        let groups = |p: Vec3| table.at(p, Vec3::Z).expect("learned").iter().map(|e| e.0);
+        assert!(groups(a).eq([1]), "a's half box has 5 samples of 4 needed");
+        assert!(groups(b).eq([0]), "b's has 3, so b takes the box");
+        assert!(groups(Vec3::new(0.75, 0.25, 0.25)).eq([0]));
+    }
+
+    #[test]
+    fn a_box_has_the_half_boxes_of_its_points() {
+        let grid = Grid {
+            lo: Vec3::new(-3.0, -1.0, 2.0),
+            inv_size: 0.7,
+        };
+        let mut rng = fenestra_core::Rng::new(7);
+        for _ in 0..2000 {
+            let p = grid.lo + Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 40.0;
+            let n = fenestra_core::warp::square_to_uniform_sphere(rng.next_2d());
+            let halves = halves(grid.key(p, n, 0));
+            assert!(halves.contains(&grid.key(p, n, 1)), "{p} {n}");
+            // ... and no other box's, nor another normal direction's.
+            assert!(!halves.contains(&grid.key(p + Vec3::X / grid.inv_size, n, 1)));
+            assert!(!halves.contains(&grid.key(p, -n, 1)));
+        }
+    }
+
+    #[test]
     fn cells_tell_normals_and_boxes_apart() {
         let grid = Grid {
             lo: Vec3::ZERO,
             inv_size: 2.0,
         };
         let p = Vec3::new(0.3, 0.3, 0.3);
-        assert_ne!(grid.key(p, Vec3::Z), grid.key(p, -Vec3::Z));
-        assert_ne!(grid.key(p, Vec3::Z), grid.key(p, Vec3::X));
-        assert_eq!(
-            grid.key(p, Vec3::Z),
-            grid.key(p + Vec3::splat(0.1), Vec3::Z)
-        );
-        assert_ne!(
-            grid.key(p, Vec3::Z),
-            grid.key(p + Vec3::splat(0.3), Vec3::Z)
-        );
+        let key = |p, n| grid.key(p, n, 0);
+        assert_ne!(key(p, Vec3::Z), key(p, -Vec3::Z));
+        assert_ne!(key(p, Vec3::Z), key(p, Vec3::X));
+        assert_eq!(key(p, Vec3::Z), key(p + Vec3::splat(0.1), Vec3::Z));
+        assert_ne!(key(p, Vec3::Z), key(p + Vec3::splat(0.3), Vec3::Z));
+        // The next level halves the boxes (0.2 and 0.3 share a box of 1/2, not of 1/4),
+        // and its cells are its own.
+        let q = p - Vec3::splat(0.1);
+        assert_eq!(key(p, Vec3::Z), key(q, Vec3::Z));
+        assert_ne!(grid.key(p, Vec3::Z, 1), grid.key(q, Vec3::Z, 1));
+        assert_ne!(grid.key(p, Vec3::Z, 1), key(p, Vec3::Z));
     }
 
     #[test]
