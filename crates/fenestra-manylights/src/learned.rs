@@ -512,10 +512,10 @@ impl LightSampler for LearnedLights {
             return self.bvh.sample(ctx, u);
         };
         let a = self.options.mix;
-        // Either branch finds the light's base probability and its probability from its
-        // group's node down on the way (or at little cost).
-        let (light, group, base, below) = if u < a {
-            let (group, _, u) = pick(entries, u / a);
+        // Either branch finds the light's base probability and its learned one (its group's
+        // times its probability from the group's node down) on the way, or at little cost.
+        let (light, base, learned) = if u < a {
+            let (group, p_group, u) = pick(entries, u / a);
             match self.group_node.get(group as usize) {
                 Some(&(node, _)) => {
                     let (light, below) = self.bvh.descend(node, 1.0, ctx, u, |_, _| {})?;
@@ -523,7 +523,7 @@ impl LightSampler for LearnedLights {
                         Base::Power => self.power.discrete_pmf(light),
                         Base::Bvh => self.bvh.replay(light, ctx, |n, _| n != node) * below,
                     };
-                    (light, group, base, below)
+                    (light, base, p_group * below)
                 }
                 None => {
                     let light = self.bvh.infinite()[group as usize - self.group_node.len()];
@@ -531,16 +531,18 @@ impl LightSampler for LearnedLights {
                         Base::Power => self.power.discrete_pmf(light),
                         Base::Bvh => self.bvh.infinite_pmf(light),
                     };
-                    (light, group, base, 1.0)
+                    (light, base, p_group)
                 }
             }
         } else {
-            self.sample_base(ctx, ((u - a) / (1.0 - a)).min(1.0 - f32::EPSILON))?
+            let u = ((u - a) / (1.0 - a)).min(1.0 - f32::EPSILON);
+            let (light, group, base, below) = self.sample_base(ctx, u)?;
+            if group == NONE {
+                return None;
+            }
+            (light, base, group_pmf(entries, group) * below)
         };
-        if group == NONE {
-            return None;
-        }
-        let pmf = (1.0 - a) * base + a * group_pmf(entries, group) * below;
+        let pmf = (1.0 - a) * base + a * learned;
         (pmf > 0.0).then_some((light, pmf))
     }
 
