@@ -28,7 +28,7 @@ use fenestra_core::Vec3;
 use fenestra_render::light::{LightContext, LightRecords, LightSampler, Lights};
 use fenestra_scene::Scene;
 use rayon::prelude::*;
-use rustc_hash::FxHashMap;
+use std::collections::HashMap;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Mutex, OnceLock};
 
@@ -310,7 +310,7 @@ pub struct LearnedLights {
 }
 
 /// Per level of cells, per (cell, group): summed weights and samples.
-type LevelSums = [FxHashMap<(u64, u32), (f64, u32)>; LEVELS as usize];
+type LevelSums = [HashMap<(u64, u32), (f64, u32)>; LEVELS as usize];
 
 /// The samples of one group in one cell that found light: their summed weights, and their
 /// number.
