@@ -1570,6 +1570,18 @@ fn learned_light_selection_renders_whole_and_refuses_what_it_cannot_do() {
         &["--light-selection", "learned", "--learned-mix", "1"],
         "--learned-mix must be at least 0 and below 1",
     );
+    // Any number of records per cell is a size, not an overflow (the half boxes' threshold
+    // is a multiple of it).
+    let o = render(
+        &tmp("learned-huge-cells.exr"),
+        &[
+            "--light-selection",
+            "learned",
+            "--learned-cell-records",
+            "4000000000",
+        ],
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     // sdrc has its own passes, which do not learn.
     refused(
         &["--integrator", "sdrc", "--light-selection", "learned"],

@@ -578,7 +578,7 @@ impl LightSampler for LearnedLights {
         });
         let next = self.current.load(Ordering::Acquire) + 1;
         if let Some(slot) = self.tables.get(next) {
-            let fine = FINE_SAMPLES * self.options.cell_records;
+            let fine = FINE_SAMPLES.saturating_mul(self.options.cell_records);
             let mut sorted: Vec<Sum> = sums
                 .iter()
                 .flatten()
