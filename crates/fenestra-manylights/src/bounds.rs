@@ -100,30 +100,71 @@ impl LightBounds {
     }
 
     /// An upper bound on what the set sends to the point `p` of normal `n` (zero normal: a
+    /// point that receives from every side), up to a common scale: see
+    /// [`ImportanceBounds::importance`].
+    pub fn importance(&self, p: Vec3, n: Vec3) -> f32 {
+        ImportanceBounds::from(self).importance(p, n)
+    }
+}
+
+/// [`LightBounds`] as importance reads them, with what does not depend on the point
+/// computed once (the light BVH's descent asks two nodes a level).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct ImportanceBounds {
+    /// The box's centre.
+    centre: Vec3,
+    /// A quarter of the box's squared diagonal.
+    half_diagonal2: f32,
+    phi: f32,
+    /// Axis of the normals' cone, and the cosine and sine of its half-angle.
+    w: Vec3,
+    cos_o: f32,
+    sin_o: f32,
+    cos_theta_e: f32,
+    two_sided: bool,
+}
+
+impl From<&LightBounds> for ImportanceBounds {
+    fn from(b: &LightBounds) -> Self {
+        let cos_o = b.normals.cos_theta;
+        ImportanceBounds {
+            centre: b.centroid(),
+            half_diagonal2: 0.25 * (b.hi - b.lo).length_squared(),
+            phi: b.phi,
+            w: b.normals.w,
+            cos_o,
+            sin_o: (1.0 - cos_o * cos_o).max(0.0).sqrt(),
+            cos_theta_e: b.cos_theta_e,
+            two_sided: b.two_sided,
+        }
+    }
+}
+
+impl ImportanceBounds {
+    /// An upper bound on what the set sends to the point `p` of normal `n` (zero normal: a
     /// point that receives from every side), up to a common scale: phi cos(theta') / d^2 with
     /// the angles widened by the cone the box subtends from `p` (Conty Estevez and Kulla's
     /// importance, with the distance kept at least half the box's diagonal).
+    #[inline]
     pub fn importance(&self, p: Vec3, n: Vec3) -> f32 {
-        let c = self.centroid();
-        let half_diagonal2 = 0.25 * (self.hi - self.lo).length_squared();
-        let d2 = (p - c).length_squared().max(half_diagonal2).max(1e-20);
-        let wi = (p - c).normalize_or(Vec3::Z);
+        let v = p - self.centre;
+        let l2 = v.length_squared();
+        let d2 = l2.max(self.half_diagonal2).max(1e-20);
+        let wi = v.normalize_or(Vec3::Z);
         // The cone the bounding sphere subtends from p (everything when p is inside).
-        let (sin_b, cos_b) = if (p - c).length_squared() <= half_diagonal2 {
+        let (sin_b, cos_b) = if l2 <= self.half_diagonal2 {
             (0.0, -1.0)
         } else {
-            let sin2 = half_diagonal2 / (p - c).length_squared();
+            let sin2 = self.half_diagonal2 / l2;
             (sin2.sqrt(), (1.0 - sin2).max(0.0).sqrt())
         };
-        let mut cos_w = self.normals.w.dot(wi);
+        let mut cos_w = self.w.dot(wi);
         if self.two_sided {
             cos_w = cos_w.abs();
         }
         let sin_w = (1.0 - cos_w * cos_w).max(0.0).sqrt();
-        let cos_o = self.normals.cos_theta;
-        let sin_o = (1.0 - cos_o * cos_o).max(0.0).sqrt();
         // theta_x = max(0, theta_w - theta_o), then theta' = max(0, theta_x - theta_b).
-        let (cos_x, sin_x) = sub_clamped(cos_w, sin_w, cos_o, sin_o);
+        let (cos_x, sin_x) = sub_clamped(cos_w, sin_w, self.cos_o, self.sin_o);
         let (cos_p, _) = sub_clamped(cos_x, sin_x, cos_b, sin_b);
         if cos_p <= self.cos_theta_e {
             return 0.0;
@@ -139,6 +180,7 @@ impl LightBounds {
 }
 
 /// cos and sin of max(0, a - b) from those of a and b.
+#[inline]
 fn sub_clamped(cos_a: f32, sin_a: f32, cos_b: f32, sin_b: f32) -> (f32, f32) {
     if cos_a > cos_b {
         (1.0, 0.0)

@@ -4,7 +4,7 @@
 //! the shading point. Lights at infinity (environments, distant lights) are outside the tree
 //! and share the probability of one more child with it, as in pbrt-v4.
 
-use crate::bounds::{DirectionCone, LightBounds};
+use crate::bounds::{DirectionCone, ImportanceBounds, LightBounds};
 use fenestra_core::{Vec3, PI};
 use fenestra_render::light::{Light, LightContext, LightSampler, Lights, Picks};
 use fenestra_scene::{Scene, ShapeKind, SurfaceInteraction};
@@ -19,11 +19,11 @@ const MEDIAN_DEPTH: u32 = 64;
 /// The trail of a light outside the tree (no trail reaches bit 127).
 const NO_TRAIL: u128 = u128::MAX;
 
-/// A node: its bounds, and either its light (a leaf) or its second child (the first follows
-/// it in the array).
+/// A node: its bounds as importance reads them, and either its light (a leaf) or its second
+/// child (the first follows it in the array).
 #[derive(Clone, Debug)]
 struct Node {
-    bounds: LightBounds,
+    bounds: ImportanceBounds,
     /// Leaf: the light's index; interior: the second child's node index.
     index: u32,
     leaf: bool,
@@ -32,6 +32,8 @@ struct Node {
 /// The light BVH over a scene's lights.
 pub struct LightBvh {
     nodes: Vec<Node>,
+    /// Each node's box (low and high corners).
+    boxes: Vec<(Vec3, Vec3)>,
     /// Lights at infinity, picked uniformly among themselves.
     infinite: Vec<usize>,
     /// For each light in the tree, the turns from the root to its leaf (bit k: the second
@@ -141,6 +143,7 @@ impl LightBvh {
         }
         let mut bvh = LightBvh {
             nodes: Vec::with_capacity(2 * items.len()),
+            boxes: Vec::with_capacity(2 * items.len()),
             infinite,
             trail: vec![NO_TRAIL; lights.lights.len()],
             split: 0.0,
@@ -156,11 +159,7 @@ impl LightBvh {
     fn build(&mut self, items: &mut [(usize, LightBounds)], bits: u128, depth: u32) -> usize {
         let node = self.nodes.len();
         if let [(light, bounds)] = *items {
-            self.nodes.push(Node {
-                bounds,
-                index: light as u32,
-                leaf: true,
-            });
+            self.push(&bounds, light as u32, true);
             self.trail[light] = bits;
             return node;
         }
@@ -173,16 +172,22 @@ impl LightBvh {
         } else {
             items.len() / 2
         };
-        self.nodes.push(Node {
-            bounds,
-            index: 0,
-            leaf: false,
-        });
+        self.push(&bounds, 0, false);
         let (first, second) = items.split_at_mut(mid);
         self.build(first, bits, depth + 1);
         let right = self.build(second, bits | (1 << depth), depth + 1);
         self.nodes[node].index = right as u32;
         node
+    }
+
+    /// Adds a node.
+    fn push(&mut self, bounds: &LightBounds, index: u32, leaf: bool) {
+        self.nodes.push(Node {
+            bounds: bounds.into(),
+            index,
+            leaf,
+        });
+        self.boxes.push((bounds.lo, bounds.hi));
     }
 
     /// Probability of picking the tree (rather than a light at infinity).
@@ -210,9 +215,9 @@ impl LightBvh {
         if self.split <= 0.0 || depth >= SPLIT_DEPTH || self.nodes[node].leaf {
             return false;
         }
-        let b = &self.nodes[node].bounds;
-        let nearest = ctx.p.clamp(b.lo, b.hi) - ctx.p;
-        let farthest = (ctx.p - b.lo).abs().max((ctx.p - b.hi).abs());
+        let (lo, hi) = self.boxes[node];
+        let nearest = ctx.p.clamp(lo, hi) - ctx.p;
+        let farthest = (ctx.p - lo).abs().max((ctx.p - hi).abs());
         farthest.length_squared() > self.split * nearest.length_squared()
     }
 
@@ -370,8 +375,8 @@ impl LightBvh {
 
     /// Diagonal of a node's bounding box.
     pub(crate) fn extent(&self, node: usize) -> f32 {
-        let b = &self.nodes[node].bounds;
-        (b.hi - b.lo).length()
+        let (lo, hi) = self.boxes[node];
+        (hi - lo).length()
     }
 
     /// Descends from `node`, reached with probability `pmf`, to a light, choosing children in
