@@ -247,8 +247,8 @@ impl LightBvh {
     /// Bytes the tree takes per light in it.
     pub fn bytes_per_light(&self) -> f32 {
         let lights = self.trail.iter().filter(|&&t| t != NO_TRAIL).count().max(1);
-        (self.nodes.len() * std::mem::size_of::<Node>() + lights * std::mem::size_of::<u128>())
-            as f32
+        let per_node = std::mem::size_of::<Node>() + std::mem::size_of::<(Vec3, Vec3)>();
+        (self.nodes.len() * per_node + lights * std::mem::size_of::<u128>()) as f32
             / lights as f32
     }
 }
