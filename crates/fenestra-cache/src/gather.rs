@@ -225,7 +225,7 @@ impl CacheGather<'_> {
 
     /// R_i of a record under maximum error `a` from its rays' hit distances (their harmonic
     /// mean), limited to 1 / `relative_gradient` where the outgoing light changes faster
-    /// (§2.4.6), and clamped to the pixel footprint's bounds.
+    /// (§2.4.6), and clamped to the bounds of its reach in pixels.
     pub(crate) fn radius(
         &self,
         s: &Shading,
@@ -233,7 +233,7 @@ impl CacheGather<'_> {
         distances: &Distances,
         relative_gradient: Option<f32>,
     ) -> f32 {
-        let (lo, hi) = self.sdrc.radius_bounds(self.sdrc.footprint(s.si.t), a);
+        let (lo, hi) = self.sdrc.radius_bounds(s.si.t, a);
         let mut r = if distances.hits > 0 {
             (distances.hits as f64 / distances.inverse) as f32
         } else {

@@ -39,8 +39,14 @@ const PLACEMENT: u64 = 0x5d5c_0003;
 /// then 16, 4) let records spread before the block grid could set their density.
 const PLACEMENT_STRIDES: [u32; 7] = [64, 32, 16, 8, 4, 2, 1];
 
-/// Largest validity radius a R_i of a record, in pixel footprints at its point.
+/// Largest validity radius a R_i of a record, in pixel footprints at its point (of the view
+/// [`REACH_SIDE`] pixels across).
 const MAX_REACH_PX: f32 = 40.0;
+
+/// The image size, in pixels along its larger side, at which the reach bounds are in pixels;
+/// larger images of the same view scale them with their size, so that the caches resolve the
+/// same detail of the scene, at about the same cost, at any resolution.
+const REACH_SIDE: u32 = 256;
 
 /// What caches indirect light on glossy surfaces.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -74,7 +80,8 @@ pub struct SdrcOptions {
     pub m: u32,
     /// Largest directional query radius in the paraboloid disc (the seed's r_max).
     pub r_max: f32,
-    /// Smallest validity radius a R_i of a record, in pixel footprints at its point (0: none).
+    /// Smallest validity radius a R_i of a record, in pixel footprints at its point of the view
+    /// [`REACH_SIDE`] pixels across (0: none).
     pub min_reach: f32,
     /// Whether diffuse surfaces take their indirect light from the irradiance cache (else
     /// from path tracing, as af_hf).
@@ -125,8 +132,8 @@ pub struct Sdrc {
     path: PathOptions,
     /// Angle between neighbouring pixels' camera rays, and the distance between their
     /// origins (orthographic cameras): a pixel's footprint at distance t is
-    /// `spacing + t * angle`.
-    camera: Mutex<(f32, f32)>,
+    /// `spacing + t * angle`; and the image's larger side over [`REACH_SIDE`] (at least 1).
+    camera: Mutex<(f32, f32, f32)>,
     /// The last render's pictures: records created per pixel, and the fraction of each
     /// pixel's samples whose indirect light the cache gave.
     maps: Mutex<Vec<WorkMap>>,
@@ -179,7 +186,7 @@ impl Sdrc {
             tracer: PathTracer::new(name(options.glossy), lights, path),
             options,
             path,
-            camera: Mutex::new((0.0, 0.0)),
+            camera: Mutex::new((0.0, 0.0, 1.0)),
             maps: Mutex::new(Vec::new()),
         })
     }
@@ -191,16 +198,15 @@ impl Sdrc {
 
     /// A pixel's size at distance `t` from the camera.
     pub(crate) fn footprint(&self, t: f32) -> f32 {
-        let (angle, spacing) = *self.camera.lock().unwrap_or_else(|e| e.into_inner());
+        let (angle, spacing, _) = *self.camera.lock().unwrap_or_else(|e| e.into_inner());
         spacing + t * angle
     }
 
-    /// Bounds of R_i for a record of pixel footprint `footprint` under maximum error `a`.
-    pub(crate) fn radius_bounds(&self, footprint: f32, a: f32) -> (f32, f32) {
-        (
-            self.options.min_reach * footprint / a,
-            MAX_REACH_PX * footprint / a,
-        )
+    /// Bounds of R_i for a record at distance `t` from the camera under maximum error `a`.
+    pub(crate) fn radius_bounds(&self, t: f32, a: f32) -> (f32, f32) {
+        let (angle, spacing, scale) = *self.camera.lock().unwrap_or_else(|e| e.into_inner());
+        let reach = (spacing + t * angle) * scale / a;
+        (self.options.min_reach * reach, MAX_REACH_PX * reach)
     }
 
     /// Measures the camera's pixel footprint from two neighbouring pixels' rays.
@@ -213,7 +219,8 @@ impl Sdrc {
         );
         let angle = a.d.dot(b.d).clamp(-1.0, 1.0).acos();
         let spacing = (a.o - b.o).length();
-        *self.camera.lock().unwrap_or_else(|e| e.into_inner()) = (angle, spacing);
+        let scale = (width.max(height) as f32 / REACH_SIDE as f32).max(1.0);
+        *self.camera.lock().unwrap_or_else(|e| e.into_inner()) = (angle, spacing, scale);
     }
 
     /// Places records from one camera ray per pixel, coarse to fine (the seed's first pass).

@@ -146,6 +146,30 @@ fn furnace(albedo: f32, panel: bool) -> RenderScene {
     RenderScene::new(Scene::build(desc, Backend::Obvhs).expect("scene"))
 }
 
+#[test]
+fn records_resolve_the_same_scene_at_any_image_size() {
+    // The reach bounds are in pixels of the view at 256 pixels across: at twice the size
+    // the caches hold about as many records (with bounds in the image's own pixels they
+    // held 2.05x as many here).
+    let scene = teapot_box();
+    let records = |size: u32| {
+        let settings = RenderSettings {
+            spp: 1,
+            first_sample: 0,
+            time_limit: None,
+            seed: 1,
+        };
+        let mut cache = sdrc(SdrcOptions::default());
+        let (_, stats) = render_image(&mut cache, &scene, size, size, &settings).expect("render");
+        stats.extra["sdrc_records"] + stats.extra["sdrc_irradiance_records"]
+    };
+    let (small, large) = (records(256), records(512));
+    assert!(
+        large < 1.6 * small,
+        "{small} records at 256x256, {large} at 512x512"
+    );
+}
+
 /// sdrc with `options` in the furnace of albedo 0.5 at path length 4, 32x32: the integrator,
 /// the image, the statistics, and the exact radiance every path sees (1 + rho + ... +
 /// rho^(max_depth - 1)).

@@ -64,7 +64,9 @@ pub struct SdrcArgs {
     /// Largest radius of a directional query in the paraboloid disc (the seed's r_max).
     #[arg(long, default_value_t = 0.15)]
     sdrc_r_max: f32,
-    /// Smallest reach of a record, in pixels at its point (0: as small as eq. 2.2 makes it).
+    /// Smallest reach of a record, in pixels at its point of the view 256 pixels across
+    /// (larger images scale it with their larger side: 10 pixels at 640x360, 20 at 1280x720,
+    /// so records resolve the same scene detail at any size; 0: as small as eq. 2.2 makes it).
     #[arg(long, default_value_t = 4.0)]
     sdrc_min_reach: f32,
     /// Indirect light on diffuse surfaces: cache (an irradiance cache with gradients, as the

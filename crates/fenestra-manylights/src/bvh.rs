@@ -248,8 +248,7 @@ impl LightBvh {
     pub fn bytes_per_light(&self) -> f32 {
         let lights = self.trail.iter().filter(|&&t| t != NO_TRAIL).count().max(1);
         let per_node = std::mem::size_of::<Node>() + std::mem::size_of::<(Vec3, Vec3)>();
-        (self.nodes.len() * per_node + lights * std::mem::size_of::<u128>()) as f32
-            / lights as f32
+        (self.nodes.len() * per_node + lights * std::mem::size_of::<u128>()) as f32 / lights as f32
     }
 }
 
