@@ -150,7 +150,7 @@ fn furnace(albedo: f32, panel: bool) -> RenderScene {
 fn records_resolve_the_same_scene_at_any_image_size() {
     // The reach bounds are in pixels of the view at 256 pixels across: at twice the size
     // the caches hold about as many records (with bounds in the image's own pixels they
-    // held 2.05x as many here).
+    // held 2.04x as many here).
     let scene = teapot_box();
     let records = |size: u32| {
         let settings = RenderSettings {
