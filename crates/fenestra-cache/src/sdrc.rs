@@ -125,15 +125,42 @@ impl Default for SdrcOptions {
     }
 }
 
+/// The size of the camera's pixels in the scene.
+#[derive(Clone, Copy, Debug)]
+struct PixelFootprint {
+    /// Angle between neighbouring pixels' camera rays.
+    angle: f32,
+    /// Distance between their origins (orthographic cameras).
+    spacing: f32,
+    /// The image's larger side over [`REACH_SIDE`], at least 1: what the reach bounds'
+    /// pixels are scaled by.
+    reach_scale: f32,
+}
+
+impl Default for PixelFootprint {
+    fn default() -> Self {
+        PixelFootprint {
+            angle: 0.0,
+            spacing: 0.0,
+            reach_scale: 1.0,
+        }
+    }
+}
+
+impl PixelFootprint {
+    /// A pixel's size at distance `t` from the camera.
+    fn at(&self, t: f32) -> f32 {
+        self.spacing + t * self.angle
+    }
+}
+
 /// The `sdrc` integrator.
 pub struct Sdrc {
     pub(crate) tracer: PathTracer<LightNextEvent>,
     pub(crate) options: SdrcOptions,
     path: PathOptions,
-    /// Angle between neighbouring pixels' camera rays, and the distance between their
-    /// origins (orthographic cameras): a pixel's footprint at distance t is
-    /// `spacing + t * angle`; and the image's larger side over [`REACH_SIDE`] (at least 1).
-    camera: Mutex<(f32, f32, f32)>,
+    /// The camera's pixels, measured when a render starts.
+    camera: Mutex<PixelFootprint>,
     /// The last render's pictures: records created per pixel, and the fraction of each
     /// pixel's samples whose indirect light the cache gave.
     maps: Mutex<Vec<WorkMap>>,
@@ -186,7 +213,7 @@ impl Sdrc {
             tracer: PathTracer::new(name(options.glossy), lights, path),
             options,
             path,
-            camera: Mutex::new((0.0, 0.0, 1.0)),
+            camera: Mutex::new(PixelFootprint::default()),
             maps: Mutex::new(Vec::new()),
         })
     }
@@ -198,14 +225,13 @@ impl Sdrc {
 
     /// A pixel's size at distance `t` from the camera.
     pub(crate) fn footprint(&self, t: f32) -> f32 {
-        let (angle, spacing, _) = *self.camera.lock().unwrap_or_else(|e| e.into_inner());
-        spacing + t * angle
+        self.camera.lock().unwrap_or_else(|e| e.into_inner()).at(t)
     }
 
     /// Bounds of R_i for a record at distance `t` from the camera under maximum error `a`.
     pub(crate) fn radius_bounds(&self, t: f32, a: f32) -> (f32, f32) {
-        let (angle, spacing, scale) = *self.camera.lock().unwrap_or_else(|e| e.into_inner());
-        let reach = (spacing + t * angle) * scale / a;
+        let pixel = *self.camera.lock().unwrap_or_else(|e| e.into_inner());
+        let reach = pixel.at(t) * pixel.reach_scale / a;
         (self.options.min_reach * reach, MAX_REACH_PX * reach)
     }
 
@@ -219,8 +245,12 @@ impl Sdrc {
         );
         let angle = a.d.dot(b.d).clamp(-1.0, 1.0).acos();
         let spacing = (a.o - b.o).length();
-        let scale = (width.max(height) as f32 / REACH_SIDE as f32).max(1.0);
-        *self.camera.lock().unwrap_or_else(|e| e.into_inner()) = (angle, spacing, scale);
+        let reach_scale = (width.max(height) as f32 / REACH_SIDE as f32).max(1.0);
+        *self.camera.lock().unwrap_or_else(|e| e.into_inner()) = PixelFootprint {
+            angle,
+            spacing,
+            reach_scale,
+        };
     }
 
     /// Places records from one camera ray per pixel, coarse to fine (the seed's first pass).
@@ -425,16 +455,22 @@ impl Integrator for Sdrc {
             caches.diffuse.len(),
         );
         let placement_s = started.elapsed().as_secs_f64();
+        // A time budget the placement used up still gets a sample per pixel: an image, not
+        // a black frame.
+        let time_left = settings.time_limit.map(|t| t - placement_s);
+        if time_left.is_some_and(|t| t <= 0.0) {
+            control.progress.note(&format!(
+                "placing records took {placement_s:.1} s, the whole time budget: rendering one \
+                 sample per pixel (a larger --sdrc-min-reach places fewer records)"
+            ));
+        }
         let mut passes = Passes {
             sdrc: self,
             caches,
             window: film.window,
             served: vec![0.0; film.pixels.len()],
             seed: settings.seed,
-            budget: Budget::new(
-                settings.spp,
-                settings.time_limit.map(|t| (t - placement_s).max(0.0)),
-            ),
+            budget: Budget::new(settings.spp, time_left.map(|t| t.max(f64::MIN_POSITIVE))),
         };
         let mut stats = render_passes(&mut passes, scene, film, settings, control);
         stats.rays += placement_rays;

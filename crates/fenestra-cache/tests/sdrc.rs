@@ -170,6 +170,32 @@ fn records_resolve_the_same_scene_at_any_image_size() {
     );
 }
 
+#[test]
+fn a_time_budget_the_placement_uses_up_still_renders_a_sample_per_pixel() {
+    // On a real interior (Bitterli's classroom at 640x360, --time 20) the placement took
+    // longer than the budget and the image came out black.
+    let scene = teapot_box();
+    let settings = RenderSettings {
+        spp: 64,
+        first_sample: 0,
+        time_limit: Some(1e-9),
+        seed: 1,
+    };
+    let mut cache = sdrc(SdrcOptions::default());
+    let (film, stats) = render_image(&mut cache, &scene, 32, 32, &settings).expect("render");
+    assert_eq!(stats.spp, 1, "one pass of one sample per pixel");
+    let lit = film
+        .pixels
+        .iter()
+        .filter(|p| p.mean().iter().sum::<f64>() > 0.0)
+        .count();
+    assert!(
+        lit > film.pixels.len() / 2,
+        "{lit} of {} pixels lit",
+        film.pixels.len()
+    );
+}
+
 /// sdrc with `options` in the furnace of albedo 0.5 at path length 4, 32x32: the integrator,
 /// the image, the statistics, and the exact radiance every path sees (1 + rho + ... +
 /// rho^(max_depth - 1)).
