@@ -61,9 +61,14 @@ impl CacheGather<'_> {
         s: &Shading,
         rays: &mut RayCounters,
     ) -> Rgb {
-        let m = self.sdrc.options.m;
-        // The pixel's estimate so far averages this many directions.
-        let pixel_m = (m as f32) * (s.sample.index as f32 + 1.0);
+        let (m, options) = (self.sdrc.options.m, &self.sdrc.options);
+        // The pixel's estimate so far averages this many directions; a query's radius follows
+        // them down to the radius where it expects `query_samples` of a record's N samples
+        // (N / (pi count), below).
+        let floor = options.n as f32 / (std::f32::consts::PI * options.query_samples);
+        let pixel_m = ((m as f32) * (s.sample.index as f32 + 1.0))
+            .min(floor)
+            .max(m as f32);
         let near = std::mem::take(&mut self.work.glossy.near);
         let (mut sum, mut used) = (Rgb::ZERO, 0u32);
         for j in 0..m {
@@ -75,10 +80,11 @@ impl CacheGather<'_> {
             // Query radius in D (§2.4.4): directions of density M p lie about 1/(M p) apart in
             // solid angle, so r_d = 1 / (2 pi sqrt(M p)) (docs/sdrc.md on the seed's formula).
             // It starts from the directions of the pixel's samples so far (a pixel's k-th
-            // sample averages k M directions with the earlier ones), and doubles up to the
-            // radius of this sample's own M while nothing is found; only then is a ray traced.
+            // sample averages k M directions with the earlier ones; a query then expects
+            // N / (pi k M) samples), and doubles up to the radius of this sample's own M
+            // while nothing is found; only then is a ray traced.
             let at = |count: f32| {
-                (1.0 / (std::f32::consts::TAU * (count * pdf).sqrt())).min(self.sdrc.options.r_max)
+                (1.0 / (std::f32::consts::TAU * (count * pdf).sqrt())).min(options.r_max)
             };
             let (mut radius, widest) = (at(pixel_m), at(m as f32));
             let (l, total) = loop {

@@ -80,6 +80,9 @@ pub struct SdrcOptions {
     pub m: u32,
     /// Largest directional query radius in the paraboloid disc (the seed's r_max).
     pub r_max: f32,
+    /// Samples of a record's N that a directional query's radius leaves room for at the
+    /// least: the radius shrinks as a pixel averages more directions, down to this (0: no floor).
+    pub query_samples: f32,
     /// Smallest validity radius a R_i of a record, in pixel footprints at its point of the view
     /// [`REACH_SIDE`] pixels across (0: none).
     pub min_reach: f32,
@@ -112,6 +115,7 @@ impl Default for SdrcOptions {
             n: 256,
             m: 2,
             r_max: 0.15,
+            query_samples: 5.0,
             min_reach: 4.0,
             diffuse: true,
             irradiance_rays: 1024,
@@ -208,6 +212,9 @@ impl Sdrc {
         }
         if !(options.r_max > 0.0 && options.r_max <= 2.0) {
             return bad("--sdrc-r-max must lie in (0, 2] (the disc's diameter)");
+        }
+        if !(options.query_samples >= 0.0 && options.query_samples.is_finite()) {
+            return bad("--sdrc-query-samples must be a number of samples, 0 or more");
         }
         Ok(Sdrc {
             tracer: PathTracer::new(name(options.glossy), lights, path),
@@ -378,6 +385,7 @@ impl Integrator for Sdrc {
                     "n": self.options.n,
                     "m": self.options.m,
                     "r_max": self.options.r_max,
+                    "query_samples": self.options.query_samples,
                     "min_reach": self.options.min_reach,
                     "diffuse": self.options.diffuse,
                     "irradiance_rays": self.options.irradiance_rays,

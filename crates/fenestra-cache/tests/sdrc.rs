@@ -356,4 +356,7 @@ fn bad_options_are_refused_with_the_option_named() {
         ..d
     })
     .contains("--sdrc-min-reach"));
+    for query_samples in [-1.0, f32::NAN, f32::INFINITY] {
+        assert!(refused(SdrcOptions { query_samples, ..d }).contains("--sdrc-query-samples"));
+    }
 }

@@ -64,6 +64,11 @@ pub struct SdrcArgs {
     /// Largest radius of a directional query in the paraboloid disc (the seed's r_max).
     #[arg(long, default_value_t = 0.15)]
     sdrc_r_max: f32,
+    /// Samples of a record a directional query expects at the least: its radius shrinks as a
+    /// pixel averages more directions, down to the radius that holds this many of the
+    /// record's N (0: it shrinks on, each query then finding one sample or none).
+    #[arg(long, default_value_t = 5.0)]
+    sdrc_query_samples: f32,
     /// Smallest reach of a record, in pixels at its point of the view 256 pixels across
     /// (larger images scale it with their larger side: 10 pixels at 640x360, 20 at 1280x720,
     /// so records resolve the same scene detail at any size; 0: as small as eq. 2.2 makes it).
@@ -119,6 +124,7 @@ impl SdrcArgs {
             n: self.sdrc_n,
             m: self.sdrc_m,
             r_max: self.sdrc_r_max,
+            query_samples: self.sdrc_query_samples,
             min_reach: self.sdrc_min_reach,
             diffuse: matches!(self.sdrc_diffuse, CacheOrPath::Cache),
             irradiance_rays: self.sdrc_irradiance_rays,
