@@ -14,7 +14,7 @@ use crate::irradiance::Gradients;
 use crate::photons::PhotonMap;
 use crate::spatial::{Counts, SpatialCache};
 use fenestra_core::stats::{RayCounters, RenderStats};
-use fenestra_core::{Rgb, Sampler, Vec2};
+use fenestra_core::{Ray, Rgb, Sampler, Vec2};
 use fenestra_render::control::RenderControl;
 use fenestra_render::driver::{
     render_passes, Budget, PassEstimator, PassInfo, PixelState, SampleContext, BLOCK_SIZE,
@@ -559,6 +559,20 @@ struct Passes<'a> {
     budget: Budget,
 }
 
+impl Passes<'_> {
+    /// The caches at work for a block's samples in a render pass.
+    fn gather<'w>(&'w self, work: &'w mut Work) -> CacheGather<'w> {
+        CacheGather {
+            sdrc: self.sdrc,
+            caches: &self.caches,
+            work,
+            a_scale: self.sdrc.options.a_scale,
+            seed: self.seed,
+            phase: 0,
+        }
+    }
+}
+
 impl PassEstimator for Passes<'_> {
     type BlockStats = Work;
 
@@ -587,14 +601,6 @@ impl PassEstimator for Passes<'_> {
         rays: &mut RayCounters,
     ) -> Rgb {
         let ray = ctx.camera_ray(scene, sampler, rays);
-        let mut gather = CacheGather {
-            sdrc: self.sdrc,
-            caches: &self.caches,
-            work,
-            a_scale: self.sdrc.options.a_scale,
-            seed: self.seed,
-            phase: 0,
-        };
         self.sdrc.tracer.trace(
             scene,
             ray,
@@ -603,8 +609,36 @@ impl PassEstimator for Passes<'_> {
             ctx,
             &mut LightRecords::off(),
             rays,
-            &mut gather,
+            &mut self.gather(work),
         )
+    }
+
+    /// A block's samples traced together in waves, as af_hf's are (the same pixels: the
+    /// caches are asked at the camera's hits in the same order).
+    fn sample_many(
+        &self,
+        scene: &RenderScene,
+        ctxs: &[SampleContext],
+        samplers: &mut [Sampler],
+        work: &mut Work,
+        rays: &mut RayCounters,
+        out: &mut [Rgb],
+    ) {
+        let cameras: Vec<Ray> = ctxs
+            .iter()
+            .zip(samplers.iter_mut())
+            .map(|(ctx, sampler)| ctx.camera_ray(scene, sampler, rays))
+            .collect();
+        self.sdrc.tracer.trace_wave(
+            scene,
+            &cameras,
+            samplers,
+            ctxs,
+            &mut LightRecords::off(),
+            rays,
+            &mut self.gather(work),
+            out,
+        );
     }
 
     fn end_pass(&mut self, _: &RenderScene, _: &Film, mut blocks: Vec<Work>) -> bool {

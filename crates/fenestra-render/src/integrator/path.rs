@@ -211,14 +211,6 @@ impl<N: NextEvent> PathEstimator for PathTracer<N> {
         )
     }
 
-    /// Paths of the camera rays `cameras` (sample `ctxs[i]`, stream `samplers[i]`) traced
-    /// together as a wave: each round takes the live paths eight at a time, finds their
-    /// next hits by one packet query, prefetches the hits' mesh data together and takes
-    /// each path one vertex further; then it traces the shadow and probe rays of all their
-    /// next-event samples, eight to a packet again. Each path's radiance goes to `out`: the
-    /// estimate [`PathTracer::trace`] makes of one path, whatever the other paths of the
-    /// wave are (a ray's answer does not depend on its packet's other rays), so images stay
-    /// the same for any thread count and for any split of a render.
     fn li_many(
         &self,
         scene: &RenderScene,
@@ -229,61 +221,16 @@ impl<N: NextEvent> PathEstimator for PathTracer<N> {
         rays: &mut RayCounters,
         out: &mut [Rgb],
     ) {
-        let mut paths: Vec<PathState<N::Vertex>> = cameras
-            .iter()
-            .map(|&ray| PathState::new(ray, &Start::CAMERA))
-            .collect();
-        let mut live: Vec<usize> = (0..paths.len()).collect();
-        let mut queued = LightRays::default();
-        // The path each shadow and probe ray belongs to.
-        let (mut shadow_owners, mut probe_owners) = (Vec::new(), Vec::new());
-        let mut next_live = Vec::with_capacity(live.len());
-        while !live.is_empty() {
-            for chunk in live.chunks(PACKET) {
-                let last = chunk.len() - 1;
-                let packet = std::array::from_fn(|k| paths[chunk[k.min(last)]].ray);
-                let found = scene.scene.intersect8(&packet, [f32::INFINITY; PACKET]);
-                scene.scene.prefetch_hits(&found[..chunk.len()]);
-                for (&i, hit) in chunk.iter().zip(found) {
-                    records.start_sample(&ctxs[i]);
-                    let go_on = self.step(
-                        scene,
-                        &mut paths[i],
-                        hit,
-                        &mut samplers[i],
-                        &ctxs[i],
-                        records,
-                        rays,
-                        &mut NoGather,
-                        &mut queued,
-                    );
-                    shadow_owners.resize(queued.shadows.len(), i);
-                    probe_owners.resize(queued.probes.len(), i);
-                    if go_on {
-                        next_live.push(i);
-                    }
-                }
-            }
-            std::mem::swap(&mut live, &mut next_live);
-            next_live.clear();
-            trace_shadows(scene, &queued.shadows, records, |k, l| {
-                paths[shadow_owners[k]].l += l;
-            });
-            trace_probes(scene, &queued.probes, |k, beyond| {
-                let (i, probe) = (probe_owners[k], &queued.probes[k]);
-                paths[i].l += probe.beta
-                    * self
-                        .next_event
-                        .probed(scene, &probe.probe, &probe.ray, &beyond, &ctxs[i]);
-            });
-            queued.shadows.clear();
-            queued.probes.clear();
-            shadow_owners.clear();
-            probe_owners.clear();
-        }
-        for (o, p) in out.iter_mut().zip(&paths) {
-            *o = p.l;
-        }
+        self.trace_wave(
+            scene,
+            cameras,
+            samplers,
+            ctxs,
+            records,
+            rays,
+            &mut NoGather,
+            out,
+        );
     }
 
     fn learns(&self, pass: u32) -> bool {
@@ -376,6 +323,86 @@ impl<N: NextEvent> PathTracer<N> {
             }
         }
         path.l
+    }
+
+    /// Paths of the camera rays `cameras` (sample `ctxs[i]`, stream `samplers[i]`) traced
+    /// together as a wave: each round takes the live paths eight at a time, finds their
+    /// next hits by one packet query, prefetches the hits' mesh data together and takes
+    /// each path one vertex further; then it traces the shadow and probe rays of all their
+    /// next-event samples, eight to a packet again. Each path's radiance goes to `out`: the
+    /// estimate [`PathTracer::trace`] makes of one path, whatever the other paths of the
+    /// wave are (a ray's answer does not depend on its packet's other rays), so images stay
+    /// the same for any thread count and for any split of a render. `gather` may supply
+    /// indirect light as in [`PathTracer::trace`]; it is asked at the paths' vertices in
+    /// path order round by round, so at their first hits in the order one-at-a-time tracing
+    /// asks it there.
+    #[allow(clippy::too_many_arguments)]
+    pub fn trace_wave(
+        &self,
+        scene: &RenderScene,
+        cameras: &[Ray],
+        samplers: &mut [Sampler],
+        ctxs: &[SampleContext],
+        records: &mut LightRecords,
+        rays: &mut RayCounters,
+        gather: &mut (impl Gather + ?Sized),
+        out: &mut [Rgb],
+    ) {
+        let mut paths: Vec<PathState<N::Vertex>> = cameras
+            .iter()
+            .map(|&ray| PathState::new(ray, &Start::CAMERA))
+            .collect();
+        let mut live: Vec<usize> = (0..paths.len()).collect();
+        let mut queued = LightRays::default();
+        // The path each shadow and probe ray belongs to.
+        let (mut shadow_owners, mut probe_owners) = (Vec::new(), Vec::new());
+        let mut next_live = Vec::with_capacity(live.len());
+        while !live.is_empty() {
+            for chunk in live.chunks(PACKET) {
+                let last = chunk.len() - 1;
+                let packet = std::array::from_fn(|k| paths[chunk[k.min(last)]].ray);
+                let found = scene.scene.intersect8(&packet, [f32::INFINITY; PACKET]);
+                scene.scene.prefetch_hits(&found[..chunk.len()]);
+                for (&i, hit) in chunk.iter().zip(found) {
+                    records.start_sample(&ctxs[i]);
+                    let go_on = self.step(
+                        scene,
+                        &mut paths[i],
+                        hit,
+                        &mut samplers[i],
+                        &ctxs[i],
+                        records,
+                        rays,
+                        gather,
+                        &mut queued,
+                    );
+                    shadow_owners.resize(queued.shadows.len(), i);
+                    probe_owners.resize(queued.probes.len(), i);
+                    if go_on {
+                        next_live.push(i);
+                    }
+                }
+            }
+            std::mem::swap(&mut live, &mut next_live);
+            next_live.clear();
+            trace_shadows(scene, &queued.shadows, records, |k, l| {
+                paths[shadow_owners[k]].l += l;
+            });
+            trace_probes(scene, &queued.probes, |k, beyond| {
+                let (i, probe) = (probe_owners[k], &queued.probes[k]);
+                paths[i].l += probe.beta
+                    * self
+                        .next_event
+                        .probed(scene, &probe.probe, &probe.ray, &beyond, &ctxs[i]);
+            });
+            queued.shadows.clear();
+            queued.probes.clear();
+            shadow_owners.clear();
+            probe_owners.clear();
+        }
+        for (o, p) in out.iter_mut().zip(&paths) {
+            *o = p.l;
+        }
     }
 
     /// Takes the path one vertex further: `hit` is where its current ray ended. Returns
