@@ -14,7 +14,7 @@ use crate::irradiance::Gradients;
 use crate::photons::PhotonMap;
 use crate::spatial::{Counts, SpatialCache};
 use fenestra_core::stats::{RayCounters, RenderStats};
-use fenestra_core::{Ray, Rgb, Sampler, Vec2};
+use fenestra_core::{Rgb, Sampler, Vec2};
 use fenestra_render::control::RenderControl;
 use fenestra_render::driver::{
     render_passes, Budget, PassEstimator, PassInfo, PixelState, SampleContext, BLOCK_SIZE,
@@ -624,11 +624,7 @@ impl PassEstimator for Passes<'_> {
         rays: &mut RayCounters,
         out: &mut [Rgb],
     ) {
-        let cameras: Vec<Ray> = ctxs
-            .iter()
-            .zip(samplers.iter_mut())
-            .map(|(ctx, sampler)| ctx.camera_ray(scene, sampler, rays))
-            .collect();
+        let cameras = SampleContext::camera_rays(ctxs, scene, samplers, rays);
         self.sdrc.tracer.trace_wave(
             scene,
             &cameras,

@@ -65,11 +65,7 @@ fn a_cache_on_waves_is_asked_in_the_order_and_gives_the_pixels_of_one_path_at_a_
             .iter()
             .map(|c| Sampler::new(11, c.pixel(), c.index))
             .collect();
-        let cameras: Vec<_> = ctxs
-            .iter()
-            .zip(&mut samplers)
-            .map(|(c, s)| c.camera_ray(&scene, s, rays))
-            .collect();
+        let cameras = SampleContext::camera_rays(&ctxs, &scene, &mut samplers, rays);
         let records = &mut LightRecords::off();
 
         let mut one_at_a_time = Counting::default();

@@ -65,6 +65,20 @@ impl SampleContext {
         rays.camera += 1;
         camera.generate_ray(film_pos, self.width, self.height)
     }
+
+    /// The camera rays of the samples `ctxs`, each drawn from its stream in `samplers` (a
+    /// wave's first rays).
+    pub fn camera_rays(
+        ctxs: &[SampleContext],
+        scene: &RenderScene,
+        samplers: &mut [Sampler],
+        rays: &mut RayCounters,
+    ) -> Vec<Ray> {
+        ctxs.iter()
+            .zip(samplers.iter_mut())
+            .map(|(ctx, sampler)| ctx.camera_ray(scene, sampler, rays))
+            .collect()
+    }
 }
 
 /// The 8x8 block grid over a `width` x `height` image (blocks at the right and bottom edges

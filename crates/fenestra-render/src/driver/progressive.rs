@@ -190,11 +190,7 @@ impl<E: PathEstimator> PassEstimator for Schedule<'_, E> {
         rays: &mut RayCounters,
         out: &mut [Rgb],
     ) {
-        let cameras: Vec<Ray> = ctxs
-            .iter()
-            .zip(samplers.iter_mut())
-            .map(|(ctx, sampler)| ctx.camera_ray(scene, sampler, rays))
-            .collect();
+        let cameras = SampleContext::camera_rays(ctxs, scene, samplers, rays);
         self.estimator
             .li_many(scene, &cameras, samplers, ctxs, records, rays, out);
     }
