@@ -21,8 +21,7 @@ use fenestra_render::driver::{
 };
 use fenestra_render::film::Window;
 use fenestra_render::integrator::{
-    Integrator, IntegratorError, LightNextEvent, PathOptions, PathTracer, Shading, Split, Start,
-    WorkMap,
+    Integrator, IntegratorError, LightNextEvent, PathOptions, PathTracer, Shading, Split, WorkMap,
 };
 use fenestra_render::light::LightRecords;
 use fenestra_render::{Film, RenderScene, RenderSettings};
@@ -600,21 +599,15 @@ impl PassEstimator for Passes<'_> {
         work: &mut Work,
         rays: &mut RayCounters,
     ) -> Rgb {
-        let ray = ctx.camera_ray(scene, sampler, rays);
-        self.sdrc.tracer.trace(
-            scene,
-            ray,
-            Start::CAMERA,
-            sampler,
-            ctx,
-            &mut LightRecords::off(),
-            rays,
-            &mut self.gather(work),
-        )
+        // A wave of one: the passes trace a block's samples together (below).
+        let mut out = [Rgb::ZERO];
+        let (ctxs, samplers) = (std::slice::from_ref(ctx), std::slice::from_mut(sampler));
+        self.sample_many(scene, ctxs, samplers, work, rays, &mut out);
+        out[0]
     }
 
-    /// A block's samples traced together in waves, as af_hf's are (the same pixels: the
-    /// caches are asked at the camera's hits in the same order).
+    /// A block's samples traced together in waves, as af_hf's are (the pixels of one path
+    /// at a time: the caches are asked at the camera's hits in the same order).
     fn sample_many(
         &self,
         scene: &RenderScene,
