@@ -75,6 +75,21 @@ impl Sampler {
         }
     }
 
+    /// The stream for sample `index` of `pixel` in stream `stream` of `seed`: streams draw
+    /// independently scrambled points, each from its own index 0 (stream 0 is
+    /// [`Sampler::new`]'s). The points of one stream are stratified against each other, so
+    /// an estimator that samples by what it learned from earlier samples must draw the
+    /// samples that use it from another stream than the samples it learned from: within
+    /// one stream they would not be independent of what was learned, and the estimate
+    /// would be biased.
+    pub fn in_stream(seed: u64, stream: u32, pixel: u64, index: u32) -> Self {
+        let mut sampler = Self::new(seed, pixel, index);
+        if stream != 0 {
+            sampler.pixel_seed = hash_combine(sampler.pixel_seed, stream);
+        }
+        sampler
+    }
+
     /// The scrambling seed of 4D group `group`: hash_combine(hash_combine(pixel seed,
     /// group), block).
     fn group_seed(&self, group: u32) -> u32 {
@@ -205,6 +220,29 @@ mod tests {
         assert_ne!(draw(1, 5, 3), draw(2, 5, 3));
         assert_ne!(draw(1, 5, 3), draw(1, 5, 4));
         assert_ne!(draw(1, 5, 3), draw(1, 5, 3 + SOBOL_LENGTH));
+        let stream = |stream, idx| {
+            let mut s = Sampler::in_stream(1, stream, 5, idx);
+            (0..10).map(|_| s.next_1d()).collect::<Vec<_>>()
+        };
+        assert_eq!(stream(0, 3), draw(1, 5, 3), "stream 0 is the plain stream");
+        assert_ne!(stream(1, 3), draw(1, 5, 3));
+        assert_ne!(stream(1, 3), stream(2, 3));
+    }
+
+    #[test]
+    fn streams_are_not_stratified_against_each_other() {
+        // Within a stream, samples 0 and 1 of a pixel fall in different halves of every
+        // dimension; across streams they fall in the same half about half the time.
+        let first = |stream, index, pixel| Sampler::in_stream(3, stream, pixel, index).next_1d();
+        let same_half = |a: f32, b: f32| (a < 0.5) == (b < 0.5);
+        let pixels = 0..2000u64;
+        assert!(pixels
+            .clone()
+            .all(|p| !same_half(first(0, 0, p), first(0, 1, p))));
+        let across = pixels
+            .filter(|&p| same_half(first(1, 0, p), first(2, 0, p)))
+            .count();
+        assert!((900..1100).contains(&across), "{across} of 2000");
     }
 
     #[test]

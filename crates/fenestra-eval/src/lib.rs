@@ -13,7 +13,7 @@ pub mod suite;
 pub mod ztest;
 
 pub use metrics::{efficiency, Metrics};
-pub use ztest::{agreement, z_test, Agreement, ZTest};
+pub use ztest::{agreement, mean_shift, z_test, Agreement, MeanShift, ZTest};
 
 /// What can go wrong while measuring.
 #[derive(Debug, thiserror::Error)]

@@ -147,6 +147,49 @@ pub fn agreement(
     })
 }
 
+/// How far one estimate's image mean lies from another's: a bias spread thinly over the
+/// whole image, which no block's z-test sees, shows here.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct MeanShift {
+    /// (mean of `b` - mean of `a`) / mean of `a`, over every pixel and channel.
+    pub relative: f64,
+    /// Standard error of `relative` (pixels independent: their variances of the mean add).
+    pub standard_error: f64,
+}
+
+impl MeanShift {
+    /// `relative` in standard errors.
+    pub fn z(&self) -> f64 {
+        self.relative / self.standard_error
+    }
+}
+
+/// The relative shift of `b`'s image mean from `a`'s, with its standard error.
+pub fn mean_shift(a: &Estimate, b: &Estimate) -> Result<MeanShift, EvalError> {
+    for other in [&a.variance, &b.mean, &b.variance] {
+        if (other.width, other.height) != (a.mean.width, a.mean.height) {
+            return Err(EvalError::SizeMismatch(
+                a.mean.width,
+                a.mean.height,
+                other.width,
+                other.height,
+            ));
+        }
+    }
+    let sum = |im: &Image| -> f64 {
+        im.pixels
+            .iter()
+            .flat_map(|p| p.to_array())
+            .map(f64::from)
+            .sum()
+    };
+    let mean_a = sum(&a.mean);
+    Ok(MeanShift {
+        relative: (sum(&b.mean) - mean_a) / mean_a,
+        standard_error: (sum(&a.variance) + sum(&b.variance)).sqrt() / mean_a.abs(),
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -197,6 +240,28 @@ mod tests {
                 .expect("sizes")
                 .passed
         );
+    }
+
+    #[test]
+    fn a_shift_of_the_mean_is_measured_with_its_standard_error() {
+        let estimate = |(mean, variance)| Estimate { mean, variance };
+        let a = estimate(noisy(1.0, 0.1, 6));
+        let same = mean_shift(&a, &estimate(noisy(1.0, 0.1, 7))).expect("sizes");
+        // 3,072 values of sd 0.1 each side: the shift's standard error is 0.1 sqrt(2 / 3072).
+        let se = 0.1 * (2.0f64 / 3072.0).sqrt();
+        assert!((same.standard_error / se - 1.0).abs() < 1e-3, "{same:?}");
+        assert!(same.z().abs() < 4.0, "{same:?}");
+        // A 1% shift, 0.4 standard errors a pixel, is 3.9 standard errors of the mean.
+        let shifted = mean_shift(&a, &estimate(noisy(1.01, 0.1, 7))).expect("sizes");
+        assert!(
+            (shifted.relative - same.relative - 0.01).abs() < 1e-4,
+            "{shifted:?}"
+        );
+        let small = Estimate {
+            mean: Image::new(8, 8),
+            variance: Image::new(8, 8),
+        };
+        assert!(mean_shift(&a, &small).is_err());
     }
 
     #[test]

@@ -17,7 +17,7 @@ use fenestra_scene::SurfaceInteraction;
 
 /// Side of a block.
 pub(super) const BLOCK: u32 = 8;
-/// Where a pixel's shadow rays' sample streams begin: after the most eye rays it may take.
+/// The most eye rays a pixel may take.
 pub(super) const MAX_EYE_RAYS: u32 = 4096;
 
 /// The most eye rays per unique surface (small images).
@@ -99,7 +99,7 @@ pub(super) struct PixelState {
     seen_light: bool,
     visible_rays: u32,
     done: bool,
-    /// Next index of the pixel's sample stream.
+    /// Light samples the pixel has taken (its regions' hits take them in turn).
     next_sample: u32,
     /// Its rows of the pixel statistics: node slot -> stat, per class present.
     stats: Vec<(usize, Vec<Stat>)>,
@@ -568,7 +568,7 @@ impl BlockRender<'_> {
             rays_before: 0,
             seen_light: false,
             visible_rays: 0,
-            next_sample: MAX_EYE_RAYS,
+            next_sample: 0,
             stats: Vec::new(),
             trace: (self.trace == Some((x, y))).then(Vec::new),
         }
@@ -633,6 +633,10 @@ impl BlockRender<'_> {
             })
             .collect();
         let pixel_index = u64::from(p.y) * u64::from(self.width) + u64::from(p.x);
+        // Each pass draws from a stream of its own (the eye rays' is stream 0): the pass's
+        // PDFs were learned from the earlier passes' samples, which the pass's samples must
+        // not be stratified against (Sampler::in_stream).
+        let first = p.next_sample;
         let mut drawn = 0u32;
         let mut round = budget;
         loop {
@@ -644,7 +648,8 @@ impl BlockRender<'_> {
                 }
                 let n = ((round as f32 * q.area).round() as u32).max(1);
                 for _ in 0..n {
-                    let mut sampler = Sampler::new(self.seed, pixel_index, p.next_sample);
+                    let index = p.next_sample.wrapping_sub(first);
+                    let mut sampler = Sampler::in_stream(self.seed, pass + 1, pixel_index, index);
                     let at = &q.hits[p.next_sample as usize % q.hits.len()];
                     p.next_sample = p.next_sample.wrapping_add(1);
                     let s = self.sample(q, at, &pdfs[i], cdf, &mut sampler, rays);

@@ -200,6 +200,73 @@ pub fn one_bright_among_many() -> SceneDesc {
     }
 }
 
+/// A closed 8 x 8 x 3 m room under 64 ceiling panels of unequal power, with six boxes of
+/// several heights on the floor that hide many panels from much of it; the camera looks
+/// down at the floor and the boxes and sees no light.
+pub fn occluded_room() -> SceneDesc {
+    let mut rng = Rng::new(64);
+    let inward = [
+        (Vec3::new(4.0, 4.0, 0.0), Vec3::X * 4.0, Vec3::Y * 4.0),
+        (Vec3::new(4.0, 4.0, 3.0), Vec3::Y * 4.0, Vec3::X * 4.0),
+        (Vec3::new(4.0, 0.0, 1.5), Vec3::Z * 1.5, Vec3::X * 4.0),
+        (Vec3::new(4.0, 8.0, 1.5), Vec3::X * 4.0, Vec3::Z * 1.5),
+        (Vec3::new(0.0, 4.0, 1.5), Vec3::Y * 4.0, Vec3::Z * 1.5),
+        (Vec3::new(8.0, 4.0, 1.5), Vec3::Z * 1.5, Vec3::Y * 4.0),
+    ];
+    let mut shapes: Vec<Shape> = inward
+        .iter()
+        .map(|&(c, u, v)| Shape::new(ShapeKind::Mesh(TriangleMesh::quad(c, u, v)), 0))
+        .collect();
+    for (x, y, height) in [
+        (1.5, 2.0, 2.2),
+        (4.0, 2.5, 1.2),
+        (6.5, 2.0, 2.5),
+        (2.0, 5.5, 1.8),
+        (4.5, 6.0, 2.6),
+        (6.5, 5.5, 1.0),
+    ] {
+        let h = Vec3::new(0.6, 0.6, height / 2.0);
+        let c = Vec3::new(x, y, height / 2.0);
+        let (hx, hy, hz) = (Vec3::X * h.x, Vec3::Y * h.y, Vec3::Z * h.z);
+        for (centre, u, v) in [
+            (c + hx, hy, hz),
+            (c - hx, hz, hy),
+            (c + hy, hz, hx),
+            (c - hy, hx, hz),
+            (c + hz, hx, hy),
+        ] {
+            shapes.push(Shape::new(
+                ShapeKind::Mesh(TriangleMesh::quad(centre, u, v)),
+                0,
+            ));
+        }
+    }
+    for i in 0..8 {
+        for j in 0..8 {
+            let c = Vec3::new(0.5 + i as f32, 0.5 + j as f32, 2.99);
+            let panel = TriangleMesh::quad(c, Vec3::Y * 0.15, Vec3::X * 0.15);
+            let e = 2.0 + 18.0 * rng.next_f32();
+            let glow = Emission::radiance(Rgb::new(e, 0.9 * e, 0.8 * e));
+            shapes.push(Shape::new(ShapeKind::Mesh(panel), 0).emitting(glow));
+        }
+    }
+    SceneDesc {
+        name: "occluded room".into(),
+        shapes,
+        materials: vec![Material::diffuse(0.7)],
+        lights: Vec::new(),
+        camera: Camera::look_at(
+            Vec3::new(4.0, 0.3, 2.6),
+            Vec3::new(4.0, 4.5, 0.0),
+            Vec3::Z,
+            70.0,
+        )
+        .expect("camera"),
+        defaults: RenderDefaults::default(),
+        portals: Vec::new(),
+    }
+}
+
 /// af_hf with the light BVH.
 pub fn bvh_af_hf(options: PathOptions) -> PathTracer<LightNextEvent> {
     PathTracer::new(
@@ -213,18 +280,30 @@ pub fn bvh_af_hf(options: PathOptions) -> PathTracer<LightNextEvent> {
 
 /// Renders `desc` at 24x24 with `spp` samples on `threads` threads.
 pub fn render(desc: SceneDesc, integrator: &mut dyn Integrator, spp: u32, threads: usize) -> Film {
+    render_with(desc, integrator, (24, 24), spp, 5, threads)
+}
+
+/// Renders `desc` at `width` x `height` with `spp` samples and `seed` on `threads` threads.
+pub fn render_with(
+    desc: SceneDesc,
+    integrator: &mut dyn Integrator,
+    (width, height): (u32, u32),
+    spp: u32,
+    seed: u64,
+    threads: usize,
+) -> Film {
     let scene = RenderScene::new(Scene::build(desc, Backend::Obvhs).expect("scene"));
     let settings = RenderSettings {
         first_sample: 0,
         spp,
         time_limit: None,
-        seed: 5,
+        seed,
     };
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
         .expect("pool");
-    pool.install(|| render_image(integrator, &scene, 24, 24, &settings))
+    pool.install(|| render_image(integrator, &scene, width, height, &settings))
         .expect("render")
         .0
 }

@@ -63,6 +63,16 @@ pub trait PassEstimator: Sync {
     /// Called before each pass: whether to render it (false ends the render).
     fn begin_pass(&mut self, pass: &PassInfo) -> bool;
 
+    /// The random stream the samples of the pass just begun draw from: each pixel counts a
+    /// stream's samples from where the stream began, and streams draw independent numbers
+    /// ([`Sampler::in_stream`]). An estimator that samples by what it learned from earlier
+    /// passes draws each pass that uses something new from a stream of its own, so that
+    /// no sample is stratified against the samples its sampling was learned from (that
+    /// biases the image). 0 by default: one stream for the whole render.
+    fn stream(&self) -> u32 {
+        0
+    }
+
     /// A fresh statistics record for `block` in `pass`.
     fn block_stats(&self, block: u32, pass: u32) -> Self::BlockStats;
 
@@ -115,6 +125,9 @@ pub fn render_passes<E: PassEstimator>(
     let (width, height) = (film.width, film.height);
     let blocks = Blocks::new(width, height);
     let mut taken = vec![settings.first_sample; film.pixels.len()];
+    // Each pixel's sample count where the current stream began (stream 0 from the start).
+    let mut stream = 0;
+    let mut stream_start = vec![0; film.pixels.len()];
     let started = Instant::now();
     control
         .progress
@@ -132,11 +145,17 @@ pub fn render_passes<E: PassEstimator>(
         if !estimator.begin_pass(&info) {
             break;
         }
+        if estimator.stream() != stream {
+            stream = estimator.stream();
+            stream_start.copy_from_slice(&taken);
+        }
         let shared = &*estimator;
         let pass = Pass {
             index: passes,
             window: film.window,
             seed: settings.seed,
+            stream,
+            stream_start: &stream_start,
         };
         let rendered: Vec<(E::BlockStats, RayCounters)> =
             BlockView::all(blocks, width, &mut film.pixels, &mut taken)
@@ -219,15 +238,18 @@ impl<'a> BlockView<'a> {
 }
 
 /// What every block of one pass shares.
-struct Pass {
+struct Pass<'a> {
     index: u32,
     /// The film's window of the image: block and pixel positions are the film's, samples
     /// and camera rays the image's.
     window: Window,
     seed: u64,
+    /// The random stream of the pass, and each film pixel's sample count where it began.
+    stream: u32,
+    stream_start: &'a [u32],
 }
 
-impl Pass {
+impl Pass<'_> {
     /// Renders one block: its pixels row by row, each pixel's samples in index order;
     /// returns the block's statistics and the rays traced.
     fn render<E: PassEstimator>(
@@ -245,6 +267,7 @@ impl Pass {
         }
         // Every sample of the block's pass, pixel by pixel, each pixel's in index order.
         let mut ctxs = Vec::new();
+        let mut starts = Vec::new();
         let mut counts = Vec::with_capacity((BLOCK_SIZE * BLOCK_SIZE) as usize);
         for (dy, row) in view.rows.iter().enumerate() {
             let Some((pixels, taken)) = row else { continue };
@@ -271,11 +294,18 @@ impl Pass {
                     index: first,
                 };
                 ctxs.extend((first..first + n).map(|index| SampleContext { index, ..ctx }));
+                let film_width = self.window.x1 - self.window.x0;
+                let film_pixel = (view.y0 + dy as u32) * film_width + view.x0 + dx as u32;
+                let start = self.stream_start[film_pixel as usize];
+                starts.extend(std::iter::repeat_n(start, n as usize));
             }
         }
         let mut samplers: Vec<Sampler> = ctxs
             .iter()
-            .map(|ctx| Sampler::new(self.seed, ctx.pixel(), ctx.index))
+            .zip(&starts)
+            .map(|(ctx, &start)| {
+                Sampler::in_stream(self.seed, self.stream, ctx.pixel(), ctx.index - start)
+            })
             .collect();
         let mut out = vec![Rgb::ZERO; ctxs.len()];
         estimator.sample_many(

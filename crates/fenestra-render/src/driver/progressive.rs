@@ -76,6 +76,7 @@ pub fn render_progressive(
         budget: Budget::new(settings.spp, settings.time_limit),
         size: 1,
         current: 0,
+        stream: 0,
         rate: 0.0,
         per_sample: RECORDS_PER_SAMPLE,
     };
@@ -135,6 +136,8 @@ struct Schedule<'a, E> {
     /// Size of the next pass before the sample count and time limit cut it.
     size: u32,
     current: u32,
+    /// The random stream of the pass: a new one after each pass the estimator learned from.
+    stream: u32,
     /// Share of this pass's path samples whose light samples are kept (0: none).
     rate: f32,
     /// Light records kept per path sample in the last pass that kept any.
@@ -158,6 +161,10 @@ impl<E: PathEstimator> PassEstimator for Schedule<'_, E> {
             0.0
         };
         self.current > 0
+    }
+
+    fn stream(&self) -> u32 {
+        self.stream
     }
 
     fn block_stats(&self, _: u32, _: u32) -> LightRecords {
@@ -201,6 +208,7 @@ impl<E: PathEstimator> PassEstimator for Schedule<'_, E> {
             let samples = film.pixels.len() as f64 * self.current as f64 * self.rate as f64;
             self.per_sample = (kept as f64 / samples.max(1.0)).max(1e-3);
             self.estimator.learn(&blocks);
+            self.stream += 1;
         }
         self.budget.done += self.current;
         self.size = (self.size * 2).min(MAX_PASS);
