@@ -99,8 +99,11 @@ impl LightNextEvent {
         rays: &mut RayCounters,
         shadows: &mut Vec<ShadowRay>,
     ) {
-        let u_pick = sampler.next_1d();
-        let u = sampler.next_2d();
+        // The pick and the point on the light stratified together: the triangles of an
+        // emitter are lights of their own, and an emitter's samples should cover it as a
+        // 2D sample over the whole would.
+        let u3 = sampler.next_3d();
+        let (u_pick, u) = (u3.x, Vec2::new(u3.y, u3.z));
         let mut picks = Picks::default();
         self.sampler
             .sample_all(&s.light_context(), u_pick, &mut picks);
