@@ -11,10 +11,15 @@ use fenestra_render::integrator::Split;
 pub fn parse_samples(s: &str) -> Result<SampleRange> {
     let bad = || anyhow::anyhow!("bad --samples '{s}': expected A..B with A < B, e.g. 0..256");
     let (a, b) = s.split_once("..").ok_or_else(bad)?;
-    let (start, end): (u32, u32) = (
-        a.trim().parse().map_err(|_| bad())?,
-        b.trim().parse().map_err(|_| bad())?,
-    );
+    let index = |v: &str| -> Result<u32> {
+        let v = v.trim();
+        if v.is_empty() || !v.bytes().all(|b| b.is_ascii_digit()) {
+            bail!(bad());
+        }
+        v.parse()
+            .map_err(|_| anyhow::anyhow!("--samples '{s}': sample indices go up to {}", u32::MAX))
+    };
+    let (start, end) = (index(a)?, index(b)?);
     if start >= end {
         bail!(bad());
     }
@@ -109,8 +114,13 @@ mod tests {
         assert!(by_samples(4, 5).is_err());
         assert_eq!(parse_samples("16..32").expect("parse"), r_(16, 32));
         for bad in ["16", "32..16", "5..5", "a..b", "-1..3"] {
-            assert!(parse_samples(bad).is_err(), "{bad}");
+            let e = parse_samples(bad).expect_err(bad).to_string();
+            assert!(e.contains("expected A..B with A < B"), "{bad}: {e}");
         }
+        let e = parse_samples("0..99999999999")
+            .expect_err("too many")
+            .to_string();
+        assert!(e.contains("sample indices go up to 4294967295"), "{e}");
     }
 
     fn r_(start: u32, end: u32) -> SampleRange {

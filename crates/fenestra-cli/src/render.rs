@@ -7,11 +7,12 @@ use anyhow::{bail, Context, Result};
 use clap::Args;
 use fenestra_core::image::Image;
 use fenestra_core::stats::ConvergencePoint;
+use fenestra_core::Rgb;
 use fenestra_eval::hash::debug_hash;
 use fenestra_eval::metrics;
 use fenestra_eval::run::{ReferenceSummary, REFERENCE_SEED_OFFSET};
 use fenestra_render::control::PassHook;
-use fenestra_render::film::Window;
+use fenestra_render::film::{Pixel, Window};
 use fenestra_render::film_file::{FilmHeader, SampleRange};
 use fenestra_render::integrator::{Split, WorkMap};
 use fenestra_render::{
@@ -112,19 +113,51 @@ pub(crate) fn parse_resolution(s: &str) -> Result<(u32, u32)> {
         anyhow::anyhow!("bad resolution '{s}': expected WxH with positive integers, e.g. 512x512")
     };
     let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
-    let (w, h): (u32, u32) = (
-        w.trim().parse().map_err(|_| bad())?,
-        h.trim().parse().map_err(|_| bad())?,
-    );
-    if w == 0 || h == 0 || w > 65536 || h > 65536 {
-        bail!(bad());
-    }
+    let side = |v: &str| -> Result<u32> {
+        let v = v.trim();
+        if v.is_empty() || !v.bytes().all(|b| b.is_ascii_digit()) {
+            bail!(bad());
+        }
+        match v.parse::<u32>() {
+            Ok(0) => bail!(bad()),
+            Ok(n) if n <= 65536 => Ok(n),
+            _ => bail!("resolution '{s}' is too large: at most 65536 pixels a side"),
+        }
+    };
+    let (w, h) = (side(w)?, side(h)?);
     // The film keeps 112 bytes per pixel (exact sums and squares in 128-bit integers, a
     // count).
     if w as u64 * h as u64 > 1 << 27 {
         bail!("resolution {w}x{h} is too large: at most 134 million pixels (about 15 GB of film)");
     }
     Ok((w, h))
+}
+
+/// Refuses a film (with the mean and variance images written from it, and room for the
+/// EXR writer's copy) larger than the memory the machine has available, before allocating
+/// it: naming both figures.
+fn film_fits_in_memory(window: Window) -> Result<()> {
+    let pixels = u64::from(window.x1 - window.x0) * u64::from(window.y1 - window.y0);
+    let per_pixel = std::mem::size_of::<Pixel>() + 4 * std::mem::size_of::<Rgb>();
+    let needed = pixels * per_pixel as u64;
+    let available = std::fs::read_to_string("/proc/meminfo")
+        .ok()
+        .and_then(|info| {
+            let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
+            let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+            Some(kb * 1024)
+        });
+    if let Some(available) = available.filter(|&a| needed > a) {
+        let gb = |b: u64| b as f64 / 1e9;
+        bail!(
+            "a {}x{} film needs {:.1} GB of memory and this machine has {:.1} GB available: render a smaller resolution, or tiles of it (--crop) merged with `fenestra merge`",
+            window.x1 - window.x0,
+            window.y1 - window.y0,
+            gb(needed),
+            gb(available)
+        );
+    }
+    Ok(())
 }
 
 /// A render fully specified and checked, ready to run.
@@ -250,6 +283,12 @@ impl RenderOpts {
             scene: &desc,
         };
         let integrator = integrators::registry().build(&self.integrator.integrator, &config)?;
+        if let (Some(spp), Split::BlockTiles) = (self.spp, integrator.split()) {
+            bail!(
+                "{} decides how many samples each pixel takes (until the pixel's relative variance is below its threshold): --spp {spp} would not steer it; set --ias-threshold, or --time",
+                integrator.name()
+            );
+        }
         let spp = match time {
             Some(_) => self.spp.unwrap_or(u32::MAX),
             None => self.spp.unwrap_or(desc.defaults.spp),
@@ -274,6 +313,7 @@ impl RenderOpts {
     /// Builds the scene, prepares the integrator and renders, on a pool of --threads workers,
     /// with Ctrl-C stopping it cleanly.
     fn run(&self, job: Job, hook: Option<PassHook>) -> Result<(RenderStats, Film, Vec<WorkMap>)> {
+        film_fits_in_memory(job.window)?;
         let pool = crate::thread_pool(self.threads)?;
         let cancel = interrupt::on_ctrl_c("writing the samples taken so far");
         let Job {

@@ -795,6 +795,17 @@ fn an_impossibly_large_film_is_refused_before_allocating() {
         ],
         "too large",
     );
+    assert_clear_error(
+        &[
+            "render",
+            "builtin:box-hole",
+            "--resolution",
+            "100000x100000",
+            "-o",
+            o,
+        ],
+        "too large: at most 65536 pixels a side",
+    );
 }
 
 #[test]
@@ -1401,6 +1412,30 @@ fn sdrc_maps_its_cache_and_compare_measures_under_its_mask() {
         !o.status.success() && err.contains("is 8x8, the reference 24x24"),
         "{err}"
     );
+}
+
+#[test]
+fn ias_refuses_a_sample_count_it_would_not_take() {
+    let out = tmp("ias-spp.exr");
+    let o = out.to_str().expect("utf-8");
+    for integrator in ["ias", "ias_reference"] {
+        assert_clear_error(
+            &[
+                "render",
+                "builtin:kitchen-72",
+                "--integrator",
+                integrator,
+                "--spp",
+                "16",
+                "--resolution",
+                "16x12",
+                "-o",
+                o,
+            ],
+            "--spp 16 would not steer it; set --ias-threshold, or --time",
+        );
+    }
+    assert!(!out.exists());
 }
 
 #[test]
