@@ -94,12 +94,15 @@ pub fn read(path: &Path) -> Result<ObjModel, MeshError> {
     })
 }
 
-/// Every face or line index must name a vertex, texture coordinate or normal: tobj
-/// multiplies indices unchecked, which overflows for one far out of range (a relative index
-/// before the first vertex, found by cargo fuzz).
+/// Every face or line index must name a vertex, texture coordinate or normal, said with its
+/// line: tobj multiplies indices unchecked, which overflows for one far out of range (a
+/// relative index before the first vertex, found by cargo fuzz), and names no line for an
+/// index past the file's last vertex.
 fn check_indices(text: &[u8]) -> Result<(), String> {
     const KINDS: [&str; 3] = ["vertex", "texture coordinate", "normal"];
     let mut defined = [0i64; 3];
+    // Per kind, the largest absolute index and its line (the file may define it later).
+    let mut largest = [(0i64, 0usize); 3];
     for (no, line) in text.split(|&b| b == b'\n').enumerate() {
         let Ok(line) = std::str::from_utf8(line) else {
             continue; // tobj refuses the file
@@ -116,6 +119,9 @@ fn check_indices(text: &[u8]) -> Result<(), String> {
                             continue; // empty (v//vn) or not a number: tobj refuses it
                         };
                         // Relative indices count back from the last one defined so far.
+                        if i > largest[kind].0 {
+                            largest[kind] = (i, no + 1);
+                        }
                         let names_one = if i < 0 {
                             i.checked_neg().is_some_and(|back| back <= defined[kind])
                         } else {
@@ -133,6 +139,14 @@ fn check_indices(text: &[u8]) -> Result<(), String> {
                 }
             }
             _ => {}
+        }
+    }
+    for (kind, &(i, line)) in largest.iter().enumerate() {
+        if i > defined[kind] {
+            return Err(format!(
+                "line {line}: index {i} names no {} (the file has {})",
+                KINDS[kind], defined[kind]
+            ));
         }
     }
     Ok(())
@@ -244,6 +258,18 @@ mod tests {
             (
                 "f 1/9223372036854775807 2 3",
                 "index 9223372036854775807 names no texture",
+            ),
+            // Past the file's last vertex (tobj said "face vertex index out of bounds").
+            (
+                "f 1 2 7",
+                "line 5: index 7 names no vertex (the file has 3)",
+            ),
+            // A later vertex may be named before it is defined.
+            (
+                "f 1 2 4
+v 0 0 1
+f 1 2 7",
+                "line 7: index 7 names no vertex (the file has 4)",
             ),
         ] {
             std::fs::write(dir.join("far.obj"), format!("{tri}{face}\n")).expect("obj");

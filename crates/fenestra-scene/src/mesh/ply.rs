@@ -177,6 +177,18 @@ pub fn read(path: &Path) -> Result<TriangleMesh, MeshError> {
     let vertices = vertices.ok_or_else(|| err("no 'vertex' element".into()))?;
     let faces = faces.ok_or_else(|| err("no 'face' element".into()))?;
     let n = vertices.len();
+    let finite = |v: &[f32]| v.iter().all(|c| c.is_finite());
+    if let Some((i, v)) = vertices
+        .iter()
+        .enumerate()
+        .find(|(_, v)| !finite(&v.p) || (has.0 && !finite(&v.n)))
+    {
+        let [x, y, z] = if finite(&v.p) { v.n } else { v.p };
+        let what = if finite(&v.p) { "normal" } else { "position" };
+        return Err(err(format!(
+            "vertex {i} of {n}: its {what} ({x}, {y}, {z}) is not finite"
+        )));
+    }
     let mut indices = Vec::with_capacity(faces.len());
     let mut poly = Vec::new();
     for (f, face) in faces.iter().enumerate() {
@@ -300,6 +312,19 @@ mod tests {
         assert_eq!(back.positions, m.positions);
         assert_eq!(back.indices, m.indices);
         assert_eq!(back.uvs, m.uvs);
+        // A coordinate that is not a number is refused with its file and vertex (the scene
+        // said only "shape 0: a vertex position is not finite").
+        let mut nan = m.clone();
+        nan.positions[2].y = f32::NAN;
+        let mut f = std::fs::File::create(&bin).expect("create");
+        write(&nan, &mut f).expect("write");
+        drop(f);
+        let e = read(&bin).expect_err("NaN").to_string();
+        assert!(
+            e.contains("quad-bin.ply: vertex 2 of 4: its position (1, NaN, 0) is not finite"),
+            "{e}"
+        );
+        write(&m, &mut std::fs::File::create(&bin).expect("create")).expect("write");
 
         // gzip-compressed, whatever the name; a damaged one says it is gzip.
         let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::fast());
