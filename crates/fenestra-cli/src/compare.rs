@@ -49,6 +49,15 @@ fn check_pair(
             reference.display()
         );
     }
+    // Scenes of one name (every scene-v4.pbrt of Bitterli's set) differ in content.
+    if let Some((content, ref_content)) = both("fenestra:scene_content").filter(|(a, b)| a != b) {
+        let name = attributes.get("fenestra:scene").map_or("", String::as_str);
+        bail!(
+            "{} is an image of another scene than the reference {}: their scenes' contents differ ({content}, {ref_content}) though both are named '{name}'",
+            image.display(),
+            reference.display()
+        );
+    }
     if let Some((seed, _)) = both("fenestra:seed").filter(|(a, b)| a == b) {
         eprintln!(
             "warning: {} and the reference were both rendered with seed {seed}: they share \

@@ -8,7 +8,7 @@ use clap::Args;
 use fenestra_core::image::Image;
 use fenestra_core::stats::ConvergencePoint;
 use fenestra_core::Rgb;
-use fenestra_eval::hash::debug_hash;
+use fenestra_eval::hash::{debug_hash, Fnv64};
 use fenestra_eval::metrics;
 use fenestra_eval::run::{ReferenceSummary, REFERENCE_SEED_OFFSET};
 use fenestra_render::control::PassHook;
@@ -133,6 +133,30 @@ pub(crate) fn parse_resolution(s: &str) -> Result<(u32, u32)> {
     Ok((w, h))
 }
 
+/// The hash of a scene's content: its files' bytes, in the order they were read (a
+/// built-in scene, which has none: its name and fenestra's version).
+fn scene_content(scene: &str, files: &[PathBuf]) -> Result<String> {
+    let mut hash = Fnv64::default();
+    if files.is_empty() {
+        hash.update(scene.as_bytes());
+        hash.update(env!("CARGO_PKG_VERSION").as_bytes());
+    }
+    let mut buffer = vec![0; 1 << 16];
+    for path in files {
+        let mut file = std::fs::File::open(path)
+            .with_context(|| format!("reading {} again", path.display()))?;
+        loop {
+            let n = std::io::Read::read(&mut file, &mut buffer)
+                .with_context(|| format!("reading {} again", path.display()))?;
+            if n == 0 {
+                break;
+            }
+            hash.update(&buffer[..n]);
+        }
+    }
+    Ok(format!("{:016x}", hash.finish()))
+}
+
 /// Refuses a film (with the mean and variance images written from it, and room for the
 /// EXR writer's copy) larger than the memory the machine has available, before allocating
 /// it: naming both figures.
@@ -163,6 +187,8 @@ fn film_fits_in_memory(window: Window) -> Result<()> {
 /// A render fully specified and checked, ready to run.
 struct Job {
     desc: fenestra_scene::SceneDesc,
+    /// The hash of the scene's content that its images carry.
+    scene_content: String,
     /// What the render reads: scene files, a portals file.
     inputs: Files,
     width: u32,
@@ -264,6 +290,7 @@ impl RenderOpts {
         }
         self.integrator.check()?;
         let loaded = scene_arg::load(&self.scene, self.scene_options)?;
+        let scene_content = scene_content(&self.scene, &loaded.files)?;
         let desc = loaded.desc;
         let mut inputs = Files::default();
         inputs.inputs(&loaded.files, "scene file");
@@ -301,6 +328,7 @@ impl RenderOpts {
         };
         Ok(Job {
             desc,
+            scene_content,
             inputs,
             width,
             height,
@@ -318,6 +346,7 @@ impl RenderOpts {
         let cancel = interrupt::on_ctrl_c("writing the samples taken so far");
         let Job {
             desc,
+            scene_content,
             inputs: _,
             width: _,
             height: _,
@@ -341,7 +370,11 @@ impl RenderOpts {
                 &control,
             );
             bar.finish();
-            Ok((stats?, film, integrator.work_maps()))
+            let stats = RenderStats {
+                scene_content,
+                ..stats?
+            };
+            Ok((stats, film, integrator.work_maps()))
         })
     }
 

@@ -598,6 +598,58 @@ fn compare_reports_metrics_and_efficiency() {
 }
 
 #[test]
+fn compare_tells_apart_scenes_of_one_name_by_their_content() {
+    // Two scene.pbrt files in two folders (as Bitterli's scene-v4.pbrt), one lamp brighter.
+    let scene = |folder: &str, power: &str| {
+        let dir = tmp(folder);
+        std::fs::create_dir_all(&dir).expect("dir");
+        let path = dir.join("scene.pbrt");
+        std::fs::write(
+            &path,
+            format!(
+                "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" 40\n\
+                 WorldBegin\nLightSource \"point\" \"rgb I\" [{power} {power} {power}] \
+                 \"point3 from\" [0 0 3]\nShape \"trianglemesh\" \
+                 \"point3 P\" [-1 -1 0 1 -1 0 1 1 0 -1 1 0] \"integer indices\" [0 1 2 0 2 3]\n"
+            ),
+        )
+        .expect("scene");
+        path
+    };
+    let render_of = |scene: &Path, name: &str, seed: &str| {
+        let out = tmp(name);
+        let o = fenestra(&[
+            "render",
+            scene.to_str().expect("utf-8"),
+            "--spp",
+            "1",
+            "--resolution",
+            "8x8",
+            "--seed",
+            seed,
+            "-o",
+            out.to_str().expect("utf-8"),
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        out
+    };
+    let a = render_of(&scene("one-a", "5"), "one-a.exr", "1");
+    let copy = render_of(&scene("one-b", "5"), "one-b.exr", "2");
+    let other = render_of(&scene("one-c", "9"), "one-c.exr", "2");
+    let o = fenestra(&[
+        "compare",
+        "--ref",
+        a.to_str().expect("utf-8"),
+        copy.to_str().expect("utf-8"),
+    ]);
+    assert!(
+        o.status.success(),
+        "a copy of the scene elsewhere is the same scene: {o:?}"
+    );
+    assert_compare_refused(&a, &other, "their scenes' contents differ");
+}
+
+#[test]
 fn bench_writes_a_report_and_resumes() {
     let (dir, suite, args) = bench_suite(
         "bench",

@@ -57,6 +57,9 @@ pub struct ConvergencePoint {
 pub struct RenderStats {
     /// The scene's name.
     pub scene: String,
+    /// A hash of the scene's content (its files' bytes; a built-in scene's name and
+    /// fenestra's version), which tells apart scenes of one name; empty where unknown.
+    pub scene_content: String,
     /// The integrator's name (`hf`, `af_hf`, ...).
     pub integrator: String,
     /// Every integrator setting that changes the picture.

@@ -23,6 +23,9 @@ pub fn exr_metadata(stats: &RenderStats) -> BTreeMap<String, String> {
         m.insert(format!("fenestra:{k}"), v);
     };
     put("scene", stats.scene.clone());
+    if !stats.scene_content.is_empty() {
+        put("scene_content", stats.scene_content.clone());
+    }
     put("integrator", stats.integrator.clone());
     put("spp", stats.spp.to_string());
     put("seed", stats.seed.to_string());
