@@ -110,7 +110,10 @@ fn main() -> ExitCode {
         Command::Prt(args) => prt::run(args),
         Command::Raybench(args) => raybench::run(args),
         Command::Scene(args) => scene_cmd::run(args),
-        Command::Portals(args) => portals_cmd::run(args),
+        Command::Portals(args) => match portals_cmd::run(args) {
+            Ok(true) => return ExitCode::from(130),
+            other => other.map(|_| ()),
+        },
         Command::List => {
             println!("built-in scenes (use as builtin:NAME):");
             for (name, what) in fenestra_builtin::SCENES {

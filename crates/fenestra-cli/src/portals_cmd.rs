@@ -4,6 +4,7 @@
 use crate::{interrupt, progress::Bar, scene_arg};
 use anyhow::{bail, Context, Result};
 use clap::Args;
+use fenestra_core::fs::FileSet;
 use fenestra_portals::estimate::{estimate, EstimateParams, Model};
 use fenestra_portals::photon::Deposit;
 use fenestra_portals::{export, plot, Portal};
@@ -143,7 +144,8 @@ pub struct PortalsArgs {
     quiet: bool,
 }
 
-pub fn run(args: PortalsArgs) -> Result<()> {
+/// Estimates and writes the portals; true if Ctrl-C stopped it (nothing is written then).
+pub fn run(args: PortalsArgs) -> Result<bool> {
     if args.output.extension().and_then(|e| e.to_str()) != Some("json") {
         bail!("output {} must end in .json", args.output.display());
     }
@@ -175,7 +177,7 @@ pub fn run(args: PortalsArgs) -> Result<()> {
         );
     }
     let pool = crate::thread_pool(args.threads)?;
-    let cancel = interrupt::on_ctrl_c("fitting portals to the photons gathered so far");
+    let cancel = interrupt::on_ctrl_c("stopping; nothing is written");
     let params = args.estimate.params();
     let (e, bounds) = pool.install(|| -> Result<_> {
         let scene =
@@ -186,6 +188,14 @@ pub fn run(args: PortalsArgs) -> Result<()> {
         bar.finish();
         Ok((e, scene.scene.bounds()))
     })?;
+    if cancel.load(std::sync::atomic::Ordering::SeqCst) {
+        // Portals of part of the photons would replace a complete estimate: keep the files.
+        eprintln!(
+            "interrupted: nothing written ({} kept as it was)",
+            args.output.display()
+        );
+        return Ok(true);
+    }
     if e.portals.is_empty() {
         eprintln!(
             "warning: no portal found ({} photons, {} clusters); try more --photons, a larger --theta or a smaller --radius",
@@ -193,13 +203,16 @@ pub fn run(args: PortalsArgs) -> Result<()> {
             e.clusters.len()
         );
     }
+    // Every file or none (a full disk wrote the .json and not the .svg).
     let file = e.file(&args.scene, &params);
-    file.write(&args.output)?;
+    let mut set = FileSet::new();
+    set.stage(&args.output, |tmp| file.write(tmp))?;
     let portals: Vec<Portal> = e.portals.iter().map(|p| p.portal.clone()).collect();
     for path in &args.export {
-        export::write(&portals, path)?;
+        set.stage(path, |tmp| export::write(&portals, tmp))?;
     }
-    plot::write_projections(&e, bounds, &plot_path)?;
+    set.stage(&plot_path, |tmp| plot::write_projections(&e, bounds, tmp))?;
+    set.commit()?;
     if args.json {
         println!("{}", serde_json::to_string(&file)?);
     } else {
@@ -211,5 +224,5 @@ pub fn run(args: PortalsArgs) -> Result<()> {
         wrote.extend(args.export.iter().map(|p| p.display().to_string()));
         println!("wrote {}", wrote.join(", "));
     }
-    Ok(())
+    Ok(false)
 }

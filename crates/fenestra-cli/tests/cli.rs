@@ -388,6 +388,54 @@ fn interrupt_render(signal: &str) {
     assert!(img.mean().r > 0.0);
 }
 
+/// Ctrl-C while `portals` traces photons exits 130 and keeps the portals file and picture
+/// of an earlier, complete estimate as they were (it wrote portals of the photons so far,
+/// and exited 0).
+#[cfg(unix)]
+#[test]
+fn an_interrupted_portal_estimate_keeps_the_complete_one() {
+    let out = tmp("kept-portals.json");
+    let o = out.to_str().expect("utf-8");
+    let done = fenestra(&["portals", "builtin:box-hole", "-q", "-o", o]);
+    assert!(
+        done.status.success(),
+        "{}",
+        String::from_utf8_lossy(&done.stderr)
+    );
+    let before = (
+        std::fs::read(&out).expect("json"),
+        std::fs::read(out.with_extension("svg")).expect("svg"),
+    );
+    let child = Command::new(env!("CARGO_BIN_EXE_fenestra"))
+        .args([
+            "portals",
+            "builtin:box-hole",
+            "--photons",
+            "100000000",
+            "--settle",
+            "0",
+        ])
+        .args(["--max-beams", "4294967295", "-q", "-o", o])
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("spawn");
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    let kill = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .expect("kill");
+    assert!(kill.success());
+    let stopped = child.wait_with_output().expect("wait");
+    let err = String::from_utf8_lossy(&stopped.stderr);
+    assert_eq!(stopped.status.code(), Some(130), "{err}");
+    assert!(err.contains("nothing written"), "{err}");
+    let after = (
+        std::fs::read(&out).expect("json"),
+        std::fs::read(out.with_extension("svg")).expect("svg"),
+    );
+    assert!(before == after, "the complete estimate was replaced");
+}
+
 /// A bench suite written beside a scratch report folder: (the folder, the suite file, the
 /// `fenestra bench` arguments that run it with a cache inside the folder).
 fn bench_suite(name: &str, toml: &str) -> (PathBuf, PathBuf, Vec<String>) {
