@@ -346,6 +346,18 @@ fn interrupting_a_render_keeps_what_it_has() {
     }
 }
 
+/// Sends `signal` (INT, TERM) to `child` after 1.5 s of work and waits for it to end.
+#[cfg(unix)]
+fn signal_after_a_while(child: std::process::Child, signal: &str) -> Output {
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    let kill = Command::new("kill")
+        .args([&format!("-{signal}"), &child.id().to_string()])
+        .status()
+        .expect("kill");
+    assert!(kill.success());
+    child.wait_with_output().expect("wait")
+}
+
 /// Renders for a while, sends `signal` as Ctrl-C or a job scheduler would: the samples taken
 /// so far are written and the exit status is 130.
 #[cfg(unix)]
@@ -367,14 +379,8 @@ fn interrupt_render(signal: &str) {
         .stderr(std::process::Stdio::piped())
         .spawn()
         .expect("spawn");
-    // Let it take some samples, then send SIGINT as Ctrl-C would.
-    std::thread::sleep(std::time::Duration::from_millis(1500));
-    let kill = Command::new("kill")
-        .args([&format!("-{signal}"), &child.id().to_string()])
-        .status()
-        .expect("kill");
-    assert!(kill.success());
-    let o = child.wait_with_output().expect("wait");
+    // Let it take some samples, then send the signal as Ctrl-C would.
+    let o = signal_after_a_while(child, signal);
     assert_eq!(
         o.status.code(),
         Some(130),
@@ -419,13 +425,7 @@ fn an_interrupted_portal_estimate_keeps_the_complete_one() {
         .stderr(std::process::Stdio::piped())
         .spawn()
         .expect("spawn");
-    std::thread::sleep(std::time::Duration::from_millis(1500));
-    let kill = Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .expect("kill");
-    assert!(kill.success());
-    let stopped = child.wait_with_output().expect("wait");
+    let stopped = signal_after_a_while(child, "INT");
     let err = String::from_utf8_lossy(&stopped.stderr);
     assert_eq!(stopped.status.code(), Some(130), "{err}");
     assert!(err.contains("nothing written"), "{err}");
