@@ -578,19 +578,41 @@ pub fn run(args: RenderArgs) -> Result<bool> {
         stats: stats.clone(),
         ..header
     });
+    let output = where_to_write(&args.output, stats.interrupted);
     output::write_render(
-        &args.output,
+        &output,
         &film,
         &stats,
         args.opts.exposure,
         args.variance,
         state.as_ref(),
     )?;
-    args.opts.report(&args.output, &stats)?;
+    args.opts.report(&output, &stats)?;
     if args.maps {
         write_maps(&maps_dir, &maps, film.width, film.height, &stats.integrator)?;
     }
     Ok(stats.interrupted)
+}
+
+/// Where a render's files go: OUT.exr, but an interrupted render never replaces a complete
+/// one (its sidecar says it finished): it goes beside it, to OUT.interrupted.exr.
+fn where_to_write(output: &Path, interrupted: bool) -> PathBuf {
+    let (_, sidecar) = output::companion_paths(output);
+    let complete = || {
+        let text = std::fs::read_to_string(&sidecar).ok()?;
+        let stats: RenderStats = serde_json::from_str(&text).ok()?;
+        Some(!stats.interrupted)
+    };
+    if !interrupted || complete() != Some(true) {
+        return output.to_path_buf();
+    }
+    let beside = output.with_extension("interrupted.exr");
+    eprintln!(
+        "{} holds a complete render: the interrupted one goes to {} beside it",
+        output.display(),
+        beside.display()
+    );
+    beside
 }
 
 /// Where `--maps` writes for OUT.exr: the folder OUT-maps beside it.

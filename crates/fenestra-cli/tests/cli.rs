@@ -346,6 +346,57 @@ fn interrupting_a_render_keeps_what_it_has() {
     }
 }
 
+/// An interrupted re-render never replaces a complete image (or a split render's complete
+/// part, whose .film merge would then refuse): it goes beside it, to OUT.interrupted.exr.
+#[cfg(unix)]
+#[test]
+fn an_interrupted_rerender_keeps_the_complete_image() {
+    let out = tmp("complete.exr");
+    let o = out.to_str().expect("utf-8");
+    let args = |spp: &'static str| {
+        [
+            "render",
+            "builtin:box-hole",
+            "--samples",
+            spp,
+            "--resolution",
+            "32x32",
+            "-q",
+            "-o",
+            o,
+        ]
+    };
+    let done = fenestra(&args("0..4"));
+    assert!(
+        done.status.success(),
+        "{}",
+        String::from_utf8_lossy(&done.stderr)
+    );
+    let files = |exr: &Path| {
+        ["exr", "json", "film"].map(|e| std::fs::read(exr.with_extension(e)).expect("file"))
+    };
+    let before = files(&out);
+    let child = Command::new(env!("CARGO_BIN_EXE_fenestra"))
+        .args(args("0..100000000"))
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("spawn");
+    let stopped = signal_after_a_while(child, "INT");
+    let err = String::from_utf8_lossy(&stopped.stderr);
+    assert_eq!(stopped.status.code(), Some(130), "{err}");
+    assert!(err.contains("holds a complete render"), "{err}");
+    assert!(files(&out) == before, "the complete part was replaced");
+    let beside = out.with_extension("interrupted.exr");
+    assert!(
+        Image::read(&beside)
+            .expect("the interrupted render")
+            .mean()
+            .r
+            > 0.0
+    );
+    assert!(beside.with_extension("film").exists());
+}
+
 /// Sends `signal` (INT, TERM) to `child` after 1.5 s of work and waits for it to end.
 #[cfg(unix)]
 fn signal_after_a_while(child: std::process::Child, signal: &str) -> Output {
