@@ -26,6 +26,42 @@ pub struct CompareArgs {
     /// stays over the whole image.
     #[arg(long)]
     mask: Option<PathBuf>,
+    /// Compare images smaller than the reference by a whole factor against the reference
+    /// averaged over blocks of that factor (a box filter): a reference rendered larger.
+    #[arg(long)]
+    downsample: bool,
+}
+
+/// The reference at `image`'s size: itself, or with `--downsample` averaged over blocks
+/// when it is a whole multiple of the image's size.
+fn reference_for<'a>(
+    reference: &'a Image,
+    image: &Image,
+    path: &Path,
+    args: &CompareArgs,
+) -> Result<std::borrow::Cow<'a, Image>> {
+    let (w, h, rw, rh) = (image.width, image.height, reference.width, reference.height);
+    if (w, h) == (rw, rh) {
+        return Ok(std::borrow::Cow::Borrowed(reference));
+    }
+    let factor = (w > 0 && rw % w == 0 && rh % h.max(1) == 0 && rw / w == rh / h.max(1))
+        .then_some(rw / w.max(1));
+    match factor {
+        Some(k) if args.downsample && args.mask.is_none() => {
+            Ok(std::borrow::Cow::Owned(reference.downsampled(k)))
+        }
+        Some(_) if args.downsample => {
+            bail!("--mask is at the reference's size: not with --downsample ({} is {w}x{h}, the reference {rw}x{rh})", path.display())
+        }
+        Some(k) => bail!(
+            "{} is {w}x{h}, the reference {rw}x{rh} ({k} times larger): add --downsample to average the reference over {k}x{k} blocks",
+            path.display()
+        ),
+        None => bail!(
+            "{} is {w}x{h}, the reference {rw}x{rh}, not a whole multiple of it",
+            path.display()
+        ),
+    }
 }
 
 /// fenestra's EXR attributes of an image (none for other files and other renderers').
@@ -97,6 +133,7 @@ pub fn run(args: CompareArgs) -> Result<()> {
     for path in &args.images {
         let img = Image::read(path)?;
         check_pair(path, &args.reference, &ref_attributes)?;
+        let reference = reference_for(&reference, &img, path, &args)?;
         let m = metrics::compare_where(&img, &reference, mask.as_deref())
             .with_context(|| format!("comparing {}", path.display()))?;
         // The sidecar is optional: images from other renderers have none.

@@ -697,6 +697,57 @@ fn compare_reports_metrics_and_efficiency() {
 }
 
 #[test]
+fn compare_downsamples_a_larger_reference_on_request() {
+    let render_at = |name: &str, resolution: &str, seed: &str| {
+        let out = tmp(name);
+        let o = fenestra(&[
+            "render",
+            "builtin:box-hole",
+            "--spp",
+            "4",
+            "--resolution",
+            resolution,
+            "--seed",
+            seed,
+            "-q",
+            "-o",
+            out.to_str().expect("utf-8"),
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        out
+    };
+    let (image, reference) = (
+        render_at("ds-img.exr", "24x16", "1"),
+        render_at("ds-ref.exr", "72x48", "2"),
+    );
+    assert_compare_refused(
+        &reference,
+        &image,
+        "is 24x16, the reference 72x48 (3 times larger): add --downsample",
+    );
+    let path = |p: &Path| p.to_str().expect("utf-8").to_string();
+    let o = fenestra(&[
+        "compare",
+        "--downsample",
+        "--json",
+        "--ref",
+        &path(&reference),
+        &path(&image),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let rows: serde_json::Value = serde_json::from_slice(&o.stdout).expect("json");
+    let ref_mean = rows[0]["ref_mean"].as_f64().expect("ref_mean");
+    let full = Image::read(&reference).expect("reference").mean();
+    let full = f64::from(full.r + full.g + full.b) / 3.0;
+    assert!(
+        (ref_mean / full - 1.0).abs() < 1e-4,
+        "{ref_mean} against {full}"
+    );
+    let odd = render_at("ds-odd.exr", "25x16", "1");
+    assert_compare_refused(&reference, &odd, "not a whole multiple");
+}
+
+#[test]
 fn compare_tells_apart_scenes_of_one_name_by_their_content() {
     // Two scene.pbrt files in two folders (as Bitterli's scene-v4.pbrt), one lamp brighter.
     let scene = |folder: &str, power: &str| {

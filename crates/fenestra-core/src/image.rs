@@ -65,6 +65,23 @@ impl Image {
         self.pixels[y * self.width + x]
     }
 
+    /// The image `factor` times smaller on each side, each pixel the mean of a `factor` x
+    /// `factor` block (a box filter): a reference rendered larger, brought to a render's size.
+    /// The sides must be whole multiples of `factor`.
+    pub fn downsampled(&self, factor: usize) -> Image {
+        assert!(factor > 0 && self.width % factor == 0 && self.height % factor == 0);
+        let mut out = Image::new(self.width / factor, self.height / factor);
+        let share = 1.0 / (factor * factor) as f32;
+        for y in 0..self.height {
+            for x in 0..self.width {
+                let (ox, oy) = (x / factor, y / factor);
+                let sum = out.get(ox, oy) + self.get(x, y) * share;
+                out.set(ox, oy, sum);
+            }
+        }
+        out
+    }
+
     /// Sets the pixel in column `x`, row `y`.
     pub fn set(&mut self, x: usize, y: usize, c: Rgb) {
         self.pixels[y * self.width + x] = c;
@@ -328,6 +345,19 @@ pub fn linear_to_srgb(v: f32) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn downsampling_averages_blocks() {
+        let mut img = Image::new(4, 2);
+        for (i, p) in img.pixels.iter_mut().enumerate() {
+            *p = Rgb::splat(i as f32);
+        }
+        let small = img.downsampled(2);
+        assert_eq!((small.width, small.height), (2, 1));
+        // Blocks (0, 1, 4, 5) and (2, 3, 6, 7).
+        assert_eq!(small.pixels, vec![Rgb::splat(2.5), Rgb::splat(4.5)]);
+        assert_eq!(img.downsampled(1).pixels, img.pixels);
+    }
 
     fn tmpdir() -> PathBuf {
         let d = std::env::temp_dir().join(format!("fenestra-image-test-{}", std::process::id()));
