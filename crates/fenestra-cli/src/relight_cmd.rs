@@ -492,6 +492,12 @@ fn render(a: &RenderArgs) -> Result<()> {
     Ok(())
 }
 
+/// Largest request body the relighting server reads, bytes.
+const MAX_REQUEST: u64 = 1 << 20;
+
+/// Most lights a request may relight a frame under.
+const MAX_LIGHTS: usize = 256;
+
 fn serve(a: &ServeArgs) -> Result<()> {
     let Opened {
         store,
@@ -502,14 +508,22 @@ fn serve(a: &ServeArgs) -> Result<()> {
     let mut player =
         Player::new(store, animated, a.light_samples, a.cache_mb << 20).map_err(|e| anyhow!(e))?;
     let m = player.store.manifest.clone();
+    // The frames precomputed so far (an unfinished precomputation serves what it has).
+    let available: Vec<u32> = (0..m.frames).filter(|&f| player.store.done(f)).collect();
+    let Some(&first) = available.first() else {
+        bail!(
+            "{} holds no precomputed frame: run `fenestra relight precompute` first",
+            a.dir.display()
+        );
+    };
     let exposure = match a.exposure {
         Some(ev) => ev,
         None => {
-            let first = player.relight(0, &lights).map_err(|e| anyhow!(e))?;
+            let first = player.relight(first, &lights).map_err(|e| anyhow!(e))?;
             first.image(false).auto_exposure_scale().log2()
         }
     };
-    let (lo, hi) = frame_scene(&player.animated, 0, None)
+    let (lo, hi) = frame_scene(&player.animated, first, None)
         .map_err(|e| anyhow!(e))?
         .scene
         .bounds();
@@ -518,6 +532,7 @@ fn serve(a: &ServeArgs) -> Result<()> {
         .collect();
     let state = serde_json::json!({
         "frames": m.frames,
+        "available": available,
         "width": m.width,
         "height": m.height,
         "zoom": (640 / m.width.max(1)).clamp(1, 4),
@@ -536,8 +551,9 @@ fn serve(a: &ServeArgs) -> Result<()> {
     // The address on stdout (scripts and tests read it), how to stop on stderr.
     println!("serving http://{addr}/");
     eprintln!(
-        "relighting {} ({} frames of {}x{}); Ctrl-C stops",
+        "relighting {} ({} of its {} frames precomputed, {}x{}); Ctrl-C stops",
         a.dir.display(),
+        available.len(),
         m.frames,
         m.width,
         m.height
@@ -559,9 +575,19 @@ fn serve(a: &ServeArgs) -> Result<()> {
                 .with_header(header("Content-Type", "application/json")?),
             (tiny_http::Method::Post, "/frame") => {
                 let mut body = String::new();
-                // {"frame": F, "lights": LIGHTS FILE}, checked as a lights file is.
-                let asked = std::io::Read::read_to_string(request.as_reader(), &mut body)
+                // {"frame": F, "lights": LIGHTS FILE}, checked as a lights file is; at most
+                // MAX_REQUEST bytes and MAX_LIGHTS lights (one request must not hold the
+                // server for minutes).
+                let reader = std::io::Read::take(request.as_reader(), MAX_REQUEST + 1);
+                let asked = std::io::Read::read_to_string(&mut { reader }, &mut body)
                     .map_err(|e| e.to_string())
+                    .and_then(|n| {
+                        if n as u64 > MAX_REQUEST {
+                            Err(format!("request larger than {MAX_REQUEST} bytes"))
+                        } else {
+                            Ok(n)
+                        }
+                    })
                     .and_then(|_| {
                         serde_json::from_str::<serde_json::Value>(&body)
                             .map_err(|e| format!("bad request: {e}"))
@@ -570,6 +596,12 @@ fn serve(a: &ServeArgs) -> Result<()> {
                         let frame = v["frame"].as_u64().ok_or("bad request: no frame number")?;
                         let lights =
                             LightsFile::parse(&v["lights"].to_string(), "the page's lights")?;
+                        if lights.lights.len() > MAX_LIGHTS {
+                            return Err(format!(
+                                "at most {MAX_LIGHTS} lights, got {}",
+                                lights.lights.len()
+                            ));
+                        }
                         Ok((frame.min(u32::MAX as u64) as u32, lights))
                     });
                 match asked.and_then(|(frame, lights)| player.relight(frame, &lights)) {

@@ -518,6 +518,61 @@ fn the_page_relights_when_a_light_is_moved_and_matches_relight_render() {
 }
 
 /// Standard base64 with padding.
+/// A precomputation without frame 0 serves the frames it has and says how many; a request
+/// too large, or with too many lights, is refused at once.
+#[test]
+fn serve_offers_the_frames_precomputed_and_bounds_requests() {
+    let dir = tmp("partial");
+    ok(&precompute(&dir, &["--quiet", "--frames", "1..3"]));
+    let mut server = Command::new(env!("CARGO_BIN_EXE_fenestra"))
+        .args(["relight", "serve", s(&dir), "--port", "0"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("serve");
+    let mut line = String::new();
+    BufReader::new(server.stdout.take().expect("stdout"))
+        .read_line(&mut line)
+        .expect("address");
+    let url = line
+        .trim()
+        .strip_prefix("serving ")
+        .expect("serving URL")
+        .to_string();
+    let state: serde_json::Value =
+        serde_json::from_str(&http("GET", &format!("{url}state"), None).1).expect("state");
+    assert_eq!(state["frames"], 3);
+    assert_eq!(state["available"], serde_json::json!([1, 2]));
+    let lights = &state["lights"];
+    let frame = |f: u32, lights: &serde_json::Value| {
+        http(
+            "POST",
+            &format!("{url}frame"),
+            Some(&serde_json::json!({ "frame": f, "lights": lights }).to_string()),
+        )
+    };
+    assert_eq!(frame(1, lights).0, 200);
+    let (status, why) = frame(0, lights);
+    assert_eq!(status, 400, "{why}");
+    let many = serde_json::json!({ "lights": vec![lights["lights"][0].clone(); 300] });
+    let (status, why) = frame(1, &many);
+    assert!(
+        status == 400 && why.contains("at most 256 lights"),
+        "{status} {why}"
+    );
+    let huge = "x".repeat((1 << 20) + 100);
+    let (status, why) = http("POST", &format!("{url}frame"), Some(&huge));
+    assert!(
+        status == 400 && why.contains("larger than"),
+        "{status} {why}"
+    );
+    let _ = server.kill();
+    let mut err = String::new();
+    let _ = std::io::Read::read_to_string(&mut server.stderr.take().expect("stderr"), &mut err);
+    let _ = server.wait();
+    assert!(err.contains("2 of its 3 frames precomputed"), "{err}");
+}
+
 fn base64(bytes: &[u8]) -> String {
     const A: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
     let mut out = String::new();
