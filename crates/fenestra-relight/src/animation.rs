@@ -203,6 +203,12 @@ impl Animation {
                     format!("{} is not in (0, 180) degrees", key.fov),
                 ));
             }
+            // What the camera itself refuses (an eye beyond what f32 ray tracing resolves)
+            // would otherwise leave the scene's camera in place of the whole track.
+            let (eye, target) = (Vec3::from(key.eye), Vec3::from(key.target));
+            if let Err(e) = fenestra_scene::Camera::look_at(eye, target, Vec3::Z, key.fov) {
+                return Err((format!("camera[{k}]"), e.to_string()));
+            }
         }
         for (name, keys) in &self.objects {
             let track = format!("objects.{name}");
@@ -446,6 +452,14 @@ mod tests {
             r#"{"frames": 10, "camera": [{"frame": 12, "eye": [0,0,0], "target": [1,0,0], "fov": 50}]}"#,
         );
         assert!(e.contains("camera[0].frame: 12 is outside"), "{e}");
+        // An eye too far for f32 ray tracing replaced the whole track by the scene's camera.
+        let far = bad(
+            r#"{"frames": 10, "camera": [{"frame": 0, "eye": [2e12,0,0], "target": [1,0,0], "fov": 50}]}"#,
+        );
+        assert!(
+            far.contains("a.json: camera[0]: ") && far.contains("2e12"),
+            "{far}"
+        );
         let e = bad(r#"{"frames": 10, "objects": {"box": [{"frame": 0, "scale": -1}]}}"#);
         assert!(e.contains("objects.box[0].scale"), "{e}");
         let e = bad("{\"frames\": 10,\n \"objects\": [}");
