@@ -376,14 +376,7 @@ fn an_interrupted_rerender_keeps_the_complete_image() {
         ["exr", "json", "film"].map(|e| std::fs::read(exr.with_extension(e)).expect("file"))
     };
     let before = files(&out);
-    let child = Command::new(env!("CARGO_BIN_EXE_fenestra"))
-        .args(args("0..100000000"))
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .expect("spawn");
-    let stopped = signal_after_a_while(child, "INT");
-    let err = String::from_utf8_lossy(&stopped.stderr);
-    assert_eq!(stopped.status.code(), Some(130), "{err}");
+    let err = interrupted(&args("0..100000000"));
     assert!(err.contains("holds a complete render"), "{err}");
     assert!(files(&out) == before, "the complete part was replaced");
     let beside = out.with_extension("interrupted.exr");
@@ -395,6 +388,20 @@ fn an_interrupted_rerender_keeps_the_complete_image() {
             > 0.0
     );
     assert!(beside.with_extension("film").exists());
+}
+
+/// Runs `fenestra ARGS` and sends it SIGINT after a while: it must exit 130; its stderr.
+#[cfg(unix)]
+fn interrupted(args: &[&str]) -> String {
+    let child = Command::new(env!("CARGO_BIN_EXE_fenestra"))
+        .args(args)
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("spawn");
+    let stopped = signal_after_a_while(child, "INT");
+    let err = String::from_utf8_lossy(&stopped.stderr).into_owned();
+    assert_eq!(stopped.status.code(), Some(130), "{err}");
+    err
 }
 
 /// Sends `signal` (INT, TERM) to `child` after 1.5 s of work and waits for it to end.
@@ -463,22 +470,19 @@ fn an_interrupted_portal_estimate_keeps_the_complete_one() {
         std::fs::read(&out).expect("json"),
         std::fs::read(out.with_extension("svg")).expect("svg"),
     );
-    let child = Command::new(env!("CARGO_BIN_EXE_fenestra"))
-        .args([
-            "portals",
-            "builtin:box-hole",
-            "--photons",
-            "100000000",
-            "--settle",
-            "0",
-        ])
-        .args(["--max-beams", "4294967295", "-q", "-o", o])
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .expect("spawn");
-    let stopped = signal_after_a_while(child, "INT");
-    let err = String::from_utf8_lossy(&stopped.stderr);
-    assert_eq!(stopped.status.code(), Some(130), "{err}");
+    let err = interrupted(&[
+        "portals",
+        "builtin:box-hole",
+        "--photons",
+        "100000000",
+        "--settle",
+        "0",
+        "--max-beams",
+        "4294967295",
+        "-q",
+        "-o",
+        o,
+    ]);
     assert!(err.contains("nothing written"), "{err}");
     let after = (
         std::fs::read(&out).expect("json"),

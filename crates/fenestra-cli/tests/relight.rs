@@ -387,21 +387,7 @@ fn the_page_relights_when_a_light_is_moved_and_matches_relight_render() {
     };
     let dir = tmp("page");
     ok(&precompute(&dir, &["--quiet"]));
-    let mut server = Command::new(env!("CARGO_BIN_EXE_fenestra"))
-        .args(["relight", "serve", s(&dir), "--port", "0"])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .expect("serve");
-    let mut line = String::new();
-    BufReader::new(server.stdout.take().expect("stdout"))
-        .read_line(&mut line)
-        .expect("address");
-    let url = line
-        .trim()
-        .strip_prefix("serving ")
-        .expect("serving URL")
-        .to_string();
+    let (mut server, url) = serve(&dir, Stdio::null());
     let state: serde_json::Value =
         serde_json::from_str(&http("GET", &format!("{url}state"), None).1).expect("state");
 
@@ -524,21 +510,7 @@ fn the_page_relights_when_a_light_is_moved_and_matches_relight_render() {
 fn serve_offers_the_frames_precomputed_and_bounds_requests() {
     let dir = tmp("partial");
     ok(&precompute(&dir, &["--quiet", "--frames", "1..3"]));
-    let mut server = Command::new(env!("CARGO_BIN_EXE_fenestra"))
-        .args(["relight", "serve", s(&dir), "--port", "0"])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("serve");
-    let mut line = String::new();
-    BufReader::new(server.stdout.take().expect("stdout"))
-        .read_line(&mut line)
-        .expect("address");
-    let url = line
-        .trim()
-        .strip_prefix("serving ")
-        .expect("serving URL")
-        .to_string();
+    let (mut server, url) = serve(&dir, Stdio::piped());
     let state: serde_json::Value =
         serde_json::from_str(&http("GET", &format!("{url}state"), None).1).expect("state");
     assert_eq!(state["frames"], 3);
@@ -571,6 +543,23 @@ fn serve_offers_the_frames_precomputed_and_bounds_requests() {
     let _ = std::io::Read::read_to_string(&mut server.stderr.take().expect("stderr"), &mut err);
     let _ = server.wait();
     assert!(err.contains("2 of its 3 frames precomputed"), "{err}");
+}
+
+/// `fenestra relight serve DIR` on a free port, its stderr to `stderr`: the process and the
+/// URL it serves.
+fn serve(dir: &Path, stderr: Stdio) -> (std::process::Child, String) {
+    let mut server = Command::new(env!("CARGO_BIN_EXE_fenestra"))
+        .args(["relight", "serve", s(dir), "--port", "0"])
+        .stdout(Stdio::piped())
+        .stderr(stderr)
+        .spawn()
+        .expect("serve");
+    let mut line = String::new();
+    BufReader::new(server.stdout.take().expect("stdout"))
+        .read_line(&mut line)
+        .expect("address");
+    let url = line.trim().strip_prefix("serving ").expect("serving URL");
+    (server, url.to_string())
 }
 
 fn base64(bytes: &[u8]) -> String {
