@@ -267,8 +267,7 @@ fn precompute(a: &PrecomputeArgs) -> Result<()> {
     };
     let manifest = Manifest::new(&scene, width, height, animated.frames(), a.gather, &options);
     let lights = serde_json::to_string_pretty(&LightsFile::of(&animated.rest.lights))?;
-    let store =
-        Store::create_or_resume(&a.output, manifest, &text, &lights).map_err(|e| anyhow!(e))?;
+    let store = Store::create_or_resume(&a.output, manifest, &text, &lights)?;
     let range = frame_range(a.frames.as_deref(), animated.frames())?;
     let frames = range.len() as u32;
     let todo: Vec<u32> = range.filter(|&f| !store.done(f)).collect();
@@ -280,7 +279,7 @@ fn precompute(a: &PrecomputeArgs) -> Result<()> {
         );
     }
     let cancel = on_ctrl_c("stopping after the frame being precomputed (finished frames are kept)");
-    let rest = frame_scene(&animated, 0, None).map_err(|e| anyhow!(e))?;
+    let rest = frame_scene(&animated, 0, None)?;
     let gather = Gather::new(&rest, a.gather, a.seed);
     let bar = frame_bar(frames as u64, a.quiet);
     bar.set_position(frames as u64 - todo.len() as u64);
@@ -309,7 +308,7 @@ fn precompute(a: &PrecomputeArgs) -> Result<()> {
                 std::process::exit(130);
             }
             let start = Instant::now();
-            let scene = frame_scene(&animated, f, None).map_err(|e| anyhow!(e))?;
+            let scene = frame_scene(&animated, f, None)?;
             let posed = gather.posed(&scene);
             let frame = FrameTransfer::precompute(&scene, &posed, width, height, &options);
             let s = start.elapsed().as_secs_f64();
@@ -372,7 +371,7 @@ struct Opened {
 /// The precomputation in `dir`, its animated scene, and the lights of `lights` (default: the
 /// folder's own lights file).
 fn open(dir: &Path, lights: Option<&Path>) -> Result<Opened> {
-    let store = Store::open(dir).map_err(|e| anyhow!(e))?;
+    let store = Store::open(dir)?;
     let animation_text = std::fs::read_to_string(store.animation_path())
         .with_context(|| format!("cannot read {}", store.animation_path().display()))?;
     let animation = Animation::parse(
@@ -384,8 +383,7 @@ fn open(dir: &Path, lights: Option<&Path>) -> Result<Opened> {
     let lights_path = lights.map_or_else(|| store.lights_path(), Path::to_path_buf);
     let lights_text = std::fs::read_to_string(&lights_path)
         .with_context(|| format!("cannot read {}", lights_path.display()))?;
-    let lights = LightsFile::parse(&lights_text, &lights_path.display().to_string())
-        .map_err(|e| anyhow!(e))?;
+    let lights = LightsFile::parse(&lights_text, &lights_path.display().to_string())?;
     let mut inputs = loaded.files;
     inputs.extend([
         store.animation_path(),
@@ -461,12 +459,12 @@ fn render(a: &RenderArgs) -> Result<()> {
     }
     std::fs::create_dir_all(&a.output)
         .with_context(|| format!("cannot create {}", a.output.display()))?;
-    let mut player = Player::new(store, animated, a.light_samples, 0).map_err(|e| anyhow!(e))?;
+    let mut player = Player::new(store, animated, a.light_samples, 0)?;
     let bar = frame_bar(range.len() as u64, a.quiet);
     let mut exposure = a.exposure;
     let (mut relight_s, mut frames_done) = (0.0, 0);
     for f in range {
-        let relit = player.relight(f, &lights).map_err(|e| anyhow!(e))?;
+        let relit = player.relight(f, &lights)?;
         relight_s += relit.seconds;
         frames_done += 1;
         let image = relit.image(a.indirect_only);
@@ -505,8 +503,7 @@ fn serve(a: &ServeArgs) -> Result<()> {
         lights,
         ..
     } = open(&a.dir, a.lights.as_deref())?;
-    let mut player =
-        Player::new(store, animated, a.light_samples, a.cache_mb << 20).map_err(|e| anyhow!(e))?;
+    let mut player = Player::new(store, animated, a.light_samples, a.cache_mb << 20)?;
     let m = player.store.manifest.clone();
     // The frames precomputed so far (an unfinished precomputation serves what it has).
     let available: Vec<u32> = (0..m.frames).filter(|&f| player.store.done(f)).collect();
@@ -519,14 +516,11 @@ fn serve(a: &ServeArgs) -> Result<()> {
     let exposure = match a.exposure {
         Some(ev) => ev,
         None => {
-            let first = player.relight(first, &lights).map_err(|e| anyhow!(e))?;
+            let first = player.relight(first, &lights)?;
             first.image(false).auto_exposure_scale().log2()
         }
     };
-    let (lo, hi) = frame_scene(&player.animated, first, None)
-        .map_err(|e| anyhow!(e))?
-        .scene
-        .bounds();
+    let (lo, hi) = frame_scene(&player.animated, first, None)?.scene.bounds();
     let camera: Vec<[f32; 3]> = (0..m.frames)
         .map(|f| player.animated.at(f).camera.position.to_array())
         .collect();
@@ -595,7 +589,8 @@ fn serve(a: &ServeArgs) -> Result<()> {
                     .and_then(|v| {
                         let frame = v["frame"].as_u64().ok_or("bad request: no frame number")?;
                         let lights =
-                            LightsFile::parse(&v["lights"].to_string(), "the page's lights")?;
+                            LightsFile::parse(&v["lights"].to_string(), "the page's lights")
+                                .map_err(|e| e.to_string())?;
                         if lights.lights.len() > MAX_LIGHTS {
                             return Err(format!(
                                 "at most {MAX_LIGHTS} lights, got {}",
@@ -604,7 +599,10 @@ fn serve(a: &ServeArgs) -> Result<()> {
                         }
                         Ok((frame.min(u32::MAX as u64) as u32, lights))
                     });
-                match asked.and_then(|(frame, lights)| player.relight(frame, &lights)) {
+                let relit = asked.and_then(|(frame, lights)| {
+                    player.relight(frame, &lights).map_err(|e| e.to_string())
+                });
+                match relit {
                     Ok(relit) => match relit.image(false).png(Some(exposure)) {
                         Ok(png) => tiny_http::Response::from_data(png)
                             .with_header(header("Content-Type", "image/png")?)

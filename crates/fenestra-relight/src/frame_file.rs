@@ -132,7 +132,7 @@ pub fn read(path: &Path) -> Result<(FrameHeader, FrameTransfer), FrameFileError>
 }
 
 /// Reads a frame from its bytes.
-pub fn decode(bytes: &[u8]) -> Result<(FrameHeader, FrameTransfer), String> {
+fn decode(bytes: &[u8]) -> Result<(FrameHeader, FrameTransfer), String> {
     if bytes.len() < MAGIC.len() + 12 || &bytes[..MAGIC.len()] != MAGIC {
         return Err("not a relighting frame file".into());
     }

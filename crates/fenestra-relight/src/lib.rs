@@ -18,6 +18,7 @@
 
 pub mod animation;
 pub mod empca;
+pub mod error;
 pub mod explore;
 pub mod frame;
 pub mod frame_file;

@@ -14,6 +14,7 @@
 //!
 //! Intensities are W/sr, irradiance W/m^2, angles degrees, directions need not be unit.
 
+use crate::error::RelightError;
 use fenestra_core::{Rgb, Vec3};
 use fenestra_scene::light::LightDesc;
 use serde::{Deserialize, Serialize};
@@ -48,7 +49,11 @@ pub struct LightsFile {
 
 impl LightsFile {
     /// Parses `text` (`name` for messages: `name:LINE:COLUMN: what`, or the light at fault).
-    pub fn parse(text: &str, name: &str) -> Result<Self, String> {
+    pub fn parse(text: &str, name: &str) -> Result<Self, RelightError> {
+        Self::checked(text, name).map_err(RelightError::Lights)
+    }
+
+    fn checked(text: &str, name: &str) -> Result<Self, String> {
         let file: LightsFile = serde_json::from_str(text)
             .map_err(|e| format!("{name}:{}:{}: {e}", e.line(), e.column()))?;
         for (i, l) in file.lights.iter().enumerate() {
@@ -213,7 +218,8 @@ mod tests {
             r#"{ "lights": [ { "type": "point", "position": [0, 0] } ] }"#,
             "l.json",
         )
-        .expect_err("short position");
+        .expect_err("short position")
+        .to_string();
         assert!(err.starts_with("l.json:1:"), "{err}");
         let err = LightsFile::parse(
             r#"{ "lights": [ { "type": "spot", "position": [0,0,0], "direction": [0,0,0],
@@ -221,12 +227,18 @@ mod tests {
             "l.json",
         )
         .expect_err("zero direction");
-        assert_eq!(err, "l.json: lights[0]: direction must not be zero");
+        assert_eq!(
+            err.to_string(),
+            "l.json: lights[0]: direction must not be zero"
+        );
         let err = LightsFile::parse(
             r#"{ "lights": [ { "type": "point", "position": [0,0,0], "intensity": [-1,1,1] } ] }"#,
             "l.json",
         )
         .expect_err("negative");
-        assert_eq!(err, "l.json: lights[0]: intensities must not be negative");
+        assert_eq!(
+            err.to_string(),
+            "l.json: lights[0]: intensities must not be negative"
+        );
     }
 }

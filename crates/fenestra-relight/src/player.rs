@@ -3,6 +3,7 @@
 //! read from its file (kept in memory up to a budget, so that playback reads each frame once),
 //! and the relit image.
 
+use crate::error::RelightError;
 use crate::frame::FrameTransfer;
 use crate::frame_file;
 use crate::gather::Gather;
@@ -61,14 +62,14 @@ pub fn frame_scene(
     animated: &AnimatedScene,
     f: u32,
     lights: Option<&LightsFile>,
-) -> Result<RenderScene, String> {
+) -> Result<RenderScene, RelightError> {
     let mut desc = animated.at(f);
     if let Some(l) = lights {
         desc.lights = l.apply(&desc.lights);
     }
     Scene::build(desc, Backend::default())
         .map(RenderScene::new)
-        .map_err(|e| format!("invalid scene: {e}"))
+        .map_err(|e| RelightError::Frame(format!("frame {f}: invalid scene: {e}")))
 }
 
 impl Player {
@@ -79,7 +80,7 @@ impl Player {
         animated: AnimatedScene,
         light_samples: u32,
         budget: usize,
-    ) -> Result<Self, String> {
+    ) -> Result<Self, RelightError> {
         let rest = frame_scene(&animated, 0, None)?;
         let gather = Gather::new(&rest, store.manifest.gather, store.manifest.seed);
         let relighting = Relighting {
@@ -113,7 +114,11 @@ impl Player {
     }
 
     /// Frame `f` relit by `lights`.
-    pub fn relight(&mut self, f: u32, lights: &LightsFile) -> Result<RelitFrame, String> {
+    pub fn relight(&mut self, f: u32, lights: &LightsFile) -> Result<RelitFrame, RelightError> {
+        self.relit(f, lights).map_err(RelightError::Frame)
+    }
+
+    fn relit(&mut self, f: u32, lights: &LightsFile) -> Result<RelitFrame, String> {
         if f >= self.store.manifest.frames {
             return Err(format!(
                 "frame {f} is not in the sequence (0 to {})",
@@ -122,7 +127,7 @@ impl Player {
         }
         let transfer = self.transfer(f)?;
         let start = Instant::now();
-        let scene = frame_scene(&self.animated, f, Some(lights))?;
+        let scene = frame_scene(&self.animated, f, Some(lights)).map_err(|e| e.to_string())?;
         let posed = self.gather.posed(&scene);
         let (direct, indirect) = relit_image(&scene, &posed, &transfer, &self.relighting);
         Ok(RelitFrame {

@@ -10,6 +10,7 @@
 //! A precomputation interrupted keeps its finished frames; run again with the same settings
 //! it computes only the missing ones. Other settings in the same folder are refused.
 
+use crate::error::RelightError;
 use crate::frame::FrameOptions;
 use crate::frame_file;
 use serde::{Deserialize, Serialize};
@@ -101,12 +102,21 @@ impl Store {
         manifest: Manifest,
         animation: &str,
         lights: &str,
+    ) -> Result<Self, RelightError> {
+        Self::created(dir, manifest, animation, lights).map_err(RelightError::Store)
+    }
+
+    fn created(
+        dir: &Path,
+        manifest: Manifest,
+        animation: &str,
+        lights: &str,
     ) -> Result<Self, String> {
         let at = |e: &dyn std::fmt::Display, p: &Path| format!("{}: {e}", p.display());
         std::fs::create_dir_all(dir.join("frames")).map_err(|e| at(&e, dir))?;
         let path = dir.join("relight.json");
         if path.exists() {
-            let old = Self::open(dir)?;
+            let old = Self::opened(dir)?;
             if old.manifest != manifest {
                 let (a, b) = (
                     serde_json::to_value(&old.manifest),
@@ -151,7 +161,11 @@ impl Store {
     }
 
     /// The precomputation in `dir`.
-    pub fn open(dir: &Path) -> Result<Self, String> {
+    pub fn open(dir: &Path) -> Result<Self, RelightError> {
+        Self::opened(dir).map_err(RelightError::Store)
+    }
+
+    fn opened(dir: &Path) -> Result<Self, String> {
         let path = dir.join("relight.json");
         let text = std::fs::read_to_string(&path).map_err(|e| {
             format!(
