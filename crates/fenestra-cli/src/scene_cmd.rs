@@ -96,7 +96,15 @@ fn info(scene: &str, options: SceneOptions, json: bool) -> Result<()> {
         count(|l| matches!(l, LightDesc::Distant { .. })),
         count(|l| matches!(l, LightDesc::Environment(_))),
     );
-    let emitters = d.shapes.iter().filter(|s| s.emission.is_some()).count();
+    // As light sampling counts them: one light per emitting triangle, sphere and disk
+    // (fenestra_render::light::Lights), beside the shapes they belong to.
+    let emitting: Vec<_> = d
+        .shapes
+        .iter()
+        .filter(|s| s.emission.is_some_and(|e| !e.radiance.is_black()) && s.area() > 0.0)
+        .collect();
+    let emitters: usize = emitting.iter().map(|s| s.primitive_count()).sum();
+    let lights = emitters + d.lights.len();
     let mut lo = fenestra_core::Vec3::splat(f32::INFINITY);
     let mut hi = -lo;
     for s in &d.shapes {
@@ -113,7 +121,9 @@ fn info(scene: &str, options: SceneOptions, json: bool) -> Result<()> {
         "shapes": d.shapes.len(),
         "triangles": triangles,
         "materials": d.materials.len(),
+        "lights": lights,
         "area_lights": emitters,
+        "emitting_shapes": emitting.len(),
         "point_lights": points,
         "spot_lights": spots,
         "distant_lights": distant,
@@ -136,7 +146,10 @@ fn info(scene: &str, options: SceneOptions, json: bool) -> Result<()> {
         d.materials.len()
     );
     println!(
-        "  lights: {emitters} area, {points} point, {spots} spot, {distant} distant, {env} environment; {} portals",
+        "  lights: {lights} ({emitters} area in {} emitting shape{}, {points} point, {spots} spot, \
+         {distant} distant, {env} environment); {} portals",
+        emitting.len(),
+        if emitting.len() == 1 { "" } else { "s" },
         d.portals.len()
     );
     println!("  bounds {lo} .. {hi}");

@@ -1107,6 +1107,14 @@ fn scene_files_export_render_and_report_what_they_cannot_represent() {
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("json");
     assert_eq!(v["point_lights"], 613);
     assert_eq!(v["area_lights"], 219);
+    assert_eq!(v["lights"], 613 + 219);
+    // Lights as light sampling counts them: a mesh's emitting triangles each.
+    let o = fenestra(&["scene", "info", "builtin:tower"]);
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        text.contains("lights: 4609 (4608 area in 1 emitting shape, 0 point, 0 spot, 0 distant, 1 environment)"),
+        "{text}"
+    );
     assert_clear_error(
         &["scene", "export", "builtin:tunnel", "-o", "x.txt"],
         "must end in .pbrt",
