@@ -7,7 +7,7 @@ use crate::harmonics::ShRadiance;
 use crate::irradiance::Irradiance;
 use crate::ltree::LTree;
 use crate::photons::{PhotonGather, PhotonMap};
-use crate::sdrc::{GlossyCache, Sdrc};
+use crate::sdrc::{CacheOrPath, GlossyCache, LambertianLobe, Sdrc};
 use crate::spatial::{Delta, SpatialCache};
 use fenestra_core::stats::RayCounters;
 use fenestra_core::{Frame, Ray, Rgb, Sampler, Vec3};
@@ -102,8 +102,10 @@ impl CacheGather<'_> {
             return None;
         }
         match s.bsdf {
-            Bsdf::Diffuse(d) if self.sdrc.options.diffuse => Some(Served::Diffuse(d.reflectance)),
-            b if is_glossy(b) => match self.sdrc.options.glossy {
+            Bsdf::Diffuse(d) if self.sdrc.options.diffuse == CacheOrPath::Cache => {
+                Some(Served::Diffuse(d.reflectance))
+            }
+            b if is_glossy(b) => match self.sdrc.glossy {
                 GlossyCache::Directional => Some(Served::Glossy),
                 GlossyCache::Harmonics { rays } => Some(Served::Harmonics(rays)),
                 GlossyCache::Path => None,
@@ -116,7 +118,7 @@ impl CacheGather<'_> {
     /// irradiance cache serves the one and the glossy cache the other.
     fn split(&self, s: &Shading) -> Option<(Rgb, Bsdf)> {
         let o = &self.sdrc.options;
-        (o.split && o.diffuse)
+        (o.lambertian_lobe == LambertianLobe::Cache && o.diffuse == CacheOrPath::Cache)
             .then(|| s.bsdf.lambertian_split())
             .flatten()
     }

@@ -32,4 +32,52 @@ pub mod spatial;
 
 pub use gather::is_glossy;
 pub use irradiance::Gradients;
-pub use sdrc::{GlossyCache, Sdrc, SdrcOptions};
+pub use sdrc::{CacheOrPath, GlossyCache, LambertianLobe, Sdrc, SdrcOptions, ShrcOptions};
+
+use fenestra_render::integrator::PathConfig;
+use fenestra_render::light::LightOptions;
+use fenestra_render::registry::{Build, Group, Registry};
+
+/// Registers this crate's integrators (sdrc, shrc).
+pub fn register(registry: &mut Registry) {
+    let groups = || {
+        vec![
+            Group::of::<PathConfig>(),
+            Group::of::<LightOptions>(),
+            Group::of::<SdrcOptions>(),
+        ]
+    };
+    let tracing = |b: &Build, name| -> Result<_, fenestra_render::IntegratorError> {
+        Ok((
+            b.options::<SdrcOptions>()?,
+            b.path()?,
+            b.next_event(name, false)?,
+        ))
+    };
+    registry
+        .integrator(
+            "sdrc",
+            "af_hf with the first bounce of indirect light on glossy surfaces cached and \
+             interpolated (spatial directional radiance caching, seed 003)",
+            groups(),
+            move |b| {
+                let (options, path, lights) = tracing(b, "sdrc")?;
+                Ok(Box::new(Sdrc::new(options, path, lights)?))
+            },
+        )
+        .integrator(
+            "shrc",
+            "sdrc's baseline: the same, with spherical-harmonic radiance caching (order 10) on \
+             glossy surfaces (Krivanek et al. 2005)",
+            [groups(), vec![Group::of::<ShrcOptions>()]].concat(),
+            move |b| {
+                let (options, path, lights) = tracing(b, "shrc")?;
+                Ok(Box::new(Sdrc::harmonics(
+                    options,
+                    b.options()?,
+                    path,
+                    lights,
+                )?))
+            },
+        );
+}

@@ -24,6 +24,9 @@ use fenestra_render::integrator::{
     Integrator, IntegratorError, LightNextEvent, PathOptions, PathTracer, Shading, Split, WorkMap,
 };
 use fenestra_render::light::LightRecords;
+use fenestra_render::options::{
+    at_least_one, non_negative, positive, OptionError, Options, Validate,
+};
 use fenestra_render::{Film, RenderScene, RenderSettings};
 use rayon::prelude::*;
 use std::sync::Mutex;
@@ -63,68 +66,149 @@ pub enum GlossyCache {
     Path,
 }
 
-/// Options of `sdrc` (and of `shrc`, its baseline).
-#[derive(Clone, Copy, Debug)]
-pub struct SdrcOptions {
-    /// Maximum interpolation error a (eq. 2.1) of SDRC records when they are placed; the
-    /// render passes use `a * a_scale`.
-    pub a: f32,
-    /// The irradiance cache's maximum interpolation error, likewise.
-    pub irradiance_a: f32,
-    /// Factor on a in the render passes (the seed's 1.3).
-    pub a_scale: f32,
-    /// Rays traced to create a record (N).
-    pub n: u32,
-    /// BRDF-sampled directions per shading point (the seed's M).
-    pub m: u32,
-    /// Largest directional query radius in the paraboloid disc (the seed's r_max).
-    pub r_max: f32,
-    /// Samples of a record's N that a directional query's radius leaves room for at the
-    /// least: the radius shrinks as a pixel averages more directions, down to this (0: no floor).
-    pub query_samples: f32,
-    /// Smallest validity radius a R_i of a record, in pixel footprints at its point of the view
-    /// [`REACH_SIDE`] pixels across (0: none).
-    pub min_reach: f32,
-    /// Whether diffuse surfaces take their indirect light from the irradiance cache (else
-    /// from path tracing, as af_hf).
-    pub diffuse: bool,
-    /// Rays per irradiance record.
-    pub irradiance_rays: u32,
-    /// The gradients irradiance is extrapolated by.
-    pub irradiance_gradients: Gradients,
-    /// The cache of glossy surfaces.
-    pub glossy: GlossyCache,
-    /// Whether a glossy BSDF's Lambertian lobe (Phong's and Ward's kd) takes its light from
-    /// the irradiance cache, leaving the glossy cache the glossy lobe (with `diffuse` only).
-    pub split: bool,
-    /// Photons emitted for the light beyond the records' rays (0: their paths are traced).
-    pub photons: u32,
-    /// Photons per radiance estimate (k nearest).
-    pub photon_k: u32,
-    /// Largest photon gather radius, as a fraction of the scene's bounding-sphere radius.
-    pub photon_radius: f32,
+fenestra_render::choices! {
+    /// Whether a kind of surface takes its indirect light from a cache or from path tracing.
+    pub enum CacheOrPath {
+        /// From a cache.
+        Cache = "cache",
+        /// From path tracing.
+        Path = "path",
+    }
 }
 
-impl Default for SdrcOptions {
-    fn default() -> Self {
-        SdrcOptions {
-            a: 0.22,
-            irradiance_a: 0.15,
-            a_scale: 1.3,
-            n: 256,
-            m: 2,
-            r_max: 0.15,
-            query_samples: 5.0,
-            min_reach: 4.0,
-            diffuse: true,
-            irradiance_rays: 1024,
-            irradiance_gradients: Gradients::Rotation,
-            glossy: GlossyCache::Directional,
-            split: false,
-            photons: 0,
-            photon_k: 50,
-            photon_radius: 0.03,
+fenestra_render::choices! {
+    /// Where the Lambertian lobe of a glossy material (Phong's and Ward's kd) takes its
+    /// indirect light.
+    pub enum LambertianLobe {
+        /// The glossy cache, with the glossy lobe.
+        Glossy = "glossy",
+        /// The irradiance cache (with `sdrc.diffuse cache`).
+        Cache = "cache",
+    }
+}
+
+fenestra_render::options! {
+    /// Radiance caching (sdrc, shrc; seed 003 ch. 2).
+    #[derive(Copy)]
+    pub struct SdrcOptions in "sdrc", flags "sdrc" {
+        /// Maximum interpolation error a of SDRC records when they are placed (eq. 2.1;
+        /// smaller: more records); the render passes use a x a_scale.
+        pub a: f32 = 0.22,
+        /// Factor on a in the render passes (the seed's 1.3: smoother interpolation).
+        pub a_scale: f32 = 1.3,
+        /// Rays traced to create a record (the seed's N).
+        pub n: u32 = 256,
+        /// BRDF-sampled directions per shading point (the seed's M; it took N ~ 12 M with 4
+        /// samples per pixel, fenestra takes more samples and fewer directions each).
+        pub m: u32 = 2,
+        /// Largest radius of a directional query in the paraboloid disc (the seed's r_max).
+        pub r_max: f32 = 0.15,
+        /// Samples of a record a directional query expects at the least: its radius shrinks as
+        /// a pixel averages more directions, down to the radius that holds this many of the
+        /// record's N (0: it shrinks on, each query then finding one sample or none).
+        pub query_samples: f32 = 5.0,
+        /// Smallest reach of a record, in pixels at its point of the view 256 pixels across
+        /// (larger images scale it with their larger side: 10 pixels at 640x360, 20 at
+        /// 1280x720, so records resolve the same scene detail at any size; 0: as small as eq.
+        /// 2.2 makes it).
+        pub min_reach: f32 = 4.0,
+        /// Indirect light on diffuse surfaces: cache (an irradiance cache with gradients, as
+        /// the seed) or path (path tracing, as af_hf).
+        pub diffuse: CacheOrPath = CacheOrPath::Cache,
+        /// Indirect light on glossy surfaces: cache (sdrc's directional cache; shrc's SH
+        /// cache) or path (path tracing by BSDF sampling with everything else as sdrc: the
+        /// seed's Monte Carlo baseline; sdrc only).
+        pub glossy: CacheOrPath = CacheOrPath::Cache,
+        /// Rays per irradiance-cache record (stratified over rings and sectors).
+        pub irradiance_rays: u32 = 1024,
+        /// Gradients that extrapolate irradiance records: none, rotation, or both (rotation
+        /// and translation; the translation gradient of path-traced radiance is mostly noise).
+        pub irradiance_gradients: Gradients = Gradients::Rotation,
+        /// Maximum interpolation error of the irradiance cache (Ward's a).
+        pub irradiance_a: f32 = 0.15,
+        /// Where the Lambertian lobe of a glossy material (Phong's and Ward's kd) takes its
+        /// indirect light: glossy (the glossy cache, with the glossy lobe) or cache (the
+        /// irradiance cache, with sdrc.diffuse cache; docs/sdrc.md measures both).
+        pub lambertian_lobe: LambertianLobe = LambertianLobe::Glossy,
+        /// Photons emitted for the light beyond the records' rays, which then end at diffuse
+        /// surfaces in a photon-map estimate (the seed's setting); 0: their paths are traced
+        /// on.
+        pub photons: u32 = 0,
+        /// Photons per radiance estimate (the k nearest).
+        pub photon_k: u32 = 50,
+        /// Largest photon gather radius, as a fraction of the scene's bounding-sphere radius.
+        pub photon_radius: f32 = 0.03,
+    }
+}
+
+impl Validate for SdrcOptions {
+    fn validate(&self) -> Result<(), OptionError> {
+        positive("a", self.a)?;
+        positive("irradiance_a", self.irradiance_a)?;
+        if !(self.a_scale >= 1.0 && self.a_scale.is_finite()) {
+            return Err(OptionError::new(
+                "a_scale",
+                format!("must be at least 1, got {}", self.a_scale),
+            ));
         }
+        at_least_one("n", self.n.into())?;
+        at_least_one("m", self.m.into())?;
+        if self.irradiance_rays < 6 {
+            return Err(OptionError::new(
+                "irradiance_rays",
+                format!(
+                    "must be at least 6 (2 rings of 3 sectors), got {}",
+                    self.irradiance_rays
+                ),
+            ));
+        }
+        if !(self.min_reach >= 0.0 && self.min_reach <= MAX_REACH_PX) {
+            return Err(OptionError::new(
+                "min_reach",
+                format!(
+                    "must lie in [0, {MAX_REACH_PX}] pixels, got {}",
+                    self.min_reach
+                ),
+            ));
+        }
+        at_least_one("photon_k", self.photon_k.into())?;
+        if !(self.photon_radius > 0.0 && self.photon_radius <= 1.0) {
+            return Err(OptionError::new(
+                "photon_radius",
+                format!(
+                    "must lie in (0, 1] (of the scene's radius), got {}",
+                    self.photon_radius
+                ),
+            ));
+        }
+        if !(self.r_max > 0.0 && self.r_max <= 2.0) {
+            return Err(OptionError::new(
+                "r_max",
+                format!(
+                    "must lie in (0, 2] (the disc's diameter), got {}",
+                    self.r_max
+                ),
+            ));
+        }
+        non_negative("query_samples", self.query_samples)
+    }
+}
+
+fenestra_render::options! {
+    /// SH radiance caching (shrc, sdrc's baseline; Krivanek et al. 2005).
+    #[derive(Copy)]
+    pub struct ShrcOptions in "shrc", flags "shrc" {
+        /// Maximum interpolation error a of SH records (the seed's 0.25).
+        pub a: f32 = 0.25,
+        /// Rays per SH record, stratified uniformly over the hemisphere.
+        pub rays: u32 = 1024,
+    }
+}
+
+impl Validate for ShrcOptions {
+    fn validate(&self) -> Result<(), OptionError> {
+        positive("a", self.a)?;
+        at_least_one("rays", self.rays.into())
     }
 }
 
@@ -161,6 +245,8 @@ impl PixelFootprint {
 pub struct Sdrc {
     pub(crate) tracer: PathTracer<LightNextEvent>,
     pub(crate) options: SdrcOptions,
+    /// What caches glossy surfaces' indirect light.
+    pub(crate) glossy: GlossyCache,
     path: PathOptions,
     /// The camera's pixels, measured when a render starts.
     camera: Mutex<PixelFootprint>,
@@ -176,48 +262,51 @@ impl Sdrc {
         path: PathOptions,
         lights: LightNextEvent,
     ) -> Result<Sdrc, IntegratorError> {
-        let bad = |what: &str| Err(IntegratorError::Options(what.to_string()));
-        if !(options.a > 0.0 && options.a.is_finite()) {
-            return bad("--sdrc-a must be positive");
+        let glossy = match options.glossy {
+            CacheOrPath::Cache => GlossyCache::Directional,
+            CacheOrPath::Path => GlossyCache::Path,
+        };
+        Self::with_glossy(options, glossy, path, lights)
+    }
+
+    /// shrc: sdrc with the SH radiance cache of `shrc` on glossy surfaces.
+    pub fn harmonics(
+        options: SdrcOptions,
+        shrc: ShrcOptions,
+        path: PathOptions,
+        lights: LightNextEvent,
+    ) -> Result<Sdrc, IntegratorError> {
+        shrc.check()?;
+        if options.glossy == CacheOrPath::Path {
+            return Err(OptionError::new(
+                "sdrc.glossy",
+                "path leaves glossy surfaces to path tracing: that is sdrc's baseline, not shrc's",
+            )
+            .into());
         }
-        if !(options.irradiance_a > 0.0 && options.irradiance_a.is_finite()) {
-            return bad("--sdrc-irradiance-a must be positive");
-        }
-        if !(options.a_scale >= 1.0 && options.a_scale.is_finite()) {
-            return bad("--sdrc-a-scale must be at least 1");
-        }
-        if options.n == 0 {
-            return bad("--sdrc-n must be at least 1");
-        }
-        if options.m == 0 {
-            return bad("--sdrc-m must be at least 1");
-        }
-        if options.irradiance_rays < 6 {
-            return bad("--sdrc-irradiance-rays must be at least 6 (2 rings of 3 sectors)");
-        }
-        if !(options.min_reach >= 0.0 && options.min_reach <= MAX_REACH_PX) {
-            return bad(&format!(
-                "--sdrc-min-reach must lie in [0, {MAX_REACH_PX}] pixels"
-            ));
-        }
-        if options.glossy == (GlossyCache::Harmonics { rays: 0 }) {
-            return bad("--shrc-rays must be at least 1");
-        }
-        if options.photon_k == 0 {
-            return bad("--sdrc-photon-k must be at least 1");
-        }
-        if !(options.photon_radius > 0.0 && options.photon_radius <= 1.0) {
-            return bad("--sdrc-photon-radius must lie in (0, 1] (of the scene's radius)");
-        }
-        if !(options.r_max > 0.0 && options.r_max <= 2.0) {
-            return bad("--sdrc-r-max must lie in (0, 2] (the disc's diameter)");
-        }
-        if !(options.query_samples >= 0.0 && options.query_samples.is_finite()) {
-            return bad("--sdrc-query-samples must be a number of samples, 0 or more");
-        }
-        Ok(Sdrc {
-            tracer: PathTracer::new(name(options.glossy), lights, path),
+        let options = SdrcOptions {
+            a: shrc.a,
+            ..options
+        };
+        Self::with_glossy(
             options,
+            GlossyCache::Harmonics { rays: shrc.rays },
+            path,
+            lights,
+        )
+    }
+
+    fn with_glossy(
+        options: SdrcOptions,
+        glossy: GlossyCache,
+        path: PathOptions,
+        lights: LightNextEvent,
+    ) -> Result<Sdrc, IntegratorError> {
+        options.check()?;
+        Ok(Sdrc {
+            tracer: PathTracer::new(name(glossy), lights, path),
+            options,
+            glossy,
             path,
             camera: Mutex::new(PixelFootprint::default()),
             maps: Mutex::new(Vec::new()),
@@ -369,7 +458,7 @@ fn place_at(
 
 impl Integrator for Sdrc {
     fn name(&self) -> &str {
-        name(self.options.glossy)
+        name(self.glossy)
     }
 
     fn settings(&self) -> serde_json::Value {
@@ -377,29 +466,11 @@ impl Integrator for Sdrc {
         if let Some(all) = s.as_object_mut() {
             all.insert(
                 "sdrc".into(),
-                serde_json::json!({
-                    "a": self.options.a,
-                    "irradiance_a": self.options.irradiance_a,
-                    "a_scale": self.options.a_scale,
-                    "n": self.options.n,
-                    "m": self.options.m,
-                    "r_max": self.options.r_max,
-                    "query_samples": self.options.query_samples,
-                    "min_reach": self.options.min_reach,
-                    "diffuse": self.options.diffuse,
-                    "irradiance_rays": self.options.irradiance_rays,
-                    "irradiance_gradients": self.options.irradiance_gradients,
-                    "split": self.options.split,
-                    "photons": self.options.photons,
-                    "photon_k": self.options.photon_k,
-                    "photon_radius": self.options.photon_radius,
-                    "glossy": match self.options.glossy {
-                        GlossyCache::Directional => "sdrc".to_string(),
-                        GlossyCache::Harmonics { rays } => format!("sh ({rays} rays a record)"),
-                        GlossyCache::Path => "path".to_string(),
-                    },
-                }),
+                serde_json::to_value(self.options).unwrap_or_default(),
             );
+            if let GlossyCache::Harmonics { rays } = self.glossy {
+                all.insert("shrc".into(), serde_json::json!({ "rays": rays }));
+            }
         }
         s
     }
@@ -468,7 +539,7 @@ impl Integrator for Sdrc {
         if time_left.is_some_and(|t| t <= 0.0) {
             control.progress.note(&format!(
                 "placing records took {placement_s:.1} s, the whole time budget: rendering one \
-                 sample per pixel (a larger --sdrc-min-reach places fewer records)"
+                 sample per pixel (a larger sdrc.min_reach places fewer records)"
             ));
         }
         let mut passes = Passes {
@@ -483,7 +554,7 @@ impl Integrator for Sdrc {
         stats.rays += placement_rays;
         stats.max_depth = Some(self.path.max_depth);
         let caches = passes.caches;
-        match self.options.glossy {
+        match self.glossy {
             GlossyCache::Directional => figures(&mut stats, "sdrc", &caches.glossy, placed.0, true),
             GlossyCache::Harmonics { .. } => {
                 figures(&mut stats, "shrc", &caches.harmonics, placed.1, false)

@@ -4,7 +4,7 @@
 //! path tracing; renders do not depend on the thread
 //! count; bad options are refused.
 
-use fenestra_cache::{GlossyCache, Sdrc, SdrcOptions};
+use fenestra_cache::{CacheOrPath, LambertianLobe, Sdrc, SdrcOptions, ShrcOptions};
 use fenestra_core::stats::RenderStats;
 use fenestra_core::{Rgb, Vec3};
 use fenestra_eval::ztest::agreement;
@@ -64,10 +64,10 @@ fn with_a_vanishing_error_the_cache_gives_af_hf_answer() {
     // cache, and the kettle path traced (the seed's Monte Carlo baseline): only the walls
     // are served then.
     let mut served_pixels = Vec::new();
-    for (split, glossy) in [
-        (false, GlossyCache::Directional),
-        (true, GlossyCache::Directional),
-        (false, GlossyCache::Path),
+    for (lambertian_lobe, glossy) in [
+        (LambertianLobe::Glossy, CacheOrPath::Cache),
+        (LambertianLobe::Cache, CacheOrPath::Cache),
+        (LambertianLobe::Glossy, CacheOrPath::Path),
     ] {
         let mut cache = sdrc(SdrcOptions {
             a: 1e-3,
@@ -75,7 +75,7 @@ fn with_a_vanishing_error_the_cache_gives_af_hf_answer() {
             min_reach: 0.0,
             n: 64,
             irradiance_rays: 16,
-            split,
+            lambertian_lobe,
             glossy,
             ..Default::default()
         });
@@ -89,7 +89,10 @@ fn with_a_vanishing_error_the_cache_gives_af_hf_answer() {
         served_pixels.push(served);
         assert!(served > 100, "the caches served {served} pixels");
         let agree = agreement(&film.estimate(), &reference.estimate(), 0.01, 8).expect("same size");
-        assert!(agree.passed(), "split {split}, {glossy:?}: {agree:#?}");
+        assert!(
+            agree.passed(),
+            "lambertian lobe {lambertian_lobe}, glossy {glossy}: {agree:#?}"
+        );
     }
     assert!(
         served_pixels[2] + 50 < served_pixels[0],
@@ -276,11 +279,9 @@ fn sh_radiance_caching_agrees_with_af_hf_where_incoming_light_is_smooth() {
         max_depth: 3,
         ..Default::default()
     };
-    let mut shrc = Sdrc::new(
-        SdrcOptions {
-            glossy: GlossyCache::Harmonics { rays: 256 },
-            ..Default::default()
-        },
+    let mut shrc = Sdrc::harmonics(
+        SdrcOptions::default(),
+        ShrcOptions { a: 0.22, rays: 256 },
         path,
         LightNextEvent::new(LightSelection::Power),
     )
@@ -331,32 +332,65 @@ fn bad_options_are_refused_with_the_option_named() {
         Err(e) => e.to_string(),
     };
     let d = SdrcOptions::default();
-    assert!(refused(SdrcOptions { a: 0.0, ..d }).contains("--sdrc-a "));
-    assert!(refused(SdrcOptions { a_scale: 0.5, ..d }).contains("--sdrc-a-scale"));
-    assert!(refused(SdrcOptions { n: 0, ..d }).contains("--sdrc-n"));
-    assert!(refused(SdrcOptions { m: 0, ..d }).contains("--sdrc-m"));
-    assert!(refused(SdrcOptions {
-        irradiance_a: -1.0,
-        ..d
-    })
-    .contains("--sdrc-irradiance-a"));
-    assert!(refused(SdrcOptions {
-        irradiance_rays: 5,
-        ..d
-    })
-    .contains("--sdrc-irradiance-rays"));
-    assert!(refused(SdrcOptions { r_max: 3.0, ..d }).contains("--sdrc-r-max"));
-    assert!(refused(SdrcOptions {
-        glossy: GlossyCache::Harmonics { rays: 0 },
-        ..d
-    })
-    .contains("--shrc-rays"));
-    assert!(refused(SdrcOptions {
-        min_reach: -1.0,
-        ..d
-    })
-    .contains("--sdrc-min-reach"));
+    let named = |options, key: &str| {
+        let e = refused(options);
+        assert!(e.starts_with(&format!("{key} must ")), "{key}: {e}");
+    };
+    named(SdrcOptions { a: 0.0, ..d }, "sdrc.a");
+    named(SdrcOptions { a_scale: 0.5, ..d }, "sdrc.a_scale");
+    named(SdrcOptions { n: 0, ..d }, "sdrc.n");
+    named(SdrcOptions { m: 0, ..d }, "sdrc.m");
+    named(
+        SdrcOptions {
+            irradiance_a: -1.0,
+            ..d
+        },
+        "sdrc.irradiance_a",
+    );
+    named(
+        SdrcOptions {
+            irradiance_rays: 5,
+            ..d
+        },
+        "sdrc.irradiance_rays",
+    );
+    named(SdrcOptions { r_max: 3.0, ..d }, "sdrc.r_max");
+    named(
+        SdrcOptions {
+            min_reach: -1.0,
+            ..d
+        },
+        "sdrc.min_reach",
+    );
     for query_samples in [-1.0, f32::NAN, f32::INFINITY] {
-        assert!(refused(SdrcOptions { query_samples, ..d }).contains("--sdrc-query-samples"));
+        named(SdrcOptions { query_samples, ..d }, "sdrc.query_samples");
     }
+    let shrc = |shrc: ShrcOptions, options| match Sdrc::harmonics(
+        options,
+        shrc,
+        path(),
+        LightNextEvent::new(LightSelection::Power),
+    ) {
+        Ok(_) => panic!("accepted {shrc:?}"),
+        Err(e) => e.to_string(),
+    };
+    let e = shrc(
+        ShrcOptions {
+            rays: 0,
+            ..Default::default()
+        },
+        d,
+    );
+    assert_eq!(e, "shrc.rays must be at least 1");
+    let e = shrc(
+        ShrcOptions::default(),
+        SdrcOptions {
+            glossy: CacheOrPath::Path,
+            ..d
+        },
+    );
+    assert!(
+        e.starts_with("sdrc.glossy path leaves glossy surfaces"),
+        "{e}"
+    );
 }

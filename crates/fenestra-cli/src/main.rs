@@ -120,7 +120,11 @@ fn main() -> ExitCode {
                 println!("  {name:<14} {what}");
             }
             println!("integrators (--integrator NAME):");
-            for e in integrators::registry().entries() {
+            for e in integrators::registry().integrators() {
+                println!("  {:<14} {}", e.name, e.about);
+            }
+            println!("light samplers (--light-selection NAME):");
+            for e in integrators::registry().light_samplers() {
                 println!("  {:<14} {}", e.name, e.about);
             }
             Ok(())

@@ -79,15 +79,6 @@ impl Default for EstimateOpts {
 }
 
 impl EstimateOpts {
-    /// The default parameters with the portal shape `model` (for `render --portals auto`).
-    pub fn defaults_with(model: Model) -> EstimateParams {
-        EstimateOpts {
-            model,
-            ..EstimateOpts::default()
-        }
-        .params()
-    }
-
     /// The parameters as the pipeline takes them.
     pub fn params(&self) -> EstimateParams {
         let mut p = EstimateParams::default();
@@ -225,4 +216,20 @@ pub fn run(args: PortalsArgs) -> Result<bool> {
         println!("wrote {}", wrote.join(", "));
     }
     Ok(false)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `render --portals auto` estimates with the pipeline's defaults: they must be this
+    /// command's, or the two would find different portals in the same scene.
+    #[test]
+    fn the_commands_defaults_are_the_pipelines() {
+        let json = |p: &EstimateParams| serde_json::to_string(p).expect("json");
+        assert_eq!(
+            json(&EstimateOpts::default().params()),
+            json(&EstimateParams::default())
+        );
+    }
 }

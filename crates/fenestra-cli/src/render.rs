@@ -1,7 +1,7 @@
 //! `fenestra render` and `fenestra reference`.
 
 use crate::files::Files;
-use crate::integrators::{self, Config, IntegratorArgs};
+use crate::integrators::{self, IntegratorArgs};
 use crate::{interrupt, pieces, progress::Bar, scene_arg};
 use anyhow::{bail, Context, Result};
 use clap::Args;
@@ -14,7 +14,7 @@ use fenestra_eval::run::{ReferenceSummary, REFERENCE_SEED_OFFSET};
 use fenestra_render::control::PassHook;
 use fenestra_render::film::{Pixel, Window};
 use fenestra_render::film_file::{FilmHeader, SampleRange};
-use fenestra_render::integrator::{Split, WorkMap};
+use fenestra_render::integrator::{IntegratorError, Split, WorkMap};
 use fenestra_render::{
     output, Film, Integrator, RenderControl, RenderScene, RenderSettings, RenderStats,
 };
@@ -288,28 +288,21 @@ impl RenderOpts {
         if self.spp == Some(0) {
             bail!("--spp must be at least 1");
         }
-        self.integrator.check()?;
         let loaded = scene_arg::load(&self.scene, self.scene_options)?;
         let scene_content = scene_content(&self.scene, &loaded.files)?;
         let desc = loaded.desc;
         let mut inputs = Files::default();
         inputs.inputs(&loaded.files, "scene file");
-        if let Some(p) = self
-            .integrator
-            .portals
-            .portals
-            .as_deref()
-            .filter(|&p| p != "auto")
-        {
+        if let Some(p) = self.integrator.portals_file() {
             inputs.input(Path::new(p), "portals file");
         }
         let (width, height) = resolution.unwrap_or((desc.defaults.width, desc.defaults.height));
-        let config = Config {
-            path: self.integrator.path.options(desc.defaults.max_depth)?,
-            args: &self.integrator,
-            scene: &desc,
-        };
-        let integrator = integrators::registry().build(&self.integrator.integrator, &config)?;
+        let integrator = integrators::registry()
+            .build(&self.integrator.integrator, &self.integrator.params, &desc)
+            .map_err(|e| match e {
+                IntegratorError::Option(e) => anyhow::anyhow!(integrators::flag_error(&e)),
+                e => e.into(),
+            })?;
         if let (Some(spp), Split::BlockTiles) = (self.spp, integrator.split()) {
             bail!(
                 "{} decides how many samples each pixel takes (until the pixel's relative variance is below its threshold): --spp {spp} would not steer it; set --ias-threshold, or --time",

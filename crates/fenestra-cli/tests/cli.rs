@@ -161,7 +161,7 @@ fn bad_input_gets_a_clear_error() {
             "-o",
             o,
         ],
-        "unknown integrator 'bdpt' (available: hf, af_hf, ias, ias_reference, sdrc, shrc, lp_hf)",
+        "invalid value 'bdpt' for '--integrator <integrator>'",
     );
     assert_clear_error(
         &[
@@ -174,7 +174,7 @@ fn bad_input_gets_a_clear_error() {
             "-o",
             o,
         ],
-        "the ias threshold must be positive, got 0",
+        "--ias-threshold: ias.threshold must be positive, got 0",
     );
     assert_clear_error(
         &[
@@ -187,7 +187,7 @@ fn bad_input_gets_a_clear_error() {
             "-o",
             o,
         ],
-        "ias cuts an environment into at most 4096 regions, asked for 100000",
+        "--ias-sky-regions: ias.sky_regions is at most 4096, got 100000",
     );
     assert_clear_error(
         &[
@@ -200,7 +200,7 @@ fn bad_input_gets_a_clear_error() {
             "-o",
             o,
         ],
-        "ias takes at most 4096 eye rays a pixel, asked for 5000",
+        "--ias-emitted-rays: ias.emitted_rays is at most 4096 (eye rays a pixel), got 5000",
     );
     assert_clear_error(
         &[
@@ -213,7 +213,7 @@ fn bad_input_gets_a_clear_error() {
             "-o",
             o,
         ],
-        "--ias-edge-rays may be at most 163, asked for 200",
+        "--ias-edge-rays: ias.edge_rays is at most 163 (4096 eye rays a pixel), got 200",
     );
     assert_clear_error(
         &[
@@ -226,7 +226,7 @@ fn bad_input_gets_a_clear_error() {
             "-o",
             o,
         ],
-        "ias shades at least one hit of a region",
+        "--ias-region-hits: ias.region_hits must be at least 1",
     );
     assert_clear_error(
         &[
@@ -241,7 +241,7 @@ fn bad_input_gets_a_clear_error() {
             "-o",
             o,
         ],
-        "--portal-light-mix draws one light at a time",
+        "--portal-light-mix: portal.light_mix draws one light at a time",
     );
     assert_clear_error(
         &[
@@ -254,7 +254,25 @@ fn bad_input_gets_a_clear_error() {
             "-o",
             o,
         ],
-        "--sdrc-glossy path leaves glossy surfaces to path tracing",
+        "--sdrc-glossy: sdrc.glossy path leaves glossy surfaces to path tracing",
+    );
+    // An option of another integrator is refused, not ignored.
+    assert_clear_error(
+        &["render", "builtin:box-hole", "--sdrc-a", "0.3", "-o", o],
+        "--sdrc-a: sdrc.a is not read by af_hf with light.selection power (it reads path, light)",
+    );
+    assert_clear_error(
+        &[
+            "render",
+            "builtin:box-hole",
+            "--light-selection",
+            "bvh",
+            "--learned-mix",
+            "0.3",
+            "-o",
+            o,
+        ],
+        "learned.mix is not read by af_hf with light.selection bvh (it reads path, light, bvh)",
     );
     assert_clear_error(
         &["render", "builtin:box-hole", "--spp", "0", "-o", o],
@@ -1257,7 +1275,7 @@ fn portals_command_writes_json_picture_and_exports_that_render_reads_back() {
             "-o",
             &p(&dir.join("x.exr")),
         ],
-        "--portals auto is for --integrator lp_hf",
+        "--portals: portals.source is not read by af_hf",
     );
     assert_clear_error(
         &["portals", "builtin:box-hole", "-o", &p(&dir.join("x.txt"))],
@@ -1817,7 +1835,7 @@ fn learned_light_selection_renders_whole_and_refuses_what_it_cannot_do() {
     );
     refused(
         &["--light-selection", "learned", "--learned-mix", "1"],
-        "--learned-mix must be at least 0 and below 1",
+        "--learned-mix: learned.mix must be at least 0 and below 1",
     );
     // Any number of records per cell is a size, not an overflow (the half boxes' threshold
     // is a multiple of it).
@@ -1834,6 +1852,6 @@ fn learned_light_selection_renders_whole_and_refuses_what_it_cannot_do() {
     // sdrc has its own passes, which do not learn.
     refused(
         &["--integrator", "sdrc", "--light-selection", "learned"],
-        "learns from the passes of af_hf and lp_hf",
+        "--light-selection: light.selection learned learns from a render's passes, which sdrc does not give it",
     );
 }

@@ -1,6 +1,7 @@
 //! An integrator defined outside fenestra-render plugs into it: a block visualiser that
 //! renders through the block/pass driver, with per-block statistics, a different number of
-//! samples per pixel in each pass, and a registry entry, as a research crate would.
+//! samples per pixel in each pass, its own options, and a registry entry, as a research crate
+//! would.
 
 use fenestra_builtin as builtin;
 use fenestra_core::stats::{RayCounters, RenderStats};
@@ -8,16 +9,34 @@ use fenestra_core::{Rgb, Sampler};
 use fenestra_render::driver::{
     render_passes, Blocks, PassEstimator, PassInfo, PixelState, SampleContext,
 };
+use fenestra_render::options::{at_least_one, OptionError, Params, Validate};
+use fenestra_render::registry::{Group, Registry};
 use fenestra_render::{
-    render_image, Film, Integrator, Registry, RenderControl, RenderScene, RenderSettings,
+    render_image, Film, Integrator, IntegratorError, RenderControl, RenderScene, RenderSettings,
 };
 use fenestra_scene::{Backend, Scene};
 use std::sync::{Arc, Mutex};
 
+fenestra_render::options! {
+    /// The block visualiser.
+    #[derive(Copy)]
+    pub struct BlockOptions in "blocks", flags "blocks" {
+        /// Samples per pixel of the second pass (in blocks with an even index).
+        pub second_pass: u32 = 2,
+    }
+}
+
+impl Validate for BlockOptions {
+    fn validate(&self) -> Result<(), OptionError> {
+        at_least_one("second_pass", self.second_pass.into())
+    }
+}
+
 /// Paints each pixel with its block's index (red), its own index (green) and the first
-/// number of its sample stream (blue). Pass 0 takes one sample per pixel; pass 1 takes two
-/// more in blocks with an even index only; then it stops.
+/// number of its sample stream (blue). Pass 0 takes one sample per pixel; pass 1 takes
+/// `second_pass` more in blocks with an even index only; then it stops.
 struct BlockVisualiser {
+    options: BlockOptions,
     seen: Arc<Mutex<Vec<Seen>>>,
 }
 
@@ -55,7 +74,7 @@ impl PassEstimator for Passes<'_> {
     fn samples(&self, pixel: &PixelState) -> u32 {
         match pixel.pass {
             0 => 1,
-            _ if pixel.block.is_multiple_of(2) => 2,
+            _ if pixel.block.is_multiple_of(2) => self.visualiser.options.second_pass,
             _ => 0,
         }
     }
@@ -93,7 +112,7 @@ impl Integrator for BlockVisualiser {
     }
 
     fn settings(&self) -> serde_json::Value {
-        serde_json::json!({})
+        serde_json::to_value(self.options).unwrap_or_default()
     }
 
     fn render(
@@ -112,20 +131,39 @@ impl Integrator for BlockVisualiser {
     }
 }
 
+/// A registry with the visualiser, which records what it sees in `seen`.
+fn registry(seen: &Arc<Mutex<Vec<Seen>>>) -> Registry {
+    let seen = seen.clone();
+    let mut registry = Registry::new();
+    registry.integrator(
+        "blocks",
+        "block indices",
+        vec![Group::of::<BlockOptions>()],
+        move |b| {
+            Ok(Box::new(BlockVisualiser {
+                options: b.options()?,
+                seen: seen.clone(),
+            }))
+        },
+    );
+    registry
+}
+
+/// Builds the visualiser from `params`.
+fn build(params: &Params) -> Result<Box<dyn Integrator>, IntegratorError> {
+    let scene = builtin::load("box-hole").expect("builtin");
+    registry(&Arc::default()).build("blocks", params, &scene)
+}
+
 /// Renders box-hole with the visualiser, built by a registry as the binary builds its own;
 /// returns the film, the statistics and what the visualiser saw between passes.
 fn render_with(threads: usize, width: u32, height: u32) -> (Film, RenderStats, Vec<Seen>) {
     let seen = Arc::new(Mutex::new(Vec::new()));
-    let shared = seen.clone();
-    let registry = Registry::<()>::new().register("blocks", "block indices", move |_| {
-        Ok(Box::new(BlockVisualiser {
-            seen: shared.clone(),
-        }))
-    });
-    let mut integrator = registry.build("blocks", &()).expect("registered");
-    let scene = RenderScene::new(
-        Scene::build(builtin::load("box-hole").expect("builtin"), Backend::Obvhs).expect("scene"),
-    );
+    let desc = builtin::load("box-hole").expect("builtin");
+    let mut integrator = registry(&seen)
+        .build("blocks", &Params::new(), &desc)
+        .expect("registered");
+    let scene = RenderScene::new(Scene::build(desc, Backend::Obvhs).expect("scene"));
     let settings = RenderSettings {
         first_sample: 0,
         spp: 1,
@@ -189,4 +227,43 @@ fn block_pass_renders_do_not_depend_on_the_thread_count() {
         film.pixels
     };
     assert_eq!(sums(1), sums(2));
+}
+
+#[test]
+fn its_options_are_set_by_key_as_numbers_or_text_and_checked_by_name() {
+    let settings = |params: &Params| build(params).expect("options").settings();
+    let defaults = settings(&Params::new());
+    assert_eq!(defaults, serde_json::json!({ "second_pass": 2 }));
+    assert_eq!(
+        settings(&Params::new().with("blocks.second_pass", 2)),
+        defaults
+    );
+    assert_eq!(
+        settings(&Params::new().with("blocks.second_pass", "2")),
+        defaults
+    );
+    assert_eq!(
+        settings(&Params::new().with("blocks.second_pass", 5))["second_pass"],
+        5
+    );
+    let refused = |params: Params| match build(&params) {
+        Ok(_) => panic!("{params:?} was accepted"),
+        Err(e) => e.to_string(),
+    };
+    assert_eq!(
+        refused(Params::new().with("blocks.second_pass", 0)),
+        "blocks.second_pass must be at least 1"
+    );
+    assert_eq!(
+        refused(Params::new().with("blocks.second_pass", "-1")),
+        "blocks.second_pass takes a whole number from 0, got \"-1\""
+    );
+    assert_eq!(
+        refused(Params::new().with("blocks.third_pass", 1)),
+        "blocks.third_pass is not an option (blocks has second_pass)"
+    );
+    assert_eq!(
+        refused(Params::new().with("sdrc.a", 0.3)),
+        "sdrc.a is not an option (the groups: blocks)"
+    );
 }

@@ -29,6 +29,22 @@ struct Node {
     leaf: bool,
 }
 
+fenestra_render::options! {
+    /// The light tree (light.selection bvh).
+    pub struct BvhOptions in "bvh", flags "bvh" {
+        /// Adaptive splitting: near the top of the tree, a node whose box the point sees with
+        /// 1/d^2 varying by more than this factor gets a light sample for each child (up to 8
+        /// per estimate) instead of a choice between them; 0 never splits.
+        pub split: f32 = 0.0,
+    }
+}
+
+impl fenestra_render::options::Validate for BvhOptions {
+    fn validate(&self) -> Result<(), fenestra_render::options::OptionError> {
+        fenestra_render::options::non_negative("split", self.split)
+    }
+}
+
 /// The light BVH over a scene's lights.
 pub struct LightBvh {
     nodes: Vec<Node>,
@@ -510,7 +526,7 @@ impl LightSampler for LightBvh {
 
     /// With splitting, the picks of one estimate; `sample` alone is then the unsplit
     /// descent, whose probabilities `pmf` no longer gives (a one-pick mixture such as
-    /// lp_hf's `--portal-light-mix` cannot use a splitting tree).
+    /// lp_hf's `portal.light_mix` cannot use a splitting tree).
     fn sample_all(&self, ctx: &LightContext, u: f32, picks: &mut Picks) {
         let p_tree = self.tree_probability();
         if u >= p_tree || self.split <= 0.0 {

@@ -1,5 +1,5 @@
 //! A visibility-aware light sampler learned from the render's own light samples
-//! (`--light-selection learned`). The light BVH's importance knows power, distance and
+//! (`light.selection learned`). The light BVH's importance knows power, distance and
 //! orientation but not walls: in a stack of rooms it keeps aiming at lights behind floors.
 //! Here the scene is cut into cells (a grid of boxes, six normal directions each, and boxes
 //! of half their side where the samples are many); in every cell the render's light samples
@@ -26,6 +26,7 @@ use crate::bvh::LightBvh;
 use fenestra_core::distribution::Distribution1D;
 use fenestra_core::Vec3;
 use fenestra_render::light::{LightContext, LightRecords, LightSampler, Lights};
+use fenestra_render::options::{at_least_one, OptionError, Validate};
 use fenestra_scene::Scene;
 use rayon::prelude::*;
 use std::collections::HashMap;
@@ -49,32 +50,41 @@ const AXIS_BITS: u32 = 19;
 const LEVEL_SHIFT: u32 = 3 * AXIS_BITS + 3;
 
 /// Samples a cell finer than the grid's boxes needs to be used, in first-pass records per
-/// cell (`--learned-cell-records`, which sizes the grid's boxes).
+/// cell (`learned.cell_records`, which sizes the grid's boxes).
 const FINE_SAMPLES: u32 = 8;
 
-/// Settings of the learned sampler.
-#[derive(Clone, Copy, Debug)]
-pub struct LearnedOptions {
-    /// Groups of lights the BVH is cut into (at most; lights at infinity come on top).
-    pub groups: usize,
-    /// Records of the first pass per cell, on average: sets the cells' size (the finest
-    /// power-of-two division of the scene's diagonal with no fewer).
-    pub cell_records: u32,
-    /// Share of samples drawn from the learned distribution (the rest by the BVH).
-    pub mix: f32,
-    /// Passes learned from (passes of 1, 2, 4, ... samples per pixel).
-    pub passes: u32,
-    /// What the rest of the samples are drawn by in cells that learned something.
-    pub base: Base,
+fenestra_render::choices! {
+    /// The distribution mixed with the learned one, which keeps every light samplable.
+    pub enum Base {
+        /// The light BVH.
+        Bvh = "bvh",
+        /// Emitted power: costs almost nothing, so that scenes with nothing to learn pay little.
+        Power = "power",
+    }
 }
 
-/// The distribution mixed with the learned one, which keeps every light samplable.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Base {
-    /// The light BVH.
-    Bvh,
-    /// Emitted power: costs almost nothing, so that scenes with nothing to learn pay little.
-    Power,
+fenestra_render::options! {
+    /// The learned light sampler (light.selection learned).
+    #[derive(Copy)]
+    pub struct LearnedOptions in "learned", flags "learned" {
+        /// Groups of lights (a cut through the light tree; lights at infinity come on top)
+        /// whose shares each cell learns.
+        pub groups: usize = 256,
+        /// Light samples of the first pass per cell, on average. Cells (boxes, six normal
+        /// directions each) learn which lights they see; this sets their size (the finest
+        /// power-of-two division of the scene's diagonal with no fewer), which thus follows
+        /// the image's resolution and what the camera sees.
+        pub cell_records: u32 = 16,
+        /// The share of light samples drawn from what was learned (the rest by the light tree,
+        /// which keeps every light that can reach a point samplable).
+        pub mix: f32 = 0.5,
+        /// Passes learned from (passes take 1, 2, 4, ... samples per pixel; the later passes
+        /// use what the last one learned).
+        pub passes: u32 = 5,
+        /// What the rest of the light samples are drawn by where a cell has learned something:
+        /// bvh (the light tree) or power (emitted power, which costs almost nothing).
+        pub base: Base = Base::Bvh,
+    }
 }
 
 impl LearnedOptions {
@@ -85,41 +95,32 @@ impl LearnedOptions {
             self.mix, self.cell_records, self.groups, self.passes, self.base
         )
     }
+}
 
-    /// Why the options cannot be used, if they cannot.
-    pub fn check(&self) -> Result<(), String> {
+impl Validate for LearnedOptions {
+    fn validate(&self) -> Result<(), OptionError> {
         if !(0.0..1.0).contains(&self.mix) {
-            return Err(format!(
-                "--learned-mix must be at least 0 and below 1 (the light tree keeps the rest), got {}",
-                self.mix
+            return Err(OptionError::new(
+                "mix",
+                format!(
+                    "must be at least 0 and below 1 (the light tree keeps the rest), got {}",
+                    self.mix
+                ),
             ));
         }
-        if self.cell_records == 0 {
-            return Err("--learned-cell-records must be at least 1".into());
-        }
-        if self.groups == 0 {
-            return Err("--learned-groups must be at least 1".into());
-        }
+        at_least_one("cell_records", self.cell_records.into())?;
+        at_least_one("groups", self.groups as u64)?;
         if self.passes > MAX_PASSES {
-            return Err(format!(
-                "--learned-passes is at most {MAX_PASSES} (passes past the fifth take 32 samples \
-                 per pixel each), got {}",
-                self.passes
+            return Err(OptionError::new(
+                "passes",
+                format!(
+                    "is at most {MAX_PASSES} (passes past the fifth take 32 samples per pixel \
+                     each), got {}",
+                    self.passes
+                ),
             ));
         }
         Ok(())
-    }
-}
-
-impl Default for LearnedOptions {
-    fn default() -> Self {
-        LearnedOptions {
-            groups: 256,
-            cell_records: 16,
-            mix: 0.5,
-            passes: 5,
-            base: Base::Bvh,
-        }
     }
 }
 
@@ -599,6 +600,7 @@ impl LightSampler for LearnedLights {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use fenestra_render::options::Options;
 
     /// Sums of `groups(cell)` groups in each of `cells`, group g weighing 1 + g, with
     /// `samples` samples each.
@@ -735,7 +737,7 @@ mod tests {
         let e = LearnedOptions { mix: 1.0, ..ok }
             .check()
             .expect_err("a mix of 1 leaves no light tree");
-        assert!(e.contains("--learned-mix"), "{e}");
+        assert!(e.to_string().starts_with("learned.mix must be"), "{e}");
         assert!(LearnedOptions {
             cell_records: 0,
             ..ok

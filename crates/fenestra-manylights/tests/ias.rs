@@ -199,7 +199,7 @@ fn light_samples_taken_in_turn_at_a_regions_hits_lower_the_error() {
 #[test]
 fn the_seeds_reference_renders_the_same_direct_light() {
     let reference = direct_light(many_lights(), 1024);
-    let mut seeds = Ias::new(IasOptions::reference(1e-3)).expect("options");
+    let mut seeds = Ias::new(IasOptions::default().reference()).expect("options");
     let image = render(many_lights(), &mut seeds, 1, 2);
     let t =
         fenestra_eval::agreement(&reference.estimate(), &image.estimate(), 0.01, 8).expect("sizes");

@@ -13,6 +13,7 @@ use crate::ransac::{ransac_plane, Plane, Ransac};
 use crate::rectangle::{inner_rectangle, min_area_rectangle, pca_rectangle, Rectangle};
 use crate::snap::snap_to_opening;
 use fenestra_core::{UnknownName, Vec3};
+use fenestra_render::options::ValueError;
 use fenestra_render::{Progress, RenderScene};
 use glam::{DVec2, DVec3};
 use std::sync::atomic::AtomicBool;
@@ -45,6 +46,22 @@ impl std::str::FromStr for Model {
                 s,
                 "ellipse, pca, rectangle or smallest",
             )),
+        }
+    }
+}
+
+impl fenestra_render::options::OptionValue for Model {
+    const KIND: fenestra_render::options::Kind =
+        fenestra_render::options::Kind::Choice(&["ellipse", "pca", "rectangle", "smallest"]);
+
+    fn from_param(param: &serde_json::Value) -> Result<Self, ValueError> {
+        match param {
+            serde_json::Value::String(s) => s
+                .parse()
+                .map_err(|e: UnknownName| ValueError(e.to_string())),
+            v => Err(ValueError(format!(
+                "takes ellipse, pca, rectangle or smallest, got {v}"
+            ))),
         }
     }
 }

@@ -19,7 +19,37 @@ pub mod portal;
 pub mod ransac;
 pub mod rectangle;
 pub mod snap;
+pub mod source;
 
 pub use error::PortalError;
-pub use lp_hf::{lp_hf, PortalNextEvent, PortalOptions, PortalSource};
+pub use lp_hf::{lp_hf, PortalNextEvent, PortalOptions};
 pub use portal::{Portal, PortalChoice, PortalFile, PortalSampling, Portals};
+pub use source::{PortalSource, PortalSourceOptions};
+
+use fenestra_render::integrator::PathConfig;
+use fenestra_render::light::LightOptions;
+use fenestra_render::registry::{Group, Registry};
+
+/// Registers this crate's integrator (lp_hf).
+pub fn register(registry: &mut Registry) {
+    registry.integrator(
+        "lp_hf",
+        "path tracing that aims through windows and openings (light portals; seed 000's LP_HF)",
+        vec![
+            Group::of::<PathConfig>(),
+            Group::of::<LightOptions>(),
+            Group::of::<PortalOptions>(),
+            Group::of::<PortalSourceOptions>(),
+        ],
+        |b| {
+            let source = PortalSource::new(&b.options()?, b.scene)
+                .map_err(|e| fenestra_render::IntegratorError::Prepare(Box::new(e)))?;
+            Ok(Box::new(lp_hf(
+                b.path()?,
+                b.options()?,
+                source,
+                b.next_event("lp_hf", true)?,
+            )?))
+        },
+    );
+}

@@ -11,6 +11,7 @@
 use crate::error::PortalError;
 use crate::estimate::{estimate, EstimateParams};
 use crate::portal::{PickWeights, PortalChoice, PortalFile, PortalRecord, PortalSampling, Portals};
+use crate::source::PortalSource;
 use fenestra_core::mis::MisHeuristic;
 use fenestra_core::stats::{RayCounters, RenderStats};
 use fenestra_core::{Ray, Rgb, Sampler, Vec3};
@@ -20,71 +21,63 @@ use fenestra_render::integrator::{
     Scattered, Shading,
 };
 use fenestra_render::light::{LightContext, LightHit, LightRecords};
+use fenestra_render::options::{OptionError, Options, Validate};
 use fenestra_render::{IntegratorError, RenderControl, RenderScene};
 use serde_json::json;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-/// Where lp_hf's portals come from.
-#[derive(Clone, Debug)]
-pub enum PortalSource {
-    /// The scene's own: pbrt-v4 "point3 portal" quads, interface-material quads, the
-    /// built-in scenes' openings.
-    Scene,
-    /// Given, for example read from a portals.json file.
-    Given(Portals),
-    /// Estimated from the scene (seed 000 ch. 4) with `params` when prepared, or read from
-    /// `cache`, the portals.json an earlier estimate of the same scene with the same
-    /// parameters left there (and written there after estimating).
-    Estimated {
-        /// The pipeline's parameters.
-        params: EstimateParams,
-        /// The cache file for this scene and these parameters, if any.
-        cache: Option<PathBuf>,
-    },
-}
-
-/// lp_hf's own options.
-#[derive(Clone, Debug)]
-pub struct PortalOptions {
-    /// Where the portals come from.
-    pub source: PortalSource,
-    /// How a point is chosen on a portal.
-    pub sampling: PortalSampling,
-    /// How a portal is picked.
-    pub choice: PortalChoice,
-    /// Probability that a sample comes from light sampling instead (0: portals only).
-    pub light_mix: f32,
-}
-
-impl Default for PortalOptions {
-    fn default() -> Self {
-        PortalOptions {
-            source: PortalSource::Scene,
-            sampling: PortalSampling::SolidAngle,
-            choice: PortalChoice::Contribution,
-            light_mix: 0.0,
-        }
+fenestra_render::options! {
+    /// Light portals: how lp_hf samples them.
+    #[derive(Copy)]
+    pub struct PortalOptions in "portal", flags "portal" {
+        /// How a point is chosen on a portal: solid-angle (rectangles by the solid angle they
+        /// subtend, Urena et al. 2013, where area sampling would spread the density of
+        /// directions by more than 3x) or area (seed 000 eq. 4.1).
+        pub sampling: PortalSampling = PortalSampling::SolidAngle,
+        /// How a portal is picked: contribution (solid angle times cosine at the point),
+        /// facing (uniform among those not behind the surface, as Cycles) or uniform (the
+        /// seed's).
+        pub choice: PortalChoice = PortalChoice::Contribution,
+        /// Probability that a sample comes from light sampling instead of the portals (Cycles
+        /// mixes its portals with environment sampling; 0 uses the portals only).
+        pub light_mix: f32 = 0.0,
     }
 }
 
-/// The lp_hf integrator: the shared path loop with portal sampling as its next event, and
-/// `lights` (any light sampler: by power, uniform, a light tree) for the share of light
-/// sampling and for Dirac lights.
+impl Validate for PortalOptions {
+    fn validate(&self) -> Result<(), OptionError> {
+        if !(0.0..=1.0).contains(&self.light_mix) {
+            return Err(OptionError::new(
+                "light_mix",
+                format!("must lie in [0, 1], got {}", self.light_mix),
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// The lp_hf integrator: the shared path loop with portal sampling (by `options`, from
+/// `source`) as its next event, and `lights` (any light sampler: by power, uniform, a light
+/// tree) for the share of light sampling and for Dirac lights.
 pub fn lp_hf(
     path: PathOptions,
     options: PortalOptions,
+    source: PortalSource,
     lights: LightNextEvent,
-) -> Result<PathTracer<PortalNextEvent>, PortalError> {
-    if !(0.0..=1.0).contains(&options.light_mix) {
-        return Err(PortalError::Parameters(format!(
-            "the share of light sampling mixed with portal sampling must lie in [0, 1], got {}",
-            options.light_mix
-        )));
+) -> Result<PathTracer<PortalNextEvent>, OptionError> {
+    options.check()?;
+    if options.light_mix > 0.0 && lights.takes_several() {
+        return Err(OptionError::new(
+            "portal.light_mix",
+            "draws one light at a time: not with a light sampler whose estimates take several \
+             (light.selection all, bvh.split)",
+        ));
     }
     Ok(PathTracer::new(
         "lp_hf",
         PortalNextEvent {
             options,
+            source,
             portals: Portals::default(),
             lights,
             estimated: None,
@@ -96,6 +89,7 @@ pub fn lp_hf(
 /// Portal sampling, mixed with light sampling, as a next-event strategy.
 pub struct PortalNextEvent {
     options: PortalOptions,
+    source: PortalSource,
     /// The portals, with the sampling and choice rules (set when prepared).
     portals: Portals,
     lights: LightNextEvent,
@@ -223,8 +217,7 @@ impl NextEvent for PortalNextEvent {
     type Probe = PortalProbe;
 
     fn settings(&self) -> serde_json::Value {
-        let o = &self.options;
-        let portals = match &o.source {
+        let portals = match &self.source {
             PortalSource::Scene => json!("scene"),
             PortalSource::Given(p) => records(p),
             // Once prepared, the sidecar also says which portals the estimate found.
@@ -233,12 +226,7 @@ impl NextEvent for PortalNextEvent {
             }
             PortalSource::Estimated { params, .. } => json!({ "estimated": params }),
         };
-        let mut s = json!({
-            "portals": portals,
-            "portal_sampling": o.sampling,
-            "portal_choice": o.choice,
-            "portal_light_mix": o.light_mix,
-        });
+        let mut s = json!({ "portals": portals, "portal": self.options });
         if let (Some(all), serde_json::Value::Object(lights)) =
             (s.as_object_mut(), self.lights.settings())
         {
@@ -253,7 +241,7 @@ impl NextEvent for PortalNextEvent {
         control: &RenderControl,
     ) -> Result<(), IntegratorError> {
         self.lights.prepare(scene, control)?;
-        let portals = match &self.options.source {
+        let portals = match &self.source {
             PortalSource::Scene => Portals::from_quads(&scene.scene.portals),
             PortalSource::Given(p) => p.clone(),
             PortalSource::Estimated { params, cache } => {
@@ -286,7 +274,7 @@ impl NextEvent for PortalNextEvent {
                         photons: e.photons.points.len(),
                         seconds: e.timings.total(),
                     });
-                    file.portals(Path::new("--portals auto"))?
+                    file.portals(Path::new("the estimated portals"))?
                 }
             }
         };

@@ -7,7 +7,7 @@ use fenestra_builtin as builtin;
 use fenestra_core::mis::MisHeuristic;
 use fenestra_core::Vec3;
 use fenestra_manylights::LightBvh;
-use fenestra_portals::{lp_hf, PortalChoice, PortalOptions, PortalSampling};
+use fenestra_portals::{lp_hf, PortalChoice, PortalOptions, PortalSampling, PortalSource};
 use fenestra_render::integrator::{af_hf, hf, LightNextEvent, PathOptions};
 use fenestra_render::light::LightSelection;
 use fenestra_render::{render_image, Film, Integrator, RenderScene, RenderSettings};
@@ -40,6 +40,7 @@ fn portals(options: PortalOptions, mis: MisHeuristic, depth: u32) -> impl Integr
     lp_hf(
         path(mis, depth),
         options,
+        PortalSource::Scene,
         LightNextEvent::new(LightSelection::Power),
     )
     .expect("lp_hf")
@@ -127,7 +128,8 @@ fn lp_hf_agrees_with_af_hf_with_exact_small_and_large_portals() {
                 light_mix: 0.5,
                 ..Default::default()
             };
-            let mut lp = lp_hf(path(power, depth), options, bvh).expect("lp_hf");
+            let mut lp =
+                lp_hf(path(power, depth), options, PortalSource::Scene, bvh).expect("lp_hf");
             let lp = render(scaled(load(), 0.5), &mut lp, 512);
             assert_agree(
                 &format!("{scene}: af_hf vs lp_hf mixed with the light BVH, depth {depth}"),
@@ -191,6 +193,7 @@ fn lp_hf_refuses_a_scene_without_portals_and_a_bad_mixture() {
     let Err(e) = lp_hf(
         PathOptions::default(),
         bad,
+        PortalSource::Scene,
         LightNextEvent::new(LightSelection::Power),
     ) else {
         panic!("a mixture of 1.5 was accepted");

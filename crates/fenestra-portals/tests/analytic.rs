@@ -7,7 +7,7 @@
 
 use fenestra_builtin as builtin;
 use fenestra_core::{Rgb, Vec2, Vec3};
-use fenestra_portals::{lp_hf, PortalOptions};
+use fenestra_portals::{lp_hf, PortalOptions, PortalSource};
 use fenestra_render::integrator::{af_hf, LightNextEvent, PathOptions};
 use fenestra_render::light::LightSelection;
 use fenestra_render::{render_image, Integrator, RenderScene, RenderSettings};
@@ -112,6 +112,7 @@ fn direct_light_through_the_hole_matches_its_integral() {
     let portals = lp_hf(
         direct,
         PortalOptions::default(),
+        PortalSource::Scene,
         LightNextEvent::new(LightSelection::Power),
     )
     .expect("lp_hf");

@@ -14,6 +14,7 @@ pub mod film_file;
 pub mod integrator;
 pub mod light;
 pub mod merge;
+pub mod options;
 pub mod output;
 pub mod registry;
 pub mod render_scene;

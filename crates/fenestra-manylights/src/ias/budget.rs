@@ -1,4 +1,4 @@
-//! Rendering to a time budget (`--time`; beyond the seed, whose renders stop on a fixed
+//! Rendering to a time budget (a render's time limit; beyond the seed, whose renders stop on a fixed
 //! threshold): each block takes the threshold that the blocks done so far say fits the time
 //! left. A pixel's shadow rays grow about as 1 / threshold, so a block's seconds times its
 //! threshold measure its work whatever threshold it had; blocks are taken in a shuffled order

@@ -15,7 +15,7 @@
 //! without a visible light; §4.6.4).
 //!
 //! After a render it offers maps of its work (passes, shadow rays, visible share, clusters
-//! per cut, regions per pixel; the seed's Fig. 4.9 and 4.11) for `render --maps`. Direct
+//! per cut, regions per pixel; the seed's Fig. 4.9 and 4.11) for a render's work maps. Direct
 //! light only, as the seed; beyond it, BSDF samples weighed by MIS where a light outsizes the
 //! BSDF's lobe, and one bounce on from mirrors and glass (module `bsdf_samples`).
 
@@ -32,114 +32,107 @@ use budget::Budget;
 use fenestra_core::stats::{RayCounters, RenderStats};
 use fenestra_render::control::RenderControl;
 use fenestra_render::integrator::{Integrator, IntegratorError, Split, WorkMap};
+use fenestra_render::options::{at_least_one, positive, OptionError, Options, Validate};
 use fenestra_render::{Film, RenderScene, RenderSettings};
 use rayon::prelude::*;
 use std::sync::Mutex;
 
-/// How a pixel's pass estimates are combined.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Combine {
-    /// By inverse variance (eq. 3.3, 3.4): the seed's, least variance, but the variances
-    /// come from the same samples as the estimates, so a pass that missed a bright light
-    /// (low estimate, low variance) weighs more: the image comes out darker (measured in
-    /// docs/manylights.md).
-    InverseVariance,
-    /// By shadow rays: every ray after pass 0 weighs the same, whatever pass it came in;
-    /// unbiased. Pass 0, drawn uniformly over the cut to seed the statistics ("not to
-    /// estimate the value of the pixel", §3.5.2), counts only for a pixel done after it.
-    Samples,
+fenestra_render::choices! {
+    /// How a pixel's pass estimates are combined.
+    pub enum Combine {
+        /// By inverse variance (eq. 3.3, 3.4): the seed's, least variance, but the variances
+        /// come from the same samples as the estimates, so a pass that missed a bright light
+        /// (low estimate, low variance) weighs more: the image comes out darker (measured in
+        /// docs/manylights.md).
+        InverseVariance = "inverse-variance",
+        /// By shadow rays: every ray after pass 0 weighs the same, whatever pass it came in;
+        /// unbiased. Pass 0, drawn uniformly over the cut to seed the statistics ("not to
+        /// estimate the value of the pixel", §3.5.2), counts only for a pixel done after it.
+        Samples = "samples",
+    }
 }
 
-/// Which points take BSDF samples besides light samples (beyond the seed).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum BsdfSamples {
-    /// None: light samples only, and mirrors and glass show only what they see emitted (the
-    /// seed).
-    None,
-    /// Where a light of the cut subtends more than the BSDF's lobe (a polished floor
-    /// under a lamp, a wall beside a large emitter); mirrors and glass show light one
-    /// bounce on.
-    Auto,
-    /// Every BSDF that light sampling can reach; mirrors and glass as with `Auto`.
-    All,
+fenestra_render::choices! {
+    /// Which points take BSDF samples besides light samples (beyond the seed).
+    pub enum BsdfSamples {
+        /// None: light samples only, and mirrors and glass show only what they see emitted (the
+        /// seed).
+        None = "none",
+        /// Where a light of the cut subtends more than the BSDF's lobe (a polished floor
+        /// under a lamp, a wall beside a large emitter); mirrors and glass show light one
+        /// bounce on.
+        Auto = "auto",
+        /// Every BSDF that light sampling can reach; mirrors and glass as with `Auto`.
+        All = "all",
+    }
 }
 
-/// Where the PDFs over a point's lights come from.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Pdf {
-    /// The seed's adaptive PDFs over light clusters (eq. 3.2).
-    Adaptive,
-    /// The seed's reference (§4.2): over single lights, in proportion to their unoccluded
-    /// irradiance at the point (their bounds' importance), the same throughout; 100 rays a
-    /// pass, at most 20,000 a pixel, black after 2,500 rays without a visible light.
-    Irradiance,
+fenestra_render::choices! {
+    /// Where the PDFs over a point's lights come from.
+    pub enum Pdf {
+        /// The seed's adaptive PDFs over light clusters (eq. 3.2).
+        Adaptive = "adaptive",
+        /// The seed's reference (§4.2): over single lights, in proportion to their unoccluded
+        /// irradiance at the point (their bounds' importance), the same throughout; 100 rays a
+        /// pass, at most 20,000 a pixel, black after 2,500 rays without a visible light.
+        Irradiance = "irradiance",
+    }
 }
 
-/// The seed's parameters.
-#[derive(Clone, Copy, Debug)]
-pub struct IasOptions {
-    /// Relative variance of a pixel at which it is done (t of §3.5.3).
-    pub threshold: f32,
-    /// Most passes per block.
-    pub max_passes: u32,
-    /// Cluster size bound of the cuts, in steradians.
-    pub solid_angle: f32,
-    /// How the passes' estimates of a pixel are combined.
-    pub combine: Combine,
-    /// Adaptive (ias) or the seed's reference.
-    pub pdf: Pdf,
-    /// Regions an environment is cut into for the adaptive sampler (the seed's 300; 0
-    /// takes each environment whole, as one cluster).
-    pub sky_regions: usize,
-    /// Most eye rays a pixel takes while what they see emitted varies (the edge of a light
-    /// seen directly): beyond the seed's counts, until the mean is within the threshold; 0
-    /// keeps the seed's counts.
-    pub emitted_rays: u32,
-    /// Beyond the seed: which points take a BSDF sample with each light sample, the two
-    /// weighed by MIS, and whether mirrors and glass show light one bounce on (module
-    /// `bsdf_samples`).
-    pub bsdf_samples: BsdfSamples,
-    /// Beyond the seed: most eye-ray hits of a region that its light samples take in turn
-    /// (1: the region's first hit stands for all of it, as the seed).
-    pub region_hits: u32,
-    /// Beyond the seed: eye rays, in units of the seed's per surface, that a pixel takes at
-    /// least when a neighbour's rays saw the edge of a light and its own did not (it may
-    /// hold a sliver of the light they missed); 0 leaves such pixels their own counts.
-    pub edge_rays: u32,
-}
-
-impl Default for IasOptions {
-    fn default() -> Self {
-        IasOptions {
-            threshold: 1e-3,
-            max_passes: 15,
-            solid_angle: CUT_SOLID_ANGLE,
-            combine: Combine::Samples,
-            pdf: Pdf::Adaptive,
-            sky_regions: SKY_REGIONS,
-            emitted_rays: EMITTED_RAYS,
-            bsdf_samples: BsdfSamples::Auto,
-            region_hits: REGION_HITS,
-            edge_rays: EDGE_RAYS,
-        }
+fenestra_render::options! {
+    /// Iterative adaptive sampling (ias, ias_reference; seed 004).
+    #[derive(Copy)]
+    pub struct IasOptions in "ias", flags "ias" {
+        /// Relative variance at which a pixel is done (the seed's t, §3.5.3; 1e-3 is a relative
+        /// standard error of about 3%).
+        pub threshold: f32 = 1e-3,
+        /// Most passes per 8x8 block.
+        pub max_passes: u32 = 15,
+        /// Largest solid angle of a light cluster in a cut, in steradians.
+        pub solid_angle: f32 = CUT_SOLID_ANGLE,
+        /// How a pixel's passes are combined: samples (every shadow ray after pass 0, which only
+        /// seeds the statistics, weighs the same; unbiased) or inverse-variance (the seed's eq.
+        /// 3.3-3.4, every pass; slightly dark).
+        pub combine: Combine = Combine::Samples,
+        /// Where the PDFs over a point's lights come from: adaptive (the seed's ias) or
+        /// irradiance (the seed's reference, as ias_reference sets it).
+        pub pdf: Pdf = Pdf::Adaptive,
+        /// Regions an environment is cut into, each a cluster of the cuts (the seed's 300; 0
+        /// takes the environment whole).
+        pub sky_regions: usize = SKY_REGIONS,
+        /// Most eye rays a pixel takes while what they see emitted varies (the edge of a light
+        /// seen directly), until its mean is within the threshold; 0 keeps the seed's counts
+        /// (25 per surface at up to 512x512, up to three surfaces).
+        pub emitted_rays: u32 = EMITTED_RAYS,
+        /// Which points take a BSDF sample with each light sample, the two weighed by MIS: auto
+        /// (where a light of the point's cut subtends more than the BSDF's lobe: a polished floor
+        /// mirroring a window, a wall beside a large emitter), all, or none (light samples only,
+        /// and mirrors and glass show only what they see emitted: the seed). With auto and all,
+        /// eye rays follow mirrors and glass one bounce on.
+        pub bsdf_samples: BsdfSamples = BsdfSamples::Auto,
+        /// Most eye-ray hits of an anti-aliasing region that its light samples take in turn, so
+        /// that the region's estimate is of the whole region and not of its first hit (1: the
+        /// first hit stands for the region, as the seed).
+        pub region_hits: u32 = REGION_HITS,
+        /// Eye rays, in units of the seed's per surface, that a pixel takes at least when a
+        /// neighbour's rays saw the edge of a light and its own did not (it may hold a sliver of
+        /// the light they missed); 0 leaves such pixels their own counts.
+        pub edge_rays: u32 = EDGE_RAYS,
     }
 }
 
 impl IasOptions {
-    /// The seed's reference estimator with termination threshold `threshold`: every light
-    /// its own cluster, PDFs by unoccluded irradiance, every ray weighing the same.
-    pub fn reference(threshold: f32) -> Self {
+    /// The seed's reference estimator with these options' threshold and beyond-the-seed
+    /// choices: every light its own cluster, PDFs by unoccluded irradiance, every ray weighing
+    /// the same.
+    pub fn reference(self) -> Self {
         IasOptions {
-            threshold,
             max_passes: REFERENCE_MAX_RAYS / REFERENCE_PASS_RAYS,
             solid_angle: f32::MIN_POSITIVE,
             combine: Combine::Samples,
             pdf: Pdf::Irradiance,
             sky_regions: 0,
-            emitted_rays: EMITTED_RAYS,
-            bsdf_samples: BsdfSamples::Auto,
-            region_hits: REGION_HITS,
-            edge_rays: EDGE_RAYS,
+            ..self
         }
     }
 
@@ -149,6 +142,45 @@ impl IasOptions {
             Pdf::Adaptive => 250,
             Pdf::Irradiance => 2500,
         }
+    }
+}
+
+impl Validate for IasOptions {
+    fn validate(&self) -> Result<(), OptionError> {
+        positive("threshold", self.threshold)?;
+        at_least_one("max_passes", self.max_passes.into())?;
+        positive("solid_angle", self.solid_angle)?;
+        if self.emitted_rays > block::MAX_EYE_RAYS {
+            return Err(OptionError::new(
+                "emitted_rays",
+                format!(
+                    "is at most {} (eye rays a pixel), got {}",
+                    block::MAX_EYE_RAYS,
+                    self.emitted_rays
+                ),
+            ));
+        }
+        // A pixel beside a light's edge takes edge_rays x the seed's eye rays a surface (25
+        // at most).
+        let most = block::MAX_EYE_RAYS / block::MOST_RAYS_PER_SURFACE;
+        if self.edge_rays > most {
+            return Err(OptionError::new(
+                "edge_rays",
+                format!(
+                    "is at most {most} ({} eye rays a pixel), got {}",
+                    block::MAX_EYE_RAYS,
+                    self.edge_rays
+                ),
+            ));
+        }
+        at_least_one("region_hits", self.region_hits.into())?;
+        if self.sky_regions > MAX_SKY_REGIONS {
+            return Err(OptionError::new(
+                "sky_regions",
+                format!("is at most {MAX_SKY_REGIONS}, got {}", self.sky_regions),
+            ));
+        }
+        Ok(())
     }
 }
 
@@ -189,47 +221,7 @@ enum Far {
 impl Ias {
     /// `ias` with `options`.
     pub fn new(options: IasOptions) -> Result<Self, IntegratorError> {
-        let o = options;
-        if !(o.threshold > 0.0 && o.threshold.is_finite()) {
-            return Err(IntegratorError::Options(format!(
-                "the ias threshold must be positive, got {}",
-                o.threshold
-            )));
-        }
-        if o.max_passes == 0 || !(o.solid_angle > 0.0 && o.solid_angle.is_finite()) {
-            return Err(IntegratorError::Options(
-                "ias needs at least one pass and a positive cluster solid angle".into(),
-            ));
-        }
-        if o.emitted_rays > block::MAX_EYE_RAYS {
-            return Err(IntegratorError::Options(format!(
-                "ias takes at most {} eye rays a pixel, asked for {}",
-                block::MAX_EYE_RAYS,
-                o.emitted_rays
-            )));
-        }
-        // A pixel beside a light's edge takes edge_rays x the seed's eye rays a surface (25
-        // at most).
-        let edge = u64::from(o.edge_rays) * u64::from(block::MOST_RAYS_PER_SURFACE);
-        if edge > u64::from(block::MAX_EYE_RAYS) {
-            return Err(IntegratorError::Options(format!(
-                "ias takes at most {} eye rays a pixel: --ias-edge-rays may be at most {}, asked for {}",
-                block::MAX_EYE_RAYS,
-                block::MAX_EYE_RAYS / block::MOST_RAYS_PER_SURFACE,
-                o.edge_rays
-            )));
-        }
-        if o.region_hits == 0 {
-            return Err(IntegratorError::Options(
-                "ias shades at least one hit of a region (--ias-region-hits 1: the seed's)".into(),
-            ));
-        }
-        if o.sky_regions > MAX_SKY_REGIONS {
-            return Err(IntegratorError::Options(format!(
-                "ias cuts an environment into at most {MAX_SKY_REGIONS} regions, asked for {}",
-                o.sky_regions
-            )));
-        }
+        options.check()?;
         Ok(Ias {
             options,
             forest: None,
@@ -313,28 +305,7 @@ impl Integrator for Ias {
     }
 
     fn settings(&self) -> serde_json::Value {
-        serde_json::json!({
-            "threshold": self.options.threshold,
-            "max_passes": self.options.max_passes,
-            "solid_angle": self.options.solid_angle,
-            "sky_regions": self.options.sky_regions,
-            "emitted_rays": self.options.emitted_rays,
-            "region_hits": self.options.region_hits,
-            "edge_rays": self.options.edge_rays,
-            "bsdf_samples": match self.options.bsdf_samples {
-                BsdfSamples::None => "none",
-                BsdfSamples::Auto => "auto",
-                BsdfSamples::All => "all",
-            },
-            "pdf": match self.options.pdf {
-                Pdf::Adaptive => "adaptive",
-                Pdf::Irradiance => "irradiance",
-            },
-            "combine": match self.options.combine {
-                Combine::InverseVariance => "inverse-variance",
-                Combine::Samples => "samples",
-            },
-        })
+        serde_json::to_value(self.options).unwrap_or_default()
     }
 
     fn prepare(&mut self, scene: &RenderScene, _: &RenderControl) -> Result<(), IntegratorError> {
@@ -381,11 +352,11 @@ impl Integrator for Ias {
         let (width, height) = (film.width, film.height);
         let window = film.window;
         let (bx, by) = (width.div_ceil(BLOCK), height.div_ceil(BLOCK));
-        // With --time every block takes the threshold that fits the time left; without, the
+        // With a time limit every block takes the threshold that fits the time left; without, the
         // options' (module `budget`).
         let budget = settings.time_limit.map(|limit| {
             control.progress.note(
-                "ias with --time: each block's threshold is set from what the blocks before it cost and the time left (not reproducible from run to run)",
+                "ias with a time limit: each block's threshold is set from what the blocks before it cost and the time left (not reproducible from run to run)",
             );
             // The limit is the rendering's, preparation on top (as the path tracers count it).
             let deadline = control.elapsed() + limit;

@@ -11,7 +11,7 @@ mod spherical_rectangle;
 pub use file::{EstimationRecord, PortalFile, PortalRecord};
 pub use spherical_rectangle::SphericalRectangle;
 
-use fenestra_core::{Frame, UnknownName, Vec2, Vec3, PI};
+use fenestra_core::{Frame, Vec2, Vec3, PI};
 
 /// A planar opening light comes through.
 #[derive(Clone, Debug, PartialEq)]
@@ -137,58 +137,29 @@ impl Portal {
 /// inside despite rounding.
 const EDGE: f32 = 1e-5;
 
-/// How a point is chosen on the picked portal.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
-pub enum PortalSampling {
-    /// Uniform by area (seed 000 eq. 4.1).
-    Area,
-    /// Uniform in solid angle for rectangles (Urena et al. 2013) where area sampling would
-    /// spread the density of directions over them by more than 3x; otherwise, and for
-    /// other shapes, by area.
-    SolidAngle,
-}
-
-/// How one of several portals is picked at a shading point.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
-pub enum PortalChoice {
-    /// 1/N each (seed 000 eq. 4.1).
-    Uniform,
-    /// Uniform among the portals not wholly behind the surface (what Cycles does).
-    Facing,
-    /// In proportion to an estimate of each portal's contribution: the solid angle it
-    /// subtends (small-portal approximation) times the cosine towards its centre (at least
-    /// 0.1 so no visible part is left out), zero when wholly behind the surface.
-    Contribution,
-}
-
-impl std::str::FromStr for PortalSampling {
-    type Err = UnknownName;
-    fn from_str(s: &str) -> Result<Self, UnknownName> {
-        match s {
-            "area" => Ok(PortalSampling::Area),
-            "solid-angle" => Ok(PortalSampling::SolidAngle),
-            _ => Err(UnknownName::new(
-                "portal sampling",
-                s,
-                "area or solid-angle",
-            )),
-        }
+fenestra_render::choices! {
+    /// How a point is chosen on the picked portal.
+    pub enum PortalSampling {
+        /// Uniform by area (seed 000 eq. 4.1).
+        Area = "area",
+        /// Uniform in solid angle for rectangles (Urena et al. 2013) where area sampling would
+        /// spread the density of directions over them by more than 3x; otherwise, and for
+        /// other shapes, by area.
+        SolidAngle = "solid-angle",
     }
 }
 
-impl std::str::FromStr for PortalChoice {
-    type Err = UnknownName;
-    fn from_str(s: &str) -> Result<Self, UnknownName> {
-        match s {
-            "uniform" => Ok(PortalChoice::Uniform),
-            "facing" => Ok(PortalChoice::Facing),
-            "contribution" => Ok(PortalChoice::Contribution),
-            _ => Err(UnknownName::new(
-                "portal choice",
-                s,
-                "uniform, facing or contribution",
-            )),
-        }
+fenestra_render::choices! {
+    /// How one of several portals is picked at a shading point.
+    pub enum PortalChoice {
+        /// 1/N each (seed 000 eq. 4.1).
+        Uniform = "uniform",
+        /// Uniform among the portals not wholly behind the surface (what Cycles does).
+        Facing = "facing",
+        /// In proportion to an estimate of each portal's contribution: the solid angle it
+        /// subtends (small-portal approximation) times the cosine towards its centre (at least
+        /// 0.1 so no visible part is left out), zero when wholly behind the surface.
+        Contribution = "contribution",
     }
 }
 

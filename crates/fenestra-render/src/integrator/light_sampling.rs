@@ -23,6 +23,8 @@ pub struct LightNextEvent {
     sampler: Box<dyn LightSampler>,
     /// Whether the sampler learns from the render's passes (known before it is built).
     learning: bool,
+    /// Whether an estimate may take several lights (known before it is built).
+    several: bool,
 }
 
 /// The light sampler before preparation: it picks nothing.
@@ -40,9 +42,13 @@ impl LightSampler for Unprepared {
 impl LightNextEvent {
     /// Light sampling by `selection` (the sampler is built by `prepare`).
     pub fn new(selection: LightSelection) -> Self {
-        Self::with_sampler(selection.name(), move |scene| {
+        let next_event = Self::with_sampler(selection.as_str(), move |scene| {
             selection.build(&scene.scene, &scene.lights)
-        })
+        });
+        match selection {
+            LightSelection::All => next_event.taking_several(),
+            _ => next_event,
+        }
     }
 
     /// Light sampling by the sampler `build` makes for the scene when prepared; `name`
@@ -56,7 +62,22 @@ impl LightNextEvent {
             build: Box::new(build),
             sampler: Box::new(Unprepared),
             learning: false,
+            several: false,
         }
+    }
+
+    /// Marks the sampler as one whose estimates may take several lights
+    /// ([`LightSampler::sample_all`]).
+    pub fn taking_several(self) -> Self {
+        LightNextEvent {
+            several: true,
+            ..self
+        }
+    }
+
+    /// Whether an estimate may take several lights.
+    pub fn takes_several(&self) -> bool {
+        self.several
     }
 
     /// As [`LightNextEvent::with_sampler`], for a sampler that learns from the render's

@@ -1,4 +1,4 @@
-//! The integrator seam. An integrator is built from its own options (by the binary, through
+//! The integrator seam. An integrator is built from its own options (by a program, through
 //! a [`Registry`](crate::registry::Registry)), prepared on a scene (pre-passes, caches,
 //! estimation: [`Integrator::prepare`]) and then renders a whole image, usually through one
 //! of the [drivers](crate::driver). [`render`] does both and times them together.
@@ -11,15 +11,18 @@ mod light_rays;
 mod light_sampling;
 mod next_event;
 mod path;
+mod path_options;
 
 pub use light_rays::{trace_probes, trace_shadows, Beyond, LightRays, ProbeRay, ShadowRay};
 pub use light_sampling::LightNextEvent;
 pub use next_event::{Found, NextEvent, NoNextEvent, Scattered, Shading};
-pub use path::{Gather, NoGather, PathOptions, PathTracer, Start};
+pub use path::{Gather, NoGather, PathTracer, Start};
+pub use path_options::{Mis, PathConfig, PathOptions};
 
 use crate::control::RenderControl;
 use crate::film::Film;
-use crate::light::LightSelection;
+use crate::light::{LightOptions, LightSelection};
+use crate::registry::{Group, Registry};
 use crate::render_scene::RenderScene;
 use crate::settings::RenderSettings;
 use fenestra_core::stats::RenderStats;
@@ -38,6 +41,9 @@ pub enum IntegratorError {
     /// An option is out of range or contradicts another.
     #[error("{0}")]
     Options(String),
+    /// An option cannot take its value.
+    #[error(transparent)]
+    Option(#[from] crate::options::OptionError),
     /// Preparation failed (a research crate's own error).
     #[error(transparent)]
     Prepare(Box<dyn std::error::Error + Send + Sync>),
@@ -139,6 +145,46 @@ pub fn hf(options: PathOptions) -> PathTracer<NoNextEvent> {
 /// sampling by MIS (seed 000 §4, §5.2).
 pub fn af_hf(options: PathOptions, selection: LightSelection) -> PathTracer<LightNextEvent> {
     PathTracer::new("af_hf", LightNextEvent::new(selection), options)
+}
+
+/// Registers this crate's integrators (hf, af_hf) and light samplers (power, uniform, all).
+pub fn register(registry: &mut Registry) {
+    for selection in [
+        LightSelection::Power,
+        LightSelection::Uniform,
+        LightSelection::All,
+    ] {
+        let about = match selection {
+            LightSelection::Power => "in proportion to emitted power",
+            LightSelection::Uniform => "every light with the same probability",
+            LightSelection::All => {
+                "a sample of every light in each estimate (beyond 8 lights, of one light in each \
+                 of 8 groups of about equal power)"
+            }
+        };
+        registry.light_sampler(selection.as_str(), about, vec![], false, move |_| {
+            Ok(LightNextEvent::new(selection))
+        });
+    }
+    registry
+        .integrator(
+            "hf",
+            "plain path tracing: follows the surfaces' reflection only (seed 000's HF)",
+            vec![Group::of::<PathConfig>()],
+            |b| Ok(Box::new(hf(b.path()?))),
+        )
+        .integrator(
+            "af_hf",
+            "path tracing that also aims at the lights, the usual default (seed 000's AF_HF)",
+            vec![Group::of::<PathConfig>(), Group::of::<LightOptions>()],
+            |b| {
+                Ok(Box::new(PathTracer::new(
+                    "af_hf",
+                    b.next_event("af_hf", true)?,
+                    b.path()?,
+                )))
+            },
+        );
 }
 
 /// Renders `scene` at `width` x `height` with nobody watching (tests, scripts): prepares

@@ -9,6 +9,7 @@
 
 use super::light_rays::{trace_probes, trace_shadows, LightRays};
 use super::next_event::{Found, NextEvent, Scattered, Shading};
+use super::path_options::PathOptions;
 use super::{Integrator, IntegratorError, Split};
 use crate::bsdf::Bsdf;
 use crate::control::RenderControl;
@@ -17,34 +18,12 @@ use crate::film::Film;
 use crate::light::{LightHit, LightRecords};
 use crate::render_scene::RenderScene;
 use crate::settings::RenderSettings;
-use fenestra_core::mis::MisHeuristic;
 use fenestra_core::stats::{RayCounters, RenderStats};
 use fenestra_core::{Frame, Ray, Rgb, Sampler, Vec3};
 use fenestra_scene::{Hit, PACKET};
 
 /// Consecutive panes a path may pass straight through (as visibility rays do).
 const MAX_PANES: u32 = 16;
-
-/// Options shared by the path tracers.
-#[derive(Clone, Copy, Debug, serde::Serialize)]
-pub struct PathOptions {
-    /// Maximum path length in segments (2 = direct light only).
-    pub max_depth: u32,
-    /// How BSDF sampling and the next-event strategy are combined.
-    pub mis: MisHeuristic,
-    /// Path length from which Russian roulette may end a path.
-    pub rr_depth: u32,
-}
-
-impl Default for PathOptions {
-    fn default() -> Self {
-        PathOptions {
-            max_depth: 8,
-            mis: MisHeuristic::Power { beta: 2.0 },
-            rr_depth: 3,
-        }
-    }
-}
 
 /// A path tracer with the next-event strategy `N`.
 pub struct PathTracer<N> {

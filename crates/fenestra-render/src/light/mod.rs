@@ -14,8 +14,8 @@ pub use environment::Environment;
 pub use learning::{LightRecord, LightRecords};
 pub use point::PointLight;
 pub use sampler::{
-    AllLightSampler, LightContext, LightSampler, LightSelection, Picks, PowerLightSampler,
-    UniformLightSampler, MAX_PICKS,
+    AllLightSampler, LightContext, LightOptions, LightSampler, LightSelection, Picks,
+    PowerLightSampler, UniformLightSampler, MAX_PICKS,
 };
 pub use spot::SpotLight;
 

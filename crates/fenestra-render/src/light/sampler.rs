@@ -5,7 +5,7 @@
 use super::{LightRecords, Lights};
 use crate::driver::SampleContext;
 use fenestra_core::distribution::Distribution1D;
-use fenestra_core::{UnknownName, Vec3};
+use fenestra_core::Vec3;
 use fenestra_scene::Scene;
 
 /// What a light sampler sees of a shading point.
@@ -74,44 +74,31 @@ impl Picks {
     }
 }
 
-/// The fixed light samplers, by name.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum LightSelection {
-    /// Every light with the same probability.
-    Uniform,
-    /// In proportion to emitted power.
-    Power,
-    /// Every light in each estimate (split into [`MAX_PICKS`] groups of about equal power
-    /// when there are more).
-    All,
-}
-
-impl std::str::FromStr for LightSelection {
-    type Err = UnknownName;
-    fn from_str(s: &str) -> Result<Self, UnknownName> {
-        match s {
-            "uniform" => Ok(LightSelection::Uniform),
-            "power" => Ok(LightSelection::Power),
-            "all" => Ok(LightSelection::All),
-            _ => Err(UnknownName::new(
-                "light selection",
-                s,
-                "uniform, power or all",
-            )),
-        }
+crate::choices! {
+    /// The fixed light samplers, by name.
+    pub enum LightSelection {
+        /// Every light with the same probability.
+        Uniform = "uniform",
+        /// In proportion to emitted power.
+        Power = "power",
+        /// Every light in each estimate (split into [`MAX_PICKS`] groups of about equal power
+        /// when there are more).
+        All = "all",
     }
 }
+
+crate::options! {
+    /// Light sampling (af_hf, lp_hf, sdrc, shrc).
+    pub struct LightOptions in "light", flags "light" {
+        /// How next-event estimation picks a light: the name of a registered light sampler
+        /// (`fenestra list` shows them).
+        pub selection: String = LightSelection::Power.as_str().to_string(),
+    }
+}
+
+impl crate::options::Validate for LightOptions {}
 
 impl LightSelection {
-    /// The name `--light-selection` takes.
-    pub fn name(self) -> &'static str {
-        match self {
-            LightSelection::Uniform => "uniform",
-            LightSelection::Power => "power",
-            LightSelection::All => "all",
-        }
-    }
-
     /// The sampler for `lights` of `scene`.
     pub fn build(self, scene: &Scene, lights: &Lights) -> Box<dyn LightSampler> {
         match self {
