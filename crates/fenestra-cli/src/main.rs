@@ -1,23 +1,12 @@
 //! The `fenestra` command line.
 
-mod bench;
-mod compare;
-mod files;
+mod commands;
 mod integrators;
-mod interrupt;
-mod job;
-mod lpca;
-mod merge_cmd;
-mod pieces;
-mod portals_cmd;
-mod progress;
-mod prt;
-mod raybench;
-mod relight_cmd;
-mod render;
-mod scene_arg;
-mod scene_cmd;
-mod split_cmd;
+mod support;
+
+use commands::{
+    bench, compare, lpca, merge, portals, prt, raybench, relight, render, scene, split,
+};
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -42,10 +31,10 @@ enum Command {
     Reference(render::ReferenceArgs),
     /// Merge the pieces of a split render (`render --samples`, `--crop`) into the image one
     /// render of them all makes, bit for bit.
-    Merge(merge_cmd::MergeArgs),
+    Merge(merge::MergeArgs),
     /// Cut a render into parts (sample ranges or tiles) and write it as a job for a
     /// distributed engine: Open Job Description or Slurm; its last step merges the parts.
-    Split(split_cmd::SplitArgs),
+    Split(split::SplitArgs),
     /// Error, relative error and efficiency of images against a reference.
     Compare(compare::CompareArgs),
     /// Run a bench suite (TOML) and write its report (HTML, plots, tables).
@@ -61,12 +50,12 @@ enum Command {
     Raybench(raybench::RaybenchArgs),
     /// Estimate light portals (seed 000): photon cone-beams, DBSCAN, RANSAC planes, covering
     /// ellipses or rectangles; writes portals.json and a picture of them.
-    Portals(portals_cmd::PortalsArgs),
+    Portals(portals::PortalsArgs),
     /// Inspect a scene or export it as pbrt-v4.
-    Scene(scene_cmd::SceneArgs),
+    Scene(scene::SceneArgs),
     /// Relight an animation (seed 003 ch. 4): precompute its light transfer frame by frame,
     /// then render it under other lights.
-    Relight(relight_cmd::RelightArgs),
+    Relight(relight::RelightArgs),
     /// List the built-in scenes and the integrators.
     List,
 }
@@ -97,9 +86,9 @@ fn main() -> ExitCode {
             other => other.map(|_| ()),
         },
         Command::Reference(args) => render::reference(args),
-        Command::Merge(args) => merge_cmd::run(args),
-        Command::Relight(args) => relight_cmd::run(args),
-        Command::Split(args) => split_cmd::run(args),
+        Command::Merge(args) => merge::run(args),
+        Command::Relight(args) => relight::run(args),
+        Command::Split(args) => split::run(args),
         Command::Compare(args) => compare::run(args),
         Command::Bench(args) => match bench::run(args) {
             Ok(true) => return ExitCode::from(130),
@@ -109,8 +98,8 @@ fn main() -> ExitCode {
         Command::Btf(args) => lpca::btf(args),
         Command::Prt(args) => prt::run(args),
         Command::Raybench(args) => raybench::run(args),
-        Command::Scene(args) => scene_cmd::run(args),
-        Command::Portals(args) => match portals_cmd::run(args) {
+        Command::Scene(args) => scene::run(args),
+        Command::Portals(args) => match portals::run(args) {
             Ok(true) => return ExitCode::from(130),
             other => other.map(|_| ()),
         },

@@ -314,7 +314,7 @@ fn bad_input_gets_a_clear_error() {
     );
     assert_clear_error(
         &["prt", "--exponent", "nan", "-o", n],
-        "--exponent must be a finite",
+        "exponent (of the Phong lobe) must be a finite",
     );
     assert_clear_error(
         &["raybench", "builtin:box-hole", "--rays", "10000000000000"],

@@ -13,4 +13,7 @@ pub enum RelightError {
     /// A frame cannot be relit: outside the sequence, its file unreadable, its scene not built.
     #[error("{0}")]
     Frame(String),
+    /// A precomputed-transfer matrix cannot be made with the options given.
+    #[error("{0}")]
+    Prt(String),
 }

@@ -29,6 +29,7 @@ pub mod light_check;
 pub mod lights_file;
 pub mod neighbours;
 pub mod player;
+pub mod prt;
 pub mod reconstruct;
 pub mod sequence;
 pub mod sparse;

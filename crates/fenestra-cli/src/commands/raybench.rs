@@ -2,7 +2,7 @@
 //! incoherent rays (random origins in the scene bounds, uniform directions) and on coherent
 //! camera rays, one ray per query and in packets of eight.
 
-use crate::scene_arg;
+use crate::support::scene_arg;
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use fenestra_core::{warp, Ray, Sampler, Vec2, Vec3};

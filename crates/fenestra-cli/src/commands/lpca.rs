@@ -37,7 +37,7 @@ pub struct LpcaArgs {
 }
 
 pub fn run(args: LpcaArgs) -> Result<()> {
-    crate::files::Files::default()
+    crate::support::files::Files::default()
         .input(&args.data, "data")
         .folder(&args.output, "output folder")
         .check()?;

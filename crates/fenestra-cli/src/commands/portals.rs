@@ -1,7 +1,7 @@
 //! `fenestra portals`: estimate light portals (seed 000 ch. 4) and write portals.json, a
 //! picture of the photons and portals, and optional pbrt/OBJ exports.
 
-use crate::{interrupt, progress::Bar, scene_arg};
+use crate::support::{interrupt, progress::Bar, scene_arg};
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use fenestra_core::fs::FileSet;
@@ -146,13 +146,13 @@ pub fn run(args: PortalsArgs) -> Result<bool> {
             _ => bail!("--export {}: expected a .pbrt or .obj file", path.display()),
         }
     }
-    crate::files::create_output_folder(&args.output)?;
+    crate::support::files::create_output_folder(&args.output)?;
     let loaded = scene_arg::load(&args.scene, args.scene_options)?;
     let plot_path = args
         .plot
         .clone()
         .unwrap_or_else(|| args.output.with_extension("svg"));
-    let mut files = crate::files::Files::default();
+    let mut files = crate::support::files::Files::default();
     files
         .inputs(&loaded.files, "scene file")
         .output(&args.output, "portals file")

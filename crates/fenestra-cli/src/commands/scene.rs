@@ -1,7 +1,7 @@
 //! `fenestra scene`: inspect a scene (counts, bounds, load time, unsupported input) and export
 //! it as pbrt-v4.
 
-use crate::scene_arg::{self, SceneOptions};
+use crate::support::scene_arg::{self, SceneOptions};
 use anyhow::{bail, Result};
 use clap::{Args, Subcommand};
 use fenestra_pbrt as pbrt;
@@ -63,8 +63,8 @@ pub fn run(args: SceneArgs) -> Result<()> {
                 bail!("output {} must end in .pbrt", output.display());
             }
             let loaded = scene_arg::load(&scene, options)?;
-            crate::files::create_output_folder(&output)?;
-            crate::files::Files::default()
+            crate::support::files::create_output_folder(&output)?;
+            crate::support::files::Files::default()
                 .inputs(&loaded.files, "scene file")
                 .output(&output, "export")
                 .folder(&pbrt::export::data_folder(&output), "export's data folder")

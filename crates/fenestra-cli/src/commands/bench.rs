@@ -1,6 +1,6 @@
 //! `fenestra bench`: runs a suite and writes its report folder.
 
-use crate::job::{Engine, Job, Step, PIECE};
+use crate::support::job::{Engine, Job, Step, PIECE};
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use fenestra_eval::report::{aggregate, markdown_table, write_report};
@@ -50,7 +50,7 @@ pub fn run(args: BenchArgs) -> Result<bool> {
         .clone()
         .unwrap_or_else(|| PathBuf::from("bench-out").join(slug(&suite.name)));
     let suite_dir = args.suite.parent().map(PathBuf::from).unwrap_or_default();
-    let mut files = crate::files::Files::default();
+    let mut files = crate::support::files::Files::default();
     files
         .input(&args.suite, "suite")
         .folder(&out, "report folder")
@@ -104,7 +104,7 @@ pub fn run(args: BenchArgs) -> Result<bool> {
             interrupted: false,
         }
     } else {
-        let stop = crate::interrupt::on_ctrl_c("reporting the runs that finished");
+        let stop = crate::support::interrupt::on_ctrl_c("reporting the runs that finished");
         runner.run_all(&stop, |msg| eprintln!("{msg}"))?
     };
     if args.only.is_empty() && !args.references_only {

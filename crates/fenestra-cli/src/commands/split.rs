@@ -1,10 +1,10 @@
 //! `fenestra split`: a render cut into parts (sample ranges or tiles) written as a ready job
-//! for a distributed engine ([`crate::job`]): a step whose tasks render the parts, and a step
+//! for a distributed engine ([`crate::support::job`]): a step whose tasks render the parts, and a step
 //! after it that merges them.
 
-use crate::job::{self, Engine, Step, PART, PIECE};
-use crate::pieces;
-use crate::render::{shape, RenderShape};
+use crate::commands::render::{shape, RenderShape};
+use crate::support::job::{self, Engine, Step, PART, PIECE};
+use crate::support::pieces;
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
 use fenestra_render::integrator::Split;

@@ -1,9 +1,9 @@
 //! `fenestra relight`: precompute the direct-to-indirect transfer of an animated scene frame by
 //! frame (seed 003 ch. 4), then relight the sequence under other lights.
 
-use crate::interrupt::on_ctrl_c;
-use crate::render::parse_resolution;
-use crate::scene_arg::{self, SceneOptions};
+use crate::commands::render::parse_resolution;
+use crate::support::interrupt::on_ctrl_c;
+use crate::support::scene_arg::{self, SceneOptions};
 use anyhow::{anyhow, bail, Context, Result};
 use clap::{Args, Subcommand};
 use fenestra_lpca::Schedule;
@@ -422,8 +422,8 @@ fn export(a: &ExportArgs) -> Result<()> {
     // Relighting sees each pixel through its centre: so does its ground truth (a box filter
     // a thousandth of a pixel wide), or edges would count as error.
     desc.camera.filter = PixelFilter::new(FilterShape::Box, fenestra_core::Vec2::splat(1e-3));
-    crate::files::create_output_folder(&a.output)?;
-    crate::files::Files::default()
+    crate::support::files::create_output_folder(&a.output)?;
+    crate::support::files::Files::default()
         .inputs(&inputs, "input")
         .output(&a.output, "export")
         .folder(

@@ -1,8 +1,8 @@
 //! `fenestra render` and `fenestra reference`.
 
-use crate::files::Files;
 use crate::integrators::{self, IntegratorArgs};
-use crate::{interrupt, pieces, progress::Bar, scene_arg};
+use crate::support::files::Files;
+use crate::support::{interrupt, pieces, progress::Bar, scene_arg};
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use fenestra_core::image::Image;
@@ -497,7 +497,7 @@ pub fn check_exr(path: &Path) -> Result<()> {
             path.display()
         );
     }
-    crate::files::create_output_folder(path)
+    crate::support::files::create_output_folder(path)
 }
 
 /// Renders; returns whether the render was interrupted (its partial result is written).

@@ -1,8 +1,8 @@
 //! `fenestra merge`: the pieces of a split render (sample ranges, tiles) into one image, the
 //! one a single render of them all makes, bit for bit.
 
-use crate::files::Files;
-use crate::render::{check_exr, render_outputs};
+use crate::commands::render::{check_exr, render_outputs};
+use crate::support::files::Files;
 use anyhow::Result;
 use clap::Args;
 use fenestra_render::film_file::FilmHeader;

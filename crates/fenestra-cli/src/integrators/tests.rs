@@ -1,0 +1,113 @@
+//! The flags made from the registry's option groups, and what they build.
+
+use super::*;
+use clap::Parser;
+
+#[derive(Parser)]
+struct Cli {
+    #[command(flatten)]
+    args: IntegratorArgs,
+}
+
+fn parse(flags: &[&str]) -> Result<IntegratorArgs, clap::Error> {
+    Cli::try_parse_from(std::iter::once("fenestra").chain(flags.iter().copied())).map(|c| c.args)
+}
+
+#[test]
+fn flags_set_the_keys_they_are_made_from_and_nothing_else() {
+    let args = parse(&[
+        "--integrator",
+        "sdrc",
+        "--sdrc-a",
+        "0.3",
+        "--max-depth",
+        "4",
+    ])
+    .expect("flags");
+    assert_eq!(args.integrator, "sdrc");
+    let expected = Params::new()
+        .with("sdrc.a", "0.3")
+        .with("path.max_depth", "4");
+    assert_eq!(args.params, expected);
+    let args = parse(&["--portals", "auto", "--no-portal-cache"]).expect("flags");
+    let expected = Params::new()
+        .with("portals.source", "auto")
+        .with("portals.no_cache", true);
+    assert_eq!(args.params, expected);
+    assert_eq!(parse(&[]).expect("no flags").params, Params::new());
+}
+
+#[test]
+fn every_option_has_a_flag_and_choices_are_checked_by_the_parser() {
+    let mut seen = std::collections::HashSet::new();
+    for (key, group, i) in flags() {
+        let flag = group.flag(&group.fields[i]);
+        assert!(
+            seen.insert(flag.clone()),
+            "two options share --{flag} ({key})"
+        );
+    }
+    assert!(seen.contains("light-selection") && seen.contains("ias-threshold"));
+    let e = parse(&["--light-selection", "brightest"]).expect_err("an unknown sampler");
+    assert!(
+        e.to_string()
+            .contains("possible values: power, uniform, all, bvh, learned"),
+        "{e}"
+    );
+    let e = parse(&["--ias-combine", "mean"]).expect_err("an unknown choice");
+    assert!(e.to_string().contains("samples"), "{e}");
+}
+
+#[test]
+fn flags_and_a_parameter_map_build_the_same_integrator() {
+    let scene = fenestra_builtin::load("teapot-box").expect("built-in");
+    let settings = |name: &str, params: &Params| {
+        let built = registry().build(name, params, &scene).expect("builds");
+        built.settings()
+    };
+    let flags = parse(&[
+        "--integrator",
+        "sdrc",
+        "--sdrc-a",
+        "0.3",
+        "--sdrc-diffuse",
+        "path",
+        "--max-depth",
+        "4",
+        "--light-selection",
+        "bvh",
+        "--bvh-split",
+        "8",
+    ])
+    .expect("flags");
+    let map = Params::new()
+        .with("sdrc.a", 0.3)
+        .with("sdrc.diffuse", "path")
+        .with("path.max_depth", 4)
+        .with("light.selection", "bvh")
+        .with("bvh.split", 8);
+    let from_flags = settings(&flags.integrator, &flags.params);
+    assert_eq!(from_flags, settings("sdrc", &map));
+    assert_ne!(from_flags, settings("sdrc", &Params::new()));
+    assert_eq!(
+        from_flags["sdrc"]["a"].as_f64().map(|a| a as f32),
+        Some(0.3)
+    );
+    assert_eq!(from_flags["light_selection"], "bvh(split 8)");
+    // No flags: every option its default, the path length the scene's.
+    let defaults = settings(
+        "sdrc",
+        &parse(&["--integrator", "sdrc"]).expect("flags").params,
+    );
+    let sdrc = serde_json::to_value(fenestra_cache::SdrcOptions::default()).expect("json");
+    assert_eq!(defaults["sdrc"], sdrc);
+    assert_eq!(defaults["max_depth"], scene.defaults.max_depth);
+}
+
+#[test]
+fn errors_name_the_flag_and_the_key() {
+    let e = OptionError::new("sdrc.a", "must be positive, got 0");
+    assert_eq!(flag_error(&e), "--sdrc-a: sdrc.a must be positive, got 0");
+    assert_eq!(flag_of("portals.source").as_deref(), Some("--portals"));
+    assert_eq!(flag_of("path.max_depth").as_deref(), Some("--max-depth"));
+}
