@@ -6,8 +6,9 @@
 use crate::harmonics::ShRadiance;
 use crate::irradiance::Irradiance;
 use crate::ltree::LTree;
+use crate::options::{CacheOrPath, LambertianLobe};
 use crate::photons::{PhotonGather, PhotonMap};
-use crate::sdrc::{CacheOrPath, GlossyCache, LambertianLobe, Sdrc};
+use crate::sdrc::{GlossyCache, Sdrc};
 use crate::spatial::{Delta, SpatialCache};
 use fenestra_core::stats::RayCounters;
 use fenestra_core::{Frame, Ray, Rgb, Sampler, Vec3};

@@ -22,6 +22,7 @@ pub mod harmonics;
 pub mod irradiance;
 pub mod ltree;
 pub mod octree;
+pub mod options;
 pub mod paraboloid;
 pub mod photons;
 pub mod record;
@@ -32,7 +33,8 @@ pub mod spatial;
 
 pub use gather::is_glossy;
 pub use irradiance::Gradients;
-pub use sdrc::{CacheOrPath, GlossyCache, LambertianLobe, Sdrc, SdrcOptions, ShrcOptions};
+pub use options::{CacheOrPath, LambertianLobe, SdrcOptions, ShrcOptions};
+pub use sdrc::{GlossyCache, Sdrc};
 
 use fenestra_render::integrator::PathConfig;
 use fenestra_render::light::LightOptions;

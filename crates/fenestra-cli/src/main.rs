@@ -5,7 +5,7 @@ mod integrators;
 mod support;
 
 use commands::{
-    bench, compare, lpca, merge, portals, prt, raybench, relight, render, scene, split,
+    bench, compare, lpca, merge, portals, prt, raybench, reference, relight, render, scene, split,
 };
 
 use clap::{Parser, Subcommand};
@@ -28,7 +28,7 @@ enum Command {
     Render(render::RenderArgs),
     /// Render a high-sample reference, or reuse the cached one made with the same scene
     /// content, settings and resolution.
-    Reference(render::ReferenceArgs),
+    Reference(reference::ReferenceArgs),
     /// Merge the pieces of a split render (`render --samples`, `--crop`) into the image one
     /// render of them all makes, bit for bit.
     Merge(merge::MergeArgs),
@@ -85,7 +85,7 @@ fn main() -> ExitCode {
             Ok(true) => return ExitCode::from(130),
             other => other.map(|_| ()),
         },
-        Command::Reference(args) => render::reference(args),
+        Command::Reference(args) => reference::run(args),
         Command::Merge(args) => merge::run(args),
         Command::Relight(args) => relight::run(args),
         Command::Split(args) => split::run(args),

@@ -2,6 +2,9 @@
 //! over other settings), render, export to its path-traced ground truth, and the viewer page
 //! driven in headless Chromium.
 
+mod common;
+
+use common::{fenestra, tmp};
 use fenestra_core::image::Image;
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::TcpStream;
@@ -9,22 +12,9 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
-fn fenestra(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_fenestra"))
-        .args(args)
-        .output()
-        .expect("run fenestra")
-}
-
 fn ok(o: &Output) -> String {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("fenestra-relight-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir.join(name)
 }
 
 fn s(p: &Path) -> &str {

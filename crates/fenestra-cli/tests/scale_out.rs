@@ -3,17 +3,13 @@
 //! and nothing is overwritten; `fenestra split` writes jobs that Open Job Description and
 //! bash accept, and the OpenJD job run here makes the single render's image.
 
+mod common;
+
+use common::fenestra;
 use fenestra_core::image::Image;
 use fenestra_render::film_file;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
-
-fn fenestra(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_fenestra"))
-        .args(args)
-        .output()
-        .expect("run fenestra")
-}
 
 fn ok(o: Output) -> Output {
     assert!(

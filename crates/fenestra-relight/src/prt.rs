@@ -231,7 +231,9 @@ mod tests {
         assert!(m.values.iter().all(|v| v.is_finite() && *v >= 0.0));
         // kd + ks = 1: a row integrates a BRDF of albedo at most 1 against cosine-weighted
         // unit light from every direction, less where the knot shadows itself.
-        let (lo, hi) = sums.iter().fold((f32::MAX, 0.0f32), |(l, h), &s| (l.min(s), h.max(s)));
+        let (lo, hi) = sums
+            .iter()
+            .fold((f32::MAX, 0.0f32), |(l, h), &s| (l.min(s), h.max(s)));
         assert!(hi <= 1.01, "a row sums to {hi}");
         assert!(lo < 0.8 * hi, "no self-shadowing: rows sum to {lo}..{hi}");
         let bad = PrtOptions {
@@ -239,6 +241,9 @@ mod tests {
             ..options
         };
         let e = knot_transfer(&bad, &NoProgress).expect_err("two segments");
-        assert!(e.to_string().starts_with("segments and sides must be"), "{e}");
+        assert!(
+            e.to_string().starts_with("segments and sides must be"),
+            "{e}"
+        );
     }
 }

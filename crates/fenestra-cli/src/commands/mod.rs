@@ -7,6 +7,7 @@ pub mod merge;
 pub mod portals;
 pub mod prt;
 pub mod raybench;
+pub mod reference;
 pub mod relight;
 pub mod render;
 pub mod scene;

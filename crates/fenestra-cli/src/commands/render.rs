@@ -10,7 +10,7 @@ use fenestra_core::stats::ConvergencePoint;
 use fenestra_core::Rgb;
 use fenestra_eval::hash::{debug_hash, Fnv64};
 use fenestra_eval::metrics;
-use fenestra_eval::run::{ReferenceSummary, REFERENCE_SEED_OFFSET};
+
 use fenestra_render::control::PassHook;
 use fenestra_render::film::{Pixel, Window};
 use fenestra_render::film_file::{FilmHeader, SampleRange};
@@ -45,16 +45,16 @@ pub struct RenderOpts {
     resolution: Option<String>,
     /// Ray-query backend: embree or obvhs.
     #[arg(long)]
-    bvh: Option<Backend>,
+    pub(crate) bvh: Option<Backend>,
     /// PNG exposure in stops (default: automatic, log-average luminance to middle grey).
     #[arg(long, allow_negative_numbers = true)]
-    exposure: Option<f32>,
+    pub(crate) exposure: Option<f32>,
     /// Print the summary as JSON.
     #[arg(long)]
-    json: bool,
+    pub(crate) json: bool,
     /// No progress bar.
     #[arg(short, long)]
-    quiet: bool,
+    pub(crate) quiet: bool,
     // Last: its option groups come under their own headings in --help.
     #[command(flatten)]
     integrator: IntegratorArgs,
@@ -95,15 +95,6 @@ pub struct RenderArgs {
     /// Output EXR; the PNG and JSON sidecar are written beside it.
     #[arg(short, long)]
     output: PathBuf,
-    #[command(flatten)]
-    opts: RenderOpts,
-}
-
-#[derive(Args)]
-pub struct ReferenceArgs {
-    /// Folder of cached references, keyed by scene content, settings and resolution.
-    #[arg(long, default_value = "refs")]
-    cache: PathBuf,
     #[command(flatten)]
     opts: RenderOpts,
 }
@@ -185,16 +176,16 @@ fn film_fits_in_memory(window: Window) -> Result<()> {
 }
 
 /// A render fully specified and checked, ready to run.
-struct Job {
-    desc: fenestra_scene::SceneDesc,
+pub(crate) struct Job {
+    pub(crate) desc: fenestra_scene::SceneDesc,
     /// The hash of the scene's content that its images carry.
     scene_content: String,
     /// What the render reads: scene files, a portals file.
-    inputs: Files,
-    width: u32,
-    height: u32,
+    pub(crate) inputs: Files,
+    pub(crate) width: u32,
+    pub(crate) height: u32,
     integrator: Box<dyn Integrator>,
-    settings: RenderSettings,
+    pub(crate) settings: RenderSettings,
     /// The part of the image to render (all of it unless --crop).
     window: Window,
 }
@@ -216,7 +207,7 @@ impl Job {
     }
 
     /// Everything that changes the picture: the reference cache key.
-    fn key(&self, backend: Backend) -> u64 {
+    pub(crate) fn key(&self, backend: Backend) -> u64 {
         debug_hash(&(self.picture_key(backend), self.settings.spp))
     }
 
@@ -271,7 +262,7 @@ impl Job {
 impl RenderOpts {
     /// Checks every argument and builds the integrator before the (possibly long) scene
     /// build.
-    fn job(&self, time: Option<f64>) -> Result<Job> {
+    pub(crate) fn job(&self, time: Option<f64>) -> Result<Job> {
         let resolution = self
             .resolution
             .as_deref()
@@ -333,7 +324,11 @@ impl RenderOpts {
 
     /// Builds the scene, prepares the integrator and renders, on a pool of --threads workers,
     /// with Ctrl-C stopping it cleanly.
-    fn run(&self, job: Job, hook: Option<PassHook>) -> Result<(RenderStats, Film, Vec<WorkMap>)> {
+    pub(crate) fn run(
+        &self,
+        job: Job,
+        hook: Option<PassHook>,
+    ) -> Result<(RenderStats, Film, Vec<WorkMap>)> {
         film_fits_in_memory(job.window)?;
         let pool = crate::thread_pool(self.threads)?;
         let cancel = interrupt::on_ctrl_c("writing the samples taken so far");
@@ -440,26 +435,6 @@ pub fn shape(args: &[String]) -> Result<RenderShape> {
         height: job.height,
         split: job.integrator.split(),
     })
-}
-
-/// Checks a cached reference before serving it: its sidecar names `key` and a finished
-/// render, and its image and variance image read back at the render's size.
-fn verify_reference(path: &Path, key: &str, width: u32, height: u32) -> Result<()> {
-    let sidecar = output::companion_paths(path).1;
-    let text = std::fs::read_to_string(&sidecar)
-        .with_context(|| format!("cannot read {}", sidecar.display()))?;
-    let stats: RenderStats = serde_json::from_str(&text)
-        .with_context(|| format!("{} is not a render's sidecar", sidecar.display()))?;
-    if stats.reference_key.as_deref() != Some(key) || stats.interrupted {
-        bail!("its sidecar is not that of this reference");
-    }
-    for image in [path.to_path_buf(), output::variance_path(path)] {
-        let img = Image::read(&image)?;
-        if (img.width, img.height) != (width as usize, height as usize) {
-            bail!("{} is {}x{}", image.display(), img.width, img.height);
-        }
-    }
-    Ok(())
 }
 
 /// Adds the files a render writes for OUT.exr: OUT.png, OUT.json, with `variance`
@@ -673,56 +648,4 @@ fn scale_label(v: f32) -> String {
     } else {
         format!("{v:.3}")
     }
-}
-
-/// Renders a reference into the cache, or finds it there; prints where it is.
-pub fn reference(args: ReferenceArgs) -> Result<()> {
-    let mut job = args.opts.job(None)?;
-    job.settings.seed = job.settings.seed.wrapping_add(REFERENCE_SEED_OFFSET);
-    let key = job.key(args.opts.bvh.unwrap_or_default());
-    let path = args.cache.join(format!(
-        "{}-{key:016x}.exr",
-        fenestra_eval::suite::slug(&job.desc.name)
-    ));
-    let sidecar = output::companion_paths(&path).1;
-    let mut summary = ReferenceSummary {
-        path: path.clone(),
-        cached: true,
-        sidecar: sidecar.clone(),
-        key: format!("{key:016x}"),
-    };
-    let cached = match verify_reference(&path, &format!("{key:016x}"), job.width, job.height) {
-        Ok(()) => true,
-        Err(why) => {
-            if path.exists() && !args.opts.quiet {
-                eprintln!(
-                    "cached reference {} is unusable ({why}): rendering it again",
-                    path.display()
-                );
-            }
-            false
-        }
-    };
-    if !cached {
-        check_exr(&path)?;
-        let mut files = std::mem::take(&mut job.inputs);
-        render_outputs(&mut files, &path, true, false).check()?;
-        let (mut stats, film, _) = args.opts.run(job, None)?;
-        if stats.interrupted {
-            bail!("reference interrupted: nothing cached");
-        }
-        stats.reference_key = Some(format!("{key:016x}"));
-        output::write_render(&path, &film, &stats, args.opts.exposure, true, None)?;
-        if !args.opts.json {
-            println!("{}", stats.summary());
-        }
-        summary.cached = false;
-    }
-    if args.opts.json {
-        println!("{}", serde_json::to_string(&summary)?);
-    } else {
-        let how = if summary.cached { "cached" } else { "rendered" };
-        println!("reference {} ({how})", path.display());
-    }
-    Ok(())
 }

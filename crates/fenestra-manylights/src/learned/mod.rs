@@ -26,15 +26,15 @@ use crate::bvh::LightBvh;
 use fenestra_core::distribution::Distribution1D;
 use fenestra_core::Vec3;
 use fenestra_render::light::{LightContext, LightRecords, LightSampler, Lights};
-use fenestra_render::options::{at_least_one, OptionError, Validate};
 use fenestra_scene::Scene;
 use rayon::prelude::*;
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Mutex, OnceLock};
 
-/// Most passes learned from (a table is kept for each).
-const MAX_PASSES: u32 = 64;
+mod options;
+
+pub use options::{Base, LearnedOptions};
 
 /// Not a group (lights that send nothing).
 const NONE: u32 = u32::MAX;
@@ -52,77 +52,6 @@ const LEVEL_SHIFT: u32 = 3 * AXIS_BITS + 3;
 /// Samples a cell finer than the grid's boxes needs to be used, in first-pass records per
 /// cell (`learned.cell_records`, which sizes the grid's boxes).
 const FINE_SAMPLES: u32 = 8;
-
-fenestra_render::choices! {
-    /// The distribution mixed with the learned one, which keeps every light samplable.
-    pub enum Base {
-        /// The light BVH.
-        Bvh = "bvh",
-        /// Emitted power: costs almost nothing, so that scenes with nothing to learn pay little.
-        Power = "power",
-    }
-}
-
-fenestra_render::options! {
-    /// The learned light sampler (light.selection learned).
-    #[derive(Copy)]
-    pub struct LearnedOptions in "learned", flags "learned" {
-        /// Groups of lights (a cut through the light tree; lights at infinity come on top)
-        /// whose shares each cell learns.
-        pub groups: usize = 256,
-        /// Light samples of the first pass per cell, on average. Cells (boxes, six normal
-        /// directions each) learn which lights they see; this sets their size (the finest
-        /// power-of-two division of the scene's diagonal with no fewer), which thus follows
-        /// the image's resolution and what the camera sees.
-        pub cell_records: u32 = 16,
-        /// The share of light samples drawn from what was learned (the rest by the light tree,
-        /// which keeps every light that can reach a point samplable).
-        pub mix: f32 = 0.5,
-        /// Passes learned from (passes take 1, 2, 4, ... samples per pixel; the later passes
-        /// use what the last one learned).
-        pub passes: u32 = 5,
-        /// What the rest of the light samples are drawn by where a cell has learned something:
-        /// bvh (the light tree) or power (emitted power, which costs almost nothing).
-        pub base: Base = Base::Bvh,
-    }
-}
-
-impl LearnedOptions {
-    /// The sampler's name with its settings, as the integrator's settings record it.
-    pub fn name(&self) -> String {
-        format!(
-            "learned(mix {}, cell records {}, groups {}, passes {}, base {:?})",
-            self.mix, self.cell_records, self.groups, self.passes, self.base
-        )
-    }
-}
-
-impl Validate for LearnedOptions {
-    fn validate(&self) -> Result<(), OptionError> {
-        if !(0.0..1.0).contains(&self.mix) {
-            return Err(OptionError::new(
-                "mix",
-                format!(
-                    "must be at least 0 and below 1 (the light tree keeps the rest), got {}",
-                    self.mix
-                ),
-            ));
-        }
-        at_least_one("cell_records", self.cell_records.into())?;
-        at_least_one("groups", self.groups as u64)?;
-        if self.passes > MAX_PASSES {
-            return Err(OptionError::new(
-                "passes",
-                format!(
-                    "is at most {MAX_PASSES} (passes past the fifth take 32 samples per pixel \
-                     each), got {}",
-                    self.passes
-                ),
-            ));
-        }
-        Ok(())
-    }
-}
 
 /// The grid of cells: boxes of one size over the scene, six normal directions each.
 #[derive(Clone, Copy, Debug, Default)]
