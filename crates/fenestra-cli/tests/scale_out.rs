@@ -294,6 +294,70 @@ fn bad_parts_are_refused_and_nothing_is_overwritten() {
     );
 }
 
+/// Parts whose checksum was recomputed after their pixels or header were changed (a forgery,
+/// or damage repaired by a tool) are refused by what is impossible in them; a damaged header
+/// is called damaged; one tile alone is a partial image only when asked for.
+#[test]
+fn forged_damaged_and_partial_parts_are_refused() {
+    let d = dir("forged");
+    let a = d.join("a.exr");
+    render("builtin:box-hole", "af_hf", &a, &["--samples", "0..4"]);
+    let c = d.join("c.exr");
+    render("builtin:box-hole", "af_hf", &c, &["--samples", "4..8"]);
+    let (a, c) = (a.with_extension("film"), c.with_extension("film"));
+    let out = d.join("out.exr");
+    let merge = |parts: &[&Path], extra: &[&str]| {
+        let mut args = vec!["merge", "-o", s(&out)];
+        args.extend(parts.iter().map(|p| s(p)));
+        args.extend_from_slice(extra);
+        fenestra(&args)
+    };
+    let (header, film) = film_file::read(&c).expect("part");
+    let forge = |name: &str, change: &dyn Fn(&mut fenestra_render::Film)| {
+        let mut forged = film.clone();
+        change(&mut forged);
+        let path = d.join(name);
+        film_file::write(&path, &header, &forged).expect("write");
+        path
+    };
+    // Sums near the 128-bit limit: they would wrap to a pixel of -1e18.
+    let huge = forge("huge.film", &|f| f.pixels[5].sum[0] = i128::MAX / 2);
+    let e = refused(merge(&[&a, &huge], &[]));
+    assert!(
+        e.contains("damaged or forged: pixel (5, 0) has sums beyond what its 4 samples"),
+        "{e}"
+    );
+    // A sample count at the u32 limit: it would wrap to fewer samples than taken.
+    let many = forge("many.film", &|f| f.pixels[30].count = u32::MAX);
+    let e = refused(merge(&[&a, &many], &[]));
+    assert!(
+        e.contains("holds 4294967295 samples, its part at most 4"),
+        "{e}"
+    );
+    // One flipped byte in the header's key, the checksum left as it was.
+    let mut bytes = std::fs::read(&c).expect("part");
+    let at = bytes
+        .windows(7)
+        .position(|w| w == b"\"key\":\"")
+        .expect("key")
+        + 7;
+    bytes[at] = if bytes[at] == b'0' { b'1' } else { b'0' };
+    let flipped = d.join("flipped.film");
+    std::fs::write(&flipped, &bytes).expect("write");
+    let e = refused(merge(&[&a, &flipped], &[]));
+    assert!(e.contains("damaged: its checksum does not match"), "{e}");
+    assert!(!e.contains("differs"), "{e}");
+    // A tile alone: refused unless --partial.
+    let tile = d.join("tile.exr");
+    render("builtin:box-hole", "af_hf", &tile, &["--crop", "0,0,8,8"]);
+    let tile = tile.with_extension("film");
+    let e = refused(merge(&[&tile], &[]));
+    assert!(e.contains("cover pixels 0,0,8,8 of a 20x14 image"), "{e}");
+    assert!(!out.exists(), "a refused merge wrote");
+    ok(merge(&[&tile], &["--partial"]));
+    assert_eq!(Image::read(&out).expect("merged").width, 8);
+}
+
 /// A virtual environment with openjd-cli (made once for all tests), or why there is none.
 fn openjd() -> Result<PathBuf, String> {
     static VENV: std::sync::OnceLock<Result<PathBuf, String>> = std::sync::OnceLock::new();

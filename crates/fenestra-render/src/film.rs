@@ -95,13 +95,24 @@ impl Pixel {
         }
     }
 
-    /// Adds the samples of `other`, taken apart (another sample range of the same pixel).
-    pub fn merge(&mut self, other: &Pixel) {
+    /// Adds the samples of `other`, taken apart (another sample range of the same pixel);
+    /// false, and the pixel unchanged, if the count or a sum would overflow.
+    pub fn checked_merge(&mut self, other: &Pixel) -> bool {
+        let Some(count) = self.count.checked_add(other.count) else {
+            return false;
+        };
+        let mut sum = self.sum;
+        for (s, o) in sum.iter_mut().zip(other.sum) {
+            match s.checked_add(o) {
+                Some(v) => *s = v,
+                None => return false,
+            }
+        }
         for i in 0..3 {
-            self.sum[i] += other.sum[i];
             self.sum_sq[i] = self.sum_sq[i].saturating_add(other.sum_sq[i]);
         }
-        self.count += other.count;
+        (self.sum, self.count) = (sum, count);
+        true
     }
 
     /// The sample mean, per channel.
@@ -307,7 +318,7 @@ mod tests {
         let (mut a, mut b) = (Pixel::default(), Pixel::default());
         s[..377].iter().for_each(|&c| a.add(c));
         s[377..].iter().for_each(|&c| b.add(c));
-        b.merge(&a);
+        assert!(b.checked_merge(&a));
         assert_eq!(whole, b);
         // An f64 running sum would differ in its last bits between these orders.
         let exact: f64 = s.iter().map(|c| c.r as f64).sum::<f64>() / s.len() as f64;

@@ -110,6 +110,14 @@ pub fn read(path: &Path) -> Result<(FilmHeader, Film), FilmFileError> {
     Ok((reader.header, film))
 }
 
+/// Reads the film-state file at `path` through without keeping it: whether it is whole (its
+/// checksum) and every pixel record possible (see [`read`]).
+pub fn verify(path: &Path) -> Result<FilmHeader, FilmFileError> {
+    let mut reader = FilmReader::open(path)?;
+    reader.pixels(|_, _| ())?;
+    Ok(reader.header)
+}
+
 /// Adds the pixels of the film-state file at `path` into `film`, whose window contains the
 /// file's: merging without holding the part in memory. The file is checked whole: on an
 /// error `film` holds a partial sum and must be dropped.
@@ -126,11 +134,20 @@ pub fn add_into(path: &Path, film: &mut Film) -> Result<FilmHeader, FilmFileErro
         return Err(reader.invalid(format!("its window {inner} is outside {outer}")));
     }
     let w = inner.width() as usize;
+    let mut overflow = None;
     reader.pixels(|i, p| {
         let (x, y) = (inner.x0 as usize + i % w, inner.y0 as usize + i / w);
         let at = (y - outer.y0 as usize) * film.width as usize + (x - outer.x0 as usize);
-        film.pixels[at].merge(&p);
+        if !film.pixels[at].checked_merge(&p) {
+            overflow.get_or_insert((x, y));
+        }
     })?;
+    if let Some((x, y)) = overflow {
+        return Err(reader.invalid(format!(
+            "pixel ({x}, {y}) holds more than its accumulators can take together with the \
+             other parts'"
+        )));
+    }
     Ok(reader.header)
 }
 
@@ -183,6 +200,18 @@ impl FilmReader {
                 w.full_width, w.full_height
             )));
         }
+        if let Some(r) = header.samples.filter(|r| r.start >= r.end) {
+            return Err(invalid(format!("its sample range {r} is empty")));
+        }
+        if (header.stats.width, header.stats.height) != (w.width(), w.height()) {
+            return Err(invalid(format!(
+                "its statistics are of a {}x{} film, its window {w} is {}x{}",
+                header.stats.width,
+                header.stats.height,
+                w.width(),
+                w.height()
+            )));
+        }
         let expected = 22
             + u64::from(length)
             + u64::from(w.width()) * u64::from(w.height()) * PIXEL_BYTES as u64
@@ -214,19 +243,59 @@ impl FilmReader {
             source,
         };
         let w = self.header.window;
+        // Every pixel of a sample range took at most its samples (fewer where some were
+        // dropped as non-finite); an adaptive render's at most its largest count.
+        let most = (self.header.samples).map_or(self.header.stats.spp_max, |r| r.end - r.start);
+        let mut impossible = None;
         let mut record = [0u8; PIXEL_BYTES];
         for i in 0..w.width() as usize * w.height() as usize {
             self.input.read_exact(&mut record).map_err(io)?;
-            each(i, decode(&record));
+            let pixel = decode(&record);
+            if let (None, Some(why)) = (&impossible, impossible_pixel(&pixel, most)) {
+                let (x, y) = (
+                    w.x0 as usize + i % w.width() as usize,
+                    w.y0 as usize + i / w.width() as usize,
+                );
+                impossible = Some(format!("pixel ({x}, {y}) {why}"));
+            }
+            each(i, pixel);
         }
         let crc = self.input.1.clone().finalize();
         let mut word = [0u8; 4];
         self.input.0.read_exact(&mut word).map_err(io)?;
         if u32::from_le_bytes(word) != crc {
-            return Err(self.invalid("corrupt: its checksum does not match its content".into()));
+            return Err(self.invalid(
+                "damaged: its checksum does not match its content (header or pixels)".into(),
+            ));
         }
-        Ok(())
+        match impossible {
+            Some(why) => Err(self.invalid(format!("damaged or forged: {why}"))),
+            None => Ok(()),
+        }
     }
+}
+
+/// Why a pixel record cannot be one of a render whose pixels took at most `most` samples, if
+/// it cannot: more samples, or sums beyond what its samples can add up to.
+fn impossible_pixel(p: &Pixel, most: u32) -> Option<String> {
+    if p.count > most {
+        return Some(format!(
+            "holds {} samples, its part at most {most}",
+            p.count
+        ));
+    }
+    // Samples are within MAX_SAMPLE = 2^31, in units of 2^-64: 2^95 units each at most.
+    let bound = u128::from(p.count) << 95;
+    if p.sum.iter().any(|s| s.unsigned_abs() > bound) {
+        return Some(format!(
+            "has sums beyond what its {} samples can add up to",
+            p.count
+        ));
+    }
+    if p.count == 0 && p.sum_sq.iter().any(|&q| q != 0) {
+        return Some("has squares of samples it did not take".into());
+    }
+    None
 }
 
 fn encode(p: &Pixel) -> [u8; PIXEL_BYTES] {

@@ -62,6 +62,10 @@ pub fn plan(parts: &[Part], total: Option<u32>) -> Result<Plan, MergeError> {
     };
     for part in parts {
         if let Some(why) = mismatch(&first.header, &part.header) {
+            // A damaged header differs too: say so rather than what it seems to say.
+            for p in [first, part] {
+                film_file::verify(&p.path)?;
+            }
             return fail(format!(
                 "{} and {} are not parts of one render: {why}",
                 first.name(),

@@ -3,7 +3,7 @@
 
 use crate::commands::render::{check_exr, render_outputs};
 use crate::support::files::Files;
-use anyhow::Result;
+use anyhow::{bail, Result};
 use clap::Args;
 use fenestra_render::film_file::FilmHeader;
 use fenestra_render::merge::{self, Part};
@@ -21,6 +21,11 @@ pub struct MergeArgs {
     /// missing if they do not.
     #[arg(long, value_name = "N")]
     total: Option<u32>,
+    /// Accept parts that together cover only a rectangle of the image (a crop): the output
+    /// is that rectangle. Without it such parts are refused, so that a missing tile is not
+    /// merged into an image with a hole cut off.
+    #[arg(long)]
+    partial: bool,
     /// Also write OUT.var.exr, the per-pixel variance of the mean.
     #[arg(long)]
     variance: bool,
@@ -56,6 +61,15 @@ pub fn run(args: MergeArgs) -> Result<()> {
         .map(|p| Part::open(p))
         .collect::<Result<Vec<_>, _>>()?;
     let plan = merge::plan(&parts, args.total)?;
+    let w = plan.window;
+    if !args.partial && (w.width(), w.height()) != (w.full_width, w.full_height) {
+        bail!(
+            "the parts cover pixels {w} of a {}x{} image: merge the missing tiles too, or pass \
+             --partial to write that rectangle alone",
+            w.full_width,
+            w.full_height
+        );
+    }
     let (film, stats) = merge::merge(&parts, &plan)?;
     let header = FilmHeader {
         key: parts[0].header.key.clone(),
