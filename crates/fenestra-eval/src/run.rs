@@ -195,7 +195,7 @@ impl Runner<'_> {
             &spec.seed.to_string(),
         ]);
         cmd.args(&tech.args);
-        cmd.args(self.suite.budgets[spec.budget].render_args());
+        cmd.args(tech.budget_args(&self.suite.budgets[spec.budget]));
         cmd.args([
             "--reference",
             &self.out.join(&reference.image).display().to_string(),

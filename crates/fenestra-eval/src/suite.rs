@@ -72,6 +72,20 @@ pub struct Technique {
     /// More `fenestra render` arguments, e.g. ["--mis", "balance"].
     #[serde(default)]
     pub args: Vec<String>,
+    /// Whether the integrator decides each pixel's samples itself (ias): a samples budget is
+    /// then not passed to it (it would refuse it); a time budget is.
+    #[serde(default)]
+    pub adaptive: bool,
+}
+
+impl Technique {
+    /// The `fenestra render` arguments that impose `budget` on this technique.
+    pub fn budget_args(&self, budget: &Budget) -> Vec<String> {
+        match budget.spp {
+            Some(_) if self.adaptive => Vec::new(),
+            _ => budget.render_args(),
+        }
+    }
 }
 
 /// Exactly one of `spp`, `time` or `rel_mse` (time to reach a relative MSE, within
@@ -228,7 +242,7 @@ impl Suite {
                             let key = crate::hash::debug_hash(&(
                                 self.resolution,
                                 (&tech.integrator, &tech.args),
-                                budget.render_args(),
+                                tech.budget_args(budget),
                                 seed,
                                 (&s.scene, d),
                                 (&self.reference.integrator, self.reference.spp),
@@ -339,6 +353,20 @@ max_time = 5
         let mut ids: Vec<_> = runs.iter().map(|r| r.id.clone()).collect();
         ids.dedup();
         assert_eq!(ids.len(), runs.len(), "ids are unique");
+    }
+
+    #[test]
+    fn adaptive_techniques_take_time_budgets_and_no_sample_counts() {
+        let text = SUITE.replace(
+            "label = \"HF\"\nintegrator = \"hf\"",
+            "label = \"IAS\"\nintegrator = \"ias\"\nadaptive = true",
+        );
+        let s = Suite::load(&write("adaptive", &text)).expect("valid");
+        let (ias, af_hf) = (&s.techniques[0], &s.techniques[1]);
+        assert!(ias.adaptive && !af_hf.adaptive);
+        assert!(ias.budget_args(&s.budgets[0]).is_empty());
+        assert_eq!(af_hf.budget_args(&s.budgets[0]), ["--spp", "4"]);
+        assert_eq!(ias.budget_args(&s.budgets[1]), s.budgets[1].render_args());
     }
 
     #[test]
