@@ -14,7 +14,7 @@ use std::sync::LazyLock;
 pub fn registry() -> &'static Registry {
     static REGISTRY: LazyLock<Registry> = LazyLock::new(|| {
         let mut registry = Registry::new();
-        fenestra_render::integrator::register(&mut registry);
+        fenestra_render::register(&mut registry);
         fenestra_manylights::register(&mut registry);
         fenestra_cache::register(&mut registry);
         fenestra_portals::register(&mut registry);

@@ -21,8 +21,7 @@ pub use path_options::{Mis, PathConfig, PathOptions};
 
 use crate::control::RenderControl;
 use crate::film::Film;
-use crate::light::{LightOptions, LightSelection};
-use crate::registry::{Group, Registry};
+use crate::light::LightSelection;
 use crate::render_scene::RenderScene;
 use crate::settings::RenderSettings;
 use fenestra_core::stats::RenderStats;
@@ -145,46 +144,6 @@ pub fn hf(options: PathOptions) -> PathTracer<NoNextEvent> {
 /// sampling by MIS (seed 000 §4, §5.2).
 pub fn af_hf(options: PathOptions, selection: LightSelection) -> PathTracer<LightNextEvent> {
     PathTracer::new("af_hf", LightNextEvent::new(selection), options)
-}
-
-/// Registers this crate's integrators (hf, af_hf) and light samplers (power, uniform, all).
-pub fn register(registry: &mut Registry) {
-    for selection in [
-        LightSelection::Power,
-        LightSelection::Uniform,
-        LightSelection::All,
-    ] {
-        let about = match selection {
-            LightSelection::Power => "in proportion to emitted power",
-            LightSelection::Uniform => "every light with the same probability",
-            LightSelection::All => {
-                "a sample of every light in each estimate (beyond 8 lights, of one light in each \
-                 of 8 groups of about equal power)"
-            }
-        };
-        registry.light_sampler(selection.as_str(), about, vec![], false, move |_| {
-            Ok(LightNextEvent::new(selection))
-        });
-    }
-    registry
-        .integrator(
-            "hf",
-            "plain path tracing: follows the surfaces' reflection only (seed 000's HF)",
-            vec![Group::of::<PathConfig>()],
-            |b| Ok(Box::new(hf(b.path()?))),
-        )
-        .integrator(
-            "af_hf",
-            "path tracing that also aims at the lights, the usual default (seed 000's AF_HF)",
-            vec![Group::of::<PathConfig>(), Group::of::<LightOptions>()],
-            |b| {
-                Ok(Box::new(PathTracer::new(
-                    "af_hf",
-                    b.next_event("af_hf", true)?,
-                    b.path()?,
-                )))
-            },
-        );
 }
 
 /// Renders `scene` at `width` x `height` with nobody watching (tests, scripts): prepares

@@ -1,7 +1,9 @@
 //! A group of options: one integrator's or one light sampler's settings as a plain type with
 //! its defaults, documentation and validation in one place, set from a parameter map.
 
-use super::{Kind, OptionError, Params, ValueError};
+use super::error::OptionError;
+use super::params::Params;
+use super::value::{Kind, ValueError};
 use serde_json::Value;
 
 /// One option of a group, as documentation and command lines see it.
