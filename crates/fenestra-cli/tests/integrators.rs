@@ -325,6 +325,42 @@ fn ias_refuses_a_sample_count_it_would_not_take() {
             "--spp 16 would not steer it; set --ias-threshold, or --time",
         );
     }
+    // A path length: 2 is what ias renders (bench suites give every technique one), any
+    // other is refused.
+    assert_clear_error(
+        &[
+            "render",
+            "builtin:kitchen-72",
+            "--integrator",
+            "ias",
+            "--max-depth",
+            "3",
+            "--resolution",
+            "16x12",
+            "-o",
+            o,
+        ],
+        "--max-depth: path.max_depth must be 2 for ias, which renders direct light only; got 3",
+    );
+    let two = fenestra(&[
+        "render",
+        "builtin:kitchen-72",
+        "--integrator",
+        "ias",
+        "--max-depth",
+        "2",
+        "--resolution",
+        "16x12",
+        "--quiet",
+        "-o",
+        o,
+    ]);
+    assert!(
+        two.status.success(),
+        "{}",
+        String::from_utf8_lossy(&two.stderr)
+    );
+    std::fs::remove_file(&out).expect("rendered");
     assert!(!out.exists());
 }
 

@@ -21,9 +21,9 @@ pub use forest::{Cluster, Forest, Sphere, CUT_SOLID_ANGLE};
 pub use ias::{Ias, IasOptions, PdfTrace};
 pub use learned::{LearnedLights, LearnedOptions};
 
-use fenestra_render::integrator::LightNextEvent;
+use fenestra_render::integrator::{LightNextEvent, PathConfig};
 use fenestra_render::options::{OptionError, Options};
-use fenestra_render::registry::{Group, Registry};
+use fenestra_render::registry::{Build, Group, Registry};
 
 /// Registers this crate's light samplers (bvh, learned) and integrators (ias, ias_reference).
 pub fn register(registry: &mut Registry) {
@@ -62,15 +62,19 @@ pub fn register(registry: &mut Registry) {
             "ias",
             "direct light for scenes with many lights, learnt block by block in passes until each \
              pixel is within a set noise (seed 004)",
-            vec![Group::of::<IasOptions>()],
-            |b| Ok(Box::new(Ias::new(b.options()?)?)),
+            vec![Group::of::<IasOptions>(), Group::of::<PathConfig>()],
+            |b| {
+                direct_light_only(b)?;
+                Ok(Box::new(Ias::new(b.options()?)?))
+            },
         )
         .integrator(
             "ias_reference",
             "the reference seed 004 measures ias against: lights picked by unoccluded irradiance, \
              rays until each pixel is within ias.threshold",
-            vec![Group::of::<IasOptions>()],
+            vec![Group::of::<IasOptions>(), Group::of::<PathConfig>()],
             |b| {
+                direct_light_only(b)?;
                 let fixed = ["max_passes", "solid_angle", "combine", "pdf", "sky_regions"];
                 if let Some((key, _)) = b.params.group(IasOptions::GROUP).find(|(k, _)| fixed.contains(k)) {
                     return Err(OptionError::new(
@@ -82,4 +86,25 @@ pub fn register(registry: &mut Registry) {
                 Ok(Box::new(Ias::new(b.options::<IasOptions>()?.reference())?))
             },
         );
+}
+
+/// ias renders direct light: of the path options it takes only a path length of 2 (as bench
+/// suites and scripts give every integrator one), and refuses the others by name.
+fn direct_light_only(b: &Build) -> Result<(), OptionError> {
+    for (field, _) in b.params.group(PathConfig::GROUP) {
+        let key = format!("{}.{field}", PathConfig::GROUP);
+        if field != "max_depth" {
+            return Err(OptionError::new(
+                key,
+                "is not read by ias (direct light only)",
+            ));
+        }
+        if let Some(depth) = b.options::<PathConfig>()?.max_depth.filter(|&d| d != 2) {
+            return Err(OptionError::new(
+                key,
+                format!("must be 2 for ias, which renders direct light only; got {depth}"),
+            ));
+        }
+    }
+    Ok(())
 }
