@@ -6,6 +6,7 @@
 //! weights of eq. 2.2.
 
 use crate::gather::{viewer_geometric_normal, CacheGather, Distances};
+use crate::options::Gradients;
 use crate::record::{Payload, Record};
 use fenestra_core::stats::RayCounters;
 use fenestra_core::{Frame, Rgb, Vec3};
@@ -15,21 +16,6 @@ use std::f32::consts::{PI, TAU};
 
 /// Seed of the irradiance records' sample streams (xor-ed with the render's seed).
 const RECORD_RAYS: u64 = 0x5d5c_0004;
-
-fenestra_render::choices! {
-    /// Which gradients extrapolate irradiance from a record. The translation gradient needs
-    /// smooth incoming radiance: from path-traced samples it is noise (docs/sdrc.md measures
-    /// it), so by default only the rotation gradient is used.
-    pub enum Gradients {
-        /// Records' values as they are (Ward et al. 1988).
-        None = "none",
-        /// The rotation gradient (Ward and Heckbert 1992).
-        Rotation = "rotation",
-        /// Rotation and translation gradients; the translation gradient also limits R_i
-        /// (R_i <= E / |grad E|).
-        Both = "both",
-    }
-}
 
 /// Irradiance at a record and its gradients (world vectors, one a channel).
 #[derive(Clone, Copy, Debug)]

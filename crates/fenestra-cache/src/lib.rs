@@ -32,8 +32,7 @@ pub mod sh;
 pub mod spatial;
 
 pub use gather::is_glossy;
-pub use irradiance::Gradients;
-pub use options::{CacheOrPath, LambertianLobe, SdrcOptions, ShrcOptions};
+pub use options::{CacheOrPath, Gradients, LambertianLobe, SdrcOptions, ShrcOptions};
 pub use sdrc::{GlossyCache, Sdrc};
 
 use fenestra_render::integrator::PathConfig;

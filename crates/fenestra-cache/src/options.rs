@@ -1,6 +1,5 @@
 //! The options of sdrc and shrc (seed 003 ch. 2): the `sdrc` and `shrc` groups.
 
-use crate::irradiance::Gradients;
 use fenestra_render::options::{at_least_one, non_negative, positive, OptionError, Validate};
 
 /// Largest validity radius a R_i of a record, in pixel footprints at its point (of the view
@@ -150,5 +149,20 @@ impl Validate for ShrcOptions {
     fn validate(&self) -> Result<(), OptionError> {
         positive("a", self.a)?;
         at_least_one("rays", self.rays.into())
+    }
+}
+
+fenestra_render::choices! {
+    /// Which gradients extrapolate irradiance from a record. The translation gradient needs
+    /// smooth incoming radiance: from path-traced samples it is noise (docs/sdrc.md measures
+    /// it), so by default only the rotation gradient is used.
+    pub enum Gradients {
+        /// Records' values as they are (Ward et al. 1988).
+        None = "none",
+        /// The rotation gradient (Ward and Heckbert 1992).
+        Rotation = "rotation",
+        /// Rotation and translation gradients; the translation gradient also limits R_i
+        /// (R_i <= E / |grad E|).
+        Both = "both",
     }
 }

@@ -932,7 +932,7 @@ fn look_at(pos: DVec3, look: DVec3, up: DVec3, loc: &Loc) -> Result<DMat4, PbrtE
 
 /// Refuses a shape beyond what f32 ray tracing resolves, at the directive that made it.
 fn check_extent(shape: &Shape, loc: &Loc) -> Result<(), PbrtError> {
-    match fenestra_scene::shape::extent_error(shape.extent()) {
+    match fenestra_scene::extent::extent_error(shape.extent()) {
         Some(what) => Err(PbrtError::at(loc, what)),
         None => Ok(()),
     }

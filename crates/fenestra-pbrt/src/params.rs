@@ -1,6 +1,7 @@
 //! Typed parameter lists ("float fov" [ 45 ]) with type checks at parse time and tracking of
 //! which parameters a directive used, so the rest can be reported as unsupported.
 
+use crate::spectra::SpectrumParam;
 use crate::{Loc, PbrtError};
 use fenestra_core::{Rgb, Vec2, Vec3};
 use std::cell::Cell;
@@ -135,17 +136,6 @@ impl Param {
             used: Cell::new(false),
         })
     }
-}
-
-/// A spectrum-valued parameter as written.
-#[derive(Clone, Debug, PartialEq)]
-pub enum SpectrumParam {
-    Rgb(Rgb),
-    Blackbody(f32),
-    /// (wavelength nm, value) pairs.
-    Sampled(Vec<(f32, f32)>),
-    /// A named spectrum ("metal-Au-eta", "glass-BK7", ...).
-    Named(String),
 }
 
 #[derive(Debug, Default)]

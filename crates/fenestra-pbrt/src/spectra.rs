@@ -2,8 +2,18 @@
 //! the CIE 1931 observer (the analytic multi-lobe fit of Wyman, Sloan and Shirley 2013, JCGT
 //! 2(2)), and the named spectra pbrt-v4 ships, as RGB values.
 
-use crate::params::SpectrumParam;
 use fenestra_core::Rgb;
+
+/// A spectrum-valued parameter as written.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SpectrumParam {
+    Rgb(Rgb),
+    Blackbody(f32),
+    /// (wavelength nm, value) pairs.
+    Sampled(Vec<(f32, f32)>),
+    /// A named spectrum ("metal-Au-eta", "glass-BK7", ...).
+    Named(String),
+}
 
 fn lobe(l: f64, mu: f64, s1: f64, s2: f64) -> f64 {
     let s = if l < mu { s1 } else { s2 };

@@ -51,7 +51,7 @@ impl Camera {
     /// A camera at `eye` looking at `target`, with `up` giving the image's vertical and a
     /// vertical field of view of `fov_y` degrees. Errors on degenerate input.
     pub fn look_at(eye: Vec3, target: Vec3, up: Vec3, fov_y: f32) -> Result<Self, CameraError> {
-        if let Some(what) = crate::shape::extent_error(eye.abs().max_element()) {
+        if let Some(what) = crate::extent::extent_error(eye.abs().max_element()) {
             return Err(CameraError::TooFar(format!("camera position: {what}")));
         }
         let forward = (target - eye).normalize_or_zero();
@@ -92,7 +92,7 @@ impl Camera {
                 "position {position}, forward {forward}, right {right}, up {up}"
             )));
         }
-        if let Some(what) = crate::shape::extent_error(position.abs().max_element()) {
+        if let Some(what) = crate::extent::extent_error(position.abs().max_element()) {
             return Err(CameraError::TooFar(format!("camera position: {what}")));
         }
         if let Some(w) = screen_window {

@@ -7,6 +7,7 @@
 pub mod accel;
 pub mod camera;
 pub mod compressed;
+pub mod extent;
 pub mod filter;
 pub mod interaction;
 pub mod light;

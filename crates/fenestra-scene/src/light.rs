@@ -54,7 +54,7 @@ impl LightDesc {
     /// What makes the light unusable, if anything: positions beyond what f32 resolves,
     /// non-finite or negative power, zero directions, impossible cone angles.
     pub fn problem(&self) -> Option<String> {
-        if let Some(what) = crate::shape::extent_error(self.extent()) {
+        if let Some(what) = crate::extent::extent_error(self.extent()) {
             return Some(what);
         }
         let finite_rgb = |c: &Rgb| c.is_finite() && c.r >= 0.0 && c.g >= 0.0 && c.b >= 0.0;

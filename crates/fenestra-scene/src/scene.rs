@@ -308,7 +308,7 @@ fn validate(desc: &SceneDesc) -> Result<(), SceneError> {
             });
         }
         let geo = |what: String| Err(SceneError::Geometry { shape: i, what });
-        if let Some(what) = crate::shape::extent_error(s.extent()) {
+        if let Some(what) = crate::extent::extent_error(s.extent()) {
             return geo(what);
         }
         match &s.kind {

@@ -160,7 +160,7 @@ impl PortalRecord {
             .corners()
             .iter()
             .fold(0.0f32, |e, c| e.max(c.abs().max_element()));
-        if let Some(what) = fenestra_scene::shape::extent_error(extent).filter(|_| finite) {
+        if let Some(what) = fenestra_scene::extent::extent_error(extent).filter(|_| finite) {
             return Err(what);
         }
         if !finite || !portal.area().is_normal() || portal.area() < 0.0 {
