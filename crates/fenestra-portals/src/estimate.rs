@@ -50,6 +50,17 @@ impl std::str::FromStr for Model {
     }
 }
 
+impl std::fmt::Display for Model {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Model::Ellipse => "ellipse",
+            Model::Pca => "pca",
+            Model::Rectangle => "rectangle",
+            Model::Smallest => "smallest",
+        })
+    }
+}
+
 impl fenestra_render::options::OptionValue for Model {
     const KIND: fenestra_render::options::Kind =
         fenestra_render::options::Kind::Choice(&["ellipse", "pca", "rectangle", "smallest"]);

@@ -12,19 +12,25 @@ use fenestra_render::RenderScene;
 use fenestra_scene::{Backend, Scene};
 use std::path::PathBuf;
 
+/// The pipeline's defaults, which the flags show and start from (written once, in the
+/// pipeline).
+fn defaults() -> EstimateParams {
+    EstimateParams::default()
+}
+
 /// The pipeline's parameters, named as in seed 000 §5.2: PT(theta, n, r), DBSCAN(eps, m),
 /// RANSAC(eps, tau, N), MVCE(eps).
 #[derive(Args, Clone, Debug)]
 pub struct EstimateOpts {
     /// PT: cone half-angle theta of a beam, degrees.
-    #[arg(long, default_value_t = 3.0)]
+    #[arg(long, default_value_t = defaults().photons.theta_deg)]
     theta: f32,
     /// PT: rays per beam n.
-    #[arg(long, default_value_t = 32)]
+    #[arg(long, default_value_t = defaults().photons.rays_per_beam)]
     rays: u32,
     /// PT: radius r of the rejection sphere, metres (depth discontinuities shorter than r
     /// deposit nothing).
-    #[arg(long, default_value_t = 1.2)]
+    #[arg(long, default_value_t = defaults().photons.reject_radius)]
     radius: f32,
     /// Where photons are deposited: depth (discontinuities, Alg. 1) or material (on glass,
     /// §5.3). Default: material when the scene has glass, depth otherwise.
@@ -34,35 +40,36 @@ pub struct EstimateOpts {
     #[arg(long)]
     photons: Option<usize>,
     /// Give up after this many beams if the photons are not gathered.
-    #[arg(long, default_value_t = 1 << 22)]
+    #[arg(long, default_value_t = defaults().photons.max_beams)]
     max_beams: u64,
     /// Stop tracing photons once portals fitted to 1.5 times as many photons lie within this
     /// fraction of their size of the previous fit's (0: trace to the photon target).
-    #[arg(long, default_value_t = 0.01)]
+    #[arg(long, default_value_t = defaults().settle.unwrap_or(0.0))]
     settle: f64,
     /// DBSCAN: neighbourhood radius eps, metres.
-    #[arg(long, default_value_t = 0.125)]
+    #[arg(long, default_value_t = defaults().dbscan.eps)]
     eps: f32,
     /// DBSCAN: minimum neighbours m of a core point.
-    #[arg(long, default_value_t = 16)]
+    #[arg(long, default_value_t = defaults().dbscan.min_points)]
     min_points: usize,
     /// RANSAC: inlier distance to the plane, metres.
-    #[arg(long, default_value_t = 0.07)]
+    #[arg(long, default_value_t = defaults().ransac.eps)]
     ransac_eps: f64,
     /// RANSAC: inlier fraction that ends the search.
-    #[arg(long, default_value_t = 0.07)]
+    #[arg(long, default_value_t = defaults().ransac.tau)]
     ransac_tau: f64,
     /// RANSAC: maximum trials N.
-    #[arg(long, default_value_t = 1024)]
+    #[arg(long, default_value_t = defaults().ransac.trials)]
     ransac_trials: usize,
     /// MVCE: Khachiyan's stopping tolerance.
-    #[arg(long, default_value_t = 1e-3)]
+    #[arg(long, default_value_t = defaults().mvce_eps)]
     mvce_eps: f64,
     /// Portal shape: ellipse (MVCE, the seed's), pca (PCA rectangle), rectangle (minimum
     /// area) or smallest (the smaller of ellipse and rectangle).
-    #[arg(long, default_value = "smallest")]
+    #[arg(long, default_value_t = defaults().model)]
     model: Model,
-    #[arg(long, default_value_t = 0)]
+    /// Seed of the photons' and RANSAC's random numbers.
+    #[arg(long, default_value_t = defaults().photons.seed)]
     seed: u64,
 }
 
