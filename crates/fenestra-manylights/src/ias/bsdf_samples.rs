@@ -14,8 +14,9 @@
 //! At mirrors and glass: an eye ray follows one sampled bounce and adds the light it meets,
 //! as a path tracer limited to direct light (path length 2) does.
 
-use super::block::{BlockRender, Point, Shade};
-use super::{BsdfSamples, Far};
+use super::block::{BlockRender, Far};
+use super::options::BsdfSamples;
+use super::point::{Point, Shade};
 use crate::forest::NO_PARENT;
 use crate::sky::polar;
 use fenestra_core::mis::MisHeuristic;
@@ -86,17 +87,6 @@ fn sample_direction(
     let wi = frame.to_world(bs.wi);
     let leaks = !bsdf.is_transmissive() && (wi.dot(n) > 0.0) != (bs.wi.z * wo.z > 0.0);
     (!leaks).then_some((bs, wi))
-}
-
-/// A cut's clusters sorted, each with its index in the cut (to find a light's cluster).
-pub(super) fn cut_lookup(cut: &[u32]) -> Vec<(u32, u32)> {
-    let mut lookup: Vec<(u32, u32)> = cut
-        .iter()
-        .enumerate()
-        .map(|(i, &c)| (c, i as u32))
-        .collect();
-    lookup.sort_unstable();
-    lookup
 }
 
 /// The pass's cluster probabilities at a point (`pdf`, summing to `total`).
@@ -229,7 +219,7 @@ impl BlockRender<'_> {
     ) -> f32 {
         let first_far = self.forest.nodes.len() as u32;
         let angles = polar(wi);
-        for (k, far) in self.ias.far.iter().enumerate() {
+        for (k, far) in self.far.iter().enumerate() {
             let node = first_far + k as u32;
             match far {
                 Far::Region(r) if r.light == light && r.holds(angles) => {
@@ -311,8 +301,9 @@ mod tests {
             .expect("prepare");
         let forest = ias.forest.as_ref().expect("prepared");
         let block = BlockRender {
-            ias: &ias,
+            options: &ias.options,
             forest,
+            far: &ias.far,
             scene: &scene,
             seed: 3,
             width: 16,

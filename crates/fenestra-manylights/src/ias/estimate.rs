@@ -1,6 +1,6 @@
 //! A pixel's estimate in a pass and its variance (seed 004 §3.5.3, App. A.1).
 
-use super::block::Point;
+use super::point::Point;
 use fenestra_core::Rgb;
 
 /// A point's samples in a pass: sums of the values and of their squares per channel.

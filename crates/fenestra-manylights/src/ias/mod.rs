@@ -20,185 +20,35 @@
 //! BSDF's lobe, and one bounce on from mirrors and glass (module `bsdf_samples`).
 
 mod block;
+mod block_stats;
 mod bsdf_samples;
 mod budget;
 mod estimate;
+mod eye_rays;
 mod feedback;
+mod light_samples;
+mod options;
+mod passes;
+mod pixel;
+mod point;
 
-use crate::forest::{Forest, CUT_SOLID_ANGLE};
-use crate::sky::{self, SkyRegion, SKY_REGIONS};
-use block::{BlockRender, BLOCK};
+pub use options::{BsdfSamples, Combine, IasOptions, Pdf, EDGE_RAYS, EMITTED_RAYS, REGION_HITS};
+pub use pixel::PdfTrace;
+
+use crate::forest::Forest;
+use crate::sky;
+use block::{BlockRender, Far};
 use budget::Budget;
 use fenestra_core::stats::{RayCounters, RenderStats};
 use fenestra_render::control::RenderControl;
+use fenestra_render::driver::{
+    render_to_completion, BlockTask, CompletionEstimator, PixelEstimate, BLOCK_SIZE,
+};
 use fenestra_render::integrator::{Integrator, IntegratorError, Split, WorkMap};
-use fenestra_render::options::{at_least_one, positive, OptionError, Options, Validate};
+use fenestra_render::options::Options;
 use fenestra_render::{Film, RenderScene, RenderSettings};
-use rayon::prelude::*;
+use passes::BlockWork;
 use std::sync::Mutex;
-
-fenestra_render::choices! {
-    /// How a pixel's pass estimates are combined.
-    pub enum Combine {
-        /// By inverse variance (eq. 3.3, 3.4): the seed's, least variance, but the variances
-        /// come from the same samples as the estimates, so a pass that missed a bright light
-        /// (low estimate, low variance) weighs more: the image comes out darker (measured in
-        /// docs/manylights.md).
-        InverseVariance = "inverse-variance",
-        /// By shadow rays: every ray after pass 0 weighs the same, whatever pass it came in;
-        /// unbiased. Pass 0, drawn uniformly over the cut to seed the statistics ("not to
-        /// estimate the value of the pixel", §3.5.2), counts only for a pixel done after it.
-        Samples = "samples",
-    }
-}
-
-fenestra_render::choices! {
-    /// Which points take BSDF samples besides light samples (beyond the seed).
-    pub enum BsdfSamples {
-        /// None: light samples only, and mirrors and glass show only what they see emitted (the
-        /// seed).
-        None = "none",
-        /// Where a light of the cut subtends more than the BSDF's lobe (a polished floor
-        /// under a lamp, a wall beside a large emitter); mirrors and glass show light one
-        /// bounce on.
-        Auto = "auto",
-        /// Every BSDF that light sampling can reach; mirrors and glass as with `Auto`.
-        All = "all",
-    }
-}
-
-fenestra_render::choices! {
-    /// Where the PDFs over a point's lights come from.
-    pub enum Pdf {
-        /// The seed's adaptive PDFs over light clusters (eq. 3.2).
-        Adaptive = "adaptive",
-        /// The seed's reference (§4.2): over single lights, in proportion to their unoccluded
-        /// irradiance at the point (their bounds' importance), the same throughout; 100 rays a
-        /// pass, at most 20,000 a pixel, black after 2,500 rays without a visible light.
-        Irradiance = "irradiance",
-    }
-}
-
-fenestra_render::options! {
-    /// Iterative adaptive sampling (ias, ias_reference; seed 004).
-    #[derive(Copy)]
-    pub struct IasOptions in "ias", flags "ias" {
-        /// Relative variance at which a pixel is done (the seed's t, §3.5.3; 1e-3 is a relative
-        /// standard error of about 3%).
-        pub threshold: f32 = 1e-3,
-        /// Most passes per 8x8 block.
-        pub max_passes: u32 = 15,
-        /// Largest solid angle of a light cluster in a cut, in steradians.
-        pub solid_angle: f32 = CUT_SOLID_ANGLE,
-        /// How a pixel's passes are combined: samples (every shadow ray after pass 0, which only
-        /// seeds the statistics, weighs the same; unbiased) or inverse-variance (the seed's eq.
-        /// 3.3-3.4, every pass; slightly dark).
-        pub combine: Combine = Combine::Samples,
-        /// Where the PDFs over a point's lights come from: adaptive (the seed's ias) or
-        /// irradiance (the seed's reference, as ias_reference sets it).
-        pub pdf: Pdf = Pdf::Adaptive,
-        /// Regions an environment is cut into, each a cluster of the cuts (the seed's 300; 0
-        /// takes the environment whole).
-        pub sky_regions: usize = SKY_REGIONS,
-        /// Most eye rays a pixel takes while what they see emitted varies (the edge of a light
-        /// seen directly), until its mean is within the threshold; 0 keeps the seed's counts
-        /// (25 per surface at up to 512x512, up to three surfaces).
-        pub emitted_rays: u32 = EMITTED_RAYS,
-        /// Which points take a BSDF sample with each light sample, the two weighed by MIS: auto
-        /// (where a light of the point's cut subtends more than the BSDF's lobe: a polished floor
-        /// mirroring a window, a wall beside a large emitter), all, or none (light samples only,
-        /// and mirrors and glass show only what they see emitted: the seed). With auto and all,
-        /// eye rays follow mirrors and glass one bounce on.
-        pub bsdf_samples: BsdfSamples = BsdfSamples::Auto,
-        /// Most eye-ray hits of an anti-aliasing region that its light samples take in turn, so
-        /// that the region's estimate is of the whole region and not of its first hit (1: the
-        /// first hit stands for the region, as the seed).
-        pub region_hits: u32 = REGION_HITS,
-        /// Eye rays, in units of the seed's per surface, that a pixel takes at least when a
-        /// neighbour's rays saw the edge of a light and its own did not (it may hold a sliver of
-        /// the light they missed); 0 leaves such pixels their own counts.
-        pub edge_rays: u32 = EDGE_RAYS,
-    }
-}
-
-impl IasOptions {
-    /// The seed's reference estimator with these options' threshold and beyond-the-seed
-    /// choices: every light its own cluster, PDFs by unoccluded irradiance, every ray weighing
-    /// the same.
-    pub fn reference(self) -> Self {
-        IasOptions {
-            max_passes: REFERENCE_MAX_RAYS / REFERENCE_PASS_RAYS,
-            solid_angle: f32::MIN_POSITIVE,
-            combine: Combine::Samples,
-            pdf: Pdf::Irradiance,
-            sky_regions: 0,
-            ..self
-        }
-    }
-
-    /// Shadow rays without a visible light after which a pixel is black (§4.6.4).
-    fn black_after(&self) -> u32 {
-        match self.pdf {
-            Pdf::Adaptive => 250,
-            Pdf::Irradiance => 2500,
-        }
-    }
-}
-
-impl Validate for IasOptions {
-    fn validate(&self) -> Result<(), OptionError> {
-        positive("threshold", self.threshold)?;
-        at_least_one("max_passes", self.max_passes.into())?;
-        positive("solid_angle", self.solid_angle)?;
-        if self.emitted_rays > block::MAX_EYE_RAYS {
-            return Err(OptionError::new(
-                "emitted_rays",
-                format!(
-                    "is at most {} (eye rays a pixel), got {}",
-                    block::MAX_EYE_RAYS,
-                    self.emitted_rays
-                ),
-            ));
-        }
-        // A pixel beside a light's edge takes edge_rays x the seed's eye rays a surface (25
-        // at most).
-        let most = block::MAX_EYE_RAYS / block::MOST_RAYS_PER_SURFACE;
-        if self.edge_rays > most {
-            return Err(OptionError::new(
-                "edge_rays",
-                format!(
-                    "is at most {most} ({} eye rays a pixel), got {}",
-                    block::MAX_EYE_RAYS,
-                    self.edge_rays
-                ),
-            ));
-        }
-        at_least_one("region_hits", self.region_hits.into())?;
-        if self.sky_regions > MAX_SKY_REGIONS {
-            return Err(OptionError::new(
-                "sky_regions",
-                format!("is at most {MAX_SKY_REGIONS}, got {}", self.sky_regions),
-            ));
-        }
-        Ok(())
-    }
-}
-
-/// Eye rays (in units of the seed's per surface) of a pixel beside a light's edge, by default.
-pub const EDGE_RAYS: u32 = 4;
-
-/// Most eye-ray hits of a region shaded in turn, by default.
-pub const REGION_HITS: u32 = 64;
-
-/// Most eye rays a pixel takes at the edge of a light seen directly, by default.
-pub const EMITTED_RAYS: u32 = 256;
-
-/// Most environment regions (each is a cluster of every cut).
-const MAX_SKY_REGIONS: usize = 4096;
-
-/// The reference's rays per pass and its cap per pixel (§4.2, §4.6.4).
-const REFERENCE_PASS_RAYS: u32 = 100;
-const REFERENCE_MAX_RAYS: u32 = 20_000;
 
 /// The `ias` integrator.
 pub struct Ias {
@@ -208,14 +58,6 @@ pub struct Ias {
     far: Vec<Far>,
     /// The last render's work maps (the seed's Fig. 4.9 and 4.11).
     maps: Mutex<Vec<WorkMap>>,
-}
-
-/// A cluster outside the forest: a light at infinity taken whole, or a region of an
-/// environment's directions.
-#[derive(Clone, Copy, Debug)]
-enum Far {
-    Light(usize),
-    Region(SkyRegion),
 }
 
 impl Ias {
@@ -229,45 +71,28 @@ impl Ias {
             maps: Mutex::new(Vec::new()),
         })
     }
-}
 
-/// The PDFs one point sampled its cut with, pass by pass (the seed's Fig. 4.10).
-#[derive(Clone, Debug, PartialEq)]
-pub struct PdfTrace {
-    /// The clusters of the point's cut: forest nodes, and past the forest's nodes the
-    /// clusters outside it (lights at infinity, sky regions).
-    pub clusters: Vec<u32>,
-    /// Per pass, the probability of each cluster.
-    pub passes: Vec<Vec<f32>>,
-}
+    /// A block's render with `forest` for a `width` x `height` image with `seed`.
+    fn block<'a>(
+        &'a self,
+        forest: &'a Forest,
+        scene: &'a RenderScene,
+        task: &BlockTask,
+        threshold: f32,
+    ) -> BlockRender<'a> {
+        BlockRender {
+            options: &self.options,
+            forest,
+            far: &self.far,
+            scene,
+            seed: task.seed,
+            width: task.width,
+            height: task.height,
+            threshold,
+            trace: None,
+        }
+    }
 
-/// A finished pixel: its estimate and variance, and what it took.
-struct PixelOut {
-    /// Its PDFs pass by pass, if traced.
-    trace: Option<PdfTrace>,
-    x: u32,
-    y: u32,
-    mean: [f64; 3],
-    variance: [f64; 3],
-    passes: u32,
-    shadow_rays: u32,
-    visible_rays: u32,
-    regions: u32,
-    clusters: f32,
-}
-
-/// What a block's render gives back.
-struct BlockResult {
-    pixels: Vec<PixelOut>,
-    rays: RayCounters,
-    passes: u64,
-    shadow_rays: u64,
-    cut_sizes: u64,
-    points: u64,
-    max_passes: u32,
-}
-
-impl Ias {
     /// The PDFs the largest region of pixel (x, y) samples its cut with, pass by pass, as a
     /// `width` x `height` render with `seed` takes them (its block is rendered alone, as
     /// every block is); `None` where the pixel sees no surface. Prepare first.
@@ -281,18 +106,53 @@ impl Ias {
         y: u32,
     ) -> Option<PdfTrace> {
         let forest = self.forest.as_ref()?;
+        let (x0, y0) = (x / BLOCK_SIZE * BLOCK_SIZE, y / BLOCK_SIZE * BLOCK_SIZE);
+        let task = BlockTask::at(x0, y0, width, height, seed);
         let block = BlockRender {
-            ias: self,
-            forest,
-            scene,
-            seed,
-            width,
-            height,
-            threshold: self.options.threshold,
             trace: Some((x, y)),
+            ..self.block(forest, scene, &task, self.options.threshold)
+        };
+        block.render(&task, &mut RayCounters::default()).1.trace
+    }
+}
+
+/// One render of ias: the forest, and the time budget if the render has a time limit.
+struct IasRender<'a> {
+    ias: &'a Ias,
+    forest: &'a Forest,
+    budget: Option<Budget>,
+}
+
+impl CompletionEstimator for IasRender<'_> {
+    type Block = BlockWork;
+
+    /// Shuffled, so that the first blocks done are a fair sample of the image's cost (module
+    /// `budget`).
+    fn order(&self, blocks: u32) -> Vec<u32> {
+        budget::shuffled(blocks)
+    }
+
+    fn render_block(
+        &self,
+        scene: &RenderScene,
+        task: &BlockTask,
+        control: &RenderControl,
+        rays: &mut RayCounters,
+    ) -> (Vec<PixelEstimate>, BlockWork) {
+        let threshold = self
+            .budget
+            .as_ref()
+            .map_or(self.ias.options.threshold, Budget::threshold);
+        let started = control.elapsed();
+        let out = self
+            .ias
+            .block(self.forest, scene, task, threshold)
+            .render(task, rays);
+        if let Some(budget) = &self.budget {
+            let now = control.elapsed();
+            budget.finished(now - started, threshold, now);
         }
-        .render(x / BLOCK * BLOCK, y / BLOCK * BLOCK);
-        block.pixels.into_iter().find_map(|p| p.trace)
+        out
     }
 }
 
@@ -347,11 +207,6 @@ impl Integrator for Ias {
             leaf_of: Vec::new(),
         };
         let forest = self.forest.as_ref().unwrap_or(&empty);
-        // A cropped film renders the blocks of its window (which split() keeps on the block
-        // grid); pixels, samples and rays are the whole image's.
-        let (width, height) = (film.width, film.height);
-        let window = film.window;
-        let (bx, by) = (width.div_ceil(BLOCK), height.div_ceil(BLOCK));
         // With a time limit every block takes the threshold that fits the time left; without, the
         // options' (module `budget`).
         let budget = settings.time_limit.map(|limit| {
@@ -361,84 +216,39 @@ impl Integrator for Ias {
             // The limit is the rendering's, preparation on top (as the path tracers count it).
             let deadline = control.elapsed() + limit;
             let threads = rayon::current_num_threads();
-            Budget::new(deadline, (bx * by) as usize, threads, self.options.threshold)
+            let blocks = film.width.div_ceil(BLOCK_SIZE) * film.height.div_ceil(BLOCK_SIZE);
+            Budget::new(deadline, blocks as usize, threads, self.options.threshold)
         });
-        control.progress.start(Some(u64::from(bx * by)));
-        let order = budget::shuffled(bx * by);
-        let mut results: Vec<(u32, Option<BlockResult>)> = order
-            .into_par_iter()
-            .map(|b| {
-                if control.cancelled() {
-                    return (b, None);
-                }
-                let threshold = budget
-                    .as_ref()
-                    .map_or(self.options.threshold, Budget::threshold);
-                let started = control.elapsed();
-                let r = BlockRender {
-                    ias: self,
-                    forest,
-                    scene,
-                    seed: settings.seed,
-                    width: window.full_width,
-                    height: window.full_height,
-                    threshold,
-                    trace: None,
-                }
-                .render(window.x0 + (b % bx) * BLOCK, window.y0 + (b / bx) * BLOCK);
-                if let Some(budget) = &budget {
-                    let now = control.elapsed();
-                    budget.finished(now - started, threshold, now);
-                }
-                control.progress.advance(1);
-                (b, Some(r))
-            })
-            .collect();
-        results.sort_unstable_by_key(|(b, _)| *b);
-        let results: Vec<Option<BlockResult>> = results.into_iter().map(|(_, r)| r).collect();
-        let mut stats = RenderStats {
-            scene: scene.scene.name.clone(),
-            backend: scene.scene.backend.name().to_string(),
-            width,
-            height,
-            seed: settings.seed,
-            threads: rayon::current_num_threads(),
-            max_depth: Some(2),
-            ..Default::default()
+        let estimator = IasRender {
+            ias: self,
+            forest,
+            budget,
         };
+        let (mut stats, blocks) = render_to_completion(&estimator, scene, film, settings, control);
+        stats.max_depth = Some(2);
+        let blocks: Vec<&BlockWork> = blocks.iter().flatten().collect();
+        let (width, height, window) = (film.width, film.height, film.window);
         let (mut passes, mut shadow, mut cuts, mut points) = (0u64, 0u64, 0u64, 0u64);
         let mut maps = vec![vec![0.0f32; (width * height) as usize]; 5];
-        for r in &results {
-            let Some(r) = r else {
-                stats.interrupted = true;
-                continue;
-            };
-            for px in &r.pixels {
-                let i = ((px.y - window.y0) * width + px.x - window.x0) as usize;
-                film.pixels[i].set_estimate(px.mean, px.variance);
+        for block in &blocks {
+            for px in &block.pixels {
+                let Some(i) = window.index((px.x, px.y)) else {
+                    continue;
+                };
                 maps[0][i] = px.passes as f32;
                 maps[1][i] = px.shadow_rays as f32;
                 maps[2][i] = px.visible_rays as f32 / px.shadow_rays.max(1) as f32;
                 maps[3][i] = px.clusters;
                 maps[4][i] = px.regions as f32;
+                passes += u64::from(px.passes);
+                shadow += u64::from(px.shadow_rays);
+                stats.passes = stats.passes.max(px.passes);
             }
-            stats.rays += r.rays;
-            passes += r.passes;
-            shadow += r.shadow_rays;
-            cuts += r.cut_sizes;
-            points += r.points;
+            cuts += block.cut_sizes;
+            points += block.points;
         }
         let pixels = f64::from(width * height).max(1.0);
-        stats.passes = results
-            .iter()
-            .flatten()
-            .map(|r| r.max_passes)
-            .max()
-            .unwrap_or(0);
-        // Eye rays per pixel stand for samples per pixel.
         let eye = stats.rays.camera as f64 / pixels;
-        stats.spp = eye.round() as u32;
-        stats.spp_max = stats.spp;
         stats.extra.insert("eye_rays_per_pixel".into(), eye);
         stats
             .extra
@@ -468,7 +278,7 @@ impl Integrator for Ias {
         if let Ok(mut m) = self.maps.lock() {
             *m = made;
         }
-        if let Some([finest, coarsest]) = budget.as_ref().map(Budget::range) {
+        if let Some([finest, coarsest]) = estimator.budget.as_ref().map(Budget::range) {
             stats
                 .extra
                 .insert("threshold_finest".into(), f64::from(finest));
@@ -476,8 +286,6 @@ impl Integrator for Ias {
                 .extra
                 .insert("threshold_coarsest".into(), f64::from(coarsest));
         }
-        stats.time_s = control.elapsed();
-        stats.derive_rates();
         stats
     }
 

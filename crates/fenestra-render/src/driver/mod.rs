@@ -9,10 +9,15 @@
 //! - [`progressive`]: the per-path driver, for estimators that only map a camera ray to
 //!   radiance: passes of 1, 2, 4, ... 32 samples per pixel until the sample count or the
 //!   time limit is reached. It runs on the block/pass driver.
+//! - [`completion`]: the block-to-completion driver, for estimators that run each block's
+//!   passes on their own (seed 004 §3.3.2): it hands out the blocks and collects their
+//!   pixels.
 
+pub mod completion;
 pub mod passes;
 pub mod progressive;
 
+pub use completion::{render_to_completion, BlockTask, CompletionEstimator, PixelEstimate};
 pub use passes::{render_passes, PassEstimator, PassInfo, PixelState};
 pub use progressive::{render_progressive, Budget, PathEstimator};
 
