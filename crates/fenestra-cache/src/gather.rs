@@ -1,22 +1,54 @@
 //! The caches at work at one shading point, for one block of one pass: which cache serves
-//! the point (glossy surfaces: SDRC, [`crate::glossy`]; diffuse ones: the irradiance cache,
-//! [`crate::irradiance`]), record lookup and creation, and what both share (record frames,
-//! sample streams, rays that gather reflected light).
+//! the point (glossy surfaces: SDRC, [`crate::glossy`], or SH radiance, [`crate::harmonics`];
+//! diffuse ones: the irradiance cache, [`crate::irradiance`]), each kind's record lookup and
+//! creation ([`crate::kind::CacheKind`]), and what is interpolated where.
 
-use crate::harmonics::ShRadiance;
-use crate::irradiance::Irradiance;
+use crate::footprint::PixelFootprint;
+use crate::glossy::SdrcRecords;
+use crate::harmonics::{ShRadiance, ShRecords};
+use crate::irradiance::{Irradiance, IrradianceRecords};
+use crate::kind::CacheKind;
 use crate::ltree::LTree;
-use crate::options::{CacheOrPath, LambertianLobe};
-use crate::photons::{PhotonGather, PhotonMap};
-use crate::sdrc::{GlossyCache, Sdrc};
+use crate::options::{CacheOrPath, LambertianLobe, SdrcOptions};
+use crate::photons::PhotonMap;
+use crate::record_rays::{viewer_normal, RecordRays};
 use crate::spatial::{Delta, SpatialCache};
 use fenestra_core::stats::RayCounters;
-use fenestra_core::{Frame, Ray, Rgb, Sampler, Vec3};
+use fenestra_core::Rgb;
 use fenestra_render::bsdf::Bsdf;
-use fenestra_render::integrator::{Gather, NoGather, Shading, Start};
-use fenestra_render::light::LightRecords;
+use fenestra_render::integrator::{Gather, LightNextEvent, PathTracer, Shading};
 use fenestra_render::RenderScene;
-use fenestra_scene::Hit;
+
+/// What caches indirect light on glossy surfaces.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GlossyCache {
+    /// SDRC's L-trees of BRDF-sampled radiance (integrator `sdrc`).
+    Directional,
+    /// SH radiance caching from `rays` uniform rays per record (integrator `shrc`).
+    Harmonics {
+        /// Rays per record.
+        rays: u32,
+    },
+    /// No cache: glossy surfaces path traced by BSDF sampling, the rest as sdrc (the seed's
+    /// Monte Carlo baseline, §2.6: the same caches and direct light but for the glossy
+    /// first bounce).
+    Path,
+}
+
+/// What the caches at work read from their integrator during a render.
+#[derive(Clone, Copy)]
+pub struct CacheSetup<'a> {
+    /// The path tracer, for the paths beyond the records' rays.
+    pub tracer: &'a PathTracer<LightNextEvent>,
+    /// The integrator's options.
+    pub options: &'a SdrcOptions,
+    /// What caches glossy surfaces.
+    pub glossy: GlossyCache,
+    /// Maximum path length.
+    pub max_depth: u32,
+    /// The camera's pixels in this render.
+    pub(crate) footprint: PixelFootprint,
+}
 
 /// Whether SDRC serves a surface of this BSDF: glossy reflection, neither ideal (mirror,
 /// glass) nor diffuse, nor transmissive.
@@ -80,8 +112,8 @@ pub struct Work {
 
 /// The caches at work for one block of one pass.
 pub struct CacheGather<'a> {
-    /// The integrator (options, path tracer, camera footprint).
-    pub sdrc: &'a Sdrc,
+    /// What the integrator gives them.
+    pub setup: &'a CacheSetup<'a>,
     /// Records of earlier passes.
     pub caches: &'a Caches,
     /// The block's additions.
@@ -99,14 +131,14 @@ impl CacheGather<'_> {
     /// Which cache serves `s`, if any: points seen from the camera (`segments` 1) whose
     /// cached light comes from paths within the length limit.
     pub fn served(&self, s: &Shading, segments: u32) -> Option<Served> {
-        if segments != 1 || segments + 2 > self.sdrc.max_depth() {
+        if segments != 1 || segments + 2 > self.setup.max_depth {
             return None;
         }
         match s.bsdf {
-            Bsdf::Diffuse(d) if self.sdrc.options.diffuse == CacheOrPath::Cache => {
+            Bsdf::Diffuse(d) if self.setup.options.diffuse == CacheOrPath::Cache => {
                 Some(Served::Diffuse(d.reflectance))
             }
-            b if is_glossy(b) => match self.sdrc.glossy {
+            b if is_glossy(b) => match self.setup.glossy {
                 GlossyCache::Directional => Some(Served::Glossy),
                 GlossyCache::Harmonics { rays } => Some(Served::Harmonics(rays)),
                 GlossyCache::Path => None,
@@ -118,7 +150,7 @@ impl CacheGather<'_> {
     /// The Lambertian albedo of a glossy point's BSDF and its glossy lobe, when the
     /// irradiance cache serves the one and the glossy cache the other.
     fn split(&self, s: &Shading) -> Option<(Rgb, Bsdf)> {
-        let o = &self.sdrc.options;
+        let o = self.setup.options;
         (o.lambertian_lobe == LambertianLobe::Cache && o.diffuse == CacheOrPath::Cache)
             .then(|| s.bsdf.lambertian_split())
             .flatten()
@@ -134,239 +166,144 @@ impl CacheGather<'_> {
         rays: &mut RayCounters,
     ) {
         match (served, self.split(s)) {
-            (Served::Diffuse(_), _) => self.ensure_irradiance(scene, s, rays),
+            (Served::Diffuse(_), _) => {
+                self.diffuse(scene, s, false, rays);
+            }
             (_, Some((_, lobe))) => {
-                self.ensure_glossy(scene, &with_bsdf(s, &lobe), served, rays);
-                self.ensure_irradiance(scene, s, rays);
+                self.glossy(scene, &with_bsdf(s, &lobe), served, false, rays);
+                self.diffuse(scene, s, false, rays);
             }
-            (_, None) => self.ensure_glossy(scene, s, served, rays),
+            (_, None) => {
+                self.glossy(scene, s, served, false, rays);
+            }
         }
     }
 
-    /// The glossy cache's lookup (SDRC or SH) at `s`, creating a record if none is near.
-    fn ensure_glossy(
+    /// The glossy cache's lookup (SDRC or SH) at `s`, creating a record if none is near;
+    /// then, if `read`, the light it reflects there.
+    fn glossy(
         &mut self,
         scene: &RenderScene,
         s: &Shading,
         served: Served,
+        read: bool,
         rays: &mut RayCounters,
-    ) {
-        let (n, a) = (viewer_normal(s), self.a_glossy());
+    ) -> Rgb {
+        let (options, a) = (self.setup.options, self.a_scale * self.setup.options.a);
+        let Work {
+            glossy,
+            harmonics,
+            photon_scratch,
+            ..
+        } = &mut *self.work;
+        let mut tracing = record_rays(
+            self.setup,
+            self.caches,
+            photon_scratch,
+            self.seed,
+            self.phase,
+        );
+        let at = Lookup { scene, s, a, read };
         if let Served::Harmonics(count) = served {
-            if !self
-                .caches
-                .harmonics
-                .lookup(&mut self.work.harmonics, s.si.p, n, a)
-            {
-                let record = self.new_sh_record(scene, s, n, count, rays);
-                self.caches
-                    .harmonics
-                    .create(&mut self.work.harmonics, record);
-            }
-        } else if !self
-            .caches
-            .glossy
-            .lookup(&mut self.work.glossy, s.si.p, n, a)
-        {
-            let record = self.new_glossy_record(scene, s, n, rays);
-            self.caches.glossy.create(&mut self.work.glossy, record);
-        }
-    }
-
-    /// The irradiance cache's lookup at `s`, creating a record if none is near.
-    fn ensure_irradiance(&mut self, scene: &RenderScene, s: &Shading, rays: &mut RayCounters) {
-        let (n, a) = (viewer_normal(s), self.a_diffuse());
-        if !self
-            .caches
-            .diffuse
-            .lookup(&mut self.work.diffuse, s.si.p, n, a)
-        {
-            let record = self.new_irradiance_record(scene, s, n, rays);
-            self.caches.diffuse.create(&mut self.work.diffuse, record);
-        }
-    }
-
-    /// Light of the glossy cache reflected at `s` (its records looked up).
-    fn glossy_at(
-        &mut self,
-        scene: &RenderScene,
-        s: &Shading,
-        served: Served,
-        rays: &mut RayCounters,
-    ) -> Rgb {
-        if let Served::Harmonics(_) = served {
-            let counts = &mut self.work.harmonics.counts;
-            counts.points += 1;
-            counts.records_used += self.work.harmonics.near.len() as u64;
-            self.sh_outgoing(s)
-        } else {
-            let counts = &mut self.work.glossy.counts;
-            counts.points += 1;
-            counts.records_used += self.work.glossy.near.len() as u64;
-            self.glossy_outgoing(scene, s, rays)
-        }
-    }
-
-    /// Light of the irradiance cache reflected by a Lambertian lobe of `albedo` at `s` (its
-    /// records looked up).
-    fn diffuse_at(&mut self, s: &Shading, albedo: Rgb) -> Rgb {
-        let counts = &mut self.work.diffuse.counts;
-        counts.points += 1;
-        counts.records_used += self.work.diffuse.near.len() as u64;
-        albedo * self.irradiance(s) * std::f32::consts::FRAC_1_PI
-    }
-
-    /// SDRC's maximum interpolation error in this phase.
-    pub fn a_glossy(&self) -> f32 {
-        self.a_scale * self.sdrc.options.a
-    }
-
-    /// The irradiance cache's maximum interpolation error in this phase.
-    pub fn a_diffuse(&self) -> f32 {
-        self.a_scale * self.sdrc.options.irradiance_a
-    }
-
-    /// R_i of a record under maximum error `a` from its rays' hit distances (their harmonic
-    /// mean), limited to 1 / `relative_gradient` where the outgoing light changes faster
-    /// (§2.4.6), and clamped to the bounds of its reach in pixels.
-    pub(crate) fn radius(
-        &self,
-        s: &Shading,
-        a: f32,
-        distances: &Distances,
-        relative_gradient: Option<f32>,
-    ) -> f32 {
-        let (lo, hi) = self.sdrc.radius_bounds(s.si.t, a);
-        let mut r = if distances.hits > 0 {
-            (distances.hits as f64 / distances.inverse) as f32
-        } else {
-            hi
-        };
-        if let Some(g) = relative_gradient.filter(|g| g * r > 1.0) {
-            r = 1.0 / g;
-        }
-        r.clamp(lo, hi)
-    }
-
-    /// The ray of a record at `s` (hemisphere `frame`, geometric normal `ng` on its side)
-    /// along the record-frame direction `local`: the light reflected back along it and its
-    /// hit distance, noted in `distances`; nothing for directions below the geometric surface.
-    #[allow(clippy::too_many_arguments)]
-    pub(crate) fn record_ray(
-        &mut self,
-        scene: &RenderScene,
-        s: &Shading,
-        (frame, ng): (&Frame, Vec3),
-        local: Vec3,
-        sampler: &mut Sampler,
-        rays: &mut RayCounters,
-        distances: &mut Distances,
-    ) -> (Rgb, f32) {
-        let w = frame.to_world(local);
-        if w.dot(ng) <= 0.0 {
-            return (Rgb::ZERO, f32::INFINITY);
-        }
-        let (l, t) = self.reflected(scene, Ray::new(s.si.spawn(w), w), sampler, s, rays);
-        distances.add(t);
-        (l, t)
-    }
-
-    /// A record's rays over its stratified hemisphere (`frame`, geometric normal `ng`):
-    /// `rings` x `sectors` cells, ring j's (sin, cos) of theta from `ring((j + u) / rings)`,
-    /// phi jittered in its sector; per cell, ring-major: (local direction, radiance,
-    /// distance, sin theta, phi). Stream `tag`; hit distances go to `distances`.
-    #[allow(clippy::too_many_arguments)]
-    pub(crate) fn stratified(
-        &mut self,
-        scene: &RenderScene,
-        s: &Shading,
-        (frame, ng): (&Frame, Vec3),
-        tag: u64,
-        (rings, sectors): (usize, usize),
-        ring: impl Fn(f32) -> (f32, f32),
-        rays: &mut RayCounters,
-        distances: &mut Distances,
-    ) -> Vec<Cell> {
-        let mut cells = Vec::with_capacity(rings * sectors);
-        for j in 0..rings {
-            for k in 0..sectors {
-                let mut sampler = self.record_stream(s, tag, (j * sectors + k) as u32);
-                let u = sampler.next_2d();
-                let (sin, cos) = ring((j as f32 + u.x) / rings as f32);
-                let phi = std::f32::consts::TAU * (k as f32 + u.y) / sectors as f32;
-                let local = Vec3::new(sin * phi.cos(), sin * phi.sin(), cos);
-                let (l, t) =
-                    self.record_ray(scene, s, (frame, ng), local, &mut sampler, rays, distances);
-                cells.push(Cell {
-                    local,
-                    l,
-                    t,
-                    sin,
-                    phi,
-                });
-            }
-        }
-        cells
-    }
-
-    /// The sample stream `k` of a record made at `s` (`tag` tells the caches apart).
-    pub(crate) fn record_stream(&self, s: &Shading, tag: u64, k: u32) -> Sampler {
-        let key = s.sample.pixel() << 32 | s.sample.index as u64;
-        Sampler::new(self.seed ^ tag ^ self.phase, key, k)
-    }
-
-    /// Light reflected towards `origin` by the surface a ray from `origin` along `w` finds
-    /// (emitted light excluded: next events count it), by a path one segment longer than the
-    /// point's (ended by the photon map at diffuse surfaces, if there is one), and the hit's
-    /// distance (infinite for rays that escape: the environment is
-    /// direct light).
-    pub(crate) fn reflected(
-        &mut self,
-        scene: &RenderScene,
-        ray: Ray,
-        sampler: &mut Sampler,
-        s: &Shading,
-        rays: &mut RayCounters,
-    ) -> (Rgb, f32) {
-        rays.bounce += 1;
-        let Some(hit) = scene.scene.intersect(&ray, f32::INFINITY) else {
-            return (Rgb::ZERO, f32::INFINITY);
-        };
-        let t = hit.t;
-        let l = self.trace_from(scene, ray, Some(hit), sampler, s, rays);
-        (l, t)
-    }
-
-    /// [`Self::reflected`] without the distance, for a ray not yet intersected (`hit` None).
-    pub(crate) fn trace_from(
-        &mut self,
-        scene: &RenderScene,
-        ray: Ray,
-        hit: Option<Hit>,
-        sampler: &mut Sampler,
-        s: &Shading,
-        rays: &mut RayCounters,
-    ) -> Rgb {
-        let start = Start {
-            segments: 1,
-            emitted: false,
-            hit,
-        };
-        // Cache rays teach no light sampler.
-        let off = &mut LightRecords::off();
-        let (mut none, mut photons);
-        let gather: &mut dyn Gather = if self.caches.photons.is_empty() {
-            none = NoGather;
-            &mut none
-        } else {
-            photons = PhotonGather {
-                map: &self.caches.photons,
-                scratch: &mut self.work.photon_scratch,
+            let kind = ShRecords {
+                rays: count,
+                m: options.m,
             };
-            &mut photons
+            at.run(&kind, &self.caches.harmonics, harmonics, &mut tracing, rays)
+        } else {
+            let kind = SdrcRecords {
+                n: options.n,
+                m: options.m,
+                query_samples: options.query_samples,
+                r_max: options.r_max,
+            };
+            at.run(&kind, &self.caches.glossy, glossy, &mut tracing, rays)
+        }
+    }
+
+    /// The irradiance cache's lookup at `s`, creating a record if none is near; then, if
+    /// `read`, the irradiance there.
+    fn diffuse(
+        &mut self,
+        scene: &RenderScene,
+        s: &Shading,
+        read: bool,
+        rays: &mut RayCounters,
+    ) -> Rgb {
+        let options = self.setup.options;
+        let a = self.a_scale * options.irradiance_a;
+        let Work {
+            diffuse,
+            photon_scratch,
+            ..
+        } = &mut *self.work;
+        let mut tracing = record_rays(
+            self.setup,
+            self.caches,
+            photon_scratch,
+            self.seed,
+            self.phase,
+        );
+        let kind = IrradianceRecords {
+            rays: options.irradiance_rays,
+            gradients: options.irradiance_gradients,
         };
-        let tracer = &self.sdrc.tracer;
-        tracer.trace(scene, ray, start, sampler, s.sample, off, rays, gather)
+        let at = Lookup { scene, s, a, read };
+        at.run(&kind, &self.caches.diffuse, diffuse, &mut tracing, rays)
+    }
+}
+
+/// The record rays of a cache at work.
+fn record_rays<'a>(
+    setup: &CacheSetup<'a>,
+    caches: &'a Caches,
+    photon_scratch: &'a mut Vec<(f32, u32)>,
+    seed: u64,
+    phase: u64,
+) -> RecordRays<'a> {
+    RecordRays {
+        tracer: setup.tracer,
+        photons: &caches.photons,
+        photon_scratch,
+        footprint: setup.footprint,
+        min_reach: setup.options.min_reach,
+        seed,
+        phase,
+    }
+}
+
+/// A lookup in one cache at a shading point.
+struct Lookup<'a, 's> {
+    scene: &'a RenderScene,
+    s: &'a Shading<'s>,
+    /// The maximum interpolation error in this phase.
+    a: f32,
+    /// Whether to read the records found (else only find or create them).
+    read: bool,
+}
+
+impl Lookup<'_, '_> {
+    /// Finds the records of `cache` near the point, creating one of `kind` if none is near,
+    /// and, if the lookup reads them, what they give there (else black).
+    fn run<K: CacheKind>(
+        &self,
+        kind: &K,
+        cache: &SpatialCache<K::Payload>,
+        delta: &mut Delta<K::Payload>,
+        tracing: &mut RecordRays,
+        rays: &mut RayCounters,
+    ) -> Rgb {
+        let s = self.s;
+        if !cache.lookup(delta, s.si.p, viewer_normal(s), self.a) {
+            let record = kind.create(tracing, delta, self.scene, s, self.a, rays);
+            cache.create(delta, record);
+        }
+        if !self.read {
+            return Rgb::ZERO;
+        }
+        delta.counts.points += 1;
+        delta.counts.records_used += delta.near.len() as u64;
+        kind.interpolate(tracing, cache, delta, self.scene, s, rays)
     }
 }
 
@@ -380,22 +317,16 @@ impl Gather for CacheGather<'_> {
     ) -> Option<Rgb> {
         let served = self.served(s, segments)?;
         self.work.served.push((s.sample.x, s.sample.y));
+        let lambertian = std::f32::consts::FRAC_1_PI;
         Some(match (served, self.split(s)) {
             (Served::Diffuse(albedo), _) => {
-                self.ensure_irradiance(scene, s, rays);
-                self.diffuse_at(s, albedo)
+                albedo * self.diffuse(scene, s, true, rays) * lambertian
             }
             (_, Some((albedo, lobe))) => {
-                let glossy = with_bsdf(s, &lobe);
-                self.ensure_glossy(scene, &glossy, served, rays);
-                let l = self.glossy_at(scene, &glossy, served, rays);
-                self.ensure_irradiance(scene, s, rays);
-                l + self.diffuse_at(s, albedo)
+                let l = self.glossy(scene, &with_bsdf(s, &lobe), served, true, rays);
+                l + albedo * self.diffuse(scene, s, true, rays) * lambertian
             }
-            (_, None) => {
-                self.ensure_glossy(scene, s, served, rays);
-                self.glossy_at(scene, s, served, rays)
-            }
+            (_, None) => self.glossy(scene, s, served, true, rays),
         })
     }
 }
@@ -409,54 +340,5 @@ fn with_bsdf<'a>(s: &Shading<'a>, bsdf: &'a Bsdf) -> Shading<'a> {
         wo: s.wo,
         wo_local: s.wo_local,
         sample: s.sample,
-    }
-}
-
-/// A cell of a record's stratified hemisphere and what its ray brought back.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Cell {
-    /// The ray's direction in the record's frame.
-    pub local: Vec3,
-    /// Radiance reflected back along it.
-    pub l: Rgb,
-    /// Its hit distance (infinite: it escaped or went below the surface).
-    pub t: f32,
-    /// sin theta and phi of the direction.
-    pub sin: f32,
-    pub phi: f32,
-}
-
-/// Hit distances of a record's rays, for R_i (their harmonic mean).
-#[derive(Clone, Copy, Debug, Default)]
-pub(crate) struct Distances {
-    hits: u32,
-    inverse: f64,
-}
-
-impl Distances {
-    /// A ray that went `t` (infinite: it escaped).
-    pub(crate) fn add(&mut self, t: f32) {
-        if t.is_finite() && t > 0.0 {
-            self.hits += 1;
-            self.inverse += 1.0 / t as f64;
-        }
-    }
-}
-
-/// The shading normal on the side the point is seen from.
-pub(crate) fn viewer_normal(s: &Shading) -> Vec3 {
-    if s.wo_local.z < 0.0 {
-        -s.si.ns
-    } else {
-        s.si.ns
-    }
-}
-
-/// The geometric normal on the side the point is seen from.
-pub(crate) fn viewer_geometric_normal(s: &Shading) -> Vec3 {
-    if s.si.ng.dot(s.wo) < 0.0 {
-        -s.si.ng
-    } else {
-        s.si.ng
     }
 }

@@ -3,42 +3,61 @@
 //! nearby records' samples (§2.4.4), samples added by tracing from a record where none is
 //! near, and the outgoing radiance (eq. 2.3).
 
-use crate::gather::{viewer_geometric_normal, CacheGather, Distances};
+use crate::directions::{direction, sample_bsdf};
+use crate::kind::CacheKind;
 use crate::ltree::{LTree, Sample};
 use crate::paraboloid;
 use crate::record::Record;
+use crate::record_rays::{viewer_geometric_normal, viewer_normal, Distances, RecordRays};
+use crate::spatial::{Delta, SpatialCache};
 use fenestra_core::stats::RayCounters;
 use fenestra_core::{Frame, Ray, Rgb, Sampler, Vec3};
 use fenestra_render::integrator::Shading;
 use fenestra_render::RenderScene;
 
-/// Seeds of the sample streams SDRC draws (xor-ed with the render's seed).
-const DIRECTIONS: u64 = 0x5d5c_0001;
+/// Seed of SDRC records' sample streams (xor-ed with the render's seed).
 const RECORD_RAYS: u64 = 0x5d5c_0002;
 
-impl CacheGather<'_> {
+/// SDRC's records (L-trees of BRDF-sampled radiance) and the options they follow.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct SdrcRecords {
+    /// Rays per record (N).
+    pub(crate) n: u32,
+    /// BRDF-sampled directions per point (M).
+    pub(crate) m: u32,
+    /// Samples of a record a directional query expects.
+    pub(crate) query_samples: f32,
+    /// Largest query radius in D.
+    pub(crate) r_max: f32,
+}
+
+impl CacheKind for SdrcRecords {
+    type Payload = LTree;
+
     /// A new SDRC record at `s` (§2.4.3): N BRDF-sampled rays and their radiance; R_i from
     /// their lengths and the outgoing radiance's gradient (§2.4.6).
-    pub(crate) fn new_glossy_record(
-        &mut self,
+    fn create(
+        &self,
+        tracing: &mut RecordRays,
+        delta: &mut Delta<LTree>,
         scene: &RenderScene,
         s: &Shading,
-        n: Vec3,
+        a: f32,
         rays: &mut RayCounters,
     ) -> Record<LTree> {
-        let frame = Frame::from_normal(n);
-        let count = self.sdrc.options.n;
-        let mut samples = Vec::with_capacity(count as usize);
-        let mut gradient = Gradient::new(s, self.sdrc.footprint(s.si.t));
+        let frame = Frame::from_normal(viewer_normal(s));
+        let mut samples = Vec::with_capacity(self.n as usize);
+        let mut gradient = Gradient::new(s, tracing.footprint.at(s.si.t));
         let mut distances = Distances::default();
-        for k in 0..count {
-            let mut sampler = self.record_stream(s, RECORD_RAYS, k);
+        for k in 0..self.n {
+            let mut sampler = tracing.record_stream(s, RECORD_RAYS, k);
             let Some((w, weight, pdf)) = sample_bsdf(s, &mut sampler) else {
                 gradient.skip();
                 continue;
             };
-            self.work.glossy.counts.record_rays += 1;
-            let (l, t) = self.reflected(scene, Ray::new(s.si.spawn(w), w), &mut sampler, s, rays);
+            delta.counts.record_rays += 1;
+            let ray = Ray::new(s.si.spawn(w), w);
+            let (l, t) = tracing.reflected(scene, ray, &mut sampler, s, rays);
             distances.add(t);
             gradient.add(l, w, t, weight, pdf);
             samples.push(Sample::new(paraboloid::to_disc(frame.to_local(w)), l));
@@ -47,32 +66,36 @@ impl CacheGather<'_> {
             si: *s.si,
             frame,
             ng: viewer_geometric_normal(s),
-            r: self.radius(s, self.a_glossy(), &distances, gradient.relative()),
+            r: tracing.radius(s, a, &distances, gradient.relative()),
             payload: LTree::build(samples),
             pixel: (s.sample.x, s.sample.y),
         }
     }
 
     /// Outgoing radiance at `s` from M BRDF-sampled directions (eq. 2.3), interpolated from
-    /// the records in `near` (§2.4.4) or traced from one of them.
-    pub(crate) fn glossy_outgoing(
-        &mut self,
+    /// the records near (§2.4.4) or traced from one of them.
+    fn interpolate(
+        &self,
+        tracing: &mut RecordRays,
+        cache: &SpatialCache<LTree>,
+        delta: &mut Delta<LTree>,
         scene: &RenderScene,
         s: &Shading,
         rays: &mut RayCounters,
     ) -> Rgb {
-        let (m, options) = (self.sdrc.options.m, &self.sdrc.options);
+        let m = self.m;
         // The pixel's estimate so far averages this many directions; a query's radius follows
         // them down to the radius where it expects `query_samples` of a record's N samples
         // (N / (pi count), below).
-        let floor = options.n as f32 / (std::f32::consts::PI * options.query_samples);
+        let floor = self.n as f32 / (std::f32::consts::PI * self.query_samples);
         let pixel_m = ((m as f32) * (s.sample.index as f32 + 1.0))
             .min(floor)
             .max(m as f32);
-        let near = std::mem::take(&mut self.work.glossy.near);
+        let near = std::mem::take(&mut delta.near);
+        let mut records = Records { cache, delta };
         let (mut sum, mut used) = (Rgb::ZERO, 0u32);
         for j in 0..m {
-            let (mut sampler, direction) = self.direction(s, j);
+            let (mut sampler, direction) = direction(tracing.seed, m, s, j);
             let Some((w, weight, pdf)) = direction else {
                 used += 1;
                 continue;
@@ -83,25 +106,24 @@ impl CacheGather<'_> {
             // sample averages k M directions with the earlier ones; a query then expects
             // N / (pi k M) samples), and doubles up to the radius of this sample's own M
             // while nothing is found; only then is a ray traced.
-            let at = |count: f32| {
-                (1.0 / (std::f32::consts::TAU * (count * pdf).sqrt())).min(options.r_max)
-            };
+            let at =
+                |count: f32| (1.0 / (std::f32::consts::TAU * (count * pdf).sqrt())).min(self.r_max);
             let (mut radius, widest) = (at(pixel_m), at(m as f32));
             let (l, total) = loop {
-                let (l, total) = self.interpolate(&near, w, radius);
+                let (l, total) = records.interpolate(&near, w, radius);
                 if total > 0.0 || radius >= widest {
                     break (l, total);
                 }
                 radius = (radius * 2.0).min(widest);
             };
             let lin = if total > 0.0 {
-                self.work.glossy.counts.interpolated += 1;
+                records.delta.counts.interpolated += 1;
                 l * (1.0 / total)
             } else {
-                match self.update(scene, s, &near, w, &mut sampler, rays) {
+                match records.update(tracing, scene, s, &near, w, &mut sampler, rays) {
                     Some(l) => l,
                     None => {
-                        self.work.glossy.counts.rejected += 1;
+                        records.delta.counts.rejected += 1;
                         continue;
                     }
                 }
@@ -109,23 +131,22 @@ impl CacheGather<'_> {
             sum += lin * weight;
             used += 1;
         }
-        self.work.glossy.near = near;
+        records.delta.near = near;
         if used == 0 {
             Rgb::ZERO
         } else {
             sum * (1.0 / used as f32)
         }
     }
+}
 
-    /// The `j`-th of the point's M BRDF-sampled directions (direction, weight f cos / pdf,
-    /// density), and its sample stream: a pixel's directions are one Sobol sequence.
-    pub(crate) fn direction(&self, s: &Shading, j: u32) -> (Sampler, Option<(Vec3, Rgb, f32)>) {
-        let first = s.sample.index.wrapping_mul(self.sdrc.options.m);
-        let mut sampler = Sampler::new(self.seed ^ DIRECTIONS, s.sample.pixel(), first + j);
-        let direction = sample_bsdf(s, &mut sampler);
-        (sampler, direction)
-    }
+/// SDRC's records as one point's lookups see them: the cache and the block's additions.
+struct Records<'a, 'd> {
+    cache: &'a SpatialCache<LTree>,
+    delta: &'d mut Delta<LTree>,
+}
 
+impl Records<'_, '_> {
     /// Incoming radiance along `w` interpolated from the samples within `radius` (in D) of
     /// the records `near` (§2.4.4): the sum of their radiance weighted by spatial and
     /// directional weight, and the sum of weights.
@@ -133,7 +154,7 @@ impl CacheGather<'_> {
         let r2 = radius * radius;
         let (mut l, mut total) = (Rgb::ZERO, 0.0f32);
         for &(id, ws) in near {
-            let record = self.caches.glossy.record(&self.work.glossy, id);
+            let record = self.cache.record(self.delta, id);
             let Some(d) = record.disc(w) else { continue };
             let mut take = |sample: &Sample, d2: f32| {
                 let wd = ws * (1.0 - d2 / r2);
@@ -141,7 +162,7 @@ impl CacheGather<'_> {
                 total += wd;
             };
             record.payload.within(d, radius, &mut take);
-            for sample in self.caches.glossy.added(&self.work.glossy, id) {
+            for sample in self.cache.added(self.delta, id) {
                 let d2 = sample.distance2(d);
                 if d2 < r2 {
                     take(sample, d2);
@@ -153,8 +174,10 @@ impl CacheGather<'_> {
 
     /// No cached sample near `w`: trace from a record near `s` picked at random among those
     /// whose hemisphere holds `w`, add the sample to it, and return its radiance (§2.4.4).
+    #[allow(clippy::too_many_arguments)]
     fn update(
         &mut self,
+        tracing: &mut RecordRays,
         scene: &RenderScene,
         s: &Shading,
         near: &[(u32, f32)],
@@ -162,40 +185,22 @@ impl CacheGather<'_> {
         sampler: &mut Sampler,
         rays: &mut RayCounters,
     ) -> Option<Rgb> {
-        let holds = |&&(id, _): &&(u32, f32)| {
-            self.caches
-                .glossy
-                .record(&self.work.glossy, id)
-                .disc(w)
-                .is_some()
-        };
+        let holds = |&&(id, _): &&(u32, f32)| self.cache.record(self.delta, id).disc(w).is_some();
         let count = near.iter().filter(holds).count();
         if count == 0 {
             return None;
         }
         let pick = ((sampler.next_1d() * count as f32) as usize).min(count - 1);
         let &(id, _) = near.iter().filter(holds).nth(pick)?;
-        let record = self.caches.glossy.record(&self.work.glossy, id);
+        let record = self.cache.record(self.delta, id);
         let d = record.disc(w)?;
         let ray = Ray::new(record.si.spawn(w), w);
-        self.work.glossy.counts.update_rays += 1;
+        self.delta.counts.update_rays += 1;
         rays.bounce += 1;
-        let l = self.trace_from(scene, ray, None, sampler, s, rays);
-        self.caches
-            .glossy
-            .add(&mut self.work.glossy, id, Sample::new(d, l));
+        let l = tracing.trace_from(scene, ray, None, sampler, s, rays);
+        self.cache.add(self.delta, id, Sample::new(d, l));
         Some(l)
     }
-}
-
-/// A BSDF-sampled direction at `s` (world), its weight f cos / pdf and density; `None` where
-/// sampling fails or the direction leaves through the wrong side.
-fn sample_bsdf(s: &Shading, sampler: &mut Sampler) -> Option<(Vec3, Rgb, f32)> {
-    let uc = sampler.next_1d();
-    let u = sampler.next_2d();
-    let bs = s.bsdf.sample(s.wo_local, uc, u)?;
-    let w = s.frame.to_world(bs.wi);
-    (s.sides_agree(w, bs.wi.z) && bs.pdf > 0.0).then_some((w, bs.weight, bs.pdf))
 }
 
 /// Outgoing radiance of a new record's samples at the point and at points moved by one

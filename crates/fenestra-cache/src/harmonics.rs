@@ -13,9 +13,12 @@
 //! estimated by the point's M BRDF-sampled directions through the SH reconstruction, so any
 //! BRDF that can be sampled is served, as SDRC serves it.
 
-use crate::gather::{viewer_geometric_normal, CacheGather, Distances};
+use crate::directions::direction;
+use crate::kind::CacheKind;
 use crate::record::{Payload, Record};
+use crate::record_rays::{viewer_geometric_normal, viewer_normal, Distances, RecordRays};
 use crate::sh;
+use crate::spatial::{Delta, SpatialCache};
 use fenestra_core::stats::RayCounters;
 use fenestra_core::{Frame, Rgb, Vec3};
 use fenestra_render::integrator::Shading;
@@ -79,26 +82,38 @@ impl ShRadiance {
     }
 }
 
-impl CacheGather<'_> {
+/// SH radiance records and the options they follow.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct ShRecords {
+    /// Rays per record.
+    pub(crate) rays: u32,
+    /// BRDF-sampled directions per point (M, as SDRC's).
+    pub(crate) m: u32,
+}
+
+impl CacheKind for ShRecords {
+    type Payload = ShRadiance;
+
     /// A new SH record at `s`: `rays` directions stratified uniformly over the hemisphere
     /// (rings of equal height, sectors), their reflected radiance projected onto the basis;
     /// R_i from the hit distances.
-    pub(crate) fn new_sh_record(
-        &mut self,
+    fn create(
+        &self,
+        tracing: &mut RecordRays,
+        delta: &mut Delta<ShRadiance>,
         scene: &RenderScene,
         s: &Shading,
-        n: Vec3,
-        rays_per_record: u32,
+        a: f32,
         rays: &mut RayCounters,
     ) -> Record<ShRadiance> {
-        let frame = Frame::from_normal(n);
+        let frame = Frame::from_normal(viewer_normal(s));
         let ng = viewer_geometric_normal(s);
-        let rings = ((rays_per_record as f32).sqrt().round() as usize).max(1);
-        let sectors = (rays_per_record as usize / rings).max(1);
+        let rings = ((self.rays as f32).sqrt().round() as usize).max(1);
+        let sectors = (self.rays as usize / rings).max(1);
         let mut distances = Distances::default();
         // Uniform: cos theta uniform over the ring's share.
         let uniform = |cos: f32| ((1.0 - cos * cos).max(0.0).sqrt(), cos);
-        let cells = self.stratified(
+        let cells = tracing.stratified(
             scene,
             s,
             (&frame, ng),
@@ -108,37 +123,45 @@ impl CacheGather<'_> {
             rays,
             &mut distances,
         );
-        self.work.harmonics.counts.record_rays += cells.len() as u64;
+        delta.counts.record_rays += cells.len() as u64;
         let samples: Vec<(Vec3, Rgb)> = cells.iter().map(|c| (c.local, c.l)).collect();
         let count = samples.len();
         Record {
             si: *s.si,
             frame,
             ng,
-            r: self.radius(s, self.a_glossy(), &distances, None),
+            r: tracing.radius(s, a, &distances, None),
             payload: ShRadiance::project(samples, count),
             pixel: (s.sample.x, s.sample.y),
         }
     }
 
-    /// Outgoing radiance at `s` (§2.3): the records in `work.harmonics.near` interpolated
-    /// with their weights, read in the point's M BRDF-sampled directions.
-    pub(crate) fn sh_outgoing(&self, s: &Shading) -> Rgb {
-        let near = &self.work.harmonics.near;
+    /// Outgoing radiance at `s` (§2.3): the records near interpolated with their weights,
+    /// read in the point's M BRDF-sampled directions.
+    fn interpolate(
+        &self,
+        tracing: &mut RecordRays,
+        cache: &SpatialCache<ShRadiance>,
+        delta: &mut Delta<ShRadiance>,
+        _: &RenderScene,
+        s: &Shading,
+        _: &mut RayCounters,
+    ) -> Rgb {
+        let near = &delta.near;
         let total: f32 = near.iter().map(|&(_, w)| w).sum();
         if total <= 0.0 {
             return Rgb::ZERO;
         }
-        let m = self.sdrc.options.m;
+        let m = self.m;
         let mut y = [0.0f32; sh::COUNT];
         let mut sum = Rgb::ZERO;
         for j in 0..m {
-            let Some((w, weight, _)) = self.direction(s, j).1 else {
+            let Some((w, weight, _)) = direction(tracing.seed, m, s, j).1 else {
                 continue;
             };
             let mut l = Rgb::ZERO;
             for &(id, ws) in near {
-                let r = self.caches.harmonics.record(&self.work.harmonics, id);
+                let r = cache.record(delta, id);
                 l += r.payload.radiance(r.frame.to_local(w), &mut y) * ws;
             }
             sum += l * weight;

@@ -5,9 +5,11 @@
 //! hemisphere; between records it is extrapolated by the gradients and averaged with the
 //! weights of eq. 2.2.
 
-use crate::gather::{viewer_geometric_normal, CacheGather, Distances};
+use crate::kind::CacheKind;
 use crate::options::Gradients;
 use crate::record::{Payload, Record};
+use crate::record_rays::{viewer_geometric_normal, viewer_normal, Distances, RecordRays};
+use crate::spatial::{Delta, SpatialCache};
 use fenestra_core::stats::RayCounters;
 use fenestra_core::{Frame, Rgb, Vec3};
 use fenestra_render::integrator::Shading;
@@ -62,28 +64,38 @@ impl Irradiance {
     }
 }
 
-impl CacheGather<'_> {
+/// Irradiance records and the options they follow.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct IrradianceRecords {
+    /// Rays per record.
+    pub(crate) rays: u32,
+    /// Which gradients records keep and use.
+    pub(crate) gradients: Gradients,
+}
+
+impl CacheKind for IrradianceRecords {
+    type Payload = Irradiance;
+
     /// A new irradiance record at `s`: M x N stratified cosine-weighted directions (N ~ pi M),
     /// their reflected radiance, the irradiance E = pi / (M N) sum L and its gradients; R_i
     /// from the hit distances, limited where the irradiance changes faster (E / |grad E|).
-    pub(crate) fn new_irradiance_record(
-        &mut self,
+    fn create(
+        &self,
+        tracing: &mut RecordRays,
+        delta: &mut Delta<Irradiance>,
         scene: &RenderScene,
         s: &Shading,
-        n: Vec3,
+        a: f32,
         rays: &mut RayCounters,
     ) -> Record<Irradiance> {
-        let frame = Frame::from_normal(n);
+        let frame = Frame::from_normal(viewer_normal(s));
         let ng = viewer_geometric_normal(s);
-        let rings = ((self.sdrc.options.irradiance_rays as f32 / PI)
-            .sqrt()
-            .round() as usize)
-            .max(2);
-        let sectors = (self.sdrc.options.irradiance_rays as usize / rings).max(3);
+        let rings = ((self.rays as f32 / PI).sqrt().round() as usize).max(2);
+        let sectors = (self.rays as usize / rings).max(3);
         let mut distances = Distances::default();
         // Cosine-weighted: sin^2 theta uniform over the ring's share.
         let cosine = |sin2: f32| (sin2.sqrt(), (1.0 - sin2).max(0.0).sqrt());
-        let cells = self.stratified(
+        let cells = tracing.stratified(
             scene,
             s,
             (&frame, ng),
@@ -93,11 +105,11 @@ impl CacheGather<'_> {
             rays,
             &mut distances,
         );
-        self.work.diffuse.counts.record_rays += cells.len() as u64;
+        delta.counts.record_rays += cells.len() as u64;
         let cells: Vec<_> = cells.iter().map(|c| (c.l, c.t, c.sin, c.phi)).collect();
         let irradiance = gradients(&cells, rings, sectors, &frame);
         let e = irradiance.e.luminance();
-        let translation = self.sdrc.options.irradiance_gradients == Gradients::Both;
+        let translation = self.gradients == Gradients::Both;
         let relative = (e > 0.0 && translation).then(|| {
             let g = luminance_of(&irradiance.translation);
             g.length() / e
@@ -106,23 +118,28 @@ impl CacheGather<'_> {
             si: *s.si,
             frame,
             ng,
-            r: self.radius(s, self.a_diffuse(), &distances, relative),
+            r: tracing.radius(s, a, &distances, relative),
             payload: irradiance,
             pixel: (s.sample.x, s.sample.y),
         }
     }
 
-    /// Irradiance at `s` from the records in `work.diffuse.near`: their gradient-extrapolated
-    /// values averaged with the weights of eq. 2.2.
-    pub(crate) fn irradiance(&self, s: &Shading) -> Rgb {
-        let n = crate::gather::viewer_normal(s);
+    /// Irradiance at `s` from the records near: their gradient-extrapolated values averaged
+    /// with the weights of eq. 2.2.
+    fn interpolate(
+        &self,
+        _: &mut RecordRays,
+        cache: &SpatialCache<Irradiance>,
+        delta: &mut Delta<Irradiance>,
+        _: &RenderScene,
+        s: &Shading,
+        _: &mut RayCounters,
+    ) -> Rgb {
+        let n = viewer_normal(s);
         let (mut sum, mut total) = (Rgb::ZERO, 0.0f32);
-        for &(id, w) in &self.work.diffuse.near {
-            let r = self.caches.diffuse.record(&self.work.diffuse, id);
-            sum += r
-                .payload
-                .at(r, s.si.p, n, self.sdrc.options.irradiance_gradients)
-                * w;
+        for &(id, w) in &delta.near {
+            let r = cache.record(delta, id);
+            sum += r.payload.at(r, s.si.p, n, self.gradients) * w;
             total += w;
         }
         if total > 0.0 {

@@ -9,31 +9,39 @@
 //! - [`octree`] and [`spatial`]: the records in space, with per-block additions merged
 //!   between passes;
 //! - [`record`]: a record and its spatial weight;
-//! - `gather`: which cache serves a shading point, and what the caches share;
+//! - `gather`: which cache serves a shading point, and the lookups there;
+//! - `kind`: what each kind of record does (one trait), `record_rays`: the rays records are
+//!   made from, `directions`: a glossy point's BRDF-sampled directions, `footprint`: the
+//!   camera's pixels, which bound a record's radius;
 //! - `glossy`: Algorithm 1 (SDRC) at a glossy point;
 //! - [`irradiance`]: the irradiance cache with gradients for diffuse points;
 //! - [`sh`] and [`harmonics`]: SH radiance caching, SDRC's baseline (integrator `shrc`);
 //! - [`photons`]: the photon map for light beyond the records' rays;
 //! - [`sdrc`]: the integrator.
 
+mod directions;
+mod footprint;
 mod gather;
 mod glossy;
 pub mod harmonics;
 pub mod irradiance;
+mod kind;
 pub mod ltree;
 pub mod octree;
 pub mod options;
 pub mod paraboloid;
 pub mod photons;
 pub mod record;
+mod record_rays;
 pub mod rgbe;
 pub mod sdrc;
 pub mod sh;
 pub mod spatial;
 
 pub use gather::is_glossy;
+pub use gather::GlossyCache;
 pub use options::{CacheOrPath, Gradients, LambertianLobe, SdrcOptions, ShrcOptions};
-pub use sdrc::{GlossyCache, Sdrc};
+pub use sdrc::Sdrc;
 
 use fenestra_render::integrator::PathConfig;
 use fenestra_render::light::LightOptions;

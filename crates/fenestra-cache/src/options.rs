@@ -3,7 +3,7 @@
 use fenestra_render::options::{at_least_one, non_negative, positive, OptionError, Validate};
 
 /// Largest validity radius a R_i of a record, in pixel footprints at its point (of the view
-/// 256 (`sdrc::REACH_SIDE`) pixels across).
+/// 256 (`footprint::REACH_SIDE`) pixels across).
 pub(crate) const MAX_REACH_PX: f32 = 40.0;
 
 fenestra_render::choices! {

@@ -9,15 +9,16 @@
 //! then the image is rendered in passes of one sample per pixel with a x 1.3, adding samples
 //! to the records (lazy updates) and records where none is near.
 
-use crate::gather::{CacheGather, Caches, Work};
-use crate::options::{CacheOrPath, SdrcOptions, ShrcOptions, MAX_REACH_PX};
+use crate::footprint::PixelFootprint;
+use crate::gather::{CacheGather, CacheSetup, Caches, GlossyCache, Work};
+use crate::options::{CacheOrPath, SdrcOptions, ShrcOptions};
 use crate::photons::PhotonMap;
 use crate::spatial::{Counts, SpatialCache};
 use fenestra_core::stats::{RayCounters, RenderStats};
-use fenestra_core::{Rgb, Sampler, Vec2};
+use fenestra_core::{Rgb, Sampler};
 use fenestra_render::control::RenderControl;
 use fenestra_render::driver::{
-    render_passes, Budget, PassEstimator, PassInfo, PixelState, SampleContext, BLOCK_SIZE,
+    render_passes, Budget, PassEstimator, PassInfo, PixelState, BLOCK_SIZE,
 };
 use fenestra_render::film::Window;
 use fenestra_render::integrator::{
@@ -25,6 +26,8 @@ use fenestra_render::integrator::{
 };
 use fenestra_render::light::LightRecords;
 use fenestra_render::options::{OptionError, Options};
+use fenestra_render::path_sample::Wave;
+use fenestra_render::sample_context::SampleContext;
 use fenestra_render::{Film, RenderScene, RenderSettings};
 use rayon::prelude::*;
 use std::sync::Mutex;
@@ -39,56 +42,6 @@ const PLACEMENT: u64 = 0x5d5c_0003;
 /// then 16, 4) let records spread before the block grid could set their density.
 const PLACEMENT_STRIDES: [u32; 7] = [64, 32, 16, 8, 4, 2, 1];
 
-/// The image size, in pixels along its larger side, at which the reach bounds are in pixels;
-/// larger images of the same view scale them with their size, so that the caches resolve the
-/// same detail of the scene, at about the same cost, at any resolution.
-const REACH_SIDE: u32 = 256;
-
-/// What caches indirect light on glossy surfaces.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum GlossyCache {
-    /// SDRC's L-trees of BRDF-sampled radiance (integrator `sdrc`).
-    Directional,
-    /// SH radiance caching from `rays` uniform rays per record (integrator `shrc`).
-    Harmonics {
-        /// Rays per record.
-        rays: u32,
-    },
-    /// No cache: glossy surfaces path traced by BSDF sampling, the rest as sdrc (the seed's
-    /// Monte Carlo baseline, §2.6: the same caches and direct light but for the glossy
-    /// first bounce).
-    Path,
-}
-
-/// The size of the camera's pixels in the scene.
-#[derive(Clone, Copy, Debug)]
-struct PixelFootprint {
-    /// Angle between neighbouring pixels' camera rays.
-    angle: f32,
-    /// Distance between their origins (orthographic cameras).
-    spacing: f32,
-    /// The image's larger side over [`REACH_SIDE`], at least 1: what the reach bounds'
-    /// pixels are scaled by.
-    reach_scale: f32,
-}
-
-impl Default for PixelFootprint {
-    fn default() -> Self {
-        PixelFootprint {
-            angle: 0.0,
-            spacing: 0.0,
-            reach_scale: 1.0,
-        }
-    }
-}
-
-impl PixelFootprint {
-    /// A pixel's size at distance `t` from the camera.
-    fn at(&self, t: f32) -> f32 {
-        self.spacing + t * self.angle
-    }
-}
-
 /// The `sdrc` integrator.
 pub struct Sdrc {
     pub(crate) tracer: PathTracer<LightNextEvent>,
@@ -96,8 +49,6 @@ pub struct Sdrc {
     /// What caches glossy surfaces' indirect light.
     pub(crate) glossy: GlossyCache,
     path: PathOptions,
-    /// The camera's pixels, measured when a render starts.
-    camera: Mutex<PixelFootprint>,
     /// The last render's pictures: records created per pixel, and the fraction of each
     /// pixel's samples whose indirect light the cache gave.
     maps: Mutex<Vec<WorkMap>>,
@@ -156,49 +107,25 @@ impl Sdrc {
             options,
             glossy,
             path,
-            camera: Mutex::new(PixelFootprint::default()),
             maps: Mutex::new(Vec::new()),
         })
     }
 
-    /// Maximum path length.
-    pub(crate) fn max_depth(&self) -> u32 {
-        self.path.max_depth
-    }
-
-    /// A pixel's size at distance `t` from the camera.
-    pub(crate) fn footprint(&self, t: f32) -> f32 {
-        self.camera.lock().unwrap_or_else(|e| e.into_inner()).at(t)
-    }
-
-    /// Bounds of R_i for a record at distance `t` from the camera under maximum error `a`.
-    pub(crate) fn radius_bounds(&self, t: f32, a: f32) -> (f32, f32) {
-        let pixel = *self.camera.lock().unwrap_or_else(|e| e.into_inner());
-        let reach = pixel.at(t) * pixel.reach_scale / a;
-        (self.options.min_reach * reach, MAX_REACH_PX * reach)
-    }
-
-    /// Measures the camera's pixel footprint from two neighbouring pixels' rays.
-    fn measure_camera(&self, scene: &RenderScene, width: u32, height: u32) {
-        let camera = &scene.scene.camera;
-        let c = Vec2::new(width as f32 * 0.5, height as f32 * 0.5);
-        let (a, b) = (
-            camera.generate_ray(c, width, height),
-            camera.generate_ray(c + Vec2::X, width, height),
-        );
-        let angle = a.d.dot(b.d).clamp(-1.0, 1.0).acos();
-        let spacing = (a.o - b.o).length();
-        let reach_scale = (width.max(height) as f32 / REACH_SIDE as f32).max(1.0);
-        *self.camera.lock().unwrap_or_else(|e| e.into_inner()) = PixelFootprint {
-            angle,
-            spacing,
-            reach_scale,
-        };
+    /// What the caches at work read in a render whose camera's pixels are `footprint`.
+    fn setup(&self, footprint: PixelFootprint) -> CacheSetup<'_> {
+        CacheSetup {
+            tracer: &self.tracer,
+            options: &self.options,
+            glossy: self.glossy,
+            max_depth: self.path.max_depth,
+            footprint,
+        }
     }
 
     /// Places records from one camera ray per pixel, coarse to fine (the seed's first pass).
     fn place_records(
         &self,
+        setup: &CacheSetup,
         scene: &RenderScene,
         film: &Film,
         caches: &mut Caches,
@@ -249,7 +176,7 @@ impl Sdrc {
                                 index: 0,
                             };
                             let mut gather = CacheGather {
-                                sdrc: self,
+                                setup,
                                 caches,
                                 work: &mut work,
                                 a_scale: 1.0,
@@ -283,7 +210,7 @@ fn place_at(
     rays: &mut RayCounters,
 ) {
     let mut sampler = Sampler::new(seed ^ PLACEMENT, ctx.pixel(), 0);
-    let ray = ctx.camera_ray(scene, &mut sampler, rays);
+    let ray = ctx.camera_ray(&scene.scene.camera, &mut sampler, rays);
     let Some(hit) = scene.scene.intersect(&ray, f32::INFINITY) else {
         return;
     };
@@ -349,7 +276,9 @@ impl Integrator for Sdrc {
         control: &RenderControl,
     ) -> RenderStats {
         let started = Instant::now();
-        self.measure_camera(scene, film.window.full_width, film.window.full_height);
+        let window = film.window;
+        let footprint = PixelFootprint::measure(scene, window.full_width, window.full_height);
+        let setup = self.setup(footprint);
         let (lo, hi) = scene.scene.bounds();
         let reach = |a: f32| a * self.options.a_scale;
         let photons = PhotonMap::trace(
@@ -374,7 +303,8 @@ impl Integrator for Sdrc {
             harmonics: SpatialCache::new(lo, hi, reach(self.options.a)),
             diffuse: SpatialCache::new(lo, hi, reach(self.options.irradiance_a)),
         };
-        let placement_rays = self.place_records(scene, film, &mut caches, settings.seed, control);
+        let placement_rays =
+            self.place_records(&setup, scene, film, &mut caches, settings.seed, control);
         let placed = (
             caches.glossy.len(),
             caches.harmonics.len(),
@@ -392,6 +322,7 @@ impl Integrator for Sdrc {
         }
         let mut passes = Passes {
             sdrc: self,
+            setup: &setup,
             caches,
             window: film.window,
             served: vec![0.0; film.pixels.len()],
@@ -468,6 +399,7 @@ fn name(glossy: GlossyCache) -> &'static str {
 /// The render passes: one sample per pixel each, the cache merged between passes.
 struct Passes<'a> {
     sdrc: &'a Sdrc,
+    setup: &'a CacheSetup<'a>,
     caches: Caches,
     window: Window,
     /// Samples per pixel whose indirect light the cache gave (the film's pixels).
@@ -481,7 +413,7 @@ impl Passes<'_> {
     /// The caches at work for a block's samples in a render pass.
     fn gather<'w>(&'w self, work: &'w mut Work) -> CacheGather<'w> {
         CacheGather {
-            sdrc: self.sdrc,
+            setup: self.setup,
             caches: &self.caches,
             work,
             a_scale: self.sdrc.options.a_scale,
@@ -536,17 +468,16 @@ impl PassEstimator for Passes<'_> {
         rays: &mut RayCounters,
         out: &mut [Rgb],
     ) {
-        let cameras = SampleContext::camera_rays(ctxs, scene, samplers, rays);
-        self.sdrc.tracer.trace_wave(
-            scene,
-            &cameras,
-            samplers,
+        let cameras = SampleContext::camera_rays(ctxs, &scene.scene.camera, samplers, rays);
+        let wave = &mut Wave {
+            cameras: &cameras,
             ctxs,
-            &mut LightRecords::off(),
+            samplers,
+            records: &mut LightRecords::off(),
             rays,
-            &mut self.gather(work),
-            out,
-        );
+        };
+        let tracer = &self.sdrc.tracer;
+        tracer.trace_wave(scene, wave, &mut self.gather(work), out);
     }
 
     fn end_pass(&mut self, _: &RenderScene, _: &Film, mut blocks: Vec<Work>) -> bool {

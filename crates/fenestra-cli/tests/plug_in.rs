@@ -6,11 +6,10 @@
 use fenestra_builtin as builtin;
 use fenestra_core::stats::{RayCounters, RenderStats};
 use fenestra_core::{Rgb, Sampler};
-use fenestra_render::driver::{
-    render_passes, Blocks, PassEstimator, PassInfo, PixelState, SampleContext,
-};
+use fenestra_render::driver::{render_passes, Blocks, PassEstimator, PassInfo, PixelState};
 use fenestra_render::options::{at_least_one, OptionError, Params, Validate};
 use fenestra_render::registry::{Group, Registry};
+use fenestra_render::sample_context::SampleContext;
 use fenestra_render::{
     render_image, Film, Integrator, IntegratorError, RenderControl, RenderScene, RenderSettings,
 };

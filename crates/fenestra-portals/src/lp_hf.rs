@@ -15,13 +15,14 @@ use crate::source::PortalSource;
 use fenestra_core::mis::MisHeuristic;
 use fenestra_core::stats::{RayCounters, RenderStats};
 use fenestra_core::{Ray, Rgb, Sampler, Vec3};
-use fenestra_render::driver::SampleContext;
 use fenestra_render::integrator::{
     Beyond, Found, LightNextEvent, LightRays, NextEvent, PathOptions, PathTracer, ProbeRay,
     Scattered, Shading,
 };
 use fenestra_render::light::{LightContext, LightHit, LightRecords};
 use fenestra_render::options::{OptionError, Options, Validate};
+use fenestra_render::path_sample::PathSample;
+use fenestra_render::sample_context::SampleContext;
 use fenestra_render::{IntegratorError, RenderControl, RenderScene};
 use serde_json::json;
 use std::path::Path;
@@ -147,7 +148,6 @@ impl PortalNextEvent {
     /// direction, and the probe ray that finds whatever lies beyond thin glass along it
     /// (emitter or environment); [`PortalNextEvent::probed`] weighs that by MIS against the
     /// BSDF with the mixture's density.
-    #[allow(clippy::too_many_arguments)]
     fn sample_portal(
         &self,
         scene: &RenderScene,
@@ -312,18 +312,16 @@ impl NextEvent for PortalNextEvent {
         s: &Shading,
         v: &PortalVertex,
         mis: MisHeuristic,
-        sampler: &mut Sampler,
-        records: &mut LightRecords,
-        rays: &mut RayCounters,
+        sample: &mut PathSample,
         out: &mut LightRays<PortalProbe>,
     ) -> Rgb {
-        if let Some(probe) = self.sample_portal(scene, s, v, mis, sampler, rays) {
+        if let Some(probe) = self.sample_portal(scene, s, v, mis, sample.sampler, sample.rays) {
             out.probes.push(probe);
         }
         if scene.lights.has_delta {
             let shadows = &mut out.shadows;
             self.lights
-                .sample_light(scene, s, true, mis, sampler, records, rays, shadows);
+                .sample_light(scene, s, true, mis, sample, shadows);
         }
         Rgb::ZERO
     }

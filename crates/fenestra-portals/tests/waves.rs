@@ -9,9 +9,11 @@ use fenestra_builtin as builtin;
 use fenestra_core::{Rgb, Sampler, Vec3};
 use fenestra_portals::estimate::EstimateParams;
 use fenestra_portals::{lp_hf, PortalOptions, PortalSource};
-use fenestra_render::driver::{PathEstimator, SampleContext};
+use fenestra_render::driver::PathEstimator;
 use fenestra_render::integrator::{af_hf, hf, LightNextEvent, PathOptions};
 use fenestra_render::light::{LightRecords, LightSelection};
+use fenestra_render::path_sample::{PathSample, Wave};
+use fenestra_render::sample_context::SampleContext;
 use fenestra_render::{Integrator, NoProgress, RayCounters, RenderControl, RenderScene};
 use fenestra_scene::light::LightDesc;
 use fenestra_scene::{mesh, Backend, Scene, SceneDesc, Shape, ShapeKind, TriangleMesh};
@@ -50,30 +52,39 @@ fn in_a_wave_and_alone(
     let cameras: Vec<_> = ctxs
         .iter()
         .zip(&mut samplers)
-        .map(|(c, s)| c.camera_ray(scene, s, rays))
+        .map(|(c, s)| c.camera_ray(&scene.scene.camera, s, rays))
         .collect();
     let records = &mut LightRecords::off();
     let mut wave = vec![Rgb::ZERO; ctxs.len()];
     let mut streams = samplers.clone();
-    integrator.li_many(
-        scene,
-        &cameras,
-        &mut streams,
-        &ctxs,
-        records,
-        rays,
-        &mut wave,
-    );
+    let all = &mut Wave {
+        cameras: &cameras,
+        ctxs: &ctxs,
+        samplers: &mut streams,
+        records: &mut *records,
+        rays: &mut *rays,
+    };
+    integrator.li_many(scene, all, &mut wave);
     let mut alone = vec![Rgb::ZERO; ctxs.len()];
     for i in 0..ctxs.len() {
-        let mut stream = [samplers[i].clone()];
-        let (ray, ctx, out) = (&cameras[i..=i], &ctxs[i..=i], &mut alone[i..=i]);
-        integrator.li_many(scene, ray, &mut stream, ctx, records, rays, out);
+        let one = &mut Wave {
+            cameras: &cameras[i..=i],
+            ctxs: &ctxs[i..=i],
+            samplers: &mut [samplers[i].clone()],
+            records: &mut *records,
+            rays: &mut *rays,
+        };
+        integrator.li_many(scene, one, &mut alone[i..=i]);
     }
     let single: Vec<Rgb> = (0..ctxs.len())
         .map(|i| {
-            let stream = &mut samplers[i].clone();
-            integrator.li(scene, cameras[i], stream, &ctxs[i], records, rays)
+            let sample = &mut PathSample {
+                ctx: &ctxs[i],
+                sampler: &mut samplers[i].clone(),
+                records: &mut *records,
+                rays: &mut *rays,
+            };
+            integrator.li(scene, cameras[i], sample)
         })
         .collect();
     (wave, alone, single)

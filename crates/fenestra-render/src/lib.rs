@@ -16,9 +16,11 @@ pub mod light;
 pub mod merge;
 pub mod options;
 pub mod output;
+pub mod path_sample;
 pub mod registered;
 pub mod registry;
 pub mod render_scene;
+pub mod sample_context;
 pub mod settings;
 
 pub use control::{NoProgress, Progress, RenderControl};

@@ -5,11 +5,12 @@
 
 use fenestra_core::stats::RayCounters;
 use fenestra_core::{Rgb, Sampler};
-use fenestra_render::driver::SampleContext;
 use fenestra_render::integrator::{
     Gather, LightNextEvent, PathOptions, PathTracer, Shading, Start,
 };
 use fenestra_render::light::{LightRecords, LightSelection};
+use fenestra_render::path_sample::{PathSample, Wave};
+use fenestra_render::sample_context::SampleContext;
 use fenestra_render::RenderScene;
 use fenestra_scene::{Backend, Scene};
 
@@ -65,38 +66,37 @@ fn a_cache_on_waves_is_asked_in_the_order_and_gives_the_pixels_of_one_path_at_a_
             .iter()
             .map(|c| Sampler::new(11, c.pixel(), c.index))
             .collect();
-        let cameras = SampleContext::camera_rays(&ctxs, &scene, &mut samplers, rays);
+        let cameras = SampleContext::camera_rays(&ctxs, &scene.scene.camera, &mut samplers, rays);
         let records = &mut LightRecords::off();
 
         let mut one_at_a_time = Counting::default();
         let alone: Vec<Rgb> = (0..ctxs.len())
             .map(|i| {
-                let stream = &mut samplers[i].clone();
-                let (camera, ctx) = (cameras[i], &ctxs[i]);
+                let sample = &mut PathSample {
+                    ctx: &ctxs[i],
+                    sampler: &mut samplers[i].clone(),
+                    records: &mut *records,
+                    rays: &mut *rays,
+                };
                 tracer.trace(
                     &scene,
-                    camera,
+                    cameras[i],
                     Start::CAMERA,
-                    stream,
-                    ctx,
-                    records,
-                    rays,
+                    sample,
                     &mut one_at_a_time,
                 )
             })
             .collect();
         let mut in_waves = Counting::default();
         let mut wave = vec![Rgb::ZERO; ctxs.len()];
-        tracer.trace_wave(
-            &scene,
-            &cameras,
-            &mut samplers,
-            &ctxs,
+        let all = &mut Wave {
+            cameras: &cameras,
+            ctxs: &ctxs,
+            samplers: &mut samplers,
             records,
             rays,
-            &mut in_waves,
-            &mut wave,
-        );
+        };
+        tracer.trace_wave(&scene, all, &mut in_waves, &mut wave);
 
         let label = backend.name();
         assert!(

@@ -3,9 +3,9 @@
 
 use fenestra_core::{warp, Rgb, Rng, Vec3};
 use fenestra_manylights::LightBvh;
-use fenestra_render::driver::SampleContext;
 use fenestra_render::integrator::{LightNextEvent, PathOptions, PathTracer};
 use fenestra_render::light::{LightContext, LightSampler};
+use fenestra_render::sample_context::SampleContext;
 use fenestra_render::{render_image, Film, Integrator, RenderScene, RenderSettings};
 use fenestra_scene::light::{Emission, EnvironmentDesc};
 use fenestra_scene::{

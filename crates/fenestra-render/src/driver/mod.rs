@@ -21,70 +21,8 @@ pub use completion::{render_to_completion, BlockTask, CompletionEstimator, Pixel
 pub use passes::{render_passes, PassEstimator, PassInfo, PixelState};
 pub use progressive::{render_progressive, Budget, PathEstimator};
 
-use crate::render_scene::RenderScene;
-use fenestra_core::stats::RayCounters;
-use fenestra_core::{Ray, Sampler, Vec2};
-
 /// Side of the square pixel blocks that block/pass estimators gather statistics over.
 pub const BLOCK_SIZE: u32 = 8;
-
-/// Which sample is being taken: its pixel, the pixel's 8x8 block, the pass and the sample's
-/// index within the pixel.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct SampleContext {
-    /// Pixel column.
-    pub x: u32,
-    /// Pixel row (0 at the top).
-    pub y: u32,
-    /// Image width in pixels.
-    pub width: u32,
-    /// Image height in pixels.
-    pub height: u32,
-    /// Index of the pixel's block, row-major over the film's blocks (the image's, unless the
-    /// render is cropped).
-    pub block: u32,
-    /// The pass, from 0.
-    pub pass: u32,
-    /// The sample's index within its pixel.
-    pub index: u32,
-}
-
-impl SampleContext {
-    /// Row-major index of the pixel.
-    pub fn pixel(&self) -> u64 {
-        self.y as u64 * self.width as u64 + self.x as u64
-    }
-
-    /// The camera ray through a point drawn from the camera's pixel filter around the pixel
-    /// (a uniform point of the pixel by default); the film position takes the sample's first
-    /// two dimensions.
-    pub fn camera_ray(
-        &self,
-        scene: &RenderScene,
-        sampler: &mut Sampler,
-        rays: &mut RayCounters,
-    ) -> Ray {
-        let camera = &scene.scene.camera;
-        let film_pos =
-            Vec2::new(self.x as f32, self.y as f32) + camera.filter.sample(sampler.next_2d());
-        rays.camera += 1;
-        camera.generate_ray(film_pos, self.width, self.height)
-    }
-
-    /// The camera rays of the samples `ctxs`, each drawn from its stream in `samplers` (a
-    /// wave's first rays).
-    pub fn camera_rays(
-        ctxs: &[SampleContext],
-        scene: &RenderScene,
-        samplers: &mut [Sampler],
-        rays: &mut RayCounters,
-    ) -> Vec<Ray> {
-        ctxs.iter()
-            .zip(samplers.iter_mut())
-            .map(|(ctx, sampler)| ctx.camera_ray(scene, sampler, rays))
-            .collect()
-    }
-}
 
 /// The 8x8 block grid over a `width` x `height` image (blocks at the right and bottom edges
 /// may be partial).

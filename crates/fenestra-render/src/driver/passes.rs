@@ -8,10 +8,11 @@
 //! samples in index order, and the blocks' statistics are collected in block order, so the
 //! film and the statistics are the same whatever the number of threads.
 
-use super::{Blocks, SampleContext, BLOCK_SIZE};
+use super::{Blocks, BLOCK_SIZE};
 use crate::control::RenderControl;
 use crate::film::{Film, Pixel, Window};
 use crate::render_scene::RenderScene;
+use crate::sample_context::SampleContext;
 use crate::settings::RenderSettings;
 use fenestra_core::stats::{RayCounters, RenderStats};
 use fenestra_core::{Rgb, Sampler};

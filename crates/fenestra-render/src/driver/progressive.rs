@@ -5,45 +5,27 @@
 //! from the light samples of the passes it asks for, block by block in block order.
 
 use super::passes::{render_passes, PassEstimator, PassInfo, PixelState};
-use super::SampleContext;
 use crate::control::RenderControl;
 use crate::film::Film;
 use crate::light::LightRecords;
+use crate::path_sample::{PathSample, Wave};
 use crate::render_scene::RenderScene;
+use crate::sample_context::SampleContext;
 use crate::settings::RenderSettings;
 use fenestra_core::stats::{RayCounters, RenderStats};
 use fenestra_core::{Ray, Rgb, Sampler};
 
 /// One path sample: the radiance carried along a camera ray.
 pub trait PathEstimator: Sync {
-    /// Radiance arriving at the camera along `ray`, for the sample `ctx`; the light samples
-    /// taken go to `records` (kept if the pass learns).
-    fn li(
-        &self,
-        scene: &RenderScene,
-        ray: Ray,
-        sampler: &mut Sampler,
-        ctx: &SampleContext,
-        records: &mut LightRecords,
-        rays: &mut RayCounters,
-    ) -> Rgb;
+    /// Radiance arriving at the camera along `ray`, for `sample`; its light samples go to
+    /// its records (kept if the pass learns).
+    fn li(&self, scene: &RenderScene, ray: Ray, sample: &mut PathSample) -> Rgb;
 
-    /// The radiance along each of `cameras` (sample `ctxs[i]` with its stream
-    /// `samplers[i]`) into `out`; by default one after another.
-    #[allow(clippy::too_many_arguments)]
-    fn li_many(
-        &self,
-        scene: &RenderScene,
-        cameras: &[Ray],
-        samplers: &mut [Sampler],
-        ctxs: &[SampleContext],
-        records: &mut LightRecords,
-        rays: &mut RayCounters,
-        out: &mut [Rgb],
-    ) {
-        for (i, &ray) in cameras.iter().enumerate() {
-            records.start_sample(&ctxs[i]);
-            out[i] = self.li(scene, ray, &mut samplers[i], &ctxs[i], records, rays);
+    /// The radiance of each sample of `wave` into `out`; by default one after another.
+    fn li_many(&self, scene: &RenderScene, wave: &mut Wave, out: &mut [Rgb]) {
+        for (i, &ray) in wave.cameras.iter().enumerate() {
+            wave.records.start_sample(&wave.ctxs[i]);
+            out[i] = self.li(scene, ray, &mut wave.sample(i));
         }
     }
 
@@ -184,8 +166,14 @@ impl<E: PathEstimator> PassEstimator for Schedule<'_, E> {
         rays: &mut RayCounters,
     ) -> Rgb {
         records.start_sample(ctx);
-        let ray = ctx.camera_ray(scene, sampler, rays);
-        self.estimator.li(scene, ray, sampler, ctx, records, rays)
+        let ray = ctx.camera_ray(&scene.scene.camera, sampler, rays);
+        let sample = &mut PathSample {
+            ctx,
+            sampler,
+            records,
+            rays,
+        };
+        self.estimator.li(scene, ray, sample)
     }
 
     fn sample_many(
@@ -197,9 +185,15 @@ impl<E: PathEstimator> PassEstimator for Schedule<'_, E> {
         rays: &mut RayCounters,
         out: &mut [Rgb],
     ) {
-        let cameras = SampleContext::camera_rays(ctxs, scene, samplers, rays);
-        self.estimator
-            .li_many(scene, &cameras, samplers, ctxs, records, rays, out);
+        let cameras = SampleContext::camera_rays(ctxs, &scene.scene.camera, samplers, rays);
+        let wave = &mut Wave {
+            cameras: &cameras,
+            ctxs,
+            samplers,
+            records,
+            rays,
+        };
+        self.estimator.li_many(scene, wave, out);
     }
 
     fn end_pass(&mut self, _: &RenderScene, film: &Film, blocks: Vec<LightRecords>) -> bool {
@@ -227,16 +221,8 @@ mod tests {
     /// Returns NaN, +inf or 1 depending on the sample's first random number.
     struct Faulty;
     impl PathEstimator for Faulty {
-        fn li(
-            &self,
-            _: &RenderScene,
-            _: Ray,
-            sampler: &mut Sampler,
-            _: &SampleContext,
-            _: &mut LightRecords,
-            _: &mut RayCounters,
-        ) -> Rgb {
-            match (sampler.next_1d() * 4.0) as u32 {
+        fn li(&self, _: &RenderScene, _: Ray, sample: &mut PathSample) -> Rgb {
+            match (sample.sampler.next_1d() * 4.0) as u32 {
                 0 => Rgb::new(f32::NAN, 0.0, 0.0),
                 1 => Rgb::splat(f32::INFINITY),
                 _ => Rgb::ONE,

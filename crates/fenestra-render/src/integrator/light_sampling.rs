@@ -5,12 +5,12 @@
 use super::next_event::{Found, NextEvent, Scattered, Shading};
 use super::{IntegratorError, LightRays, ShadowRay};
 use crate::control::RenderControl;
-use crate::driver::SampleContext;
 use crate::light::{LightContext, LightRecord, LightRecords, LightSampler, LightSelection, Picks};
+use crate::path_sample::PathSample;
 use crate::render_scene::RenderScene;
+use crate::sample_context::SampleContext;
 use fenestra_core::mis::MisHeuristic;
-use fenestra_core::stats::RayCounters;
-use fenestra_core::{Ray, Rgb, Sampler, Vec2, Vec3};
+use fenestra_core::{Ray, Rgb, Vec2, Vec3};
 
 /// Builds a light sampler for a scene.
 type BuildSampler = dyn Fn(&RenderScene) -> Box<dyn LightSampler> + Send + Sync;
@@ -102,37 +102,35 @@ impl LightNextEvent {
         self.sampler.as_ref()
     }
 
-    /// One light sample at `s`, weighted by MIS against the BSDF: its shadow rays (one per
-    /// light picked) go to `shadows`, each with its record if `records` keeps this sample's.
+    /// One light sample at `s` for the path sample `sample`, weighted by MIS against the
+    /// BSDF: its shadow rays (one per light picked) go to `shadows`, each with its record if
+    /// the sample's records keep this sample's.
     /// Other strategies call it for their share of light sampling.
     /// With `delta_only`, only Dirac lights contribute (strategies that reach the other
     /// lights by other means use it for point, spot and distant lights); the light pick
     /// probability still divides, so the estimate of the Dirac lights' share stays unbiased.
-    #[allow(clippy::too_many_arguments)]
     pub fn sample_light(
         &self,
         scene: &RenderScene,
         s: &Shading,
         delta_only: bool,
         mis: MisHeuristic,
-        sampler: &mut Sampler,
-        records: &LightRecords,
-        rays: &mut RayCounters,
+        sample: &mut PathSample,
         shadows: &mut Vec<ShadowRay>,
     ) {
         // The pick and the point on the light stratified together: the triangles of an
         // emitter are lights of their own, and an emitter's samples should cover it as a
         // 2D sample over the whole would.
-        let u3 = sampler.next_3d();
+        let u3 = sample.sampler.next_3d();
         let (u_pick, u) = (u3.x, Vec2::new(u3.y, u3.z));
         let mut picks = Picks::default();
         self.sampler
             .sample_all(&s.light_context(), u_pick, &mut picks);
         for &(index, pick) in picks.as_slice() {
             if let Some(shadow) =
-                self.light_sample(scene, s, (index, pick), u, delta_only, mis, records)
+                self.light_sample(scene, s, (index, pick, u), delta_only, mis, sample.records)
             {
-                rays.shadow += 1;
+                sample.rays.shadow += 1;
                 shadows.push(shadow);
             }
         }
@@ -141,13 +139,11 @@ impl LightNextEvent {
     /// The shadow ray towards light `index`, picked with probability `pick`, through a
     /// point drawn with `u` on it, and what it brings to `s` weighted by MIS; see
     /// [`LightNextEvent::sample_light`].
-    #[allow(clippy::too_many_arguments)]
     fn light_sample(
         &self,
         scene: &RenderScene,
         s: &Shading,
-        (index, pick): (usize, f32),
-        u: Vec2,
+        (index, pick, u): (usize, f32, Vec2),
         delta_only: bool,
         mis: MisHeuristic,
         records: &LightRecords,
@@ -216,13 +212,10 @@ impl NextEvent for LightNextEvent {
         s: &Shading,
         _: &(),
         mis: MisHeuristic,
-        sampler: &mut Sampler,
-        records: &mut LightRecords,
-        rays: &mut RayCounters,
+        sample: &mut PathSample,
         out: &mut LightRays<()>,
     ) -> Rgb {
-        let shadows = &mut out.shadows;
-        self.sample_light(scene, s, false, mis, sampler, records, rays, shadows);
+        self.sample_light(scene, s, false, mis, sample, &mut out.shadows);
         Rgb::ZERO
     }
 

@@ -5,13 +5,14 @@
 
 use crate::bsdf::Bsdf;
 use crate::control::RenderControl;
-use crate::driver::SampleContext;
 use crate::integrator::{Beyond, IntegratorError, LightRays};
 use crate::light::{LightContext, LightHit, LightRecords};
+use crate::path_sample::PathSample;
 use crate::render_scene::RenderScene;
+use crate::sample_context::SampleContext;
 use fenestra_core::mis::MisHeuristic;
-use fenestra_core::stats::{RayCounters, RenderStats};
-use fenestra_core::{Frame, Ray, Rgb, Sampler, Vec3};
+use fenestra_core::stats::RenderStats;
+use fenestra_core::{Frame, Ray, Rgb, Vec3};
 use fenestra_scene::SurfaceInteraction;
 
 /// A shading point as next-event strategies see it.
@@ -122,22 +123,20 @@ pub trait NextEvent: Send + Sync {
     /// The state kept of the non-delta vertex `s`.
     fn vertex(&self, scene: &RenderScene, s: &Shading) -> Self::Vertex;
 
-    /// One next-event sample at `s`: the light it finds, weighted by MIS (`mis`) against
-    /// BSDF sampling and divided by its density. Samples that need a ray traced leave it in
-    /// `out` (the path loop traces them, several paths' at once): a shadow ray with what
-    /// the sample brings if the way is clear, or a probe ray that [`NextEvent::probed`]
-    /// finishes; the return value is what samples without rays bring. Light samples that
-    /// learning samplers learn from go to `records`, or with their shadow ray.
-    #[allow(clippy::too_many_arguments)]
+    /// One next-event sample at `s` for the path sample `sample` (drawn from its stream):
+    /// the light it finds, weighted by MIS (`mis`) against BSDF sampling and divided by its
+    /// density. Samples that need a ray traced leave it in `out` (the path loop traces them,
+    /// several paths' at once): a shadow ray with what the sample brings if the way is
+    /// clear, or a probe ray that [`NextEvent::probed`] finishes; the return value is what
+    /// samples without rays bring. Light samples that learning samplers learn from go to
+    /// the sample's records, or with their shadow ray.
     fn sample(
         &self,
         scene: &RenderScene,
         s: &Shading,
         vertex: &Self::Vertex,
         mis: MisHeuristic,
-        sampler: &mut Sampler,
-        records: &mut LightRecords,
-        rays: &mut RayCounters,
+        sample: &mut PathSample,
         out: &mut LightRays<Self::Probe>,
     ) -> Rgb;
 
@@ -204,9 +203,7 @@ impl NextEvent for NoNextEvent {
         _: &Shading,
         _: &(),
         _: MisHeuristic,
-        _: &mut Sampler,
-        _: &mut LightRecords,
-        _: &mut RayCounters,
+        _: &mut PathSample,
         _: &mut LightRays<()>,
     ) -> Rgb {
         Rgb::ZERO

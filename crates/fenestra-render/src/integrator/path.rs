@@ -13,13 +13,15 @@ use super::path_options::PathOptions;
 use super::{Integrator, IntegratorError, Split};
 use crate::bsdf::Bsdf;
 use crate::control::RenderControl;
-use crate::driver::{render_progressive, PathEstimator, SampleContext};
+use crate::driver::{render_progressive, PathEstimator};
 use crate::film::Film;
 use crate::light::{LightHit, LightRecords};
+use crate::path_sample::{PathSample, Wave};
 use crate::render_scene::RenderScene;
+use crate::sample_context::SampleContext;
 use crate::settings::RenderSettings;
 use fenestra_core::stats::{RayCounters, RenderStats};
-use fenestra_core::{Frame, Ray, Rgb, Sampler, Vec3};
+use fenestra_core::{Frame, Ray, Rgb, Vec3};
 use fenestra_scene::{Hit, PACKET};
 
 /// Consecutive panes a path may pass straight through (as visibility rays do).
@@ -169,47 +171,12 @@ impl<N: NextEvent> Integrator for PathTracer<N> {
 }
 
 impl<N: NextEvent> PathEstimator for PathTracer<N> {
-    fn li(
-        &self,
-        scene: &RenderScene,
-        ray: Ray,
-        sampler: &mut Sampler,
-        ctx: &SampleContext,
-        records: &mut LightRecords,
-        rays: &mut RayCounters,
-    ) -> Rgb {
-        self.trace(
-            scene,
-            ray,
-            Start::CAMERA,
-            sampler,
-            ctx,
-            records,
-            rays,
-            &mut NoGather,
-        )
+    fn li(&self, scene: &RenderScene, ray: Ray, sample: &mut PathSample) -> Rgb {
+        self.trace(scene, ray, Start::CAMERA, sample, &mut NoGather)
     }
 
-    fn li_many(
-        &self,
-        scene: &RenderScene,
-        cameras: &[Ray],
-        samplers: &mut [Sampler],
-        ctxs: &[SampleContext],
-        records: &mut LightRecords,
-        rays: &mut RayCounters,
-        out: &mut [Rgb],
-    ) {
-        self.trace_wave(
-            scene,
-            cameras,
-            samplers,
-            ctxs,
-            records,
-            rays,
-            &mut NoGather,
-            out,
-        );
+    fn li_many(&self, scene: &RenderScene, wave: &mut Wave, out: &mut [Rgb]) {
+        self.trace_wave(scene, wave, &mut NoGather, out);
     }
 
     fn learns(&self, pass: u32) -> bool {
@@ -261,19 +228,14 @@ impl<V> PathState<V> {
 }
 
 impl<N: NextEvent> PathTracer<N> {
-    /// Radiance arriving at `ray`'s origin along it, from a path that starts as `start` says;
-    /// `gather` may supply indirect light at the vertices it chooses; the light samples
-    /// taken go to `records`.
-    #[allow(clippy::too_many_arguments)]
+    /// Radiance arriving at `ray`'s origin along it, from a path of `sample` that starts as
+    /// `start` says; `gather` may supply indirect light at the vertices it chooses.
     pub fn trace(
         &self,
         scene: &RenderScene,
         ray: Ray,
         start: Start,
-        sampler: &mut Sampler,
-        ctx: &SampleContext,
-        records: &mut LightRecords,
-        rays: &mut RayCounters,
+        sample: &mut PathSample,
         gather: &mut (impl Gather + ?Sized),
     ) -> Rgb {
         let mut path = PathState::new(ray, &start);
@@ -284,18 +246,16 @@ impl<N: NextEvent> PathTracer<N> {
                 Some(hit) => Some(hit),
                 None => scene.scene.intersect(&path.ray, f32::INFINITY),
             };
-            let go_on = self.step(
-                scene, &mut path, hit, sampler, ctx, records, rays, gather, &mut out,
-            );
+            let go_on = self.step(scene, &mut path, hit, sample, gather, &mut out);
             for shadow in out.shadows.drain(..) {
-                path.l += shadow.trace(scene, records);
+                path.l += shadow.trace(scene, sample.records);
             }
             for probe in out.probes.drain(..) {
                 let beyond = probe.trace(scene);
                 path.l += probe.beta
                     * self
                         .next_event
-                        .probed(scene, &probe.probe, &probe.ray, &beyond, ctx);
+                        .probed(scene, &probe.probe, &probe.ray, &beyond, sample.ctx);
             }
             if !go_on {
                 break;
@@ -304,8 +264,7 @@ impl<N: NextEvent> PathTracer<N> {
         path.l
     }
 
-    /// Paths of the camera rays `cameras` (sample `ctxs[i]`, stream `samplers[i]`) traced
-    /// together as a wave: each round takes the live paths eight at a time, finds their
+    /// The paths of `wave` traced together: each round takes the live paths eight at a time, finds their
     /// next hits by one packet query, prefetches the hits' mesh data together and takes
     /// each path one vertex further; then it traces the shadow and probe rays of all their
     /// next-event samples, eight to a packet again. Each path's radiance goes to `out`: the
@@ -315,19 +274,15 @@ impl<N: NextEvent> PathTracer<N> {
     /// indirect light as in [`PathTracer::trace`]; it is asked at the paths' vertices in
     /// path order round by round, so at their first hits in the order one-at-a-time tracing
     /// asks it there.
-    #[allow(clippy::too_many_arguments)]
     pub fn trace_wave(
         &self,
         scene: &RenderScene,
-        cameras: &[Ray],
-        samplers: &mut [Sampler],
-        ctxs: &[SampleContext],
-        records: &mut LightRecords,
-        rays: &mut RayCounters,
+        wave: &mut Wave,
         gather: &mut (impl Gather + ?Sized),
         out: &mut [Rgb],
     ) {
-        let mut paths: Vec<PathState<N::Vertex>> = cameras
+        let mut paths: Vec<PathState<N::Vertex>> = wave
+            .cameras
             .iter()
             .map(|&ray| PathState::new(ray, &Start::CAMERA))
             .collect();
@@ -343,18 +298,9 @@ impl<N: NextEvent> PathTracer<N> {
                 let found = scene.scene.intersect8(&packet, [f32::INFINITY; PACKET]);
                 scene.scene.prefetch_hits(&found[..chunk.len()]);
                 for (&i, hit) in chunk.iter().zip(found) {
-                    records.start_sample(&ctxs[i]);
-                    let go_on = self.step(
-                        scene,
-                        &mut paths[i],
-                        hit,
-                        &mut samplers[i],
-                        &ctxs[i],
-                        records,
-                        rays,
-                        gather,
-                        &mut queued,
-                    );
+                    wave.records.start_sample(&wave.ctxs[i]);
+                    let sample = &mut wave.sample(i);
+                    let go_on = self.step(scene, &mut paths[i], hit, sample, gather, &mut queued);
                     shadow_owners.resize(queued.shadows.len(), i);
                     probe_owners.resize(queued.probes.len(), i);
                     if go_on {
@@ -364,15 +310,19 @@ impl<N: NextEvent> PathTracer<N> {
             }
             std::mem::swap(&mut live, &mut next_live);
             next_live.clear();
-            trace_shadows(scene, &queued.shadows, records, |k, l| {
+            trace_shadows(scene, &queued.shadows, wave.records, |k, l| {
                 paths[shadow_owners[k]].l += l;
             });
             trace_probes(scene, &queued.probes, |k, beyond| {
                 let (i, probe) = (probe_owners[k], &queued.probes[k]);
                 paths[i].l += probe.beta
-                    * self
-                        .next_event
-                        .probed(scene, &probe.probe, &probe.ray, &beyond, &ctxs[i]);
+                    * self.next_event.probed(
+                        scene,
+                        &probe.probe,
+                        &probe.ray,
+                        &beyond,
+                        &wave.ctxs[i],
+                    );
             });
             queued.shadows.clear();
             queued.probes.clear();
@@ -386,19 +336,16 @@ impl<N: NextEvent> PathTracer<N> {
 
     /// Takes the path one vertex further: `hit` is where its current ray ended. Returns
     /// whether the path goes on (with its next ray in `path.ray`).
-    #[allow(clippy::too_many_arguments)]
     pub(crate) fn step(
         &self,
         scene: &RenderScene,
         path: &mut PathState<N::Vertex>,
         hit: Option<Hit>,
-        sampler: &mut Sampler,
-        ctx: &SampleContext,
-        records: &mut LightRecords,
-        rays: &mut RayCounters,
+        sample: &mut PathSample,
         gather: &mut (impl Gather + ?Sized),
         out: &mut LightRays<N::Probe>,
     ) -> bool {
+        let (ctx, rays) = (sample.ctx, &mut *sample.rays);
         let ray = path.ray;
         path.segments += 1;
         if !path.first {
@@ -466,16 +413,9 @@ impl<N: NextEvent> PathTracer<N> {
         if N::SAMPLES && !bsdf.is_delta() {
             let (shadows, probes) = (out.shadows.len(), out.probes.len());
             path.l += path.beta
-                * self.next_event.sample(
-                    scene,
-                    &shading,
-                    &vertex,
-                    self.options.mis,
-                    sampler,
-                    records,
-                    rays,
-                    out,
-                );
+                * self
+                    .next_event
+                    .sample(scene, &shading, &vertex, self.options.mis, sample, out);
             for shadow in &mut out.shadows[shadows..] {
                 shadow.value *= path.beta;
             }
@@ -484,13 +424,13 @@ impl<N: NextEvent> PathTracer<N> {
             }
         }
         if !bsdf.is_delta() {
-            if let Some(indirect) = gather.indirect(scene, &shading, path.segments, rays) {
+            if let Some(indirect) = gather.indirect(scene, &shading, path.segments, sample.rays) {
                 path.l += path.beta * indirect;
                 path.gathered = true;
             }
         }
-        let uc = sampler.next_1d();
-        let u = sampler.next_2d();
+        let uc = sample.sampler.next_1d();
+        let u = sample.sampler.next_2d();
         let Some(bs) = bsdf.sample(shading.wo_local, uc, u) else {
             return false;
         };
@@ -526,7 +466,7 @@ impl<N: NextEvent> PathTracer<N> {
         if path.segments + 1 >= self.options.rr_depth {
             // Russian roulette (seed 000 §3.2.1): continue with probability q, divide by q.
             let q = path.beta.max_component().min(0.95);
-            if q <= 0.0 || sampler.next_1d() >= q {
+            if q <= 0.0 || sample.sampler.next_1d() >= q {
                 return false;
             }
             path.beta *= 1.0 / q;

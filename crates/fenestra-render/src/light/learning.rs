@@ -3,7 +3,7 @@
 //! sampler sees every block's records in block order, so what it learns, and the next pass's
 //! pixels, do not depend on the number of threads.
 
-use crate::driver::SampleContext;
+use crate::sample_context::SampleContext;
 use fenestra_core::Vec3;
 
 /// Records kept per pass at most (32 bytes each): a pass of many samples keeps the records

@@ -3,7 +3,7 @@
 //! the shading point's pixel, block and pass through [`LightContext`].
 
 use super::{LightRecords, Lights};
-use crate::driver::SampleContext;
+use crate::sample_context::SampleContext;
 use fenestra_core::distribution::Distribution1D;
 use fenestra_core::Vec3;
 use fenestra_scene::Scene;
