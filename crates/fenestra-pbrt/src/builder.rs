@@ -2,12 +2,12 @@
 //! systems, materials, textures and object instances, turning directives into a `SceneDesc`.
 
 use crate::lexer::tokenize;
-use crate::params::{ParamList, Values};
+use crate::params::Values;
 use crate::parser::{parse, Directive};
 use crate::{Loc, PbrtError, Topic, Warning};
 use fenestra_core::image::Image;
-use fenestra_core::{Rgb, Vec2, Vec3};
-use fenestra_scene::filter::{FilterShape, PixelFilter};
+use fenestra_core::{Rgb, Vec3};
+use fenestra_scene::filter::PixelFilter;
 use fenestra_scene::texture::ImageTexture;
 use fenestra_scene::transform::transformed;
 use fenestra_scene::{Camera, FieldOfView, LightDesc, Material, RenderDefaults, SceneDesc, Shape};
@@ -74,9 +74,6 @@ impl Tally {
     }
 }
 
-/// Texels along a check of a checkerboard texture.
-const CHECK_TEXELS: usize = 64;
-
 /// A named float texture.
 #[derive(Clone, Debug)]
 pub(crate) enum FloatTex {
@@ -104,11 +101,12 @@ pub(super) enum Tex {
     Image(Arc<ImageTexture>),
 }
 
-struct CameraSpec {
-    camera_from_world: DMat4,
-    fov: f32,
-    screen_window: Option<[f32; 4]>,
-    loc: Loc,
+/// The camera as the Camera directive gave it, kept until the world begins.
+pub(crate) struct CameraSpec {
+    pub(crate) camera_from_world: DMat4,
+    pub(crate) fov: f32,
+    pub(crate) screen_window: Option<[f32; 4]>,
+    pub(crate) loc: Loc,
 }
 
 pub(super) struct Builder {
@@ -118,16 +116,16 @@ pub(super) struct Builder {
     pub portals: Vec<[Vec3; 4]>,
     pub gs: GraphicsState,
     stack: Vec<Saved>,
-    named_coords: HashMap<String, DMat4>,
+    pub(crate) named_coords: HashMap<String, DMat4>,
     pub named_materials: HashMap<String, usize>,
     pub textures: HashMap<String, Tex>,
     /// Float textures by name.
     pub float_textures: HashMap<String, FloatTex>,
-    images: HashMap<PathBuf, Arc<Image>>,
+    pub(crate) images: HashMap<PathBuf, Arc<Image>>,
     objects: HashMap<String, Vec<Shape>>,
     /// The instance being defined (ObjectBegin .. ObjectEnd) and its shapes.
     pub object: Option<(String, Vec<Shape>)>,
-    camera: Option<CameraSpec>,
+    pub(crate) camera: Option<CameraSpec>,
     /// The PixelFilter, if the scene names one (pbrt-v4's default is a gaussian).
     filter: Option<PixelFilter>,
     defaults: RenderDefaults,
@@ -509,326 +507,6 @@ impl Builder {
         Ok(())
     }
 
-    fn camera(&mut self, d: &Directive) {
-        let p = &d.params;
-        if d.str(0) != "perspective" {
-            self.warn(
-                Topic::Camera,
-                format!("Camera \"{}\" (rendered as perspective)", d.str(0)),
-                &d.loc,
-            );
-            p.use_all();
-        }
-        let fov = p.float("fov", 90.0).unwrap_or(90.0);
-        let screen_window = p
-            .floats("screenwindow")
-            .ok()
-            .flatten()
-            .and_then(|v| <[f32; 4]>::try_from(v.as_slice()).ok());
-        if p.float("lensradius", 0.0).unwrap_or(0.0) > 0.0 {
-            self.warn(
-                Topic::Camera,
-                "Camera \"lensradius\" > 0 (depth of field; rendered as a pinhole)",
-                &d.loc,
-            );
-        }
-        p.float("focaldistance", 1e6).ok();
-        self.named_coords
-            .insert("camera".into(), self.gs.ctm.inverse());
-        self.camera = Some(CameraSpec {
-            camera_from_world: self.gs.ctm,
-            fov,
-            screen_window,
-            loc: d.loc.clone(),
-        });
-    }
-
-    fn texture(&mut self, d: &Directive, dir: &Path) -> Result<(), PbrtError> {
-        let (name, ty, class) = (d.str(0), d.str(1), d.str(2));
-        let p = &d.params;
-        if ty == "float" {
-            let value = match class {
-                "constant" => FloatTex::Value(Some(p.float("value", 1.0)?)),
-                "imagemap" => FloatTex::Image(Arc::new(self.image_texture(d, dir)?)),
-                "checkerboard" => {
-                    let (a, b) = (p.float("tex1", 1.0)?, p.float("tex2", 0.0)?);
-                    p.use_all();
-                    FloatTex::Value(Some(0.5 * (a + b)))
-                }
-                _ => {
-                    self.warn(Topic::Textures,
-                        format!("float Texture class \"{class}\" (materials using it keep their defaults)"),
-                        &d.loc,
-                    );
-                    p.use_all();
-                    FloatTex::Value(None)
-                }
-            };
-            self.float_textures.insert(name.into(), value);
-            return Ok(());
-        }
-        let tex = match class {
-            "imagemap" => Tex::Image(Arc::new(self.image_texture(d, dir)?)),
-            "scale" => {
-                let tex = self.spectrum_input(p, "tex", &d.loc)?;
-                let scale = self.float_or_texture(p, "scale", &d.loc)?.unwrap_or(1.0);
-                match tex {
-                    Some(Tex::Rgb(c)) => Tex::Rgb(c * scale),
-                    // Exact: the image's own scale comes before its inversion.
-                    Some(Tex::Image(t)) if !t.invert => {
-                        let mut t = (*t).clone();
-                        t.scale *= scale;
-                        Tex::Image(Arc::new(t))
-                    }
-                    Some(Tex::Image(t)) => {
-                        self.warn(
-                            Topic::Textures,
-                            "scale of an inverted image texture (its mean is used)",
-                            &d.loc,
-                        );
-                        Tex::Rgb(t.average() * scale)
-                    }
-                    None => Tex::Rgb(Rgb::splat(scale)),
-                }
-            }
-            "checkerboard" => self.checkerboard(p, &d.loc)?,
-            "mix" => {
-                let one = self.spectrum_input(p, "tex1", &d.loc)?;
-                let two = self.spectrum_input(p, "tex2", &d.loc)?;
-                let amount = self.float_or_texture(p, "amount", &d.loc)?.unwrap_or(0.5);
-                let value = |t: Option<Tex>, default: f32| match t {
-                    Some(Tex::Rgb(c)) => (c, false),
-                    Some(Tex::Image(t)) => (t.average(), true),
-                    None => (Rgb::splat(default), false),
-                };
-                let ((a, a_image), (b, b_image)) = (value(one, 0.0), value(two, 1.0));
-                if a_image || b_image {
-                    self.warn(
-                        Topic::Textures,
-                        "mix of image textures (their means are mixed)",
-                        &d.loc,
-                    );
-                }
-                Tex::Rgb(a * (1.0 - amount) + b * amount)
-            }
-            "constant" => Tex::Rgb(match p.spectrum("value")? {
-                Some((s, loc)) => crate::spectra::to_rgb(&s).map_err(|e| PbrtError::at(&loc, e))?,
-                None => Rgb::ONE,
-            }),
-            _ => {
-                self.warn(
-                    Topic::Textures,
-                    format!("Texture class \"{class}\" (replaced by 0.5 grey)"),
-                    &d.loc,
-                );
-                p.use_all();
-                Tex::Rgb(Rgb::splat(0.5))
-            }
-        };
-        self.textures.insert(name.into(), tex);
-        Ok(())
-    }
-
-    /// pbrt-v4's 2D checkerboard over (u, v) as an image texture of one 2x2 period: `tex1`
-    /// where floor(s) + floor(t) is even, `tex2` elsewhere, with s = u uscale + udelta and
-    /// t = v vscale + vdelta. Bilinear lookup blurs each edge over one of a check's
-    /// [`CHECK_TEXELS`] texels; image inputs give their means (warned).
-    fn checkerboard(&mut self, p: &ParamList, loc: &Loc) -> Result<Tex, PbrtError> {
-        if p.int("dimension", 2)? != 2 {
-            return Err(PbrtError::at(
-                loc,
-                "checkerboard: only dimension 2 is supported",
-            ));
-        }
-        if p.string("mapping")?.is_some_and(|m| m != "uv") {
-            self.warn(
-                Topic::Textures,
-                "checkerboard mapping other than uv (uv is used)",
-                loc,
-            );
-        }
-        let mut input = |name: &str, default: f32| -> Result<Rgb, PbrtError> {
-            Ok(match self.spectrum_input(p, name, loc)? {
-                Some(Tex::Rgb(c)) => c,
-                Some(Tex::Image(t)) => {
-                    self.warn(
-                        Topic::Textures,
-                        "checkerboard of image textures (their means are used)",
-                        loc,
-                    );
-                    t.average()
-                }
-                None => Rgb::splat(default),
-            })
-        };
-        let (one, two) = (input("tex1", 1.0)?, input("tex2", 0.0)?);
-        let n = CHECK_TEXELS;
-        let mut image = Image::new(2 * n, 2 * n);
-        for y in 0..2 * n {
-            for x in 0..2 * n {
-                // Row y holds t in (1 - y / n) mod 2 (v = 1 is the top row), column x s = x / n.
-                let even = (x / n + y / n) % 2 == 1;
-                image.set(x, y, if even { one } else { two });
-            }
-        }
-        let mut t = ImageTexture::new(Arc::new(image), PathBuf::from("checkerboard"));
-        // The image is one 2x2 period: half the scale and offset of the checks.
-        t.uscale = 0.5 * p.float("uscale", 1.0)?;
-        t.vscale = 0.5 * p.float("vscale", 1.0)?;
-        t.udelta = 0.5 * p.float("udelta", 0.0)?;
-        t.vdelta = 0.5 * p.float("vdelta", 0.0)?;
-        Ok(Tex::Image(Arc::new(t)))
-    }
-
-    /// pbrt-v4's PixelFilter with its parameters and defaults.
-    fn pixel_filter(&mut self, d: &Directive) -> Result<PixelFilter, PbrtError> {
-        let p = &d.params;
-        let (shape, radius) = match d.str(0) {
-            "box" => (FilterShape::Box, 0.5),
-            "triangle" => (FilterShape::Triangle, 2.0),
-            "gaussian" => (
-                FilterShape::Gaussian {
-                    sigma: p.float("sigma", 0.5)?,
-                },
-                1.5,
-            ),
-            "mitchell" => (
-                FilterShape::Mitchell {
-                    b: p.float("B", 1.0 / 3.0)?,
-                    c: p.float("C", 1.0 / 3.0)?,
-                },
-                2.0,
-            ),
-            "sinc" => (
-                FilterShape::Sinc {
-                    tau: p.float("tau", 3.0)?,
-                },
-                4.0,
-            ),
-            other => {
-                return Err(PbrtError::at(
-                    &d.loc,
-                    format!(
-                    "unknown PixelFilter \"{other}\" (box, triangle, gaussian, mitchell or sinc)"
-                ),
-                ))
-            }
-        };
-        let radius = Vec2::new(p.float("xradius", radius)?, p.float("yradius", radius)?);
-        let width_ok = match shape {
-            FilterShape::Gaussian { sigma } => sigma > 0.0 && sigma.is_finite(),
-            FilterShape::Sinc { tau } => tau > 0.0 && tau.is_finite(),
-            _ => true,
-        };
-        let radius_ok = radius.min_element() > 0.0 && radius.max_element() <= 64.0;
-        if !(radius_ok && width_ok) {
-            return Err(PbrtError::at(
-                &d.loc,
-                "PixelFilter radii must be in (0, 64] pixels and sigma and tau positive",
-            ));
-        }
-        if matches!(
-            shape,
-            FilterShape::Mitchell { .. } | FilterShape::Sinc { .. }
-        ) {
-            self.warn(
-                Topic::Camera,
-                format!(
-                    "PixelFilter \"{}\" negative lobes (its positive part is used)",
-                    d.str(0)
-                ),
-                &d.loc,
-            );
-        }
-        Ok(PixelFilter::new(shape, radius))
-    }
-
-    /// A spectrum texture's input `name`: a named texture or a value, if given.
-    pub(crate) fn spectrum_input(
-        &mut self,
-        p: &ParamList,
-        name: &str,
-        loc: &Loc,
-    ) -> Result<Option<Tex>, PbrtError> {
-        if p.type_of(name) == Some("texture") {
-            let texture = p.texture(name)?.unwrap_or_default();
-            return match self.textures.get(&texture) {
-                Some(t) => Ok(Some(t.clone())),
-                None => Err(PbrtError::at(loc, format!("unknown texture \"{texture}\""))),
-            };
-        }
-        Ok(match p.spectrum(name)? {
-            Some((s, l)) => Some(Tex::Rgb(
-                crate::spectra::to_rgb(&s).map_err(|e| PbrtError::at(&l, e))?,
-            )),
-            None => None,
-        })
-    }
-
-    /// The image texture of an "imagemap" Texture directive.
-    fn image_texture(&mut self, d: &Directive, dir: &Path) -> Result<ImageTexture, PbrtError> {
-        let p = &d.params;
-        let Some(file) = p.string("filename")? else {
-            return Err(PbrtError::at(
-                &d.loc,
-                format!(
-                    "imagemap texture \"{}\" needs \"string filename\"",
-                    d.str(0)
-                ),
-            ));
-        };
-        let path = dir.join(&file);
-        let image = self.image(&path, &d.loc)?;
-        let mut t = ImageTexture::new(image, path.clone());
-        t.scale = p.float("scale", 1.0)?;
-        t.invert = p.bool("invert", false)?;
-        t.uscale = p.float("uscale", 1.0)?;
-        t.vscale = p.float("vscale", 1.0)?;
-        t.udelta = p.float("udelta", 0.0)?;
-        t.vdelta = p.float("vdelta", 0.0)?;
-        p.string("filter")?;
-        p.float("maxanisotropy", 8.0)?;
-        if let Some(w) = p.string("wrap")?.filter(|w| w != "repeat") {
-            self.warn(
-                Topic::Textures,
-                format!("texture wrap mode \"{w}\" (textures repeat)"),
-                &d.loc,
-            );
-        }
-        if let Some(m) = p.string("mapping")?.filter(|m| m != "uv") {
-            self.warn(
-                Topic::Textures,
-                format!("texture mapping \"{m}\" (uv mapping is used)"),
-                &d.loc,
-            );
-        }
-        if let Some(e) = p.string("encoding")? {
-            let eight_bit = path.extension().is_some_and(|x| {
-                ["png", "tga", "jpg", "jpeg"]
-                    .iter()
-                    .any(|k| x.eq_ignore_ascii_case(k))
-            });
-            if !(eight_bit && e == "sRGB" || !eight_bit && e == "linear") {
-                self.warn(Topic::Textures,
-                    format!("texture encoding \"{e}\" (PNG, TGA and JPEG are read as sRGB, EXR, HDR and PFM as linear)"),
-                    &d.loc,
-                );
-            }
-        }
-        Ok(t)
-    }
-
-    /// An image file, read once however many textures or lights use it.
-    pub fn image(&mut self, path: &Path, loc: &Loc) -> Result<Arc<Image>, PbrtError> {
-        if let Some(img) = self.images.get(path) {
-            return Ok(img.clone());
-        }
-        let img = Arc::new(Image::read(path).map_err(|e| PbrtError::at(loc, e.to_string()))?);
-        self.files.push(path.to_path_buf());
-        self.images.insert(path.to_path_buf(), img.clone());
-        Ok(img)
-    }
-
     /// Adds a finished shape (made by the directive at `loc`) to the scene or to the object
     /// being defined; refuses one beyond what f32 ray tracing resolves.
     pub fn add_shape(&mut self, shape: Shape, loc: &Loc) -> Result<(), PbrtError> {
@@ -848,7 +526,7 @@ impl Builder {
             ));
         }
         let mut camera = match &self.camera {
-            Some(c) => make_camera(c)?,
+            Some(c) => c.build()?,
             None => Camera::from_basis(
                 Vec3::ZERO,
                 Vec3::Z,
@@ -936,23 +614,6 @@ fn check_extent(shape: &Shape, loc: &Loc) -> Result<(), PbrtError> {
         Some(what) => Err(PbrtError::at(loc, what)),
         None => Ok(()),
     }
-}
-
-fn make_camera(c: &CameraSpec) -> Result<Camera, PbrtError> {
-    let m = c.camera_from_world.inverse();
-    let v = |x: DVec3| x.as_vec3();
-    if !m.is_finite() {
-        return Err(PbrtError::at(&c.loc, "the camera transform is singular"));
-    }
-    Camera::from_basis(
-        v(m.transform_point3(DVec3::ZERO)),
-        v(m.transform_vector3(DVec3::Z)),
-        v(m.transform_vector3(DVec3::X)),
-        v(m.transform_vector3(DVec3::Y)),
-        FieldOfView::ShorterAxis(c.fov),
-        c.screen_window,
-    )
-    .map_err(|e| PbrtError::at(&c.loc, e.to_string()))
 }
 
 /// `shape` moved by the transform `m` in effect at `loc`.

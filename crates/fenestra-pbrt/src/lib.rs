@@ -4,6 +4,7 @@
 //! docs/scenes.md lists what is supported and how each approximation is made.
 
 mod builder;
+mod camera;
 pub mod export;
 mod lexer;
 mod lights;
@@ -12,6 +13,7 @@ mod params;
 mod parser;
 mod shapes;
 mod spectra;
+mod textures;
 
 use fenestra_scene::SceneDesc;
 use std::fmt;
