@@ -117,6 +117,7 @@ pub fn box_scene(variant: Variant) -> SceneDesc {
             height: 256,
             spp: 64,
             max_depth: 6,
+            options: Vec::new(),
         },
         portals,
     }

@@ -156,6 +156,7 @@ pub fn chess() -> SceneDesc {
             height: 300,
             spp: 64,
             max_depth: 6,
+            options: Vec::new(),
         },
     )
 }

@@ -115,6 +115,7 @@ pub fn cornell_box() -> SceneDesc {
             height: 512,
             spp: 64,
             max_depth: 8,
+            options: Vec::new(),
         },
     )
 }

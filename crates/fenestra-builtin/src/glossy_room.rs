@@ -82,6 +82,7 @@ pub fn glossy_room() -> SceneDesc {
             height: 240,
             spp: 64,
             max_depth: 6,
+            options: Vec::new(),
         },
     )
 }

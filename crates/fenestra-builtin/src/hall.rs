@@ -129,6 +129,7 @@ pub fn hall_windows() -> SceneDesc {
             height: 360,
             spp: 64,
             max_depth: 8,
+            options: Vec::new(),
         },
     )
 }

@@ -121,6 +121,7 @@ pub fn kitchen(with_sky: bool) -> SceneDesc {
             height: 480,
             spp: 64,
             max_depth: 6,
+            options: Vec::new(),
         },
     )
 }

@@ -65,6 +65,7 @@ pub fn ponderosa() -> SceneDesc {
             height: 480,
             spp: 64,
             max_depth: 6,
+            options: Vec::new(),
         },
     )
 }

@@ -131,6 +131,7 @@ pub fn relight_room() -> SceneDesc {
             height: 240,
             spp: 64,
             max_depth: 3,
+            options: Vec::new(),
         },
     )
 }

@@ -139,6 +139,7 @@ fn kettle_box(name: &str, kettle: Material) -> SceneDesc {
             height: 512,
             spp: 64,
             max_depth: 8,
+            options: Vec::new(),
         },
     )
 }

@@ -198,6 +198,7 @@ pub fn terminal() -> SceneDesc {
             height: 540,
             spp: 64,
             max_depth: 6,
+            options: Vec::new(),
         },
     )
 }

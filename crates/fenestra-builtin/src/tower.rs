@@ -87,6 +87,7 @@ pub fn tower() -> SceneDesc {
             height: 360,
             spp: 64,
             max_depth: 6,
+            options: Vec::new(),
         },
     )
 }

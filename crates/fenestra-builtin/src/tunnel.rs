@@ -85,6 +85,7 @@ pub fn tunnel() -> SceneDesc {
             height: 384,
             spp: 64,
             max_depth: 8,
+            options: Vec::new(),
         },
     )
 }

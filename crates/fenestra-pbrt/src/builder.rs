@@ -167,6 +167,7 @@ impl Builder {
                 height: 720,
                 spp: 16,
                 max_depth: 6,
+                options: Vec::new(),
             },
             warnings: Tally::default(),
             notes: Tally::default(),
@@ -385,6 +386,7 @@ impl Builder {
                 let depth = d.params.int("maxdepth", 5)?;
                 // pbrt counts bounces; fenestra counts segments from the camera (2 = direct).
                 self.defaults.max_depth = positive(depth + 1, "maxdepth", &d.loc)?;
+                self.integrator_options(d)?;
             }
             "PixelFilter" => self.filter = Some(self.pixel_filter(d)?),
             // The acceleration structure does not change the picture.
@@ -606,6 +608,47 @@ fn look_at(pos: DVec3, look: DVec3, up: DVec3, loc: &Loc) -> Result<DMat4, PbrtE
         pos.extend(1.0),
     );
     Ok(world_from_camera.inverse())
+}
+
+impl Builder {
+    /// The options of a path tracing Integrator directive that fenestra's integrators read:
+    /// its light sampler becomes `light.selection` (pbrt-v4's bvh, power and uniform have
+    /// fenestra namesakes; exhaustive, which weighs every light by its bounds' importance,
+    /// is taken as bvh, whose cuts approximate it).
+    fn integrator_options(&mut self, d: &Directive) -> Result<(), PbrtError> {
+        if let Some(sampler) = d.params.string("lightsampler")? {
+            let selection = match sampler.as_str() {
+                "bvh" | "power" | "uniform" => sampler.clone(),
+                "exhaustive" => {
+                    self.note(
+                        Topic::Rendering,
+                        "lightsampler \"exhaustive\" (taken as bvh)",
+                        &d.loc,
+                    );
+                    "bvh".to_string()
+                }
+                other => {
+                    return Err(PbrtError::at(
+                        &d.loc,
+                        format!(
+                            "unknown lightsampler \"{other}\" (pbrt-v4 has bvh, exhaustive, power and uniform)"
+                        ),
+                    ))
+                }
+            };
+            self.defaults
+                .options
+                .push(("light.selection".into(), selection));
+        }
+        if d.params.bool("regularize", false)? {
+            self.warn(
+                Topic::Rendering,
+                "regularize (fenestra does not regularize BSDFs: caustics stay sharp and noisy)",
+                &d.loc,
+            );
+        }
+        Ok(())
+    }
 }
 
 /// Refuses a shape beyond what f32 ray tracing resolves, at the directive that made it.

@@ -221,7 +221,9 @@ impl Registry {
     }
 
     /// Builds integrator `name` from `params` to render `scene`. Every key must be an option
-    /// the integrator reads (with its light sampler's, if it samples lights).
+    /// the integrator reads (with its light sampler's, if it samples lights). The options the
+    /// scene file sets (`RenderDefaults::options`) apply where the integrator reads them and
+    /// `params` does not set them.
     pub fn build(
         &self,
         name: &str,
@@ -239,6 +241,7 @@ impl Registry {
                     .join(", "),
             });
         };
+        let params = &scene_options(entry, params, scene);
         self.check_keys(entry, params)?;
         (entry.build)(&Build {
             params,
@@ -297,4 +300,16 @@ impl Registry {
             _ => entry.name.to_string(),
         }
     }
+}
+
+/// `params` with the options `scene` sets whose group `entry` reads and `params` leaves unset.
+fn scene_options(entry: &Entry<BuildIntegrator>, params: &Params, scene: &SceneDesc) -> Params {
+    let mut all = params.clone();
+    for (key, value) in &scene.defaults.options {
+        let group = key.split_once('.').map_or(key.as_str(), |(group, _)| group);
+        if entry.groups.contains(&group) && !params.contains(key) {
+            all.set(key.clone(), value.clone());
+        }
+    }
+    all
 }

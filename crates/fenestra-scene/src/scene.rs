@@ -19,6 +19,10 @@ pub struct RenderDefaults {
     pub spp: u32,
     /// Maximum path length in segments from the camera to the emitter (2 = direct light).
     pub max_depth: u32,
+    /// Integrator options the scene file sets (option key and its value as text, e.g.
+    /// `light.selection` = `bvh` from a pbrt-v4 Integrator directive): a render takes them
+    /// where its integrator reads them and the command line does not set them.
+    pub options: Vec<(String, String)>,
 }
 
 impl Default for RenderDefaults {
@@ -28,6 +32,7 @@ impl Default for RenderDefaults {
             height: 512,
             spp: 64,
             max_depth: 8,
+            options: Vec::new(),
         }
     }
 }

@@ -111,3 +111,49 @@ fn errors_name_the_flag_and_the_key() {
     assert_eq!(flag_of("portals.source").as_deref(), Some("--portals"));
     assert_eq!(flag_of("path.max_depth").as_deref(), Some("--max-depth"));
 }
+
+#[test]
+fn a_pbrt_integrator_directive_sets_options_under_the_command_line() {
+    let scene = |integrator: &str| {
+        let text = format!(
+            "{integrator}\nWorldBegin\nLightSource \"point\" \"rgb I\" [1 1 1]\n\
+             Shape \"sphere\" \"float radius\" 1\n"
+        );
+        let path = std::path::Path::new("integrator.pbrt");
+        fenestra_pbrt::load_bytes(text.as_bytes(), path, false)
+            .expect("scene")
+            .desc
+    };
+    let selection = |scene: &fenestra_scene::SceneDesc, name: &str, params: &Params| {
+        let built = registry().build(name, params, scene).expect("builds");
+        built.settings()["light_selection"].clone()
+    };
+    let uniform = scene("Integrator \"path\" \"string lightsampler\" \"uniform\"");
+    assert_eq!(
+        uniform.defaults.options,
+        [("light.selection".into(), "uniform".into())]
+    );
+    assert_eq!(selection(&uniform, "af_hf", &Params::new()), "uniform");
+    // The command line wins; the scene's options are read as flags are.
+    let power = Params::new().with("light.selection", "power");
+    assert_eq!(selection(&uniform, "af_hf", &power), "power");
+    assert_eq!(
+        selection(&scene("Integrator \"path\""), "af_hf", &Params::new()),
+        "power"
+    );
+    let bvh = scene("Integrator \"volpath\" \"string lightsampler\" \"exhaustive\"");
+    assert_eq!(selection(&bvh, "sdrc", &Params::new()), "bvh");
+    // An integrator that does not sample lights by a light sampler takes no offence.
+    assert!(registry().build("ias", &Params::new(), &uniform).is_ok());
+    let e = fenestra_pbrt::load_bytes(
+        b"Integrator \"path\" \"string lightsampler\" \"magic\"\nWorldBegin\n",
+        std::path::Path::new("magic.pbrt"),
+        false,
+    )
+    .err()
+    .expect("refused");
+    assert!(
+        e.to_string().contains("unknown lightsampler \"magic\""),
+        "{e}"
+    );
+}

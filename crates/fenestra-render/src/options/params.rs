@@ -42,6 +42,11 @@ impl Params {
         })
     }
 
+    /// Whether `key` is set.
+    pub fn contains(&self, key: &str) -> bool {
+        self.values.contains_key(key)
+    }
+
     /// Whether no key is set.
     pub fn is_empty(&self) -> bool {
         self.values.is_empty()

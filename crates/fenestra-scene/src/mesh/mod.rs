@@ -143,6 +143,7 @@ pub fn viewer_scene(path: &Path) -> Result<(SceneDesc, Vec<String>), MeshError> 
                 height: 512,
                 spp: 64,
                 max_depth: 8,
+                options: Vec::new(),
             },
             portals: Vec::new(),
         },
