@@ -82,11 +82,18 @@ pub fn write(desc: &SceneDesc, path: &Path) -> Result<Exported, ExportError> {
         d.spp
     );
     // fenestra counts path segments (2 = direct light), pbrt bounces.
-    let _ = writeln!(
+    let _ = write!(
         s,
         "Integrator \"path\" \"integer maxdepth\" [ {} ]",
         d.max_depth.saturating_sub(1)
     );
+    // The options a pbrt-v4 Integrator directive can say (the light sampler).
+    for (key, value) in &d.options {
+        if key == "light.selection" && matches!(value.as_str(), "bvh" | "power" | "uniform") {
+            let _ = write!(s, " \"string lightsampler\" \"{value}\"");
+        }
+    }
+    s.push('\n');
     camera(&mut s, &desc.camera, d.width, d.height);
     s.push_str("\nWorldBegin\n\n");
     for (i, m) in desc.materials.iter().enumerate() {

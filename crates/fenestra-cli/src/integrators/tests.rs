@@ -134,6 +134,16 @@ fn a_pbrt_integrator_directive_sets_options_under_the_command_line() {
         [("light.selection".into(), "uniform".into())]
     );
     assert_eq!(selection(&uniform, "af_hf", &Params::new()), "uniform");
+    // Exports say it again.
+    let dir = std::env::temp_dir().join(format!("fenestra-integrator-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("dir");
+    let exported = dir.join("uniform.pbrt");
+    fenestra_pbrt::export::write(&uniform, &exported).expect("export");
+    let back = fenestra_pbrt::load(&exported, true)
+        .expect("read back")
+        .desc;
+    assert_eq!(back.defaults.options, uniform.defaults.options);
+    let _ = std::fs::remove_dir_all(&dir);
     // The command line wins; the scene's options are read as flags are.
     let power = Params::new().with("light.selection", "power");
     assert_eq!(selection(&uniform, "af_hf", &power), "power");
