@@ -6,6 +6,7 @@
 use crate::geometry::{camera, cuboid, sky, Assembler};
 use fenestra_core::{Rgb, Vec3};
 use fenestra_scene::light::LightDesc;
+use fenestra_scene::material;
 use fenestra_scene::mesh::{grid, smooth_normals};
 use fenestra_scene::{Material, RenderDefaults, SceneDesc, TriangleMesh};
 use std::f32::consts::{FRAC_PI_2, PI, TAU};
@@ -61,27 +62,27 @@ const BLACK: &[(Piece, u8, u8)] = &[
 /// The chess scene.
 pub fn chess() -> SceneDesc {
     let mut a = Assembler::default();
-    let ivory = a.material(Material::Ward {
+    let ivory = a.material(Material::Ward(material::Ward {
         diffuse: Rgb::new(0.55, 0.52, 0.45),
         specular: Rgb::splat(0.25),
         alpha_x: 0.10,
         alpha_y: 0.16,
-    });
-    let ebony = a.material(Material::Phong {
+    }));
+    let ebony = a.material(Material::Phong(material::Phong {
         diffuse: Rgb::splat(0.02),
         specular: Rgb::splat(0.35),
         exponent: 30.0,
-    });
-    let light_square = a.material(Material::Phong {
+    }));
+    let light_square = a.material(Material::Phong(material::Phong {
         diffuse: Rgb::new(0.60, 0.52, 0.40),
         specular: Rgb::splat(0.15),
         exponent: 14.0,
-    });
-    let dark_square = a.material(Material::Phong {
+    }));
+    let dark_square = a.material(Material::Phong(material::Phong {
         diffuse: Rgb::new(0.16, 0.09, 0.05),
         specular: Rgb::splat(0.15),
         exponent: 14.0,
-    });
+    }));
     let frame = a.material(Material::diffuse(0.12));
     let table = a.material(Material::diffuse(0.45));
 

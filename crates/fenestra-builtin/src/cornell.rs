@@ -5,6 +5,7 @@
 
 use crate::geometry::{camera, Assembler};
 use fenestra_core::{Rgb, Vec3};
+use fenestra_scene::material;
 use fenestra_scene::{Material, RenderDefaults, SceneDesc, ShapeKind, TriangleMesh};
 
 fn p(x: f32, y: f32, z: f32) -> Vec3 {
@@ -27,15 +28,15 @@ fn quads(corners: &[[f32; 12]]) -> TriangleMesh {
 
 pub fn cornell_box() -> SceneDesc {
     let mut a = Assembler::default();
-    let white = a.material(Material::Diffuse {
+    let white = a.material(Material::Diffuse(material::Diffuse {
         reflectance: Rgb::new(0.725, 0.71, 0.68),
-    });
-    let red = a.material(Material::Diffuse {
+    }));
+    let red = a.material(Material::Diffuse(material::Diffuse {
         reflectance: Rgb::new(0.63, 0.065, 0.05),
-    });
-    let green = a.material(Material::Diffuse {
+    }));
+    let green = a.material(Material::Diffuse(material::Diffuse {
         reflectance: Rgb::new(0.14, 0.45, 0.091),
-    });
+    }));
     let lamp = a.material(Material::diffuse(0.78));
     a.mesh(
         quads(&[

@@ -8,6 +8,7 @@
 use crate::geometry::{camera, cuboid, room, sky, Assembler};
 use fenestra_core::{Rgb, Vec3};
 use fenestra_scene::light::LightDesc;
+use fenestra_scene::material;
 use fenestra_scene::{Material, RenderDefaults, SceneDesc, TriangleMesh};
 
 /// Room size (m).
@@ -19,32 +20,32 @@ const H: f32 = 2.7;
 pub fn glossy_room() -> SceneDesc {
     let mut a = Assembler::default();
     let white = a.material(Material::diffuse(0.7));
-    let floor = a.material(Material::Ward {
+    let floor = a.material(Material::Ward(material::Ward {
         diffuse: Rgb::new(0.30, 0.19, 0.10),
         specular: Rgb::splat(0.12),
         alpha_x: 0.08,
         alpha_y: 0.08,
-    });
-    let brushed = a.material(Material::Ward {
+    }));
+    let brushed = a.material(Material::Ward(material::Ward {
         diffuse: Rgb::splat(0.03),
         specular: Rgb::splat(0.75),
         alpha_x: 0.25,
         alpha_y: 0.05,
-    });
-    let aluminium = a.material(Material::RoughConductor {
+    }));
+    let aluminium = a.material(Material::RoughConductor(material::RoughConductor {
         eta: Rgb::new(1.66, 0.88, 0.52),
         k: Rgb::new(9.22, 6.27, 4.84),
         alpha_x: 0.15,
         alpha_y: 0.15,
         roughness: None,
-    });
-    let gold = a.material(Material::RoughConductor {
+    }));
+    let gold = a.material(Material::RoughConductor(material::RoughConductor {
         eta: Rgb::new(0.143, 0.375, 1.442),
         k: Rgb::new(3.983, 2.386, 1.603),
         alpha_x: 0.1,
         alpha_y: 0.1,
         roughness: None,
-    });
+    }));
 
     // The window (2 x 1.4 m) is in the wall at y = 0.
     let (floor_mesh, walls) = room(W, D, H, &[([1.5, 0.8], [3.5, 2.2])]);

@@ -4,6 +4,7 @@
 
 use crate::geometry::{camera, cuboid, transposed, wall_with_openings, Assembler, Rect};
 use fenestra_core::{Rgb, Vec3};
+use fenestra_scene::material;
 use fenestra_scene::{Material, RenderDefaults, SceneDesc, ShapeKind, TriangleMesh};
 
 /// The hall's interior: x in [0, LENGTH], y in [-HALF_WIDTH, HALF_WIDTH], z in [0, HEIGHT].
@@ -25,13 +26,15 @@ pub fn windows(count: usize, z0: f32) -> Vec<Rect> {
 /// builtin:hall-windows.
 pub fn hall_windows() -> SceneDesc {
     let mut a = Assembler::default();
-    let stone = a.material(Material::Diffuse {
+    let stone = a.material(Material::Diffuse(material::Diffuse {
         reflectance: Rgb::new(0.62, 0.58, 0.52),
-    });
-    let floor = a.material(Material::Diffuse {
+    }));
+    let floor = a.material(Material::Diffuse(material::Diffuse {
         reflectance: Rgb::new(0.45, 0.42, 0.38),
-    });
-    let glass = a.material(Material::ThinDielectric { eta: 1.5 });
+    }));
+    let glass = a.material(Material::ThinDielectric(material::ThinDielectric {
+        eta: 1.5,
+    }));
     let lamp = a.material(Material::diffuse(0.0));
     let (lit, unlit) = (windows(19, 5.0), windows(7, 5.6));
     let extent = ([0.0, 0.0], [LENGTH, HEIGHT]);

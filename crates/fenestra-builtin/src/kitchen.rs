@@ -6,6 +6,7 @@ use crate::geometry::{camera, cuboid, room, sky, Assembler, Rect};
 use crate::teapot::teapot_mesh;
 use fenestra_core::{Rgb, Vec3};
 use fenestra_scene::light::LightDesc;
+use fenestra_scene::material;
 use fenestra_scene::{Material, RenderDefaults, SceneDesc, ShapeKind, TriangleMesh};
 
 /// Room: x in [0, 6], y in [0, 5], z in [0, 2.7]; windows in the y = 0 wall.
@@ -15,39 +16,39 @@ const H: f32 = 2.7;
 
 pub fn kitchen(with_sky: bool) -> SceneDesc {
     let mut a = Assembler::default();
-    let paint = a.material(Material::Diffuse {
+    let paint = a.material(Material::Diffuse(material::Diffuse {
         reflectance: Rgb::new(0.78, 0.76, 0.72),
-    });
-    let floor = a.material(Material::Phong {
+    }));
+    let floor = a.material(Material::Phong(material::Phong {
         diffuse: Rgb::new(0.32, 0.28, 0.24),
         specular: Rgb::splat(0.2),
         exponent: 300.0,
-    });
-    let wood = a.material(Material::Diffuse {
+    }));
+    let wood = a.material(Material::Diffuse(material::Diffuse {
         reflectance: Rgb::new(0.55, 0.38, 0.22),
-    });
-    let counter = a.material(Material::Phong {
+    }));
+    let counter = a.material(Material::Phong(material::Phong {
         diffuse: Rgb::splat(0.25),
         specular: Rgb::splat(0.15),
         exponent: 80.0,
-    });
-    let enamel = a.material(Material::Phong {
+    }));
+    let enamel = a.material(Material::Phong(material::Phong {
         diffuse: Rgb::splat(0.7),
         specular: Rgb::splat(0.1),
         exponent: 40.0,
-    });
-    let metal = a.material(Material::RoughConductor {
+    }));
+    let metal = a.material(Material::RoughConductor(material::RoughConductor {
         eta: Rgb::new(1.657, 0.880, 0.521),
         k: Rgb::new(9.224, 6.270, 4.837),
         alpha_x: 0.2,
         alpha_y: 0.2,
         roughness: None,
-    });
-    let pot = a.material(Material::Phong {
+    }));
+    let pot = a.material(Material::Phong(material::Phong {
         diffuse: Rgb::new(0.5, 0.08, 0.05),
         specular: Rgb::splat(0.2),
         exponent: 120.0,
-    });
+    }));
     let lamp = a.material(Material::diffuse(0.8));
 
     // Shell: floor, ceiling, three plain walls and the window wall (y = 0, facing +y).

@@ -15,6 +15,7 @@ mod terminal;
 mod tower;
 mod tunnel;
 
+use fenestra_scene::material;
 use fenestra_scene::{Material, SceneDesc, Shape, ShapeKind, TriangleMesh};
 
 /// (name, description) of every built-in scene.
@@ -138,7 +139,10 @@ pub fn load(name: &str) -> Result<SceneDesc, UnknownScene> {
 /// openings, the quads listed as its portals: the box scenes with glazed holes.
 pub fn glazed(mut desc: SceneDesc) -> SceneDesc {
     let glass = desc.materials.len();
-    desc.materials.push(Material::ThinDielectric { eta: 1.5 });
+    desc.materials
+        .push(Material::ThinDielectric(material::ThinDielectric {
+            eta: 1.5,
+        }));
     for q in desc.portals.clone() {
         let c = (q[0] + q[1] + q[2] + q[3]) / 4.0;
         let pane = TriangleMesh::quad(c, (q[1] - q[0]) * 0.5, (q[3] - q[0]) * 0.5);

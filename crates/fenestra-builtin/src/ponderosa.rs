@@ -7,6 +7,7 @@
 use crate::geometry::{camera, cuboid, sky, wall_with_openings, Assembler, Rect};
 use fenestra_core::{Rgb, Vec3};
 use fenestra_scene::light::LightDesc;
+use fenestra_scene::material;
 use fenestra_scene::{Material, RenderDefaults, SceneDesc, TriangleMesh};
 
 pub const ROOM: f32 = 4.0;
@@ -18,15 +19,15 @@ pub const COURTYARD: (usize, usize) = (3, 2);
 
 pub fn ponderosa() -> SceneDesc {
     let mut a = Assembler::default();
-    let plaster = a.material(Material::Diffuse {
+    let plaster = a.material(Material::Diffuse(material::Diffuse {
         reflectance: Rgb::new(0.75, 0.7, 0.62),
-    });
-    let floor = a.material(Material::Diffuse {
+    }));
+    let floor = a.material(Material::Diffuse(material::Diffuse {
         reflectance: Rgb::new(0.4, 0.3, 0.22),
-    });
-    let furniture = a.material(Material::Diffuse {
+    }));
+    let furniture = a.material(Material::Diffuse(material::Diffuse {
         reflectance: Rgb::new(0.35, 0.3, 0.5),
-    });
+    }));
     let plate = floor_plate(0.0, H, Some(COURTYARD));
     a.mesh(plate.floor, floor);
     a.mesh(plate.ceiling, plaster);

@@ -10,6 +10,7 @@
 use crate::geometry::{camera, cuboid, Assembler};
 use fenestra_core::{Rgb, Vec3};
 use fenestra_scene::light::LightDesc;
+use fenestra_scene::material;
 use fenestra_scene::{Material, RenderDefaults, SceneDesc, Shape, ShapeKind, TriangleMesh};
 
 /// Room size (m).
@@ -21,21 +22,21 @@ const H: f32 = 3.0;
 pub fn relight_room() -> SceneDesc {
     let mut a = Assembler::default();
     let white = a.material(Material::diffuse(0.75));
-    let floor = a.material(Material::Diffuse {
+    let floor = a.material(Material::Diffuse(material::Diffuse {
         reflectance: Rgb::new(0.55, 0.40, 0.25),
-    });
-    let red = a.material(Material::Diffuse {
+    }));
+    let red = a.material(Material::Diffuse(material::Diffuse {
         reflectance: Rgb::new(0.70, 0.12, 0.08),
-    });
-    let blue = a.material(Material::Diffuse {
+    }));
+    let blue = a.material(Material::Diffuse(material::Diffuse {
         reflectance: Rgb::new(0.10, 0.22, 0.65),
-    });
-    let orange = a.material(Material::Diffuse {
+    }));
+    let orange = a.material(Material::Diffuse(material::Diffuse {
         reflectance: Rgb::new(0.85, 0.45, 0.08),
-    });
-    let green = a.material(Material::Diffuse {
+    }));
+    let green = a.material(Material::Diffuse(material::Diffuse {
         reflectance: Rgb::new(0.15, 0.60, 0.20),
-    });
+    }));
 
     // Floor, ceiling, the white long walls and the coloured end walls, every face inwards
     // (one surface per wall: gather samples on a wall hidden behind another would stand in

@@ -4,6 +4,7 @@
 
 use crate::geometry::{camera, checker, cuboid, Assembler};
 use fenestra_core::{Rgb, Vec3};
+use fenestra_scene::material;
 use fenestra_scene::mesh::smooth_normals;
 use fenestra_scene::texture::ImageTexture;
 use fenestra_scene::{Material, RenderDefaults, SceneDesc, ShapeKind, TriangleMesh};
@@ -86,12 +87,12 @@ pub fn teapot_mesh(n: usize, scale: f32, base: Vec3) -> TriangleMesh {
 pub fn teapot_box() -> SceneDesc {
     kettle_box(
         "teapot-box",
-        Material::Ward {
+        Material::Ward(material::Ward {
             diffuse: Rgb::new(0.05, 0.05, 0.06),
             specular: Rgb::new(0.6, 0.55, 0.45),
             alpha_x: 0.18,
             alpha_y: 0.09,
-        },
+        }),
     )
 }
 
@@ -99,18 +100,18 @@ pub fn teapot_box() -> SceneDesc {
 pub fn teapot_box_phong(exponent: f32) -> SceneDesc {
     kettle_box(
         &format!("teapot-box-phong-{exponent}"),
-        Material::Phong {
+        Material::Phong(material::Phong {
             diffuse: Rgb::new(0.05, 0.05, 0.06),
             specular: Rgb::new(0.6, 0.55, 0.45),
             exponent,
-        },
+        }),
     )
 }
 
 /// The teapot of material `kettle` in the box.
 fn kettle_box(name: &str, kettle: Material) -> SceneDesc {
     let mut a = Assembler::default();
-    let walls = a.material(Material::TexturedDiffuse {
+    let walls = a.material(Material::TexturedDiffuse(material::TexturedDiffuse {
         texture: Arc::new(ImageTexture::new(
             Arc::new(checker(
                 8,
@@ -120,7 +121,7 @@ fn kettle_box(name: &str, kettle: Material) -> SceneDesc {
             )),
             "checker.exr".into(),
         )),
-    });
+    }));
     let kettle = a.material(kettle);
     let lamp = a.material(Material::diffuse(0.0));
     // A 2 m box, its floor at z = 0.

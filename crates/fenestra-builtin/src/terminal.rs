@@ -8,6 +8,7 @@ use crate::geometry::{camera, column, cuboid, Assembler};
 use fenestra_core::sampler::{hash_combine, hash_u32};
 use fenestra_core::{Rgb, Vec3, PI};
 use fenestra_scene::light::{Emission, LightDesc};
+use fenestra_scene::material;
 use fenestra_scene::mesh::grid;
 use fenestra_scene::{Material, RenderDefaults, SceneDesc, Shape, ShapeKind, TriangleMesh};
 
@@ -18,24 +19,24 @@ const SPRING: f32 = 22.0;
 
 pub fn terminal() -> SceneDesc {
     let mut a = Assembler::default();
-    let stone = a.material(Material::Diffuse {
+    let stone = a.material(Material::Diffuse(material::Diffuse {
         reflectance: Rgb::new(0.68, 0.62, 0.52),
-    });
-    let marble = a.material(Material::Phong {
+    }));
+    let marble = a.material(Material::Phong(material::Phong {
         diffuse: Rgb::new(0.5, 0.46, 0.4),
         specular: Rgb::splat(0.08),
         exponent: 500.0,
-    });
-    let vault_paint = a.material(Material::Diffuse {
+    }));
+    let vault_paint = a.material(Material::Diffuse(material::Diffuse {
         reflectance: Rgb::new(0.25, 0.42, 0.42),
-    });
-    let brass = a.material(Material::RoughConductor {
+    }));
+    let brass = a.material(Material::RoughConductor(material::RoughConductor {
         eta: Rgb::new(0.444, 0.527, 1.094),
         k: Rgb::new(3.695, 2.765, 1.829),
         alpha_x: 0.25,
         alpha_y: 0.25,
         roughness: None,
-    });
+    }));
     let glow = a.material(Material::diffuse(0.8));
 
     a.mesh(

@@ -10,6 +10,7 @@ use crate::geometry::{camera, sky, Assembler};
 use crate::ponderosa::{floor_plate, COLS, ROOM, ROWS};
 use fenestra_core::{Rgb, Vec3};
 use fenestra_scene::light::LightDesc;
+use fenestra_scene::material;
 use fenestra_scene::{Material, RenderDefaults, SceneDesc, ShapeKind, TriangleMesh};
 
 /// Storeys.
@@ -23,15 +24,15 @@ const PANELS: (usize, usize) = (4, 3);
 /// The tower.
 pub fn tower() -> SceneDesc {
     let mut a = Assembler::default();
-    let plaster = a.material(Material::Diffuse {
+    let plaster = a.material(Material::Diffuse(material::Diffuse {
         reflectance: Rgb::new(0.75, 0.74, 0.72),
-    });
-    let carpet = a.material(Material::Diffuse {
+    }));
+    let carpet = a.material(Material::Diffuse(material::Diffuse {
         reflectance: Rgb::new(0.3, 0.32, 0.36),
-    });
-    let furniture = a.material(Material::Diffuse {
+    }));
+    let furniture = a.material(Material::Diffuse(material::Diffuse {
         reflectance: Rgb::new(0.55, 0.45, 0.3),
-    });
+    }));
     let lamp = a.material(Material::diffuse(0.0));
     let (wx, wy) = (COLS as f32 * ROOM, ROWS as f32 * ROOM);
     let mut panels = TriangleMesh::default();

@@ -12,6 +12,7 @@ use fenestra_render::integrator::{af_hf, Integrator, LightNextEvent, PathOptions
 use fenestra_render::light::LightSelection;
 use fenestra_render::{render_image, Film, RenderScene, RenderSettings};
 use fenestra_scene::light::Emission;
+use fenestra_scene::material;
 use fenestra_scene::{
     Backend, Camera, Material, RenderDefaults, Scene, SceneDesc, Shape, ShapeKind, TriangleMesh,
 };
@@ -129,11 +130,11 @@ fn furnace(albedo: f32, panel: bool) -> RenderScene {
         shapes,
         materials: vec![
             Material::diffuse(albedo),
-            Material::Phong {
+            Material::Phong(material::Phong {
                 diffuse: Rgb::splat(0.1),
                 specular: Rgb::splat(0.7),
                 exponent: 20.0,
-            },
+            }),
         ],
         lights: Vec::new(),
         camera: Camera::look_at(

@@ -8,6 +8,7 @@ use crate::{Loc, PbrtError, Topic, Warning};
 use fenestra_core::image::Image;
 use fenestra_core::{Rgb, Vec3};
 use fenestra_scene::filter::PixelFilter;
+use fenestra_scene::material;
 use fenestra_scene::texture::ImageTexture;
 use fenestra_scene::transform::transformed;
 use fenestra_scene::{Camera, FieldOfView, LightDesc, Material, RenderDefaults, SceneDesc, Shape};
@@ -554,12 +555,12 @@ impl Builder {
         // Drop pbrt's default material when no shape and no mix uses it.
         let mixes_default = materials
             .iter()
-            .any(|m| matches!(m, Material::Mix { materials, .. } if materials.contains(&0)));
+            .any(|m| matches!(m, Material::Mix(material::Mix { materials, .. }) if materials.contains(&0)));
         if !mixes_default && shapes.iter().all(|s| s.material != 0) {
             materials.remove(0);
             shapes.iter_mut().for_each(|s| s.material -= 1);
             for m in &mut materials {
-                if let Material::Mix { materials, .. } = m {
+                if let Material::Mix(material::Mix { materials, .. }) = m {
                     materials.iter_mut().for_each(|i| *i -= 1);
                 }
             }

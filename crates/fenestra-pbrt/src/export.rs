@@ -8,6 +8,7 @@ use fenestra_core::image::Image;
 use fenestra_core::{Rgb, Vec3};
 use fenestra_scene::filter::{FilterShape, PixelFilter};
 use fenestra_scene::light::{EnvironmentDesc, LightDesc};
+use fenestra_scene::material;
 use fenestra_scene::{
     Camera, FieldOfView, ImageTexture, Material, SceneDesc, ShapeKind, TriangleMesh,
 };
@@ -102,10 +103,10 @@ pub fn write(desc: &SceneDesc, path: &Path) -> Result<Exported, ExportError> {
         if let Some(texture) = m.texture() {
             textures.push((format!("t{i}"), "spectrum", texture));
         }
-        if let Material::RoughConductor {
+        if let Material::RoughConductor(material::RoughConductor {
             roughness: Some(map),
             ..
-        } = m
+        }) = m
         {
             for (axis, t) in [("u", &map.u), ("v", &map.v)] {
                 if let Some(t) = t {
@@ -396,40 +397,40 @@ fn camera(s: &mut String, c: &Camera, width: u32, height: u32) {
 fn material(s: &mut String, i: usize, m: &Material) {
     let _ = write!(s, "MakeNamedMaterial \"m{i}\" ");
     match m {
-        Material::Diffuse { reflectance } => {
+        Material::Diffuse(material::Diffuse { reflectance }) => {
             let _ = write!(
                 s,
                 "\"string type\" \"diffuse\" \"rgb reflectance\" [ {} ]",
                 rgb(*reflectance)
             );
         }
-        Material::TexturedDiffuse { .. } => {
+        Material::TexturedDiffuse(material::TexturedDiffuse { .. }) => {
             let _ = write!(
                 s,
                 "\"string type\" \"diffuse\" \"texture reflectance\" \"t{i}\""
             );
         }
-        Material::Mirror { reflectance } => {
+        Material::Mirror(material::Mirror { reflectance }) => {
             let _ = write!(
                 s,
                 "\"string type\" \"conductor\" \"rgb reflectance\" [ {} ]",
                 rgb(*reflectance)
             );
         }
-        Material::Dielectric { eta } => {
+        Material::Dielectric(material::Dielectric { eta }) => {
             let _ = write!(s, "\"string type\" \"dielectric\" \"float eta\" [ {eta} ]");
         }
-        Material::ThinDielectric { eta } => {
+        Material::ThinDielectric(material::ThinDielectric { eta }) => {
             let _ = write!(
                 s,
                 "\"string type\" \"thindielectric\" \"float eta\" [ {eta} ]"
             );
         }
-        Material::Phong {
+        Material::Phong(material::Phong {
             diffuse,
             specular,
             exponent,
-        } => {
+        }) => {
             let _ = write!(
                 s,
                 "\"string type\" \"phong\" \"rgb diffuse\" [ {} ] \"rgb specular\" [ {} ] \"float exponent\" [ {exponent} ]",
@@ -437,12 +438,12 @@ fn material(s: &mut String, i: usize, m: &Material) {
                 rgb(*specular)
             );
         }
-        Material::Ward {
+        Material::Ward(material::Ward {
             diffuse,
             specular,
             alpha_x,
             alpha_y,
-        } => {
+        }) => {
             let _ = write!(
                 s,
                 "\"string type\" \"ward\" \"rgb diffuse\" [ {} ] \"rgb specular\" [ {} ] \"float alphax\" [ {alpha_x} ] \"float alphay\" [ {alpha_y} ]",
@@ -450,13 +451,13 @@ fn material(s: &mut String, i: usize, m: &Material) {
                 rgb(*specular)
             );
         }
-        Material::RoughConductor {
+        Material::RoughConductor(material::RoughConductor {
             eta,
             k,
             alpha_x,
             alpha_y,
             roughness,
-        } => {
+        }) => {
             // A texture is written with its remapping; constants are alphas, so under
             // remapping they are written squared.
             let remap = roughness.as_ref().is_some_and(|r| r.remap);
@@ -481,20 +482,20 @@ fn material(s: &mut String, i: usize, m: &Material) {
                 axis("v", tv, *alpha_y),
             );
         }
-        Material::RoughDielectric { eta, alpha } => {
+        Material::RoughDielectric(material::RoughDielectric { eta, alpha }) => {
             let _ = write!(
                 s,
                 "\"string type\" \"dielectric\" \"float eta\" [ {eta} ] \"float roughness\" [ {alpha} ] \"bool remaproughness\" false"
             );
         }
-        Material::CoatedConductor {
+        Material::CoatedConductor(material::CoatedConductor {
             interface_eta,
             interface_alpha,
             eta,
             k,
             alpha_x,
             alpha_y,
-        } => {
+        }) => {
             let _ = write!(
                 s,
                 "\"string type\" \"coatedconductor\" \"float interface.eta\" [ {interface_eta} ] \"float interface.roughness\" [ {interface_alpha} ] \"rgb conductor.eta\" [ {} ] \"rgb conductor.k\" [ {} ] \"float conductor.uroughness\" [ {alpha_x} ] \"float conductor.vroughness\" [ {alpha_y} ] \"bool remaproughness\" false",
@@ -502,10 +503,10 @@ fn material(s: &mut String, i: usize, m: &Material) {
                 rgb(*k)
             );
         }
-        Material::DiffuseTransmission {
+        Material::DiffuseTransmission(material::DiffuseTransmission {
             reflectance,
             transmittance,
-        } => {
+        }) => {
             let _ = write!(
                 s,
                 "\"string type\" \"diffusetransmission\" \"rgb reflectance\" [ {} ] \"rgb transmittance\" [ {} ]",
@@ -513,21 +514,21 @@ fn material(s: &mut String, i: usize, m: &Material) {
                 rgb(*transmittance)
             );
         }
-        Material::Mix {
+        Material::Mix(material::Mix {
             materials: [a, b],
             amount,
-        } => {
+        }) => {
             let _ = write!(
                 s,
                 "\"string type\" \"mix\" \"string materials\" [ \"m{a}\" \"m{b}\" ] \"float amount\" [ {amount} ]"
             );
         }
-        Material::CoatedDiffuse {
+        Material::CoatedDiffuse(material::CoatedDiffuse {
             reflectance,
             texture,
             eta,
             alpha,
-        } => {
+        }) => {
             let reflectance = match texture {
                 Some(_) => format!("\"texture reflectance\" \"t{i}\""),
                 None => format!("\"rgb reflectance\" [ {} ]", rgb(*reflectance)),

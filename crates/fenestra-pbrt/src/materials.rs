@@ -16,6 +16,7 @@ use crate::params::ParamList;
 use crate::spectra;
 use crate::{Loc, PbrtError, Topic};
 use fenestra_core::Rgb;
+use fenestra_scene::material;
 use fenestra_scene::{ImageTexture, Material, RoughnessTexture};
 use std::sync::Arc;
 
@@ -56,9 +57,13 @@ impl Builder {
         };
         let m = match ty {
             "diffuse" => match self.reflectance(p, loc)? {
-                Reflectance::Value(r) => Material::Diffuse { reflectance: r },
-                Reflectance::Texture(Tex::Rgb(r)) => Material::Diffuse { reflectance: r },
-                Reflectance::Texture(Tex::Image(texture)) => Material::TexturedDiffuse { texture },
+                Reflectance::Value(r) => Material::Diffuse(material::Diffuse { reflectance: r }),
+                Reflectance::Texture(Tex::Rgb(r)) => {
+                    Material::Diffuse(material::Diffuse { reflectance: r })
+                }
+                Reflectance::Texture(Tex::Image(texture)) => {
+                    Material::TexturedDiffuse(material::TexturedDiffuse { texture })
+                }
             },
             "coateddiffuse" => {
                 let (r, texture) = match self.reflectance(p, loc)? {
@@ -69,12 +74,12 @@ impl Builder {
                 let alpha = self.alpha(p, loc)?.max(SMOOTH_ALPHA);
                 layer_simulation_parameters(p)?;
                 self.note(Topic::Materials, ANALYTIC_LAYERS, loc);
-                Material::CoatedDiffuse {
+                Material::CoatedDiffuse(material::CoatedDiffuse {
                     reflectance: r,
                     texture,
                     eta,
                     alpha,
-                }
+                })
             }
             "conductor" => {
                 let (eta, k) = conductor_optics(p, "")?;
@@ -84,17 +89,17 @@ impl Builder {
                 if map.is_none() && au.max(av) < SMOOTH_ALPHA {
                     let f0 =
                         |e: f32, k: f32| ((e - 1.0).powi(2) + k * k) / ((e + 1.0).powi(2) + k * k);
-                    Material::Mirror {
+                    Material::Mirror(material::Mirror {
                         reflectance: Rgb::new(f0(eta.r, k.r), f0(eta.g, k.g), f0(eta.b, k.b)),
-                    }
+                    })
                 } else {
-                    Material::RoughConductor {
+                    Material::RoughConductor(material::RoughConductor {
                         eta,
                         k,
                         alpha_x: au.max(SMOOTH_ALPHA),
                         alpha_y: av.max(SMOOTH_ALPHA),
                         roughness: map.map(Arc::new),
-                    }
+                    })
                 }
             }
             "coatedconductor" => {
@@ -103,14 +108,14 @@ impl Builder {
                 let (iu, iv) = self.prefixed_alphas(p, "interface.", loc, true)?;
                 layer_simulation_parameters(p)?;
                 self.note(Topic::Materials, ANALYTIC_LAYERS, loc);
-                Material::CoatedConductor {
+                Material::CoatedConductor(material::CoatedConductor {
                     interface_eta: p.float("interface.eta", 1.5)?,
                     interface_alpha: (iu * iv).sqrt().max(SMOOTH_ALPHA),
                     eta,
                     k,
                     alpha_x: au.max(SMOOTH_ALPHA),
                     alpha_y: av.max(SMOOTH_ALPHA),
-                }
+                })
             }
             "dielectric" | "thindielectric" => {
                 let eta = match p.spectrum("eta")? {
@@ -128,16 +133,16 @@ impl Builder {
                     }
                 };
                 if ty == "thindielectric" {
-                    Material::ThinDielectric { eta }
+                    Material::ThinDielectric(material::ThinDielectric { eta })
                 } else {
                     let (au, av) = self.alphas(p, loc)?;
                     if au.max(av) < SMOOTH_ALPHA {
-                        Material::Dielectric { eta }
+                        Material::Dielectric(material::Dielectric { eta })
                     } else {
-                        Material::RoughDielectric {
+                        Material::RoughDielectric(material::RoughDielectric {
                             eta,
                             alpha: (au * av).sqrt().max(SMOOTH_ALPHA),
-                        }
+                        })
                     }
                 }
             }
@@ -158,10 +163,10 @@ impl Builder {
                     };
                     Ok((c * scale).map(|v| v.clamp(0.0, 1.0)))
                 };
-                Material::DiffuseTransmission {
+                Material::DiffuseTransmission(material::DiffuseTransmission {
                     reflectance: albedo("reflectance")?,
                     transmittance: albedo("transmittance")?,
-                }
+                })
             }
             "mix" => {
                 let Some((names, at)) = p.strings("materials")? else {
@@ -191,22 +196,22 @@ impl Builder {
                 if materials.contains(&INTERFACE) {
                     return Err(PbrtError::at(&at, "mix with an interface material"));
                 }
-                Material::Mix {
+                Material::Mix(material::Mix {
                     materials,
                     amount: amount.clamp(0.0, 1.0),
-                }
+                })
             }
-            "phong" => Material::Phong {
+            "phong" => Material::Phong(material::Phong {
                 diffuse: rgb("diffuse", Rgb::splat(0.5))?,
                 specular: rgb("specular", Rgb::ZERO)?,
                 exponent: p.float("exponent", 10.0)?,
-            },
-            "ward" => Material::Ward {
+            }),
+            "ward" => Material::Ward(material::Ward {
                 diffuse: rgb("diffuse", Rgb::splat(0.5))?,
                 specular: rgb("specular", Rgb::splat(0.04))?,
                 alpha_x: p.float("alphax", 0.1)?,
                 alpha_y: p.float("alphay", 0.1)?,
-            },
+            }),
             "" => return Ok(0),
             other => {
                 self.warn(

@@ -2,6 +2,7 @@
 
 use fenestra_core::{Vec2, Vec3};
 use fenestra_scene::light::{EnvironmentDesc, LightDesc};
+use fenestra_scene::material;
 use fenestra_scene::{Material, Shape, ShapeKind};
 
 /// Exports every built-in scene to pbrt-v4 and reads it back: the same shapes, materials,
@@ -63,13 +64,15 @@ fn pbrt_export_round_trips() {
 /// A material's kind and parameters rounded to 5 significant digits.
 fn material_key(m: &Material) -> String {
     let s = match m {
-        Material::TexturedDiffuse { texture } => format!("tex {:?}", texture.average()),
-        Material::CoatedDiffuse {
+        Material::TexturedDiffuse(material::TexturedDiffuse { texture }) => {
+            format!("tex {:?}", texture.average())
+        }
+        Material::CoatedDiffuse(material::CoatedDiffuse {
             reflectance,
             eta,
             alpha,
             ..
-        } => format!("coated {reflectance:?} {eta} {alpha}"),
+        }) => format!("coated {reflectance:?} {eta} {alpha}"),
         other => format!("{other:?}"),
     };
     round_numbers(&s)

@@ -7,6 +7,7 @@ use common::*;
 use fenestra_core::{Rgb, Vec2, Vec3};
 use fenestra_pbrt as pbrt;
 use fenestra_scene::light::{EnvironmentDesc, LightDesc};
+use fenestra_scene::material;
 use fenestra_scene::Material;
 
 #[test]
@@ -70,14 +71,20 @@ fn materials_lights_and_render_settings() {
     assert_eq!(d.portals.len(), 1);
     let mats: Vec<&Material> = d.shapes.iter().map(|s| &d.materials[s.material]).collect();
     assert!(
-        matches!(mats[0], Material::RoughConductor { alpha_x, eta, .. } if (alpha_x - 0.2).abs() < 1e-6 && eta.b > eta.r)
+        matches!(mats[0], Material::RoughConductor(material::RoughConductor { alpha_x, eta, .. }) if (alpha_x - 0.2).abs() < 1e-6 && eta.b > eta.r)
     );
     assert!(
-        matches!(mats[1], Material::Mirror { reflectance } if (reflectance.r - 0.9).abs() < 1e-3 && (reflectance.b - 0.1).abs() < 1e-3)
+        matches!(mats[1], Material::Mirror(material::Mirror { reflectance }) if (reflectance.r - 0.9).abs() < 1e-3 && (reflectance.b - 0.1).abs() < 1e-3)
     );
-    assert!(matches!(mats[2], Material::Dielectric { eta } if (eta - 1.5168).abs() < 1e-4));
-    assert!(matches!(mats[3], Material::ThinDielectric { eta } if *eta == 1.5));
-    assert!(matches!(mats[4], Material::CoatedDiffuse { eta, .. } if *eta == 1.5));
+    assert!(
+        matches!(mats[2], Material::Dielectric(material::Dielectric { eta }) if (eta - 1.5168).abs() < 1e-4)
+    );
+    assert!(
+        matches!(mats[3], Material::ThinDielectric(material::ThinDielectric { eta }) if *eta == 1.5)
+    );
+    assert!(
+        matches!(mats[4], Material::CoatedDiffuse(material::CoatedDiffuse { eta, .. }) if *eta == 1.5)
+    );
     // coatedconductor, as the killeroo-coated-gold scene writes it.
     let gold = load(
         r#"WorldBegin
@@ -90,7 +97,7 @@ fn materials_lights_and_render_settings() {
     assert!(gold.warnings.is_empty(), "{:?}", gold.warnings);
     assert!(matches!(
         gold.desc.materials[0],
-        Material::CoatedConductor { interface_eta, interface_alpha, alpha_x, eta, .. }
+        Material::CoatedConductor(material::CoatedConductor { interface_eta, interface_alpha, alpha_x, eta, .. })
             if interface_eta == 1.5 && (interface_alpha - 0.2).abs() < 1e-6
                 && (alpha_x - 0.1).abs() < 1e-6 && eta.b > eta.r
     ));
@@ -125,9 +132,9 @@ fn float_textures_vary_conductor_roughness_and_give_their_average_elsewhere() {
     .expect("scene");
     let s = pbrt::load(&dir.join("s.pbrt"), false).expect("lenient");
     let alphas = |m: &Material| match *m {
-        Material::RoughConductor {
+        Material::RoughConductor(material::RoughConductor {
             alpha_x, alpha_y, ..
-        } => (alpha_x, alpha_y),
+        }) => (alpha_x, alpha_y),
         ref other => panic!("rough conductor expected, found {other:?}"),
     };
     let (ax, ay) = alphas(&s.desc.materials[0]);
@@ -137,19 +144,22 @@ fn float_textures_vary_conductor_roughness_and_give_their_average_elsewhere() {
     let (ax, ay) = alphas(&s.desc.materials[1]);
     assert!((ax - 0.3f32.sqrt()).abs() < 1e-6 && (ay - 0.3f32.sqrt()).abs() < 1e-6);
     let mapped = |m: &Material| match m {
-        Material::RoughConductor {
+        Material::RoughConductor(material::RoughConductor {
             roughness: Some(map),
             alpha_x,
             alpha_y,
             ..
-        } => [0.25, 0.75].map(|u| map.alphas(Vec2::new(u, 0.5), (*alpha_x, *alpha_y))),
+        }) => [0.25, 0.75].map(|u| map.alphas(Vec2::new(u, 0.5), (*alpha_x, *alpha_y))),
         other => panic!("textured roughness expected, found {other:?}"),
     };
     let at = mapped(&s.desc.materials[1]);
     let close = |a: (f32, f32), b: (f32, f32)| (a.0 - b.0).abs() < 1e-6 && (a.1 - b.1).abs() < 1e-6;
     assert!(close(at[0], (0.2f32.sqrt(), 0.3f32.sqrt())), "{at:?}");
     assert!(close(at[1], (0.4f32.sqrt(), 0.3f32.sqrt())), "{at:?}");
-    assert!(matches!(s.desc.materials[2], Material::Dielectric { .. }));
+    assert!(matches!(
+        s.desc.materials[2],
+        Material::Dielectric(material::Dielectric { .. })
+    ));
     let w: Vec<String> = s.warnings.iter().map(ToString::to_string).collect();
     for says in [
         "float texture for \"roughness\" (its average, 0.25, is used)",
@@ -196,7 +206,7 @@ fn spectrum_files_are_read_relative_to_the_scene_file() {
     // The file is one of the scene's inputs (no output may replace it).
     assert!(s.files.contains(&dir.join("spds/two.spd")), "{:?}", s.files);
     // A smooth conductor of eta = k = 2: F0 = ((2-1)^2 + 4) / ((2+1)^2 + 4) = 5/13.
-    let Material::Mirror { reflectance } = s.desc.materials[0] else {
+    let Material::Mirror(material::Mirror { reflectance }) = s.desc.materials[0] else {
         panic!("mirror")
     };
     assert!((reflectance.g - 5.0 / 13.0).abs() < 1e-3, "{reflectance:?}");
@@ -285,7 +295,8 @@ fn scale_and_mix_textures() {
     )
     .expect("scene");
     let s = pbrt::load(&dir.join("s.pbrt"), false).expect("load");
-    let Material::TexturedDiffuse { texture } = &s.desc.materials[0] else {
+    let Material::TexturedDiffuse(material::TexturedDiffuse { texture }) = &s.desc.materials[0]
+    else {
         panic!("a scaled image stays an image")
     };
     assert_eq!(
@@ -293,7 +304,7 @@ fn scale_and_mix_textures() {
         Rgb::new(0.5, 0.0, 0.0)
     );
     let reflectance = |m: &Material| match *m {
-        Material::Diffuse { reflectance } => reflectance,
+        Material::Diffuse(material::Diffuse { reflectance }) => reflectance,
         ref other => panic!("diffuse expected, found {other:?}"),
     };
     let close = |a: Rgb, b: Rgb| (a - b).map(f32::abs).max_component() < 1e-6;
@@ -335,7 +346,9 @@ fn checkerboard_mix_and_diffuse_transmission_as_pbrt_v4_defines_them() {
     .expect("load");
     // The named materials in order, then the checks.
     let [red, leaf, both, checks] = [0, 1, 2, 3];
-    let Material::TexturedDiffuse { texture } = &s.desc.materials[checks] else {
+    let Material::TexturedDiffuse(material::TexturedDiffuse { texture }) =
+        &s.desc.materials[checks]
+    else {
         panic!("a checkerboard is a texture")
     };
     // pbrt-v4: tex1 where floor(s) + floor(t) is even, s = 4u + 0.5, t = 2v (check centres,
@@ -357,16 +370,19 @@ fn checkerboard_mix_and_diffuse_transmission_as_pbrt_v4_defines_them() {
         };
         assert_eq!(texture.lookup(Vec2::new(u, v)), want, "uv ({u}, {v})");
     }
-    assert!(matches!(s.desc.materials[red], Material::Diffuse { .. }));
+    assert!(matches!(
+        s.desc.materials[red],
+        Material::Diffuse(material::Diffuse { .. })
+    ));
     assert!(matches!(
         s.desc.materials[leaf],
-        Material::DiffuseTransmission { reflectance, transmittance }
+        Material::DiffuseTransmission(material::DiffuseTransmission { reflectance, transmittance })
             if (reflectance - Rgb::new(0.4, 1.0, 0.2)).max_component().abs() < 1e-6
             && (transmittance - Rgb::new(0.2, 0.8, 0.2)).max_component().abs() < 1e-6
     ));
     assert!(matches!(
         s.desc.materials[both],
-        Material::Mix { materials: [0, 1], amount } if amount == 0.3
+        Material::Mix(material::Mix { materials: [0, 1], amount }) if amount == 0.3
     ));
     assert!(s.warnings.is_empty(), "{:?}", s.warnings);
     // The exporter writes them so that they read back the same.
@@ -407,7 +423,8 @@ fn image_textures_and_environments() {
     )
     .expect("scene");
     let s = pbrt::load(&dir.join("s.pbrt"), true).expect("load");
-    let Material::TexturedDiffuse { texture } = &s.desc.materials[0] else {
+    let Material::TexturedDiffuse(material::TexturedDiffuse { texture }) = &s.desc.materials[0]
+    else {
         panic!("textured")
     };
     assert_eq!(
@@ -426,7 +443,7 @@ fn image_textures_and_environments() {
     .expect("strict: nothing approximated");
     assert!(matches!(
         &coated.desc.materials[0],
-        Material::CoatedDiffuse { texture: Some(t), .. } if t.lookup(Vec2::new(0.75, 0.5)) == Rgb::new(0.0, 0.0, 1.0)
+        Material::CoatedDiffuse(material::CoatedDiffuse { texture: Some(t), .. }) if t.lookup(Vec2::new(0.75, 0.5)) == Rgb::new(0.0, 0.0, 1.0)
     ));
     let LightDesc::Environment(EnvironmentDesc::Image { image, scale, .. }) = &s.desc.lights[0]
     else {
@@ -465,6 +482,6 @@ fn impossible_light_and_material_values_are_refused_or_clamped_as_pbrt_does() {
     );
     assert!(l.desc.materials.iter().any(|m| matches!(
         m,
-        Material::Diffuse { reflectance } if *reflectance == Rgb::new(1.0, 0.5, 1.0)
+        Material::Diffuse(material::Diffuse { reflectance }) if *reflectance == Rgb::new(1.0, 0.5, 1.0)
     )));
 }

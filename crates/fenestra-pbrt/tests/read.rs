@@ -7,6 +7,7 @@ mod common;
 use common::*;
 use fenestra_core::{Rgb, Vec2, Vec3};
 use fenestra_pbrt as pbrt;
+use fenestra_scene::material;
 use fenestra_scene::{Backend, Material, Scene, ShapeKind};
 use std::path::{Path, PathBuf};
 
@@ -116,7 +117,7 @@ fn instances_includes_and_named_materials() {
     assert_eq!(m.positions[0], Vec3::new(0.0, 0.0, 2.0));
     let mat = &s.desc.materials[s.desc.shapes[1].material];
     assert!(
-        matches!(mat, Material::Diffuse { reflectance } if *reflectance == Rgb::new(0.8, 0.1, 0.1))
+        matches!(mat, Material::Diffuse(material::Diffuse { reflectance }) if *reflectance == Rgb::new(0.8, 0.1, 0.1))
     );
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -11,6 +11,7 @@ use fenestra_portals::{lp_hf, PortalOptions, PortalSource};
 use fenestra_render::integrator::{af_hf, LightNextEvent, PathOptions};
 use fenestra_render::light::LightSelection;
 use fenestra_render::{render_image, Integrator, RenderScene, RenderSettings};
+use fenestra_scene::material;
 use fenestra_scene::{Backend, Camera, Material, Scene};
 
 const SIZE: u32 = 48;
@@ -36,7 +37,7 @@ fn floor_under_the_hole() -> (RenderScene, f64, f64) {
         .find_map(|s| s.emission.map(|e| e.radiance))
         .expect("the panel");
     let albedo = match &desc.materials[0] {
-        Material::Diffuse { reflectance } => *reflectance,
+        Material::Diffuse(material::Diffuse { reflectance }) => *reflectance,
         m => panic!("walls of {m:?}"),
     };
     let scene = RenderScene::new(Scene::build(desc, Backend::default()).expect("scene"));

@@ -4,6 +4,7 @@
 use crate::bsdf::{self, Bsdf};
 use crate::light::Lights;
 use fenestra_core::{Ray, Rgb};
+use fenestra_scene::material;
 use fenestra_scene::{Material, Scene, SurfaceInteraction};
 use std::borrow::Cow;
 
@@ -33,7 +34,7 @@ impl RenderScene {
         let mut bsdfs: Vec<Bsdf> = Vec::with_capacity(scene.materials.len());
         for m in &scene.materials {
             let b = match m {
-                Material::Mix { materials, .. } => bsdfs[materials[0]].clone(),
+                Material::Mix(material::Mix { materials, .. }) => bsdfs[materials[0]].clone(),
                 m => Bsdf::from_material(m),
             };
             bsdfs.push(b);
@@ -109,25 +110,27 @@ impl RenderScene {
         let material = self.material_at(si);
         match &self.scene.materials[material] {
             // Clamped to [0, 1] as pbrt-v4 clamps reflectances (a scaled texture may exceed 1).
-            Material::TexturedDiffuse { texture } => Cow::Owned(Bsdf::Diffuse(bsdf::Diffuse {
-                reflectance: texture.lookup(si.uv).map(|c| c.clamp(0.0, 1.0)),
-            })),
-            Material::RoughConductor {
+            Material::TexturedDiffuse(material::TexturedDiffuse { texture }) => {
+                Cow::Owned(Bsdf::Diffuse(bsdf::Diffuse {
+                    reflectance: texture.lookup(si.uv).map(|c| c.clamp(0.0, 1.0)),
+                }))
+            }
+            Material::RoughConductor(material::RoughConductor {
                 eta,
                 k,
                 alpha_x,
                 alpha_y,
                 roughness: Some(map),
-            } => {
+            }) => {
                 let (ax, ay) = map.alphas(si.uv, (*alpha_x, *alpha_y));
                 Cow::Owned(Bsdf::RoughConductor(bsdf::RoughConductor::new(
                     *eta, *k, ax, ay,
                 )))
             }
-            Material::CoatedDiffuse {
+            Material::CoatedDiffuse(material::CoatedDiffuse {
                 texture: Some(texture),
                 ..
-            } => match &self.bsdfs[material] {
+            }) => match &self.bsdfs[material] {
                 Bsdf::CoatedDiffuse(b) => Cow::Owned(Bsdf::CoatedDiffuse(
                     b.with_reflectance(texture.lookup(si.uv)),
                 )),
@@ -167,12 +170,14 @@ mod tests {
         img.set(1, 0, Rgb::splat(0.25));
         let texture = Arc::new(ImageTexture::new(Arc::new(img), "r.exr".into()));
         let (eta, k) = (Rgb::new(0.2, 0.9, 1.1), Rgb::new(3.9, 2.4, 2.1));
-        let material = |alpha: f32, roughness| Material::RoughConductor {
-            eta,
-            k,
-            alpha_x: alpha,
-            alpha_y: alpha,
-            roughness,
+        let material = |alpha: f32, roughness| {
+            Material::RoughConductor(material::RoughConductor {
+                eta,
+                k,
+                alpha_x: alpha,
+                alpha_y: alpha,
+                roughness,
+            })
         };
         let map = RoughnessTexture {
             u: Some(texture.clone()),

@@ -9,6 +9,7 @@ use fenestra_core::{warp, Frame, Ray, Rgb, Vec2, Vec3, PI};
 use fenestra_render::bsdf::Bsdf;
 use fenestra_render::light::{Light, LightHit, Lights};
 use fenestra_scene::light::Emission;
+use fenestra_scene::material;
 use fenestra_scene::{
     Backend, Camera, EnvironmentDesc, LightDesc, Material, RenderDefaults, Scene, SceneDesc, Shape,
     ShapeKind, TriangleMesh,
@@ -180,50 +181,50 @@ fn lambertian_phong_and_ward_match_their_pdfs() {
     let cases = [
         (
             "diffuse transmission",
-            Material::DiffuseTransmission {
+            Material::DiffuseTransmission(material::DiffuseTransmission {
                 reflectance: Rgb::new(0.5, 0.3, 0.2),
                 transmittance: Rgb::new(0.2, 0.4, 0.1),
-            },
+            }),
         ),
         (
             "diffuse",
-            Material::Diffuse {
+            Material::Diffuse(material::Diffuse {
                 reflectance: Rgb::splat(0.7),
-            },
+            }),
         ),
         (
             "phong n=10",
-            Material::Phong {
+            Material::Phong(material::Phong {
                 diffuse: Rgb::splat(0.3),
                 specular: Rgb::splat(0.5),
                 exponent: 10.0,
-            },
+            }),
         ),
         (
             "phong n=80",
-            Material::Phong {
+            Material::Phong(material::Phong {
                 diffuse: Rgb::ZERO,
                 specular: Rgb::splat(0.9),
                 exponent: 80.0,
-            },
+            }),
         ),
         (
             "ward 0.18/0.09",
-            Material::Ward {
+            Material::Ward(material::Ward {
                 diffuse: Rgb::splat(0.2),
                 specular: Rgb::splat(0.6),
                 alpha_x: 0.18,
                 alpha_y: 0.09,
-            },
+            }),
         ),
         (
             "ward 0.4/0.4",
-            Material::Ward {
+            Material::Ward(material::Ward {
                 diffuse: Rgb::ZERO,
                 specular: Rgb::splat(0.8),
                 alpha_x: 0.4,
                 alpha_y: 0.4,
-            },
+            }),
         ),
     ];
     for (name, m) in &cases {
@@ -236,58 +237,60 @@ fn lambertian_phong_and_ward_match_their_pdfs() {
 
 #[test]
 fn ggx_conductor_dielectric_and_coated_diffuse_match_their_pdfs() {
-    let gold = |ax, ay| Material::RoughConductor {
-        eta: Rgb::new(0.143, 0.374, 1.442),
-        k: Rgb::new(3.983, 2.385, 1.603),
-        alpha_x: ax,
-        alpha_y: ay,
-        roughness: None,
+    let gold = |ax, ay| {
+        Material::RoughConductor(material::RoughConductor {
+            eta: Rgb::new(0.143, 0.374, 1.442),
+            k: Rgb::new(3.983, 2.385, 1.603),
+            alpha_x: ax,
+            alpha_y: ay,
+            roughness: None,
+        })
     };
     let cases = [
         ("conductor 0.2", gold(0.2, 0.2)),
         ("conductor 0.5/0.1", gold(0.5, 0.1)),
         (
             "rough glass 0.3",
-            Material::RoughDielectric {
+            Material::RoughDielectric(material::RoughDielectric {
                 eta: 1.5,
                 alpha: 0.3,
-            },
+            }),
         ),
         (
             "rough glass 0.1",
-            Material::RoughDielectric {
+            Material::RoughDielectric(material::RoughDielectric {
                 eta: 1.33,
                 alpha: 0.1,
-            },
+            }),
         ),
         (
             "coated diffuse 0.3",
-            Material::CoatedDiffuse {
+            Material::CoatedDiffuse(material::CoatedDiffuse {
                 texture: None,
                 reflectance: Rgb::new(0.6, 0.3, 0.1),
                 eta: 1.5,
                 alpha: 0.3,
-            },
+            }),
         ),
         (
             "coated gold 0.1 under 0.3",
-            Material::CoatedConductor {
+            Material::CoatedConductor(material::CoatedConductor {
                 interface_eta: 1.5,
                 interface_alpha: 0.3,
                 eta: Rgb::new(0.143, 0.374, 1.442),
                 k: Rgb::new(3.983, 2.385, 1.603),
                 alpha_x: 0.1,
                 alpha_y: 0.1,
-            },
+            }),
         ),
         (
             "coated diffuse 0.05, dark base",
-            Material::CoatedDiffuse {
+            Material::CoatedDiffuse(material::CoatedDiffuse {
                 texture: None,
                 reflectance: Rgb::splat(0.05),
                 eta: 1.5,
                 alpha: 0.05,
-            },
+            }),
         ),
     ];
     for (name, m) in &cases {
@@ -297,10 +300,10 @@ fn ggx_conductor_dielectric_and_coated_diffuse_match_their_pdfs() {
         }
     }
     // Rough glass seen from inside, where total internal reflection happens.
-    let glass = Bsdf::from_material(&Material::RoughDielectric {
+    let glass = Bsdf::from_material(&Material::RoughDielectric(material::RoughDielectric {
         eta: 1.5,
         alpha: 0.3,
-    });
+    }));
     for wo in incident_directions() {
         check_bsdf("rough glass inside", &glass, -wo);
     }
@@ -308,7 +311,7 @@ fn ggx_conductor_dielectric_and_coated_diffuse_match_their_pdfs() {
 
 #[test]
 fn smooth_dielectric_splits_by_fresnel() {
-    let bsdf = Bsdf::from_material(&Material::Dielectric { eta: 1.5 });
+    let bsdf = Bsdf::from_material(&Material::Dielectric(material::Dielectric { eta: 1.5 }));
     for wo in incident_directions()
         .into_iter()
         .chain(incident_directions().into_iter().map(|w| -w))
@@ -347,9 +350,9 @@ fn smooth_dielectric_splits_by_fresnel() {
 
 #[test]
 fn mirror_reflects_about_the_normal_on_both_sides() {
-    let bsdf = Bsdf::from_material(&Material::Mirror {
+    let bsdf = Bsdf::from_material(&Material::Mirror(material::Mirror {
         reflectance: Rgb::new(0.9, 0.8, 0.7),
-    });
+    }));
     for wo in incident_directions()
         .into_iter()
         .chain(incident_directions().into_iter().map(|w| -w))
@@ -364,12 +367,12 @@ fn mirror_reflects_about_the_normal_on_both_sides() {
 
 #[test]
 fn opaque_materials_are_two_sided_and_do_not_transmit() {
-    let bsdf = Bsdf::from_material(&Material::Ward {
+    let bsdf = Bsdf::from_material(&Material::Ward(material::Ward {
         diffuse: Rgb::splat(0.3),
         specular: Rgb::splat(0.5),
         alpha_x: 0.2,
         alpha_y: 0.1,
-    });
+    }));
     for wo in incident_directions() {
         check_bsdf("ward below", &bsdf, -wo);
         assert_eq!(bsdf.eval(wo, -wo), Rgb::ZERO);

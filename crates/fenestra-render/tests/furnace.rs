@@ -9,6 +9,7 @@ use common::integrator;
 use fenestra_core::{Rgb, Vec3};
 use fenestra_render::integrator::PathOptions;
 use fenestra_scene::light::Emission;
+use fenestra_scene::material;
 use fenestra_scene::{Camera, Material, RenderDefaults, SceneDesc, Shape, ShapeKind, TriangleMesh};
 
 fn furnace(albedo: f32, le: f32) -> SceneDesc {
@@ -114,10 +115,10 @@ fn a_mix_furnace_has_the_mean_albedo() {
     let materials = vec![
         Material::diffuse(0.2),
         Material::diffuse(0.8),
-        Material::Mix {
+        Material::Mix(material::Mix {
             materials: [0, 1],
             amount: 0.25,
-        },
+        }),
     ];
     check_furnace("mix", furnace_of(materials, 1.0), 1.0 / (1.0 - 0.35));
 }
@@ -125,10 +126,10 @@ fn a_mix_furnace_has_the_mean_albedo() {
 #[test]
 fn diffuse_transmission_loses_what_it_transmits_out_of_the_furnace() {
     // Light transmitted through the sphere leaves it for good; what is reflected stays.
-    let dt = Material::DiffuseTransmission {
+    let dt = Material::DiffuseTransmission(material::DiffuseTransmission {
         reflectance: Rgb::splat(0.5),
         transmittance: Rgb::splat(0.4),
-    };
+    });
     check_furnace("diffusetransmission", furnace_of(vec![dt], 1.0), 2.0);
 }
 

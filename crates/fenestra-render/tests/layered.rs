@@ -15,6 +15,7 @@
 
 use fenestra_core::{Rgb, Rng, Vec3};
 use fenestra_render::bsdf::Bsdf;
+use fenestra_scene::material;
 use fenestra_scene::Material;
 
 const THETA_BINS: usize = 32;
@@ -96,7 +97,8 @@ fn compare(coated: &Material, interface: &Material, base: &Material, theta_o: f3
 
 #[test]
 fn analytic_coats_match_simulated_layers() {
-    let interface = |alpha| Material::RoughDielectric { eta: 1.5, alpha };
+    let interface =
+        |alpha| Material::RoughDielectric(material::RoughDielectric { eta: 1.5, alpha });
     println!("| material | alpha | base | theta_o | layers' albedo | analytic albedo | albedo error | lobe L1 |");
     println!("|---|---|---|---|---|---|---|---|");
     // (largest albedo error below, above; largest lobe L1), measured plus a margin.
@@ -115,15 +117,15 @@ fn analytic_coats_match_simulated_layers() {
     };
     for alpha in [0.05, 0.3] {
         for rho in [0.2, 0.8] {
-            let coated = Material::CoatedDiffuse {
+            let coated = Material::CoatedDiffuse(material::CoatedDiffuse {
                 reflectance: Rgb::splat(rho),
                 texture: None,
                 eta: 1.5,
                 alpha,
-            };
-            let base = Material::Diffuse {
+            });
+            let base = Material::Diffuse(material::Diffuse {
                 reflectance: Rgb::splat(rho),
-            };
+            });
             for theta in [0.0, 45.0, 75.0] {
                 let [a, b, l1] = compare(&coated, &interface(alpha), &base, theta);
                 let err = b / a - 1.0;
@@ -136,21 +138,23 @@ fn analytic_coats_match_simulated_layers() {
             }
         }
         // Gold under the coat: the base's roughness is the conductor's.
-        let conductor = |a: f32| Material::RoughConductor {
-            eta: Rgb::splat(0.143),
-            k: Rgb::splat(3.983),
-            alpha_x: a,
-            alpha_y: a,
-            roughness: None,
+        let conductor = |a: f32| {
+            Material::RoughConductor(material::RoughConductor {
+                eta: Rgb::splat(0.143),
+                k: Rgb::splat(3.983),
+                alpha_x: a,
+                alpha_y: a,
+                roughness: None,
+            })
         };
-        let coated = Material::CoatedConductor {
+        let coated = Material::CoatedConductor(material::CoatedConductor {
             interface_eta: 1.5,
             interface_alpha: alpha,
             eta: Rgb::splat(0.143),
             k: Rgb::splat(3.983),
             alpha_x: 0.2,
             alpha_y: 0.2,
-        };
+        });
         for theta in [0.0, 45.0, 75.0] {
             let [a, b, l1] = compare(&coated, &interface(alpha), &conductor(0.2), theta);
             let err = b / a - 1.0;

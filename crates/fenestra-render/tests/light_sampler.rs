@@ -9,6 +9,7 @@ use fenestra_render::integrator::{af_hf, LightNextEvent, PathOptions, PathTracer
 use fenestra_render::light::{LightContext, LightSampler, LightSelection};
 use fenestra_render::{Integrator, RenderScene};
 use fenestra_scene::light::Emission;
+use fenestra_scene::material;
 use fenestra_scene::{Camera, Material, RenderDefaults, SceneDesc, Shape, ShapeKind, TriangleMesh};
 
 /// In odd 8x8 blocks, lights with an even index are picked twice as often as the others;
@@ -101,11 +102,11 @@ fn polished_floor_under_tiles() -> SceneDesc {
     SceneDesc {
         name: "polished floor under tiles".into(),
         shapes,
-        materials: vec![Material::Phong {
+        materials: vec![Material::Phong(material::Phong {
             diffuse: Rgb::splat(0.1),
             specular: Rgb::splat(0.6),
             exponent: 200.0,
-        }],
+        })],
         lights: Vec::new(),
         camera: Camera::look_at(
             Vec3::new(0.0, -1.5, 0.6),

@@ -4,6 +4,7 @@ use crate::accel::{Backend, Hit, RayQuery, PACKET};
 use crate::camera::Camera;
 use crate::interaction::SurfaceInteraction;
 use crate::light::LightDesc;
+use crate::material;
 use crate::material::Material;
 use crate::shape::{Shape, ShapeKind};
 use fenestra_core::{Ray, Vec3};
@@ -297,7 +298,7 @@ fn validate(desc: &SceneDesc) -> Result<(), SceneError> {
             return Err(SceneError::Material { index: i, what });
         }
         // Components come first, so resolving a mix always ends.
-        if let Material::Mix { materials, .. } = m {
+        if let Material::Mix(material::Mix { materials, .. }) = m {
             if materials.iter().any(|&c| c >= i) {
                 let what = format!("mix of materials {materials:?}: each must come before it");
                 return Err(SceneError::Material { index: i, what });
@@ -420,9 +421,11 @@ mod tests {
 
     #[test]
     fn a_mix_must_name_earlier_materials_and_resolves_to_them() {
-        let mix = |materials| Material::Mix {
-            materials,
-            amount: 0.25,
+        let mix = |materials| {
+            Material::Mix(material::Mix {
+                materials,
+                amount: 0.25,
+            })
         };
         let desc = |materials: Vec<Material>| SceneDesc {
             name: "mix".into(),

@@ -8,6 +8,7 @@ use fenestra_render::light::{LightContext, LightSampler};
 use fenestra_render::sample_context::SampleContext;
 use fenestra_render::{render_image, Film, Integrator, RenderScene, RenderSettings};
 use fenestra_scene::light::{Emission, EnvironmentDesc};
+use fenestra_scene::material;
 use fenestra_scene::{
     Backend, Camera, LightDesc, Material, RenderDefaults, Scene, SceneDesc, Shape, ShapeKind,
     TriangleMesh,
@@ -96,12 +97,13 @@ pub fn many_lights() -> SceneDesc {
 pub fn glossy_many_lights() -> SceneDesc {
     let mut desc = many_lights();
     desc.name = "glossy many lights".into();
-    desc.materials[0] = Material::Phong {
+    desc.materials[0] = Material::Phong(material::Phong {
         diffuse: Rgb::splat(0.2),
         specular: Rgb::splat(0.5),
         exponent: 300.0,
-    };
-    desc.materials.push(Material::Dielectric { eta: 1.5 });
+    });
+    desc.materials
+        .push(Material::Dielectric(material::Dielectric { eta: 1.5 }));
     // A brighter sky, which the floor mirrors.
     desc.lights[0] = LightDesc::Environment(EnvironmentDesc::Constant(Rgb::splat(0.4)));
     desc.shapes.push(Shape::new(
@@ -149,11 +151,11 @@ pub fn polished_floor_by_a_panel() -> SceneDesc {
             Shape::new(ShapeKind::Mesh(panel), 1).emitting(Emission::radiance(Rgb::splat(3.0))),
         ],
         materials: vec![
-            Material::Phong {
+            Material::Phong(material::Phong {
                 diffuse: Rgb::splat(0.1),
                 specular: Rgb::splat(0.6),
                 exponent: 300.0,
-            },
+            }),
             Material::diffuse(0.7),
         ],
         lights,

@@ -15,6 +15,7 @@
 use super::microfacet::Ggx;
 use super::{fresnel, reflect, BsdfSample, RoughConductor};
 use fenestra_core::{warp, Rgb, Vec2, Vec3, INV_PI};
+use fenestra_scene::material;
 
 /// A GGX-coated Lambertian.
 #[derive(Clone, Debug)]
@@ -179,6 +180,21 @@ fn ggx_reflection_pdf(ggx: &Ggx, wo: Vec3, wi: Vec3) -> f32 {
         0.0
     } else {
         ggx.pdf_visible(wo, h) / (4.0 * wo.dot(h).abs())
+    }
+}
+
+/// The base texture's mean stands in until a hit point's lookup replaces it
+/// (`RenderScene::bsdf_at`).
+impl From<&material::CoatedDiffuse> for CoatedDiffuse {
+    fn from(m: &material::CoatedDiffuse) -> Self {
+        CoatedDiffuse::new(m.reflectance, m.eta, m.alpha)
+    }
+}
+
+impl From<&material::CoatedConductor> for CoatedConductor {
+    fn from(m: &material::CoatedConductor) -> Self {
+        let conductor = RoughConductor::new(m.eta, m.k, m.alpha_x, m.alpha_y);
+        CoatedConductor::new(m.interface_eta, m.interface_alpha, conductor)
     }
 }
 

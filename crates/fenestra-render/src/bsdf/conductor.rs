@@ -3,6 +3,7 @@
 use super::microfacet::Ggx;
 use super::{fresnel, reflect, BsdfSample};
 use fenestra_core::{Rgb, Vec2, Vec3};
+use fenestra_scene::material;
 
 /// GGX microfacet conductor with complex Fresnel reflectance.
 #[derive(Clone, Debug)]
@@ -46,5 +47,13 @@ impl RoughConductor {
         let h = self.ggx.sample_visible(wo, u);
         let wi = reflect(wo, h);
         BsdfSample::reflected(wi, |wi| self.eval(wo, wi), |wi| self.pdf(wo, wi))
+    }
+}
+
+/// The roughness texture's mean stands in until a hit point's lookup replaces it
+/// (`RenderScene::bsdf_at`).
+impl From<&material::RoughConductor> for RoughConductor {
+    fn from(m: &material::RoughConductor) -> Self {
+        RoughConductor::new(m.eta, m.k, m.alpha_x, m.alpha_y)
     }
 }

@@ -3,6 +3,7 @@
 
 use super::{fresnel, reflect_z, BsdfSample};
 use fenestra_core::{Rgb, Vec3};
+use fenestra_scene::material;
 
 /// A smooth dielectric interface: Fresnel reflection and refraction (seed 000 §2.4).
 #[derive(Clone, Debug)]
@@ -70,5 +71,17 @@ impl ThinDielectric {
             pdf,
             delta: true,
         })
+    }
+}
+
+impl From<&material::Dielectric> for SmoothDielectric {
+    fn from(m: &material::Dielectric) -> Self {
+        SmoothDielectric { eta: m.eta }
+    }
+}
+
+impl From<&material::ThinDielectric> for ThinDielectric {
+    fn from(m: &material::ThinDielectric) -> Self {
+        ThinDielectric { eta: m.eta }
     }
 }

@@ -2,6 +2,7 @@
 
 use super::BsdfSample;
 use fenestra_core::{warp, Rgb, Vec2, Vec3, INV_PI};
+use fenestra_scene::material;
 
 /// Lambertian reflection.
 #[derive(Clone, Debug)]
@@ -86,5 +87,32 @@ impl DiffuseTransmission {
             pdf,
             delta: false,
         })
+    }
+}
+
+impl From<&material::Diffuse> for Diffuse {
+    fn from(m: &material::Diffuse) -> Self {
+        Diffuse {
+            reflectance: m.reflectance,
+        }
+    }
+}
+
+/// The texture's mean stands in until a hit point's lookup replaces it
+/// (`RenderScene::bsdf_at`).
+impl From<&material::TexturedDiffuse> for Diffuse {
+    fn from(m: &material::TexturedDiffuse) -> Self {
+        Diffuse {
+            reflectance: m.texture.average(),
+        }
+    }
+}
+
+impl From<&material::DiffuseTransmission> for DiffuseTransmission {
+    fn from(m: &material::DiffuseTransmission) -> Self {
+        DiffuseTransmission {
+            reflectance: m.reflectance,
+            transmittance: m.transmittance,
+        }
     }
 }

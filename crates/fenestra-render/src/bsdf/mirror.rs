@@ -2,6 +2,7 @@
 
 use super::{reflect_z, BsdfSample};
 use fenestra_core::{Rgb, Vec3};
+use fenestra_scene::material;
 
 /// A perfect mirror.
 #[derive(Clone, Debug)]
@@ -19,5 +20,13 @@ impl Mirror {
             pdf: 1.0,
             delta: true,
         })
+    }
+}
+
+impl From<&material::Mirror> for Mirror {
+    fn from(m: &material::Mirror) -> Self {
+        Mirror {
+            reflectance: m.reflectance,
+        }
     }
 }

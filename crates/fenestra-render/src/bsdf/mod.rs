@@ -102,64 +102,22 @@ impl Bsdf {
     /// `RenderScene::bsdf_at`). A mix has none of its own: `RenderScene` resolves it to one of
     /// its materials at each point; alone, it absorbs.
     pub fn from_material(m: &Material) -> Bsdf {
-        match *m {
-            Material::Mix { .. } => Bsdf::Diffuse(Diffuse {
+        match m {
+            Material::Mix(_) => Bsdf::Diffuse(Diffuse {
                 reflectance: Rgb::ZERO,
             }),
-            Material::DiffuseTransmission {
-                reflectance,
-                transmittance,
-            } => Bsdf::DiffuseTransmission(DiffuseTransmission {
-                reflectance,
-                transmittance,
-            }),
-            Material::Diffuse { reflectance } => Bsdf::Diffuse(Diffuse { reflectance }),
-            // The mean stands in until a hit point's texture lookup replaces it.
-            Material::TexturedDiffuse { ref texture } => Bsdf::Diffuse(Diffuse {
-                reflectance: texture.average(),
-            }),
-            Material::ThinDielectric { eta } => Bsdf::ThinDielectric(ThinDielectric { eta }),
-            Material::Mirror { reflectance } => Bsdf::Mirror(Mirror { reflectance }),
-            Material::Dielectric { eta } => Bsdf::SmoothDielectric(SmoothDielectric { eta }),
-            Material::Phong {
-                diffuse,
-                specular,
-                exponent,
-            } => Bsdf::Phong(Phong::new(diffuse, specular, exponent)),
-            Material::Ward {
-                diffuse,
-                specular,
-                alpha_x,
-                alpha_y,
-            } => Bsdf::Ward(Ward::new(diffuse, specular, alpha_x, alpha_y)),
-            Material::RoughConductor {
-                eta,
-                k,
-                alpha_x,
-                alpha_y,
-                ..
-            } => Bsdf::RoughConductor(RoughConductor::new(eta, k, alpha_x, alpha_y)),
-            Material::RoughDielectric { eta, alpha } => {
-                Bsdf::RoughDielectric(RoughDielectric::new(eta, alpha))
-            }
-            Material::CoatedDiffuse {
-                reflectance,
-                eta,
-                alpha,
-                ..
-            } => Bsdf::CoatedDiffuse(CoatedDiffuse::new(reflectance, eta, alpha)),
-            Material::CoatedConductor {
-                interface_eta,
-                interface_alpha,
-                eta,
-                k,
-                alpha_x,
-                alpha_y,
-            } => Bsdf::CoatedConductor(CoatedConductor::new(
-                interface_eta,
-                interface_alpha,
-                RoughConductor::new(eta, k, alpha_x, alpha_y),
-            )),
+            Material::Diffuse(m) => Bsdf::Diffuse(m.into()),
+            Material::TexturedDiffuse(m) => Bsdf::Diffuse(m.into()),
+            Material::DiffuseTransmission(m) => Bsdf::DiffuseTransmission(m.into()),
+            Material::Mirror(m) => Bsdf::Mirror(m.into()),
+            Material::Dielectric(m) => Bsdf::SmoothDielectric(m.into()),
+            Material::ThinDielectric(m) => Bsdf::ThinDielectric(m.into()),
+            Material::RoughDielectric(m) => Bsdf::RoughDielectric(m.into()),
+            Material::Phong(m) => Bsdf::Phong(m.into()),
+            Material::Ward(m) => Bsdf::Ward(m.into()),
+            Material::RoughConductor(m) => Bsdf::RoughConductor(m.into()),
+            Material::CoatedDiffuse(m) => Bsdf::CoatedDiffuse(m.into()),
+            Material::CoatedConductor(m) => Bsdf::CoatedConductor(m.into()),
         }
     }
 

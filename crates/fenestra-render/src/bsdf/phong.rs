@@ -3,6 +3,7 @@
 
 use super::{reflect_z, specular_probability, BsdfSample};
 use fenestra_core::{warp, Frame, Rgb, Vec2, Vec3, INV_2PI, INV_PI};
+use fenestra_scene::material;
 
 /// Energy-normalised Phong: kd/pi + ks (n+2)/(2 pi) cos^n(alpha), lobes sampled in proportion to their albedos.
 #[derive(Clone, Debug)]
@@ -66,5 +67,11 @@ impl Phong {
             warp::square_to_cosine_hemisphere(u)
         };
         BsdfSample::reflected(wi, |wi| self.eval(wo, wi), |wi| self.pdf(wo, wi))
+    }
+}
+
+impl From<&material::Phong> for Phong {
+    fn from(m: &material::Phong) -> Self {
+        Phong::new(m.diffuse, m.specular, m.exponent)
     }
 }

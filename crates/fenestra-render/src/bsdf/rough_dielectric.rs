@@ -4,6 +4,7 @@
 use super::microfacet::Ggx;
 use super::{fresnel, reflect, BsdfSample};
 use fenestra_core::{Rgb, Vec2, Vec3};
+use fenestra_scene::material;
 
 /// GGX microfacet dielectric (Walter et al. 2007): rough reflection and refraction.
 #[derive(Clone, Debug)]
@@ -108,5 +109,11 @@ impl RoughDielectric {
             pdf,
             delta: false,
         })
+    }
+}
+
+impl From<&material::RoughDielectric> for RoughDielectric {
+    fn from(m: &material::RoughDielectric) -> Self {
+        RoughDielectric::new(m.eta, m.alpha)
     }
 }

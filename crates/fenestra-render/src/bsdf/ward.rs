@@ -4,6 +4,7 @@
 
 use super::{reflect, specular_probability, BsdfSample};
 use fenestra_core::{warp, Rgb, Vec2, Vec3, INV_PI, PI};
+use fenestra_scene::material;
 
 /// Anisotropic Ward with Walter's (2005) normalisation (seed 003 §2.5).
 #[derive(Clone, Debug)]
@@ -86,5 +87,11 @@ impl Ward {
             warp::square_to_cosine_hemisphere(u)
         };
         BsdfSample::reflected(wi, |wi| self.eval(wo, wi), |wi| self.pdf(wo, wi))
+    }
+}
+
+impl From<&material::Ward> for Ward {
+    fn from(m: &material::Ward) -> Self {
+        Ward::new(m.diffuse, m.specular, m.alpha_x, m.alpha_y)
     }
 }

@@ -4,6 +4,7 @@
 //! otherwise Lambertian Kd (0.5 when absent).
 
 use super::MeshError;
+use crate::material;
 use crate::texture::ImageTexture;
 use crate::{Material, TriangleMesh};
 use fenestra_core::image::Image;
@@ -168,31 +169,31 @@ fn convert(m: &tobj::Material, dir: &Path, warnings: &mut Vec<String>) -> (Mater
     let transparent =
         m.dissolve.is_some_and(|d| d < 1.0) || matches!(m.illumination_model, Some(4 | 6 | 7 | 9));
     let material = if transparent {
-        Material::Dielectric {
+        Material::Dielectric(material::Dielectric {
             eta: m.optical_density.filter(|&n| n > 0.0).unwrap_or(1.5),
-        }
+        })
     } else if let Some(tex) = &m.diffuse_texture {
         let p = dir.join(tex.replace('\\', "/"));
         match Image::read(&p) {
-            Ok(img) => Material::TexturedDiffuse {
+            Ok(img) => Material::TexturedDiffuse(material::TexturedDiffuse {
                 texture: Arc::new(ImageTexture::new(Arc::new(img), p)),
-            },
+            }),
             Err(e) => {
                 warnings.push(format!(
                     "material '{}': texture not loaded ({e}); using Kd",
                     m.name
                 ));
-                Material::Diffuse { reflectance: kd }
+                Material::Diffuse(material::Diffuse { reflectance: kd })
             }
         }
     } else if ks.max_component() > 0.0 {
-        Material::Phong {
+        Material::Phong(material::Phong {
             diffuse: kd,
             specular: ks,
             exponent: m.shininess.unwrap_or(10.0).max(0.0),
-        }
+        })
     } else {
-        Material::Diffuse { reflectance: kd }
+        Material::Diffuse(material::Diffuse { reflectance: kd })
     };
     (material, emission)
 }
@@ -222,9 +223,11 @@ mod tests {
         assert_eq!(tris, 4);
         assert_eq!(m.materials[0].1, Some(Rgb::new(5.0, 5.0, 4.0)));
         assert!(
-            matches!(m.materials[1].0, Material::Dielectric { eta } if (eta - 1.33).abs() < 1e-6)
+            matches!(m.materials[1].0, Material::Dielectric(material::Dielectric { eta }) if (eta - 1.33).abs() < 1e-6)
         );
-        assert!(matches!(m.materials[2].0, Material::Phong { exponent, .. } if exponent == 80.0));
+        assert!(
+            matches!(m.materials[2].0, Material::Phong(material::Phong { exponent, .. }) if exponent == 80.0)
+        );
         // Reflectance above 1 is clamped, as pbrt-v4 clamps it, and said.
         std::fs::write(dir.join("hot.mtl"), "newmtl hot\nKd 50 0.5 0.5\n").expect("mtl");
         std::fs::write(
@@ -240,7 +243,7 @@ mod tests {
         );
         assert!(matches!(
             hot.materials[0].0,
-            Material::Diffuse { reflectance } if reflectance == Rgb::new(1.0, 0.5, 0.5)
+            Material::Diffuse(material::Diffuse { reflectance }) if reflectance == Rgb::new(1.0, 0.5, 0.5)
         ));
         std::fs::write(dir.join("bad.obj"), "v 0 0 0\nf 1 2 3\n").expect("obj");
         assert!(read(&dir.join("bad.obj")).is_err());

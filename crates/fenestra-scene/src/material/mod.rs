@@ -1,0 +1,106 @@
+//! Materials as parameters, one kind to a module (its parameters and their checks); the
+//! render crate's bsdf module evaluates and samples them. A new kind is a module here and a
+//! line in [`kinds!`]'s list (then a BSDF in the render crate, and its pbrt-v4 reading and
+//! writing).
+
+mod checks;
+mod coated;
+mod conductor;
+mod dielectric;
+mod diffuse;
+mod mirror;
+mod mix;
+mod phong;
+mod ward;
+
+pub use coated::{CoatedConductor, CoatedDiffuse};
+pub use conductor::RoughConductor;
+pub use dielectric::{Dielectric, RoughDielectric, ThinDielectric};
+pub use diffuse::{Diffuse, DiffuseTransmission, TexturedDiffuse};
+pub use mirror::Mirror;
+pub use mix::Mix;
+pub use phong::Phong;
+pub use ward::Ward;
+
+use crate::texture::ImageTexture;
+use fenestra_core::sampler::hash_combine;
+use fenestra_core::{Rgb, Vec3};
+use std::sync::Arc;
+
+/// Declares [`Material`], one variant per kind (each a type of the same name), and what
+/// dispatches to every kind.
+macro_rules! kinds {
+    ($($kind:ident,)*) => {
+        /// A surface's scattering: a kind of material with its parameters.
+        #[derive(Clone, Debug)]
+        pub enum Material {
+            $(
+                #[allow(missing_docs)]
+                $kind($kind),
+            )*
+        }
+
+        impl Material {
+            /// A parameter that makes no physical sense, as a message; `None` when valid.
+            pub fn validate(&self) -> Option<String> {
+                match self {
+                    $(Material::$kind(m) => m.validate(),)*
+                }
+            }
+        }
+    };
+}
+
+kinds! {
+    Diffuse,
+    TexturedDiffuse,
+    Mirror,
+    Dielectric,
+    ThinDielectric,
+    Phong,
+    Ward,
+    RoughConductor,
+    RoughDielectric,
+    CoatedConductor,
+    DiffuseTransmission,
+    Mix,
+    CoatedDiffuse,
+}
+
+impl Material {
+    /// A grey Lambertian material of albedo `r`.
+    pub fn diffuse(r: f32) -> Self {
+        Material::Diffuse(Diffuse {
+            reflectance: Rgb::splat(r),
+        })
+    }
+
+    /// The image texture the material looks up at each hit, if any.
+    pub fn texture(&self) -> Option<&Arc<ImageTexture>> {
+        match self {
+            Material::TexturedDiffuse(m) => Some(&m.texture),
+            Material::CoatedDiffuse(m) => m.texture.as_ref(),
+            _ => None,
+        }
+    }
+
+    /// Which material a [`Material::Mix`] is at the point `p` (any other material is itself):
+    /// the second with probability `amount`, by a hash of `p`'s coordinates, followed through
+    /// mixes of mixes. `materials[index]` must have passed [`Scene`](crate::Scene)'s checks.
+    pub fn resolve(materials: &[Material], mut index: usize, p: Vec3) -> usize {
+        let h = p
+            .to_array()
+            .iter()
+            .fold(0x6d69_7865, |h, c| hash_combine(h, c.to_bits()));
+        while let Material::Mix(Mix {
+            materials: pair,
+            amount,
+        }) = materials[index]
+        {
+            // 24 bits of the hash as a uniform number in [0, 1); a fresh hash per level.
+            let u = (hash_combine(h, index as u32) >> 8) as f32 / (1u32 << 24) as f32;
+            index = pair[usize::from(u < amount)];
+        }
+        index
+    }
+}
