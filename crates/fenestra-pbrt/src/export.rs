@@ -54,263 +54,313 @@ pub fn write(desc: &SceneDesc, path: &Path) -> Result<Exported, ExportError> {
         .to_string_lossy()
         .into_owned();
     let data_name = format!("{stem}-data");
-    let data_dir = path.with_file_name(&data_name);
-    let mut files = Vec::new();
-    let mut data = |name: String, write: &dyn Fn(&Path) -> Result<(), String>| {
-        std::fs::create_dir_all(&data_dir).map_err(|e| err(e.to_string()))?;
-        let file = data_dir.join(&name);
-        write_atomically(&file, write).map_err(|e| err(e.to_string()))?;
-        files.push(file);
-        Ok::<String, ExportError>(format!("{data_name}/{name}"))
+    let mut e = Export {
+        s: String::new(),
+        path,
+        data_dir: path.with_file_name(&data_name),
+        data_name,
+        files: Vec::new(),
     };
+    e.header(desc);
+    e.materials(desc)?;
+    let portal_written = e.lights(desc)?;
+    e.portals(desc, portal_written);
+    e.shapes(desc)?;
+    write_text_atomically(path, &e.s).map_err(|x| err(x.reason))?;
+    e.files.insert(0, path.to_path_buf());
+    Ok(Exported { files: e.files })
+}
 
-    let mut s = String::new();
-    let d = &desc.defaults;
-    let _ = writeln!(
-        s,
-        "# {} exported by fenestra {}",
-        desc.name,
-        env!("CARGO_PKG_VERSION")
-    );
-    let _ = writeln!(
-        s,
-        "Film \"rgb\" \"integer xresolution\" [ {} ] \"integer yresolution\" [ {} ]",
-        d.width, d.height
-    );
-    let _ = writeln!(
-        s,
-        "Sampler \"zsobol\" \"integer pixelsamples\" [ {} ]",
-        d.spp
-    );
-    // fenestra counts path segments (2 = direct light), pbrt bounces.
-    let _ = write!(
-        s,
-        "Integrator \"path\" \"integer maxdepth\" [ {} ]",
-        d.max_depth.saturating_sub(1)
-    );
-    // The options a pbrt-v4 Integrator directive can say (the light sampler).
-    for (key, value) in &d.options {
-        if key == "light.selection" && matches!(value.as_str(), "bvh" | "power" | "uniform") {
-            let _ = write!(s, " \"string lightsampler\" \"{value}\"");
-        }
+/// An export under way: the scene file's text and the data files written so far.
+struct Export<'a> {
+    s: String,
+    path: &'a Path,
+    data_dir: PathBuf,
+    data_name: String,
+    files: Vec<PathBuf>,
+}
+
+impl Export<'_> {
+    /// Writes data file `name` into the data folder with `write` (atomically); its path as
+    /// the scene file names it.
+    fn data(
+        &mut self,
+        name: String,
+        write: &dyn Fn(&Path) -> Result<(), String>,
+    ) -> Result<String, ExportError> {
+        let err = |reason: String| ExportError {
+            path: self.path.to_path_buf(),
+            reason,
+        };
+        std::fs::create_dir_all(&self.data_dir).map_err(|e| err(e.to_string()))?;
+        let file = self.data_dir.join(&name);
+        write_atomically(&file, write).map_err(|e| err(e.to_string()))?;
+        self.files.push(file);
+        Ok(format!("{}/{name}", self.data_name))
     }
-    s.push('\n');
-    camera(&mut s, &desc.camera, d.width, d.height);
-    s.push_str("\nWorldBegin\n\n");
-    for (i, m) in desc.materials.iter().enumerate() {
-        // Texel values as loaded (linear), whatever files they came from.
-        let mut textures: Vec<(String, &str, &ImageTexture)> = Vec::new();
-        if let Some(texture) = m.texture() {
-            textures.push((format!("t{i}"), "spectrum", texture));
-        }
-        if let Material::RoughConductor(material::RoughConductor {
-            roughness: Some(map),
-            ..
-        }) = m
-        {
-            for (axis, t) in [("u", &map.u), ("v", &map.v)] {
-                if let Some(t) = t {
-                    textures.push((format!("r{i}{axis}"), "float", t));
-                }
-            }
-        }
-        for (name, kind, texture) in textures {
-            let file = data(format!("texture-{}.exr", &name[1..]), &|tmp| {
-                texture
-                    .image
-                    .write_exr(tmp, &Default::default())
-                    .map_err(|e| e.to_string())
-            })?;
-            let _ = writeln!(
-                s,
-                "Texture \"{name}\" \"{kind}\" \"imagemap\" \"string filename\" \"{file}\" \"float scale\" [ {} ] \"bool invert\" {} \"float uscale\" [ {} ] \"float vscale\" [ {} ] \"float udelta\" [ {} ] \"float vdelta\" [ {} ]",
-                texture.scale, texture.invert, texture.uscale, texture.vscale, texture.udelta, texture.vdelta
-            );
-        }
-        material(&mut s, i, m);
-    }
-    let mut portals_written = desc.portals.is_empty();
-    for (i, l) in desc.lights.iter().enumerate() {
-        match l {
-            LightDesc::Point {
-                position,
-                intensity,
-            } => {
-                let _ = writeln!(
-                    s,
-                    "LightSource \"point\" \"point3 from\" [ {} ] \"rgb I\" [ {} ]",
-                    v3(*position),
-                    rgb(*intensity)
-                );
-            }
-            LightDesc::Spot {
-                position,
-                direction,
-                intensity,
-                cone_angle,
-                falloff_start,
-            } => {
-                let _ = writeln!(
-                    s,
-                    "LightSource \"spot\" \"point3 from\" [ {} ] \"point3 to\" [ {} ] \"rgb I\" [ {} ] \"float coneangle\" [ {} ] \"float conedelta\" [ {} ]",
-                    v3(*position),
-                    v3(*position + *direction),
-                    rgb(*intensity),
-                    cone_angle,
-                    cone_angle - falloff_start
-                );
-            }
-            LightDesc::Distant {
-                direction,
-                irradiance,
-            } => {
-                let _ = writeln!(
-                    s,
-                    "LightSource \"distant\" \"point3 from\" [ 0 0 0 ] \"point3 to\" [ {} ] \"rgb L\" [ {} ]",
-                    v3(*direction),
-                    rgb(*irradiance)
-                );
-            }
-            LightDesc::Environment(env) => {
-                let portal = if portals_written {
-                    String::new()
-                } else {
-                    portals_written = true;
-                    let c = desc.portals[0];
-                    format!(
-                        " \"point3 portal\" [ {} {} {} {} ]",
-                        v3(c[0]),
-                        v3(c[1]),
-                        v3(c[2]),
-                        v3(c[3])
-                    )
-                };
-                match env {
-                    EnvironmentDesc::Constant(l) => {
-                        let _ = writeln!(
-                            s,
-                            "LightSource \"infinite\" \"rgb L\" [ {} ]{portal}",
-                            rgb(*l)
-                        );
-                    }
-                    EnvironmentDesc::Image {
-                        image,
-                        scale,
-                        to_world,
-                    } => {
-                        let mut baked = Image::new(image.width, image.height);
-                        for y in 0..image.height {
-                            for x in 0..image.width {
-                                let c = image.get(x, y);
-                                baked.set(
-                                    x,
-                                    y,
-                                    Rgb::new(c.r * scale.r, c.g * scale.g, c.b * scale.b),
-                                );
-                            }
-                        }
-                        let file = data(format!("environment-{i}.exr"), &|tmp| {
-                            baked
-                                .write_exr(tmp, &Default::default())
-                                .map_err(|e| e.to_string())
-                        })?;
-                        let m = glam::Mat4::from_mat3(*to_world);
-                        let _ = writeln!(s, "AttributeBegin");
-                        let _ = writeln!(s, "  Transform [ {} ]", join(&m.to_cols_array()));
-                        let _ = writeln!(
-                            s,
-                            "  # A 2:1 latitude-longitude map (fenestra reads these; pbrt-v4 wants square equal-area maps)"
-                        );
-                        let _ = writeln!(
-                            s,
-                            "  LightSource \"infinite\" \"string filename\" \"{file}\"{portal}"
-                        );
-                        let _ = writeln!(s, "AttributeEnd");
-                    }
-                }
-            }
-        }
-    }
-    // Portals not attached to an infinite light (pbrt-v4 takes one per light): quads with
-    // the "interface" material, invisible to pbrt-v4 and read back as portals.
-    let first = usize::from(!desc.portals.is_empty() && portals_written);
-    for c in &desc.portals[first..] {
+
+    /// The film, sampler, integrator and camera.
+    fn header(&mut self, desc: &SceneDesc) {
+        let d = &desc.defaults;
         let _ = writeln!(
-            s,
-            "\nAttributeBegin  # light portal\n  Material \"interface\"\n  Shape \"trianglemesh\" \"point3 P\" [ {} {} {} {} ] \"integer indices\" [ 0 1 2  0 2 3 ]\nAttributeEnd",
-            v3(c[0]),
-            v3(c[1]),
-            v3(c[2]),
-            v3(c[3])
+            self.s,
+            "# {} exported by fenestra {}",
+            desc.name,
+            env!("CARGO_PKG_VERSION")
         );
-    }
-    for (i, shape) in desc.shapes.iter().enumerate() {
-        let _ = writeln!(s, "\nAttributeBegin");
-        let _ = writeln!(s, "  NamedMaterial \"m{}\"", shape.material);
-        if let Some(e) = &shape.emission {
-            let _ = writeln!(
-                s,
-                "  AreaLightSource \"diffuse\" \"rgb L\" [ {} ] \"bool twosided\" {}",
-                rgb(e.radiance),
-                e.two_sided
-            );
+        let _ = writeln!(
+            self.s,
+            "Film \"rgb\" \"integer xresolution\" [ {} ] \"integer yresolution\" [ {} ]",
+            d.width, d.height
+        );
+        let _ = writeln!(
+            self.s,
+            "Sampler \"zsobol\" \"integer pixelsamples\" [ {} ]",
+            d.spp
+        );
+        // fenestra counts path segments (2 = direct light), pbrt bounces.
+        let _ = write!(
+            self.s,
+            "Integrator \"path\" \"integer maxdepth\" [ {} ]",
+            d.max_depth.saturating_sub(1)
+        );
+        // The options a pbrt-v4 Integrator directive can say (the light sampler).
+        for (key, value) in &d.options {
+            if key == "light.selection" && matches!(value.as_str(), "bvh" | "power" | "uniform") {
+                let _ = write!(self.s, " \"string lightsampler\" \"{value}\"");
+            }
         }
-        match &shape.kind {
-            ShapeKind::Mesh(mesh) => {
-                let mut mesh = std::borrow::Cow::Borrowed(mesh);
-                if shape.flip_normals {
-                    match mesh.to_mut().normals.as_mut() {
-                        // With vertex normals pbrt-v4 ignores ReverseOrientation: flip them.
-                        Some(n) => n.iter_mut().for_each(|v| *v = -*v),
-                        None => s.push_str("  ReverseOrientation\n"),
+        self.s.push('\n');
+        camera(&mut self.s, &desc.camera, d.width, d.height);
+        self.s.push_str("\nWorldBegin\n\n");
+    }
+
+    /// Every material, with the textures it reads.
+    fn materials(&mut self, desc: &SceneDesc) -> Result<(), ExportError> {
+        for (i, m) in desc.materials.iter().enumerate() {
+            // Texel values as loaded (linear), whatever files they came from.
+            let mut textures: Vec<(String, &str, &ImageTexture)> = Vec::new();
+            if let Some(texture) = m.texture() {
+                textures.push((format!("t{i}"), "spectrum", texture));
+            }
+            if let Material::RoughConductor(material::RoughConductor {
+                roughness: Some(map),
+                ..
+            }) = m
+            {
+                for (axis, t) in [("u", &map.u), ("v", &map.v)] {
+                    if let Some(t) = t {
+                        textures.push((format!("r{i}{axis}"), "float", t));
                     }
                 }
-                if mesh.indices.len() > INLINE_TRIANGLES {
-                    let file = data(format!("shape-{i}.ply"), &|tmp| {
-                        let f = std::fs::File::create(tmp).map_err(|e| e.to_string())?;
-                        let mut w = std::io::BufWriter::new(f);
-                        fenestra_scene::mesh::ply::write(&mesh, &mut w)
-                            .map_err(|e| e.to_string())?;
-                        std::io::Write::flush(&mut w).map_err(|e| e.to_string())
-                    })?;
-                    let _ = writeln!(s, "  Shape \"plymesh\" \"string filename\" \"{file}\"");
-                } else {
-                    inline_mesh(&mut s, &mesh);
-                }
             }
-            ShapeKind::Sphere { center, radius } => {
-                if shape.flip_normals {
-                    s.push_str("  ReverseOrientation\n");
-                }
-                let _ = writeln!(s, "  Translate {}", v3(*center));
-                let _ = writeln!(s, "  Shape \"sphere\" \"float radius\" [ {radius} ]");
-            }
-            ShapeKind::Disk {
-                center,
-                normal,
-                radius,
-            } => {
-                if shape.flip_normals {
-                    s.push_str("  ReverseOrientation\n");
-                }
-                // A right-handed frame with z along the normal (no mirroring, no flip).
-                let f = fenestra_core::Frame::from_normal(*normal);
-                let t = normal.cross(f.s);
-                let m = glam::Mat4::from_cols(
-                    f.s.extend(0.0),
-                    t.extend(0.0),
-                    normal.extend(0.0),
-                    center.extend(1.0),
+            for (name, kind, texture) in textures {
+                let file = self.data(format!("texture-{}.exr", &name[1..]), &|tmp| {
+                    texture
+                        .image
+                        .write_exr(tmp, &Default::default())
+                        .map_err(|e| e.to_string())
+                })?;
+                let _ = writeln!(self.s,
+                    "Texture \"{name}\" \"{kind}\" \"imagemap\" \"string filename\" \"{file}\" \"float scale\" [ {} ] \"bool invert\" {} \"float uscale\" [ {} ] \"float vscale\" [ {} ] \"float udelta\" [ {} ] \"float vdelta\" [ {} ]",
+                    texture.scale, texture.invert, texture.uscale, texture.vscale, texture.udelta, texture.vdelta
                 );
-                let _ = writeln!(s, "  Transform [ {} ]", join(&m.to_cols_array()));
-                let _ = writeln!(s, "  Shape \"disk\" \"float radius\" [ {radius} ]");
+            }
+            material(&mut self.s, i, m);
+        }
+        Ok(())
+    }
+
+    /// The lights that are not shapes; whether the scene's first portal went with an
+    /// infinite light.
+    fn lights(&mut self, desc: &SceneDesc) -> Result<bool, ExportError> {
+        let mut portals_written = desc.portals.is_empty();
+        for (i, l) in desc.lights.iter().enumerate() {
+            match l {
+                LightDesc::Point {
+                    position,
+                    intensity,
+                } => {
+                    let _ = writeln!(
+                        self.s,
+                        "LightSource \"point\" \"point3 from\" [ {} ] \"rgb I\" [ {} ]",
+                        v3(*position),
+                        rgb(*intensity)
+                    );
+                }
+                LightDesc::Spot {
+                    position,
+                    direction,
+                    intensity,
+                    cone_angle,
+                    falloff_start,
+                } => {
+                    let _ = writeln!(self.s,
+                        "LightSource \"spot\" \"point3 from\" [ {} ] \"point3 to\" [ {} ] \"rgb I\" [ {} ] \"float coneangle\" [ {} ] \"float conedelta\" [ {} ]",
+                        v3(*position),
+                        v3(*position + *direction),
+                        rgb(*intensity),
+                        cone_angle,
+                        cone_angle - falloff_start
+                    );
+                }
+                LightDesc::Distant {
+                    direction,
+                    irradiance,
+                } => {
+                    let _ = writeln!(self.s,
+                        "LightSource \"distant\" \"point3 from\" [ 0 0 0 ] \"point3 to\" [ {} ] \"rgb L\" [ {} ]",
+                        v3(*direction),
+                        rgb(*irradiance)
+                    );
+                }
+                LightDesc::Environment(env) => {
+                    let portal = if portals_written {
+                        String::new()
+                    } else {
+                        portals_written = true;
+                        let c = desc.portals[0];
+                        format!(
+                            " \"point3 portal\" [ {} {} {} {} ]",
+                            v3(c[0]),
+                            v3(c[1]),
+                            v3(c[2]),
+                            v3(c[3])
+                        )
+                    };
+                    match env {
+                        EnvironmentDesc::Constant(l) => {
+                            let _ = writeln!(
+                                self.s,
+                                "LightSource \"infinite\" \"rgb L\" [ {} ]{portal}",
+                                rgb(*l)
+                            );
+                        }
+                        EnvironmentDesc::Image {
+                            image,
+                            scale,
+                            to_world,
+                        } => {
+                            let mut baked = Image::new(image.width, image.height);
+                            for y in 0..image.height {
+                                for x in 0..image.width {
+                                    let c = image.get(x, y);
+                                    baked.set(
+                                        x,
+                                        y,
+                                        Rgb::new(c.r * scale.r, c.g * scale.g, c.b * scale.b),
+                                    );
+                                }
+                            }
+                            let file = self.data(format!("environment-{i}.exr"), &|tmp| {
+                                baked
+                                    .write_exr(tmp, &Default::default())
+                                    .map_err(|e| e.to_string())
+                            })?;
+                            let m = glam::Mat4::from_mat3(*to_world);
+                            let _ = writeln!(self.s, "AttributeBegin");
+                            let _ =
+                                writeln!(self.s, "  Transform [ {} ]", join(&m.to_cols_array()));
+                            let _ = writeln!(self.s,
+                                "  # A 2:1 latitude-longitude map (fenestra reads these; pbrt-v4 wants square equal-area maps)"
+                            );
+                            let _ =
+                                writeln!(self.s,
+                                "  LightSource \"infinite\" \"string filename\" \"{file}\"{portal}"
+                            );
+                            let _ = writeln!(self.s, "AttributeEnd");
+                        }
+                    }
+                }
             }
         }
-        let _ = writeln!(s, "AttributeEnd");
+        Ok(portals_written)
     }
-    write_text_atomically(path, &s).map_err(|e| err(e.reason))?;
-    files.insert(0, path.to_path_buf());
-    Ok(Exported { files })
+
+    /// Portals not attached to an infinite light (pbrt-v4 takes one per light): quads with
+    /// the "interface" material, invisible to pbrt-v4 and read back as portals.
+    fn portals(&mut self, desc: &SceneDesc, portals_written: bool) {
+        let first = usize::from(!desc.portals.is_empty() && portals_written);
+        for c in &desc.portals[first..] {
+            let _ = writeln!(self.s,
+                "\nAttributeBegin  # light portal\n  Material \"interface\"\n  Shape \"trianglemesh\" \"point3 P\" [ {} {} {} {} ] \"integer indices\" [ 0 1 2  0 2 3 ]\nAttributeEnd",
+                v3(c[0]),
+                v3(c[1]),
+                v3(c[2]),
+                v3(c[3])
+            );
+        }
+    }
+
+    /// Every shape, with its material and emission.
+    fn shapes(&mut self, desc: &SceneDesc) -> Result<(), ExportError> {
+        for (i, shape) in desc.shapes.iter().enumerate() {
+            let _ = writeln!(self.s, "\nAttributeBegin");
+            let _ = writeln!(self.s, "  NamedMaterial \"m{}\"", shape.material);
+            if let Some(e) = &shape.emission {
+                let _ = writeln!(
+                    self.s,
+                    "  AreaLightSource \"diffuse\" \"rgb L\" [ {} ] \"bool twosided\" {}",
+                    rgb(e.radiance),
+                    e.two_sided
+                );
+            }
+            match &shape.kind {
+                ShapeKind::Mesh(mesh) => {
+                    let mut mesh = std::borrow::Cow::Borrowed(mesh);
+                    if shape.flip_normals {
+                        match mesh.to_mut().normals.as_mut() {
+                            // With vertex normals pbrt-v4 ignores ReverseOrientation: flip them.
+                            Some(n) => n.iter_mut().for_each(|v| *v = -*v),
+                            None => self.s.push_str("  ReverseOrientation\n"),
+                        }
+                    }
+                    if mesh.indices.len() > INLINE_TRIANGLES {
+                        let file = self.data(format!("shape-{i}.ply"), &|tmp| {
+                            let f = std::fs::File::create(tmp).map_err(|e| e.to_string())?;
+                            let mut w = std::io::BufWriter::new(f);
+                            fenestra_scene::mesh::ply::write(&mesh, &mut w)
+                                .map_err(|e| e.to_string())?;
+                            std::io::Write::flush(&mut w).map_err(|e| e.to_string())
+                        })?;
+                        let _ =
+                            writeln!(self.s, "  Shape \"plymesh\" \"string filename\" \"{file}\"");
+                    } else {
+                        inline_mesh(&mut self.s, &mesh);
+                    }
+                }
+                ShapeKind::Sphere { center, radius } => {
+                    if shape.flip_normals {
+                        self.s.push_str("  ReverseOrientation\n");
+                    }
+                    let _ = writeln!(self.s, "  Translate {}", v3(*center));
+                    let _ = writeln!(self.s, "  Shape \"sphere\" \"float radius\" [ {radius} ]");
+                }
+                ShapeKind::Disk {
+                    center,
+                    normal,
+                    radius,
+                } => {
+                    if shape.flip_normals {
+                        self.s.push_str("  ReverseOrientation\n");
+                    }
+                    // A right-handed frame with z along the normal (no mirroring, no flip).
+                    let f = fenestra_core::Frame::from_normal(*normal);
+                    let t = normal.cross(f.s);
+                    let m = glam::Mat4::from_cols(
+                        f.s.extend(0.0),
+                        t.extend(0.0),
+                        normal.extend(0.0),
+                        center.extend(1.0),
+                    );
+                    let _ = writeln!(self.s, "  Transform [ {} ]", join(&m.to_cols_array()));
+                    let _ = writeln!(self.s, "  Shape \"disk\" \"float radius\" [ {radius} ]");
+                }
+            }
+            let _ = writeln!(self.s, "AttributeEnd");
+        }
+        Ok(())
+    }
 }
 
 fn join(v: &[f32]) -> String {
