@@ -128,8 +128,8 @@ pub(super) struct Builder {
     pub object: Option<(String, Vec<Shape>)>,
     pub(crate) camera: Option<CameraSpec>,
     /// The PixelFilter, if the scene names one (pbrt-v4's default is a gaussian).
-    filter: Option<PixelFilter>,
-    defaults: RenderDefaults,
+    pub(crate) filter: Option<PixelFilter>,
+    pub(crate) defaults: RenderDefaults,
     warnings: Tally,
     /// Documented approximations met (see [`crate::Loaded::notes`]).
     pub notes: Tally,
@@ -293,8 +293,6 @@ impl Builder {
             self.warn(Topic::Camera, MOTION_BLUR, &d.loc);
             return Ok(());
         }
-        let num3 = |o: usize| DVec3::new(d.num(o), d.num(o + 1), d.num(o + 2));
-        let matrix = || DMat4::from_cols_array(&std::array::from_fn(|i| d.num(i)));
         // Spectrum files are inputs too (no command may write over them).
         for p in &d.params.params {
             if let (Values::Strs(s), "spectrum") = (&p.values, p.ty.as_str()) {
@@ -307,6 +305,53 @@ impl Builder {
         }
         match d.name {
             "Include" | "Import" => self.include(d, dir)?,
+            "Identity" | "Translate" | "Scale" | "Rotate" | "LookAt" | "Transform"
+            | "ConcatTransform" | "CoordinateSystem" | "CoordSysTransform" => self.transform(d)?,
+            "ReverseOrientation" => self.gs.reverse = !self.gs.reverse,
+            "AttributeBegin" | "TransformBegin" => self.stack.push(Saved {
+                state: self.gs.clone(),
+                transform_only: d.name == "TransformBegin",
+                loc: d.loc.clone(),
+            }),
+            "AttributeEnd" | "TransformEnd" => self.pop(d)?,
+            "ActiveTransform" => {
+                self.gs.end_time_only = d.str(0) == "EndTime";
+                if d.str(0) != "All" {
+                    self.warn(Topic::Camera, MOTION_BLUR, &d.loc);
+                }
+            }
+            "TransformTimes" => self.warn(Topic::Camera, MOTION_BLUR, &d.loc),
+            "WorldBegin" => {
+                self.gs.ctm = DMat4::IDENTITY;
+                self.named_coords.insert("world".into(), DMat4::IDENTITY);
+            }
+            "WorldEnd" => {}
+            "Camera" => self.camera(d),
+            "Film" | "Sampler" | "Integrator" | "PixelFilter" | "Accelerator" | "ColorSpace"
+            | "Option" | "Attribute" | "MakeNamedMedium" | "MediumInterface" => {
+                self.rendering(d)?
+            }
+            "Material" | "MakeNamedMaterial" | "NamedMaterial" => self.material_directive(d)?,
+            "ObjectBegin" | "ObjectEnd" | "ObjectInstance" => self.object(d)?,
+            "Texture" => self.texture(d, dir)?,
+            "LightSource" => self.light(d, dir)?,
+            "AreaLightSource" => self.area_light(d)?,
+            "Shape" => self.shape(d, dir)?,
+            other => {
+                return Err(PbrtError::at(
+                    &d.loc,
+                    format!("directive {other} is not handled"),
+                ))
+            }
+        }
+        Ok(())
+    }
+
+    /// Transform directives: the current transform and named coordinate systems.
+    fn transform(&mut self, d: &Directive) -> Result<(), PbrtError> {
+        let num3 = |o: usize| DVec3::new(d.num(o), d.num(o + 1), d.num(o + 2));
+        let matrix = || DMat4::from_cols_array(&std::array::from_fn(|i| d.num(i)));
+        match d.name {
             "Identity" => self.gs.ctm = DMat4::IDENTITY,
             "Translate" => self.gs.ctm *= DMat4::from_translation(num3(0)),
             "Scale" => self.gs.ctm *= DMat4::from_scale(num3(0)),
@@ -332,82 +377,14 @@ impl Builder {
                     ))
                 }
             },
-            "ReverseOrientation" => self.gs.reverse = !self.gs.reverse,
-            "AttributeBegin" | "TransformBegin" => self.stack.push(Saved {
-                state: self.gs.clone(),
-                transform_only: d.name == "TransformBegin",
-                loc: d.loc.clone(),
-            }),
-            "AttributeEnd" | "TransformEnd" => self.pop(d)?,
-            "ActiveTransform" => {
-                self.gs.end_time_only = d.str(0) == "EndTime";
-                if d.str(0) != "All" {
-                    self.warn(Topic::Camera, MOTION_BLUR, &d.loc);
-                }
-            }
-            "TransformTimes" => self.warn(Topic::Camera, MOTION_BLUR, &d.loc),
-            "WorldBegin" => {
-                self.gs.ctm = DMat4::IDENTITY;
-                self.named_coords.insert("world".into(), DMat4::IDENTITY);
-            }
-            "WorldEnd" => {}
-            "Camera" => self.camera(d),
-            "Film" => {
-                if !matches!(d.str(0), "rgb" | "gbuffer") {
-                    self.warn(
-                        Topic::Camera,
-                        format!("Film \"{}\" (rendered as rgb)", d.str(0)),
-                        &d.loc,
-                    );
-                }
-                let p = &d.params;
-                self.defaults.width = positive(p.int("xresolution", 1280)?, "xresolution", &d.loc)?;
-                self.defaults.height = positive(p.int("yresolution", 720)?, "yresolution", &d.loc)?;
-                // The output file is named on the command line.
-                p.string("filename")?;
-            }
-            "Sampler" => {
-                // Any pbrt sampler maps to fenestra's Owen-scrambled Sobol sequence.
-                self.defaults.spp =
-                    positive(d.params.int("pixelsamples", 16)?, "pixelsamples", &d.loc)?;
-                d.params.int("seed", 0)?;
-            }
-            "Integrator" => {
-                if !matches!(d.str(0), "path" | "volpath") {
-                    self.warn(
-                        Topic::Rendering,
-                        format!(
-                            "Integrator \"{}\" (rendered with af_hf, a path tracer)",
-                            d.str(0)
-                        ),
-                        &d.loc,
-                    );
-                    d.params.use_all();
-                }
-                let depth = d.params.int("maxdepth", 5)?;
-                // pbrt counts bounces; fenestra counts segments from the camera (2 = direct).
-                self.defaults.max_depth = positive(depth + 1, "maxdepth", &d.loc)?;
-                self.integrator_options(d)?;
-            }
-            "PixelFilter" => self.filter = Some(self.pixel_filter(d)?),
-            // The acceleration structure does not change the picture.
-            "Accelerator" => d.params.use_all(),
-            "ColorSpace" if d.str(0) == "srgb" => {}
-            "ColorSpace" | "Option" | "Attribute" | "MakeNamedMedium" | "MediumInterface" => {
-                let effect = match d.name {
-                    "ColorSpace" => "colours are taken as sRGB",
-                    "MakeNamedMedium" | "MediumInterface" => {
-                        "participating media: light passes as through vacuum"
-                    }
-                    _ => "ignored",
-                };
-                self.warn(
-                    Topic::Rendering,
-                    format!("{} \"{}\" ({effect})", d.name, d.str(0)),
-                    &d.loc,
-                );
-                d.params.use_all();
-            }
+            other => unreachable!("directive {other} is dispatched here by its name"),
+        }
+        Ok(())
+    }
+
+    /// Material directives: the current material, named ones.
+    fn material_directive(&mut self, d: &Directive) -> Result<(), PbrtError> {
+        match d.name {
             "Material" => self.gs.material = self.material(d.str(0), &d.params, &d.loc)?,
             "MakeNamedMaterial" => {
                 let Some(ty) = d.params.string("type")? else {
@@ -434,10 +411,14 @@ impl Builder {
                     ))
                 }
             },
-            "Texture" => self.texture(d, dir)?,
-            "LightSource" => self.light(d, dir)?,
-            "AreaLightSource" => self.area_light(d)?,
-            "Shape" => self.shape(d, dir)?,
+            other => unreachable!("directive {other} is dispatched here by its name"),
+        }
+        Ok(())
+    }
+
+    /// Object instancing: definitions and instances.
+    fn object(&mut self, d: &Directive) -> Result<(), PbrtError> {
+        match d.name {
             "ObjectBegin" => {
                 if let Some((name, _)) = &self.object {
                     return Err(PbrtError::at(
@@ -485,12 +466,7 @@ impl Builder {
                     .collect::<Result<_, _>>()?;
                 self.shapes.extend(placed);
             }
-            other => {
-                return Err(PbrtError::at(
-                    &d.loc,
-                    format!("directive {other} is not handled"),
-                ))
-            }
+            other => unreachable!("directive {other} is dispatched here by its name"),
         }
         Ok(())
     }
@@ -578,7 +554,7 @@ impl Builder {
     }
 }
 
-fn positive(v: i64, what: &str, loc: &Loc) -> Result<u32, PbrtError> {
+pub(crate) fn positive(v: i64, what: &str, loc: &Loc) -> Result<u32, PbrtError> {
     if v > 0 && v <= 1 << 24 {
         Ok(v as u32)
     } else {
@@ -609,47 +585,6 @@ fn look_at(pos: DVec3, look: DVec3, up: DVec3, loc: &Loc) -> Result<DMat4, PbrtE
         pos.extend(1.0),
     );
     Ok(world_from_camera.inverse())
-}
-
-impl Builder {
-    /// The options of a path tracing Integrator directive that fenestra's integrators read:
-    /// its light sampler becomes `light.selection` (pbrt-v4's bvh, power and uniform have
-    /// fenestra namesakes; exhaustive, which weighs every light by its bounds' importance,
-    /// is taken as bvh, whose cuts approximate it).
-    fn integrator_options(&mut self, d: &Directive) -> Result<(), PbrtError> {
-        if let Some(sampler) = d.params.string("lightsampler")? {
-            let selection = match sampler.as_str() {
-                "bvh" | "power" | "uniform" => sampler.clone(),
-                "exhaustive" => {
-                    self.note(
-                        Topic::Rendering,
-                        "lightsampler \"exhaustive\" (taken as bvh)",
-                        &d.loc,
-                    );
-                    "bvh".to_string()
-                }
-                other => {
-                    return Err(PbrtError::at(
-                        &d.loc,
-                        format!(
-                            "unknown lightsampler \"{other}\" (pbrt-v4 has bvh, exhaustive, power and uniform)"
-                        ),
-                    ))
-                }
-            };
-            self.defaults
-                .options
-                .push(("light.selection".into(), selection));
-        }
-        if d.params.bool("regularize", false)? {
-            self.warn(
-                Topic::Rendering,
-                "regularize (fenestra does not regularize BSDFs: caustics stay sharp and noisy)",
-                &d.loc,
-            );
-        }
-        Ok(())
-    }
 }
 
 /// Refuses a shape beyond what f32 ray tracing resolves, at the directive that made it.

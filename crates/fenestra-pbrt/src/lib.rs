@@ -11,6 +11,7 @@ mod lights;
 mod materials;
 mod params;
 mod parser;
+mod rendering;
 mod shapes;
 mod spectra;
 mod textures;
