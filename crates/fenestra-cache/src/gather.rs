@@ -127,7 +127,7 @@ pub struct CacheGather<'a> {
     pub phase: u64,
 }
 
-impl CacheGather<'_> {
+impl<'a> CacheGather<'a> {
     /// Which cache serves `s`, if any: points seen from the camera (`segments` 1) whose
     /// cached light comes from paths within the length limit.
     pub fn served(&self, s: &Shading, segments: u32) -> Option<Served> {
@@ -190,26 +190,15 @@ impl CacheGather<'_> {
         rays: &mut RayCounters,
     ) -> Rgb {
         let (options, a) = (self.setup.options, self.a_scale * self.setup.options.a);
-        let Work {
-            glossy,
-            harmonics,
-            photon_scratch,
-            ..
-        } = &mut *self.work;
-        let mut tracing = record_rays(
-            self.setup,
-            self.caches,
-            photon_scratch,
-            self.seed,
-            self.phase,
-        );
+        let mut tracing = self.record_rays();
         let at = Lookup { scene, s, a, read };
-        if let Served::Harmonics(count) = served {
+        let l = if let Served::Harmonics(count) = served {
             let kind = ShRecords {
                 rays: count,
                 m: options.m,
             };
-            at.run(&kind, &self.caches.harmonics, harmonics, &mut tracing, rays)
+            let delta = &mut self.work.harmonics;
+            at.run(&kind, &self.caches.harmonics, delta, &mut tracing, rays)
         } else {
             let kind = SdrcRecords {
                 n: options.n,
@@ -217,8 +206,16 @@ impl CacheGather<'_> {
                 query_samples: options.query_samples,
                 r_max: options.r_max,
             };
-            at.run(&kind, &self.caches.glossy, glossy, &mut tracing, rays)
-        }
+            at.run(
+                &kind,
+                &self.caches.glossy,
+                &mut self.work.glossy,
+                &mut tracing,
+                rays,
+            )
+        };
+        self.work.photon_scratch = tracing.photon_scratch;
+        l
     }
 
     /// The irradiance cache's lookup at `s`, creating a record if none is near; then, if
@@ -232,43 +229,36 @@ impl CacheGather<'_> {
     ) -> Rgb {
         let options = self.setup.options;
         let a = self.a_scale * options.irradiance_a;
-        let Work {
-            diffuse,
-            photon_scratch,
-            ..
-        } = &mut *self.work;
-        let mut tracing = record_rays(
-            self.setup,
-            self.caches,
-            photon_scratch,
-            self.seed,
-            self.phase,
-        );
+        let mut tracing = self.record_rays();
         let kind = IrradianceRecords {
             rays: options.irradiance_rays,
             gradients: options.irradiance_gradients,
         };
         let at = Lookup { scene, s, a, read };
-        at.run(&kind, &self.caches.diffuse, diffuse, &mut tracing, rays)
+        let e = at.run(
+            &kind,
+            &self.caches.diffuse,
+            &mut self.work.diffuse,
+            &mut tracing,
+            rays,
+        );
+        self.work.photon_scratch = tracing.photon_scratch;
+        e
     }
-}
 
-/// The record rays of a cache at work.
-fn record_rays<'a>(
-    setup: &CacheSetup<'a>,
-    caches: &'a Caches,
-    photon_scratch: &'a mut Vec<(f32, u32)>,
-    seed: u64,
-    phase: u64,
-) -> RecordRays<'a> {
-    RecordRays {
-        tracer: setup.tracer,
-        photons: &caches.photons,
-        photon_scratch,
-        footprint: setup.footprint,
-        min_reach: setup.options.min_reach,
-        seed,
-        phase,
+    /// The rays records are made from, with the block's photon lookup scratch (to be given
+    /// back to the block's work).
+    fn record_rays(&mut self) -> RecordRays<'a> {
+        let (setup, caches) = (self.setup, self.caches);
+        RecordRays {
+            tracer: setup.tracer,
+            photons: &caches.photons,
+            photon_scratch: std::mem::take(&mut self.work.photon_scratch),
+            footprint: setup.footprint,
+            min_reach: setup.options.min_reach,
+            seed: self.seed,
+            phase: self.phase,
+        }
     }
 }
 

@@ -19,8 +19,8 @@ pub(crate) struct RecordRays<'a> {
     pub(crate) tracer: &'a PathTracer<LightNextEvent>,
     /// Light beyond the records' rays (empty: their paths are traced on).
     pub(crate) photons: &'a PhotonMap,
-    /// Candidates of photon lookups.
-    pub(crate) photon_scratch: &'a mut Vec<(f32, u32)>,
+    /// Candidates of photon lookups (scratch).
+    pub(crate) photon_scratch: Vec<(f32, u32)>,
     /// The camera's pixels, and the least R_i in them.
     pub(crate) footprint: PixelFootprint,
     pub(crate) min_reach: f32,
@@ -166,7 +166,7 @@ impl RecordRays<'_> {
         } else {
             photons = PhotonGather {
                 map: self.photons,
-                scratch: &mut *self.photon_scratch,
+                scratch: &mut self.photon_scratch,
             };
             &mut photons
         };
