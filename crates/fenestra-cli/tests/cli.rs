@@ -75,6 +75,60 @@ fn time_budget_renders_whole_passes() {
 }
 
 #[test]
+fn snapshots_leave_the_final_image_as_it_is() {
+    let (plain, watched) = (tmp("plain.exr"), tmp("watched.exr"));
+    let args = ["--seed", "5", "--variance", "--json"];
+    assert!(render(&plain, &args).status.success());
+    let o = render(
+        &watched,
+        &[&args[..], &["--snapshot-every", "1e-9"]].concat(),
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let s: serde_json::Value = serde_json::from_slice(&o.stdout).expect("json");
+    // Passes of 1, 2 and 1 samples (4 in all): a snapshot after each.
+    assert_eq!(s["extra"]["snapshots"].as_f64(), Some(3.0), "{s}");
+    assert_eq!(s["interrupted"], false);
+    assert_eq!(
+        Image::read(&plain).expect("a"),
+        Image::read(&watched).expect("b")
+    );
+    let var = |p: &Path| Image::read(&p.with_extension("var.exr")).expect("variance");
+    assert_eq!(var(&plain), var(&watched));
+    // Over a complete render, snapshots go beside it and are gone once the render is done.
+    let o = render(&watched, &["--seed", "6", "--snapshot-every", "1e-9", "-q"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("holds a complete render"));
+    assert!(!watched.with_extension("interrupted.exr").exists());
+    assert!(!watched.with_extension("interrupted.json").exists());
+    let sidecar: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(watched.with_extension("json")).expect("json"),
+    )
+    .expect("valid");
+    assert_eq!(
+        (sidecar["seed"].as_u64(), &sidecar["interrupted"]),
+        (Some(6), &false.into())
+    );
+    for (flags, expect) in [
+        (
+            &["--snapshot-every", "0"][..],
+            "--snapshot-every must be a positive number",
+        ),
+        (
+            &["--snapshot-every", "1", "--crop", "0,0,8,8"][..],
+            "a piece is merged from its .film",
+        ),
+    ] {
+        let o = render(&tmp("refused.exr"), flags);
+        assert!(!o.status.success());
+        assert!(
+            String::from_utf8_lossy(&o.stderr).contains(expect),
+            "{}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+    }
+}
+
+#[test]
 fn bad_input_gets_a_clear_error() {
     let out = tmp("err.exr");
     let o = out.to_str().expect("utf-8");

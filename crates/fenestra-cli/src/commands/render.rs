@@ -77,6 +77,13 @@ pub struct RenderArgs {
     /// Also write OUT.var.exr, the per-pixel variance of the mean.
     #[arg(long)]
     variance: bool,
+    /// Write the image so far (EXR, PNG, JSON with "snapshot" in its extra figures, and the
+    /// variance with --variance) at most every SECONDS, after a pass, atomically and under
+    /// the final files' names, so that a long render can be watched; the final image is the
+    /// same with or without. Integrators that render each block to completion (ias) have no
+    /// passes of the whole image and write none.
+    #[arg(long, value_name = "SECONDS")]
+    snapshot_every: Option<f64>,
     /// Also write pictures of the integrator's own work, if it makes any (ias: passes,
     /// shadow rays, visible share, clusters per cut, anti-aliasing regions per pixel) into
     /// the folder OUT-maps, as false-colour PNGs with their scales in scales.json.
@@ -483,6 +490,14 @@ pub fn run(args: RenderArgs) -> Result<bool> {
             bail!("--target-rel-mse must be positive, got {t}");
         }
     }
+    if let Some(t) = args.snapshot_every {
+        if !(t.is_finite() && t > 0.0) {
+            bail!("--snapshot-every must be a positive number of seconds, got {t}");
+        }
+        if args.samples.is_some() || args.crop.is_some() {
+            bail!("--snapshot-every watches whole renders: a piece is merged from its .film (watch the merged render instead)");
+        }
+    }
     let mut job = args.opts.job(args.time)?;
     let piece = job.cut(args.samples.as_deref(), args.crop.as_deref(), &args.opts)?;
     if piece.is_some() && args.time.is_some() {
@@ -517,9 +532,24 @@ pub fn run(args: RenderArgs) -> Result<bool> {
         }
         None => None,
     };
+    // Snapshots go where an interrupted render would: never over a complete render.
+    let snapshots = args.snapshot_every.map(|every| Snapshots {
+        every,
+        to: where_to_write(&args.output, true),
+        like: RenderStats {
+            scene: job.desc.name.clone(),
+            integrator: job.integrator.name().to_string(),
+            seed: job.settings.seed,
+            ..Default::default()
+        },
+        state: Mutex::new((f64::NEG_INFINITY, 0)),
+    });
     // Convergence: metrics against the reference after every pass.
     let curve = Mutex::new(Vec::new());
     let hook = |film: &Film, time_s: f64| -> bool {
+        if let Some(s) = &snapshots {
+            s.after_pass(film, time_s, &args);
+        }
         let Some(r) = &reference else { return true };
         let Ok(m) = metrics::compare(&film.image(), r) else {
             return true;
@@ -542,6 +572,13 @@ pub fn run(args: RenderArgs) -> Result<bool> {
         return Ok(true);
     }
     stats.convergence = curve.into_inner().unwrap_or_default();
+    if let Some(s) = snapshots {
+        stats.extra.insert("snapshots".into(), s.written() as f64);
+        s.remove_beside(
+            &args.output,
+            &where_to_write(&args.output, stats.interrupted),
+        );
+    }
     let state = piece.map(|header| FilmHeader {
         stats: stats.clone(),
         ..header
@@ -581,6 +618,74 @@ fn where_to_write(output: &Path, interrupted: bool) -> PathBuf {
         beside.display()
     );
     beside
+}
+
+/// `--snapshot-every`: the image so far, written after a pass when the interval has passed.
+struct Snapshots {
+    every: f64,
+    /// Where they go (OUT.exr, or beside a complete render).
+    to: PathBuf,
+    /// The render's statistics that a snapshot's sidecar repeats.
+    like: RenderStats,
+    /// When the last one was written, and how many were.
+    state: Mutex<(f64, u32)>,
+}
+
+impl Snapshots {
+    /// Writes a snapshot of `film` at `time_s` if the interval has passed since the last;
+    /// a snapshot that cannot be written is said and the render goes on.
+    fn after_pass(&self, film: &Film, time_s: f64, args: &RenderArgs) {
+        let Ok(mut state) = self.state.lock() else {
+            return;
+        };
+        if time_s - state.0 < self.every {
+            return;
+        }
+        let (spp, spp_max) = film.sample_count_range();
+        let mut stats = RenderStats {
+            width: film.width,
+            height: film.height,
+            spp,
+            spp_max,
+            time_s,
+            interrupted: true,
+            ..self.like.clone()
+        };
+        stats.extra.insert("snapshot".into(), 1.0);
+        let written = output::write_render(
+            &self.to,
+            film,
+            &stats,
+            args.opts.exposure,
+            args.variance,
+            None,
+        );
+        match written {
+            Ok(()) => *state = (time_s, state.1 + 1),
+            Err(e) => {
+                eprintln!("warning: snapshot not written ({e}); the render goes on");
+                // Not again before the next interval.
+                state.0 = time_s;
+            }
+        }
+    }
+
+    /// How many were written.
+    fn written(&self) -> u32 {
+        self.state.lock().map_or(0, |s| s.1)
+    }
+
+    /// Removes the snapshot's files if they went beside `output` and the render's own
+    /// files went elsewhere (the snapshot of a finished render is stale).
+    fn remove_beside(&self, output: &Path, written_to: &Path) {
+        if self.to == written_to || self.to == output || self.written() == 0 {
+            return;
+        }
+        let (png, json) = output::companion_paths(&self.to);
+        for f in [self.to.clone(), png, json, output::variance_path(&self.to)] {
+            let _ = std::fs::remove_file(f);
+        }
+    }
 }
 
 /// Where `--maps` writes for OUT.exr: the folder OUT-maps beside it.
