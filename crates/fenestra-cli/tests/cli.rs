@@ -94,6 +94,24 @@ fn snapshots_leave_the_final_image_as_it_is() {
     );
     let var = |p: &Path| Image::read(&p.with_extension("var.exr")).expect("variance");
     assert_eq!(var(&plain), var(&watched));
+    // ias finishes blocks whole: a snapshot after a block (3 x 2 of them here).
+    let (plain, watched) = (tmp("ias-plain.exr"), tmp("ias-watched.exr"));
+    let ias = |out: &Path, extra: &[&str]| {
+        let mut args = vec!["render", "builtin:box-hole", "--integrator", "ias"];
+        args.extend_from_slice(&["--resolution", "24x16", "--json", "-o"]);
+        args.push(out.to_str().expect("utf-8"));
+        args.extend_from_slice(extra);
+        fenestra(&args)
+    };
+    assert!(ias(&plain, &[]).status.success());
+    let o = ias(&watched, &["--snapshot-every", "1e-9"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let s: serde_json::Value = serde_json::from_slice(&o.stdout).expect("json");
+    assert_eq!(s["extra"]["snapshots"].as_f64(), Some(6.0), "{s}");
+    assert_eq!(
+        Image::read(&plain).expect("a"),
+        Image::read(&watched).expect("b")
+    );
     // Over a complete render, snapshots go beside it and are gone once the render is done.
     let o = render(&watched, &["--seed", "6", "--snapshot-every", "1e-9", "-q"]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));

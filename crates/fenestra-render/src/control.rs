@@ -24,6 +24,10 @@ impl Progress for NoProgress {}
 /// returns whether to go on (a measurement can stop a render once it reaches a target error).
 pub type PassHook<'a> = &'a (dyn Fn(&Film, f64) -> bool + Sync);
 
+/// A hook that sees the film whenever it holds more of the image, with the render's elapsed
+/// seconds.
+pub type ProgressHook<'a> = &'a (dyn Fn(&Film, f64) + Sync);
+
 /// Progress reporting, cancellation and a per-pass hook for one render, and its clock: the
 /// render's time runs from the control's creation, so preparation counts in it.
 pub struct RenderControl<'a> {
@@ -33,6 +37,10 @@ pub struct RenderControl<'a> {
     pub progress: &'a dyn Progress,
     /// Called after every pass.
     pub on_pass: Option<PassHook<'a>>,
+    /// Called whenever the film holds more of the image: after every pass, and, for
+    /// integrators that render each block to completion, after every block (one call at a
+    /// time). For watching a render; it cannot stop it.
+    pub on_progress: Option<ProgressHook<'a>>,
     started: Instant,
 }
 
@@ -54,6 +62,7 @@ impl<'a> RenderControl<'a> {
             cancel,
             progress,
             on_pass: None,
+            on_progress: None,
             started: Instant::now(),
         }
     }

@@ -71,7 +71,7 @@ pub fn run(args: ReferenceArgs) -> Result<()> {
         check_exr(&path)?;
         let mut files = std::mem::take(&mut job.inputs);
         render_outputs(&mut files, &path, true, false).check()?;
-        let (mut stats, film, _) = args.opts.run(job, None)?;
+        let (mut stats, film, _) = args.opts.run(job, None, None)?;
         if stats.interrupted {
             bail!("reference interrupted: nothing cached");
         }

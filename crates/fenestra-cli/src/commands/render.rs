@@ -11,7 +11,7 @@ use fenestra_core::Rgb;
 use fenestra_eval::hash::{debug_hash, Fnv64};
 use fenestra_eval::metrics;
 
-use fenestra_render::control::PassHook;
+use fenestra_render::control::{PassHook, ProgressHook};
 use fenestra_render::film::{Pixel, Window};
 use fenestra_render::film_file::{FilmHeader, SampleRange};
 use fenestra_render::integrator::{IntegratorError, Split, WorkMap};
@@ -78,10 +78,9 @@ pub struct RenderArgs {
     #[arg(long)]
     variance: bool,
     /// Write the image so far (EXR, PNG, JSON with "snapshot" in its extra figures, and the
-    /// variance with --variance) at most every SECONDS, after a pass, atomically and under
-    /// the final files' names, so that a long render can be watched; the final image is the
-    /// same with or without. Integrators that render each block to completion (ias) have no
-    /// passes of the whole image and write none.
+    /// variance with --variance) at most every SECONDS, after a pass (ias: after a block),
+    /// atomically and under the final files' names, so that a long render can be watched;
+    /// the final image is the same with or without.
     #[arg(long, value_name = "SECONDS")]
     snapshot_every: Option<f64>,
     /// Also write pictures of the integrator's own work, if it makes any (ias: passes,
@@ -330,11 +329,13 @@ impl RenderOpts {
     }
 
     /// Builds the scene, prepares the integrator and renders, on a pool of --threads workers,
-    /// with Ctrl-C stopping it cleanly.
+    /// with Ctrl-C stopping it cleanly; `hook` after every pass, `watch` whenever the film
+    /// holds more of the image.
     pub(crate) fn run(
         &self,
         job: Job,
         hook: Option<PassHook>,
+        watch: Option<ProgressHook>,
     ) -> Result<(RenderStats, Film, Vec<WorkMap>)> {
         film_fits_in_memory(job.window)?;
         let pool = crate::thread_pool(self.threads)?;
@@ -357,6 +358,7 @@ impl RenderOpts {
             let bar = Bar::new(self.quiet || self.json);
             let mut control = RenderControl::new(&cancel, &bar);
             control.on_pass = hook;
+            control.on_progress = watch;
             let stats = fenestra_render::render(
                 integrator.as_mut(),
                 &scene,
@@ -546,10 +548,12 @@ pub fn run(args: RenderArgs) -> Result<bool> {
     });
     // Convergence: metrics against the reference after every pass.
     let curve = Mutex::new(Vec::new());
-    let hook = |film: &Film, time_s: f64| -> bool {
+    let watch = |film: &Film, time_s: f64| {
         if let Some(s) = &snapshots {
-            s.after_pass(film, time_s, &args);
+            s.write_if_due(film, time_s, &args);
         }
+    };
+    let hook = |film: &Film, time_s: f64| -> bool {
         let Some(r) = &reference else { return true };
         let Ok(m) = metrics::compare(&film.image(), r) else {
             return true;
@@ -564,7 +568,8 @@ pub fn run(args: RenderArgs) -> Result<bool> {
         }
         args.target_rel_mse.is_none_or(|t| m.rel_mse > t)
     };
-    let (mut stats, film, maps) = args.opts.run(job, Some(&hook))?;
+    let watch = snapshots.as_ref().map(|_| &watch as ProgressHook);
+    let (mut stats, film, maps) = args.opts.run(job, Some(&hook), watch)?;
     if stats.interrupted && stats.spp_max == 0 {
         // Stopped before the first sample (while the scene was being built): a black image
         // would only replace whatever was there.
@@ -620,7 +625,8 @@ fn where_to_write(output: &Path, interrupted: bool) -> PathBuf {
     beside
 }
 
-/// `--snapshot-every`: the image so far, written after a pass when the interval has passed.
+/// `--snapshot-every`: the image so far, written when the film holds more of it (after a
+/// pass, or a block of an integrator that finishes blocks whole) and the interval has passed.
 struct Snapshots {
     every: f64,
     /// Where they go (OUT.exr, or beside a complete render).
@@ -634,7 +640,7 @@ struct Snapshots {
 impl Snapshots {
     /// Writes a snapshot of `film` at `time_s` if the interval has passed since the last;
     /// a snapshot that cannot be written is said and the render goes on.
-    fn after_pass(&self, film: &Film, time_s: f64, args: &RenderArgs) {
+    fn write_if_due(&self, film: &Film, time_s: f64, args: &RenderArgs) {
         let Ok(mut state) = self.state.lock() else {
             return;
         };

@@ -14,6 +14,7 @@ use crate::render_scene::RenderScene;
 use crate::settings::RenderSettings;
 use fenestra_core::stats::{RayCounters, RenderStats};
 use rayon::prelude::*;
+use std::sync::Mutex;
 
 /// One block to render: its place in the image (pixels `x0..x1` by `y0..y1`, in the whole
 /// image's coordinates even when the film is a crop of it).
@@ -103,6 +104,8 @@ pub fn render_to_completion<E: CompletionEstimator>(
     let window = film.window;
     let blocks = Blocks::new(width, height);
     control.progress.start(Some(blocks.count() as u64));
+    // Finished blocks go into the film at once, for whoever watches the render.
+    let shared = Mutex::new(&mut *film);
     let mut rendered: Vec<(u32, Option<Rendered<E::Block>>)> = estimator
         .order(blocks.count() as u32)
         .into_par_iter()
@@ -118,8 +121,18 @@ pub fn render_to_completion<E: CompletionEstimator>(
             };
             let mut rays = RayCounters::default();
             let (pixels, block) = estimator.render_block(scene, &task, control, &mut rays);
+            if let Ok(mut film) = shared.lock() {
+                for px in &pixels {
+                    if let Some(i) = window.index((px.x, px.y)) {
+                        film.pixels[i].set_estimate(px.mean, px.variance);
+                    }
+                }
+                if let Some(watch) = control.on_progress {
+                    watch(&film, control.elapsed());
+                }
+            }
             control.progress.advance(1);
-            (b, Some((pixels, block, rays)))
+            (b, Some((block, rays)))
         })
         .collect();
     rendered.sort_unstable_by_key(|(b, _)| *b);
@@ -134,16 +147,11 @@ pub fn render_to_completion<E: CompletionEstimator>(
     };
     let mut out = Vec::with_capacity(rendered.len());
     for (_, r) in rendered {
-        let Some((pixels, block, rays)) = r else {
+        let Some((block, rays)) = r else {
             stats.interrupted = true;
             out.push(None);
             continue;
         };
-        for px in pixels {
-            if let Some(i) = window.index((px.x, px.y)) {
-                film.pixels[i].set_estimate(px.mean, px.variance);
-            }
-        }
         stats.rays += rays;
         out.push(Some(block));
     }
@@ -156,5 +164,5 @@ pub fn render_to_completion<E: CompletionEstimator>(
     (stats, out)
 }
 
-/// A rendered block: its pixels, what it tells, and the rays it traced.
-type Rendered<T> = (Vec<PixelEstimate>, T, RayCounters);
+/// A rendered block (its pixels already in the film): what it tells, and the rays it traced.
+type Rendered<T> = (T, RayCounters);

@@ -174,6 +174,9 @@ pub fn render_passes<E: PassEstimator>(
         }
         passes += 1;
         let go_on = estimator.end_pass(scene, film, block_stats);
+        if let Some(watch) = control.on_progress {
+            watch(film, control.elapsed());
+        }
         let hook = control
             .on_pass
             .is_none_or(|hook| hook(film, control.elapsed()));
