@@ -549,3 +549,114 @@ fn learned_light_selection_renders_whole_and_refuses_what_it_cannot_do() {
         "--light-selection: light.selection learned learns from a render's passes, which sdrc does not give it",
     );
 }
+
+#[test]
+fn an_environment_map_replaces_the_scenes_environment() {
+    let dir = tmp("environment");
+    std::fs::create_dir_all(&dir).expect("dir");
+    // 2:1 maps: one of the box's constant sky (radiance 1), one brighter towards +x and the
+    // zenith.
+    let map = |name: &str, radiance: &dyn Fn(usize, usize) -> f32| {
+        let mut image = Image::new(32, 16);
+        for y in 0..16 {
+            for x in 0..32 {
+                image.set(x, y, fenestra_core::Rgb::splat(radiance(x, y)));
+            }
+        }
+        let path = dir.join(name);
+        image.write_exr(&path, &Default::default()).expect("map");
+        path
+    };
+    let uniform = map("uniform.exr", &|_, _| 1.0);
+    let uneven = map("uneven.exr", &|x, y| {
+        let phi = (x as f32 + 0.5) / 32.0 * std::f32::consts::TAU;
+        1.0 + phi.cos().max(0.0) * 4.0 + (16 - y) as f32 * 0.1
+    });
+    let render = |name: &str, extra: &[&str]| {
+        let out = dir.join(name);
+        let mut args = vec!["render", "builtin:box-hole-sky", "--resolution", "32x32"];
+        args.extend_from_slice(&["--spp", "64", "--seed", "4", "-q", "-o"]);
+        args.push(out.to_str().expect("utf-8"));
+        args.extend_from_slice(extra);
+        let o = fenestra(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        Image::read(&out).expect("render")
+    };
+    let path = |p: &Path| p.to_str().expect("utf-8").to_string();
+    let (uniform, uneven) = (path(&uniform), path(&uneven));
+    // The scene's own sky and a map of the same radiance: the same picture, up to noise.
+    let own = render("own.exr", &[]).mean().luminance();
+    let mapped = render("mapped.exr", &["--environment", &uniform])
+        .mean()
+        .luminance();
+    assert!((mapped / own - 1.0).abs() < 0.03, "{own} {mapped}");
+    // Strength scales the light and nothing else: twice the image, sample for sample.
+    let one = render("one.exr", &["--environment", &uneven]);
+    let two = render(
+        "two.exr",
+        &["--environment", &uneven, "--environment-strength", "2"],
+    );
+    let largest = |d: fenestra_core::Rgb| d.r.abs().max(d.g.abs()).max(d.b.abs());
+    for (a, b) in one.pixels.iter().zip(&two.pixels) {
+        assert!(
+            largest(*b - *a * 2.0) <= 1e-5 * largest(*b).max(1.0),
+            "{a:?} {b:?}"
+        );
+    }
+    // Turning the map about the up axis changes the light through the hole; half a turn
+    // and back is where it was.
+    let turned = render(
+        "turned.exr",
+        &["--environment", &uneven, "--environment-rotation", "180"],
+    );
+    assert_ne!(one, turned);
+    let round = render(
+        "round.exr",
+        &["--environment", &uneven, "--environment-rotation", "-360"],
+    );
+    let close = one.pixels.iter().zip(&round.pixels);
+    assert!(close.map(|(a, b)| largest(*a - *b)).fold(0.0, f32::max) < 1e-3);
+    // What cannot be placed is refused by name.
+    let mut img = Image::new(16, 16);
+    img.set(0, 0, fenestra_core::Rgb::ONE);
+    img.write_exr(&dir.join("square.exr"), &Default::default())
+        .expect("square");
+    for (flags, expect) in [
+        (
+            vec!["--environment", "square.exr"],
+            "2:1 latitude-longitude image, this one is 16x16",
+        ),
+        (
+            vec!["--environment", "uniform.exr", "--environment-up", "w"],
+            "--environment-up: expected x, y, z",
+        ),
+        (
+            vec![
+                "--environment",
+                "uniform.exr",
+                "--environment-strength",
+                "0",
+            ],
+            "strength must be positive",
+        ),
+        (vec!["--environment", "missing.exr"], "--environment"),
+    ] {
+        let flags: Vec<String> = flags
+            .iter()
+            .map(|f| {
+                if f.ends_with(".exr") {
+                    path(&dir.join(f))
+                } else {
+                    f.to_string()
+                }
+            })
+            .collect();
+        let out = path(&dir.join("refused.exr"));
+        let mut args = vec!["render", "builtin:box-hole-sky", "-o", &out];
+        args.extend(flags.iter().map(String::as_str));
+        let o = fenestra(&args);
+        assert!(!o.status.success());
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(err.contains(expect), "{err}");
+    }
+}

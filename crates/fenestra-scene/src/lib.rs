@@ -7,6 +7,7 @@
 pub mod accel;
 pub mod camera;
 pub mod compressed;
+pub mod environment;
 pub mod extent;
 pub mod filter;
 pub mod interaction;

@@ -154,7 +154,7 @@ pub fn run(args: PortalsArgs) -> Result<bool> {
         }
     }
     crate::support::files::create_output_folder(&args.output)?;
-    let loaded = scene_arg::load(&args.scene, args.scene_options)?;
+    let loaded = scene_arg::load(&args.scene, &args.scene_options)?;
     let plot_path = args
         .plot
         .clone()

@@ -137,7 +137,7 @@ pub fn run(args: RaybenchArgs) -> Result<()> {
         );
     }
     let pool = crate::thread_pool(args.threads)?;
-    let desc = scene_arg::load(&args.scene, args.scene_options)?.desc;
+    let desc = scene_arg::load(&args.scene, &args.scene_options)?.desc;
     pool.install(|| -> Result<()> {
         let backends = if args.bvh.is_empty() { Backend::available() } else { args.bvh.clone() };
         for backend in backends {

@@ -208,7 +208,7 @@ fn animated_scene(
     animation: Option<&Path>,
     options: SceneOptions,
 ) -> Result<(AnimatedScene, String)> {
-    let loaded = scene_arg::load(scene, options)?;
+    let loaded = scene_arg::load(scene, &options)?;
     let (text, name) = match animation {
         Some(p) => (
             std::fs::read_to_string(p).with_context(|| format!("cannot read {}", p.display()))?,
@@ -229,7 +229,7 @@ fn animated_scene(
 }
 
 fn precompute(a: &PrecomputeArgs) -> Result<()> {
-    let (animated, text) = animated_scene(&a.scene, a.animation.as_deref(), a.options)?;
+    let (animated, text) = animated_scene(&a.scene, a.animation.as_deref(), a.options.clone())?;
     let (width, height) = match &a.resolution {
         Some(r) => parse_resolution(r)?,
         None => (animated.rest.defaults.width, animated.rest.defaults.height),
@@ -378,7 +378,7 @@ fn open(dir: &Path, lights: Option<&Path>) -> Result<Opened> {
         &animation_text,
         &store.animation_path().display().to_string(),
     )?;
-    let loaded = scene_arg::load(&store.manifest.scene, SceneOptions::default())?;
+    let loaded = scene_arg::load(&store.manifest.scene, &SceneOptions::default())?;
     let animated = AnimatedScene::new(loaded.desc, animation)?;
     let lights_path = lights.map_or_else(|| store.lights_path(), Path::to_path_buf);
     let lights_text = std::fs::read_to_string(&lights_path)

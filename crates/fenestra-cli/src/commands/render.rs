@@ -285,7 +285,7 @@ impl RenderOpts {
         if self.spp == Some(0) {
             bail!("--spp must be at least 1");
         }
-        let loaded = scene_arg::load(&self.scene, self.scene_options)?;
+        let loaded = scene_arg::load(&self.scene, &self.scene_options)?;
         let scene_content = scene_content(&self.scene, &loaded.files)?;
         let desc = loaded.desc;
         let mut inputs = Files::default();

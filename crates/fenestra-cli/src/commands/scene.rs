@@ -62,7 +62,7 @@ pub fn run(args: SceneArgs) -> Result<()> {
             if output.extension().is_none_or(|e| e != "pbrt") {
                 bail!("output {} must end in .pbrt", output.display());
             }
-            let loaded = scene_arg::load(&scene, options)?;
+            let loaded = scene_arg::load(&scene, &options)?;
             crate::support::files::create_output_folder(&output)?;
             crate::support::files::Files::default()
                 .inputs(&loaded.files, "scene file")
@@ -79,7 +79,7 @@ pub fn run(args: SceneArgs) -> Result<()> {
 }
 
 fn info(scene: &str, options: SceneOptions, json: bool) -> Result<()> {
-    let loaded = scene_arg::load_quietly(scene, options)?;
+    let loaded = scene_arg::load_quietly(scene, &options)?;
     let d = &loaded.desc;
     let triangles: usize = d
         .shapes
@@ -165,7 +165,7 @@ fn info(scene: &str, options: SceneOptions, json: bool) -> Result<()> {
 
 /// `scene check`: the report, and whether anything is replaced (exit status 1).
 fn check(scene: &str) -> Result<()> {
-    let loaded = scene_arg::load_quietly(scene, SceneOptions::default())?;
+    let loaded = scene_arg::load_quietly(scene, &SceneOptions::default())?;
     print!("{}", check_report(scene, &loaded));
     if !loaded.substitutions.is_empty() || !loaded.other.is_empty() {
         std::process::exit(1);

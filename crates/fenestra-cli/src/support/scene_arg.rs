@@ -1,19 +1,44 @@
 //! Turning the SCENE argument into a scene description: `builtin:NAME`, a pbrt-v4 file, or an
 //! OBJ/PLY mesh staged for viewing.
 
-use anyhow::{bail, Result};
+use anyhow::{bail, Context, Result};
 use fenestra_builtin as builtin;
+use fenestra_core::image::Image;
+use fenestra_core::Vec3;
 use fenestra_pbrt as pbrt;
+use fenestra_scene::environment::EnvironmentMap;
 use fenestra_scene::{mesh, SceneDesc};
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use std::time::Instant;
 
 /// How scene files are read.
-#[derive(clap::Args, Clone, Copy, Debug, Default)]
+#[derive(clap::Args, Clone, Debug, Default)]
 pub struct SceneOptions {
     /// Refuse scene files that use anything fenestra does not support (instead of warning).
     #[arg(long)]
     pub strict: bool,
+    /// Light the scene by this environment map instead of its own environment (its other
+    /// lights stay): a 2:1 latitude-longitude image (EXR, HDR or PFM; row 0 the zenith),
+    /// importance-sampled like any environment.
+    #[arg(long, value_name = "FILE")]
+    pub environment: Option<PathBuf>,
+    /// Turn --environment about the up axis by this many degrees (counter-clockwise seen from
+    /// above).
+    #[arg(
+        long,
+        value_name = "DEGREES",
+        default_value_t = 0.0,
+        allow_negative_numbers = true
+    )]
+    pub environment_rotation: f32,
+    /// Multiply --environment's radiance by this.
+    #[arg(long, default_value_t = 1.0)]
+    pub environment_strength: f32,
+    /// The scene's up axis for --environment: x, y, z, -x, -y or -z [default: the axis
+    /// nearest the camera's up].
+    #[arg(long, value_name = "AXIS", allow_negative_numbers = true)]
+    pub environment_up: Option<String>,
 }
 
 /// A loaded scene with its load time, what it could not represent and the files it read.
@@ -39,7 +64,7 @@ impl LoadedScene {
 }
 
 /// Loads `arg`, printing warnings about unsupported input to stderr.
-pub fn load(arg: &str, opts: SceneOptions) -> Result<LoadedScene> {
+pub fn load(arg: &str, opts: &SceneOptions) -> Result<LoadedScene> {
     let loaded = load_quietly(arg, opts)?;
     for w in loaded.warnings() {
         eprintln!("warning: {w}");
@@ -47,7 +72,7 @@ pub fn load(arg: &str, opts: SceneOptions) -> Result<LoadedScene> {
     Ok(loaded)
 }
 
-pub fn load_quietly(arg: &str, opts: SceneOptions) -> Result<LoadedScene> {
+pub fn load_quietly(arg: &str, opts: &SceneOptions) -> Result<LoadedScene> {
     let start = Instant::now();
     let (mut substitutions, mut notes) = (Vec::new(), Vec::new());
     let (desc, warnings, files) = if let Some(name) = arg.strip_prefix("builtin:") {
@@ -74,6 +99,13 @@ pub fn load_quietly(arg: &str, opts: SceneOptions) -> Result<LoadedScene> {
             ),
         }
     };
+    let (desc, files) = match &opts.environment {
+        Some(path) => (
+            with_environment(desc, path, opts)?,
+            [files, vec![path.clone()]].concat(),
+        ),
+        None => (desc, files),
+    };
     let mut warnings = warnings;
     if desc.lights.is_empty() && desc.shapes.iter().all(|s| s.emission.is_none()) {
         warnings.push(format!(
@@ -88,4 +120,40 @@ pub fn load_quietly(arg: &str, opts: SceneOptions) -> Result<LoadedScene> {
         seconds: start.elapsed().as_secs_f64(),
         files,
     })
+}
+
+/// `desc` lit by the environment map at `path` as `opts` place it.
+fn with_environment(desc: SceneDesc, path: &Path, opts: &SceneOptions) -> Result<SceneDesc> {
+    let up = match opts.environment_up.as_deref() {
+        None => desc.camera_up_axis(),
+        Some(axis) => axis_of(axis).ok_or_else(|| {
+            anyhow::anyhow!("--environment-up: expected x, y, z, -x, -y or -z, got \"{axis}\"")
+        })?,
+    };
+    let image = Image::read(path).with_context(|| format!("--environment {}", path.display()))?;
+    let map = EnvironmentMap {
+        image: Arc::new(image),
+        up,
+        rotation_deg: opts.environment_rotation,
+        strength: opts.environment_strength,
+    };
+    if let Some(problem) = map.validate() {
+        bail!("--environment {}: {problem}", path.display());
+    }
+    Ok(desc.with_environment(&map))
+}
+
+/// A world axis by name (x, -y, ...).
+fn axis_of(name: &str) -> Option<Vec3> {
+    let (sign, axis) = match name.strip_prefix('-') {
+        Some(axis) => (-1.0, axis),
+        None => (1.0, name.strip_prefix('+').unwrap_or(name)),
+    };
+    let v = match axis {
+        "x" => Vec3::X,
+        "y" => Vec3::Y,
+        "z" => Vec3::Z,
+        _ => return None,
+    };
+    Some(v * sign)
 }
