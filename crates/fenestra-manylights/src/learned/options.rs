@@ -30,9 +30,10 @@ fenestra_render::options! {
         /// The share of light samples drawn from what was learned (the rest by the light tree,
         /// which keeps every light that can reach a point samplable).
         pub mix: f32 = 0.5,
-        /// Passes learned from (passes take 1, 2, 4, ... samples per pixel; the later passes
-        /// use what the last one learned).
-        pub passes: u32 = 5,
+        /// Passes learned from: pre-passes of 1, 2, 4, ... samples per pixel outside the image,
+        /// whose samples all use what the last one learned (more passes learn more and cost
+        /// their samples on top: 1 takes 1 sample per pixel, 5 take 31).
+        pub passes: u32 = 1,
         /// What the rest of the light samples are drawn by where a cell has learned something:
         /// bvh (the light tree) or power (emitted power, which costs almost nothing).
         pub base: Base = Base::Bvh,

@@ -74,6 +74,16 @@ pub trait PassEstimator: Sync {
         0
     }
 
+    /// Whether the samples of the pass just begun go into the image. A pass that only
+    /// feeds what the estimator learns (a learning pre-pass) keeps none: its samples are
+    /// traced, counted and handed to [`PassEstimator::end_pass`]'s statistics, and the
+    /// pixels' sample counts stay where they were, so that the image's samples form whole
+    /// streams of their own (a Sobol sequence is balanced over its first 2^k points, and a
+    /// sample of another stream in the mean costs that balance).
+    fn keeps(&self) -> bool {
+        true
+    }
+
     /// A fresh statistics record for `block` in `pass`.
     fn block_stats(&self, block: u32, pass: u32) -> Self::BlockStats;
 
@@ -157,6 +167,7 @@ pub fn render_passes<E: PassEstimator>(
             seed: settings.seed,
             stream,
             stream_start: &stream_start,
+            keeps: estimator.keeps(),
         };
         let rendered: Vec<(E::BlockStats, RayCounters)> =
             BlockView::all(blocks, width, &mut film.pixels, &mut taken)
@@ -251,6 +262,8 @@ struct Pass<'a> {
     /// The random stream of the pass, and each film pixel's sample count where it began.
     stream: u32,
     stream_start: &'a [u32],
+    /// Whether the pass's samples go into the film.
+    keeps: bool,
 }
 
 impl Pass<'_> {
@@ -322,7 +335,8 @@ impl Pass<'_> {
         );
         let mut values = out.into_iter();
         let mut counts = counts.into_iter();
-        for (pixels, taken) in view.rows.into_iter().flatten() {
+        let rows = view.rows.into_iter().flatten().filter(|_| self.keeps);
+        for (pixels, taken) in rows {
             for (pixel, taken) in pixels.iter_mut().zip(taken.iter_mut()) {
                 let n = counts.next().unwrap_or(0);
                 for l in values.by_ref().take(n as usize) {

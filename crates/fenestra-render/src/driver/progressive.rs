@@ -2,7 +2,8 @@
 //! of 1, 2, 4, ... up to 32 samples per pixel until the sample count, or the time limit (of
 //! rendering, preparation not included), is reached (small first passes make Ctrl-C, time
 //! limits and convergence curves prompt). An estimator with a learned light sampler learns
-//! from the light samples of the passes it asks for, block by block in block order.
+//! from the light samples of the passes it asks for, block by block in block order; those
+//! passes are pre-passes, outside the image, whose samples then all use what was learned.
 
 use super::passes::{render_passes, PassEstimator, PassInfo, PixelState};
 use crate::control::RenderControl;
@@ -59,6 +60,7 @@ pub fn render_progressive(
         size: 1,
         current: 0,
         stream: 0,
+        learning: false,
         rate: 0.0,
         per_sample: RECORDS_PER_SAMPLE,
     };
@@ -120,6 +122,8 @@ struct Schedule<'a, E> {
     current: u32,
     /// The random stream of the pass: a new one after each pass the estimator learned from.
     stream: u32,
+    /// Whether the estimator learns from the pass (which then stays out of the image).
+    learning: bool,
     /// Share of this pass's path samples whose light samples are kept (0: none).
     rate: f32,
     /// Light records kept per path sample in the last pass that kept any.
@@ -137,7 +141,8 @@ impl<E: PathEstimator> PassEstimator for Schedule<'_, E> {
         // The time limit counts rendering: preparation (portal estimation, caches) comes on
         // top, and the statistics' total time shows it.
         self.current = self.budget.next_pass(pass, self.size);
-        self.rate = if self.estimator.learns(pass.index) {
+        self.learning = self.estimator.learns(pass.index);
+        self.rate = if self.learning {
             LightRecords::rate_for(pass.pixels * self.current as u64, self.per_sample)
         } else {
             0.0
@@ -147,6 +152,12 @@ impl<E: PathEstimator> PassEstimator for Schedule<'_, E> {
 
     fn stream(&self) -> u32 {
         self.stream
+    }
+
+    /// A pass the estimator learns from is a pre-pass: the image's samples, all drawn with
+    /// what was learned, then fill streams of their own from their first index.
+    fn keeps(&self) -> bool {
+        !self.learning
     }
 
     fn block_stats(&self, _: u32, _: u32) -> LightRecords {
@@ -204,7 +215,9 @@ impl<E: PathEstimator> PassEstimator for Schedule<'_, E> {
             self.estimator.learn(&blocks);
             self.stream += 1;
         }
-        self.budget.done += self.current;
+        if !self.learning {
+            self.budget.done += self.current;
+        }
         self.size = (self.size * 2).min(MAX_PASS);
         true
     }
