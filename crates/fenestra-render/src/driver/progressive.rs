@@ -133,8 +133,13 @@ struct Schedule<'a, E> {
 impl<E: PathEstimator> PassEstimator for Schedule<'_, E> {
     type BlockStats = LightRecords;
 
+    /// The image's samples and the learning pre-passes' (1, 2, 4, ... per pixel).
     fn expected_samples(&self, pixels: u64) -> Option<u64> {
-        self.budget.expected_samples(pixels)
+        let learning = (0..u32::BITS)
+            .take_while(|&pass| self.estimator.learns(pass))
+            .map(|pass| u64::from((1u32 << pass).min(MAX_PASS).min(self.budget.spp)))
+            .sum::<u64>();
+        Some(self.budget.expected_samples(pixels)? + pixels * learning)
     }
 
     fn begin_pass(&mut self, pass: &PassInfo) -> bool {
