@@ -121,16 +121,16 @@ pub fn render_to_completion<E: CompletionEstimator>(
             };
             let mut rays = RayCounters::default();
             let (pixels, block) = estimator.render_block(scene, &task, control, &mut rays);
-            if let Ok(mut film) = shared.lock() {
-                for px in &pixels {
-                    if let Some(i) = window.index((px.x, px.y)) {
-                        film.pixels[i].set_estimate(px.mean, px.variance);
-                    }
-                }
-                if let Some(watch) = control.on_progress {
-                    watch(&film, control.elapsed());
+            let mut film = shared.lock().unwrap_or_else(|e| e.into_inner());
+            for px in &pixels {
+                if let Some(i) = window.index((px.x, px.y)) {
+                    film.pixels[i].set_estimate(px.mean, px.variance);
                 }
             }
+            if let Some(watch) = control.on_progress {
+                watch(&film, control.elapsed());
+            }
+            drop(film);
             control.progress.advance(1);
             (b, Some((block, rays)))
         })

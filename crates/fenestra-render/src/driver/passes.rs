@@ -160,6 +160,7 @@ pub fn render_passes<E: PassEstimator>(
             stream = estimator.stream();
             stream_start.copy_from_slice(&taken);
         }
+        let keeps = estimator.keeps();
         let shared = &*estimator;
         let pass = Pass {
             index: passes,
@@ -167,7 +168,7 @@ pub fn render_passes<E: PassEstimator>(
             seed: settings.seed,
             stream,
             stream_start: &stream_start,
-            keeps: estimator.keeps(),
+            keeps,
         };
         let rendered: Vec<(E::BlockStats, RayCounters)> =
             BlockView::all(blocks, width, &mut film.pixels, &mut taken)
@@ -185,12 +186,14 @@ pub fn render_passes<E: PassEstimator>(
         }
         passes += 1;
         let go_on = estimator.end_pass(scene, film, block_stats);
-        if let Some(watch) = control.on_progress {
+        // The hooks see passes that added to the film (a pre-pass adds nothing).
+        if let Some(watch) = control.on_progress.filter(|_| keeps) {
             watch(film, control.elapsed());
         }
-        let hook = control
-            .on_pass
-            .is_none_or(|hook| hook(film, control.elapsed()));
+        let hook = !keeps
+            || control
+                .on_pass
+                .is_none_or(|hook| hook(film, control.elapsed()));
         if !(go_on && hook) {
             break;
         }

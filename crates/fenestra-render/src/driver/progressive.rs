@@ -213,7 +213,7 @@ impl<E: PathEstimator> PassEstimator for Schedule<'_, E> {
     }
 
     fn end_pass(&mut self, _: &RenderScene, film: &Film, blocks: Vec<LightRecords>) -> bool {
-        if self.rate > 0.0 {
+        if self.learning {
             let kept: usize = blocks.iter().map(|b| b.records.len()).sum();
             let samples = film.pixels.len() as f64 * self.current as f64 * self.rate as f64;
             self.per_sample = (kept as f64 / samples.max(1.0)).max(1e-3);
@@ -278,6 +278,53 @@ mod tests {
         assert!(
             film.image().pixels.iter().all(|p| *p == Rgb::ONE),
             "only finite samples reach the film"
+        );
+    }
+
+    /// Learns from passes 0 and 1, and tells their samples apart (1000) from the image's (1).
+    struct Learning;
+    impl PathEstimator for Learning {
+        fn li(&self, _: &RenderScene, _: Ray, sample: &mut PathSample) -> Rgb {
+            Rgb::splat(if sample.ctx.pass < 2 { 1000.0 } else { 1.0 })
+        }
+
+        fn learns(&self, pass: u32) -> bool {
+            pass < 2
+        }
+    }
+
+    #[test]
+    fn learning_passes_stay_out_of_the_image_and_its_hooks() {
+        let scene = Scene::build(builtin::load("box-hole").expect("builtin"), Backend::Obvhs)
+            .expect("scene");
+        let scene = RenderScene::new(scene);
+        let mut film = Film::new(10, 10);
+        let cancel = AtomicBool::new(false);
+        let counts = std::sync::Mutex::new(Vec::new());
+        let hook = |film: &Film, _: f64| {
+            counts
+                .lock()
+                .expect("counts")
+                .push(film.sample_count_range());
+            true
+        };
+        let mut control = RenderControl::new(&cancel, &NoProgress);
+        control.on_pass = Some(&hook);
+        let settings = RenderSettings {
+            first_sample: 0,
+            spp: 16,
+            time_limit: None,
+            seed: 3,
+        };
+        let stats = render_progressive(&Learning, &scene, &mut film, &settings, &control);
+        // Pre-passes of 1 and 2 samples, then 4, 8 and the remaining 4 in the image.
+        assert_eq!(stats.rays.camera, 10 * 10 * (1 + 2 + 16));
+        assert!(film.pixels.iter().all(|p| p.count == 16));
+        assert!(film.image().pixels.iter().all(|p| *p == Rgb::ONE));
+        assert_eq!(
+            counts.into_inner().expect("counts"),
+            [(4, 4), (12, 12), (16, 16)],
+            "the hook sees the image's passes only"
         );
     }
 }
