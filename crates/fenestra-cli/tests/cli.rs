@@ -612,7 +612,26 @@ fn outputs_never_replace_inputs_or_each_other() {
     let reference_bytes = std::fs::read(&reference).expect("reference");
     std::fs::write(dir.join("portals.json"), r#"{"portals":[{"kind":"quad","center":[0,0,0.5],"normal":[0,0,1],"area":0.0625,"vertices":[[-0.125,-0.125,0.5],[0.125,-0.125,0.5],[0.125,0.125,0.5],[-0.125,0.125,0.5]]}]}"#).expect("portals");
     let portals_bytes = std::fs::read(dir.join("portals.json")).expect("portals");
+    // An environment map where an interrupted render (or a snapshot) of OUT would go.
+    let mut sky = Image::new(8, 4);
+    sky.set(0, 0, fenestra_core::Rgb::ONE);
+    let sky_path = dir.join("sky.interrupted.exr");
+    sky.write_exr(&sky_path, &Default::default()).expect("sky");
+    let sky_bytes = std::fs::read(&sky_path).expect("sky");
     for (args, expect) in [
+        (
+            vec![
+                "render".into(),
+                "builtin:box-hole-sky".into(),
+                "--environment".into(),
+                p("sky.interrupted.exr"),
+                "--snapshot-every".into(),
+                "1".into(),
+                "-o".into(),
+                p("sky.exr"),
+            ],
+            "is also the scene file this command reads",
+        ),
         (
             vec![
                 "portals".into(),
@@ -685,6 +704,7 @@ fn outputs_never_replace_inputs_or_each_other() {
         std::fs::read(dir.join("portals.json")).expect("portals"),
         portals_bytes
     );
+    assert_eq!(std::fs::read(&sky_path).expect("sky"), sky_bytes);
     assert!(!dir.join("v.json").exists() && !dir.join("p.json").exists());
 
     // A folder in the way of the PNG is found before rendering; the old image set stays.

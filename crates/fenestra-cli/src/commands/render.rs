@@ -516,7 +516,15 @@ pub fn run(args: RenderArgs) -> Result<bool> {
     if args.maps {
         files.folder(&maps_dir, "work maps folder");
     }
-    render_outputs(&mut files, &args.output, args.variance, piece.is_some()).check()?;
+    // An interruption (or a snapshot) over a complete render writes beside it.
+    render_outputs(&mut files, &args.output, args.variance, piece.is_some());
+    render_outputs(
+        &mut files,
+        &beside(&args.output),
+        args.variance,
+        piece.is_some(),
+    )
+    .check()?;
     let reference = match &args.reference {
         Some(p) => {
             let r = Image::read(p)?;
@@ -616,7 +624,7 @@ fn where_to_write(output: &Path, interrupted: bool) -> PathBuf {
     if !interrupted || complete() != Some(true) {
         return output.to_path_buf();
     }
-    let beside = output.with_extension("interrupted.exr");
+    let beside = beside(output);
     eprintln!(
         "{} holds a complete render: the interrupted one goes to {} beside it",
         output.display(),
@@ -692,6 +700,11 @@ impl Snapshots {
             let _ = std::fs::remove_file(f);
         }
     }
+}
+
+/// Where a render that must not replace the complete one at OUT.exr goes: OUT.interrupted.exr.
+fn beside(output: &Path) -> PathBuf {
+    output.with_extension("interrupted.exr")
 }
 
 /// Where `--maps` writes for OUT.exr: the folder OUT-maps beside it.
