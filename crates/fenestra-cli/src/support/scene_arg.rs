@@ -29,15 +29,21 @@ pub struct SceneOptions {
         long,
         value_name = "DEGREES",
         default_value_t = 0.0,
-        allow_negative_numbers = true
+        allow_negative_numbers = true,
+        requires = "environment"
     )]
     pub environment_rotation: f32,
     /// Multiply --environment's radiance by this.
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, requires = "environment")]
     pub environment_strength: f32,
     /// The scene's up axis for --environment: x, y, z, -x, -y or -z [default: the axis
     /// nearest the camera's up].
-    #[arg(long, value_name = "AXIS", allow_negative_numbers = true)]
+    #[arg(
+        long,
+        value_name = "AXIS",
+        allow_negative_numbers = true,
+        requires = "environment"
+    )]
     pub environment_up: Option<String>,
 }
 
