@@ -605,6 +605,12 @@ fn an_environment_map_replaces_the_scenes_environment() {
     }
     // Turning the map about the up axis changes the light through the hole; half a turn
     // and back is where it was.
+    // A sky turned upside down lights the box through its hole from below: darker.
+    let below = render(
+        "below.exr",
+        &["--environment", &uneven, "--environment-up", "-z"],
+    );
+    assert!(below.mean().luminance() < 0.9 * one.mean().luminance());
     let turned = render(
         "turned.exr",
         &["--environment", &uneven, "--environment-rotation", "180"],

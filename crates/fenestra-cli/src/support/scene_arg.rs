@@ -41,7 +41,7 @@ pub struct SceneOptions {
     #[arg(
         long,
         value_name = "AXIS",
-        allow_negative_numbers = true,
+        allow_hyphen_values = true,
         requires = "environment"
     )]
     pub environment_up: Option<String>,
