@@ -15,6 +15,8 @@ use fenestra_scene::{
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
+mod metallic_roughness;
+
 /// Meshes with more triangles than this are written as PLY files.
 const INLINE_TRIANGLES: usize = 4096;
 
@@ -32,6 +34,8 @@ pub struct ExportError {
 pub struct Exported {
     /// Every file written, the scene file first.
     pub files: Vec<PathBuf>,
+    /// What pbrt-v4 cannot express and the file approximates, one line each.
+    pub approximations: Vec<String>,
 }
 
 /// The folder beside `path` where an export puts its meshes and images: `<stem>-data/`.
@@ -60,6 +64,7 @@ pub fn write(desc: &SceneDesc, path: &Path) -> Result<Exported, ExportError> {
         data_dir: path.with_file_name(&data_name),
         data_name,
         files: Vec::new(),
+        approximations: Vec::new(),
     };
     e.header(desc);
     e.materials(desc)?;
@@ -68,7 +73,10 @@ pub fn write(desc: &SceneDesc, path: &Path) -> Result<Exported, ExportError> {
     e.shapes(desc)?;
     write_text_atomically(path, &e.s).map_err(|x| err(x.reason))?;
     e.files.insert(0, path.to_path_buf());
-    Ok(Exported { files: e.files })
+    Ok(Exported {
+        files: e.files,
+        approximations: e.approximations,
+    })
 }
 
 /// An export under way: the scene file's text and the data files written so far.
@@ -78,6 +86,7 @@ struct Export<'a> {
     data_dir: PathBuf,
     data_name: String,
     files: Vec<PathBuf>,
+    approximations: Vec<String>,
 }
 
 impl Export<'_> {
@@ -165,6 +174,13 @@ impl Export<'_> {
                     "Texture \"{name}\" \"{kind}\" \"imagemap\" \"string filename\" \"{file}\" \"float scale\" [ {} ] \"bool invert\" {} \"float uscale\" [ {} ] \"float vscale\" [ {} ] \"float udelta\" [ {} ] \"float vdelta\" [ {} ]",
                     texture.scale, texture.invert, texture.uscale, texture.vscale, texture.udelta, texture.vdelta
                 );
+            }
+            if let Material::MetallicRoughness(m) = m {
+                for (name, parameters) in metallic_roughness::parts(i, m) {
+                    let _ = writeln!(self.s, "MakeNamedMaterial \"{name}\" {parameters}");
+                }
+                self.approximations
+                    .extend(metallic_roughness::approximations(i, m));
             }
             material(&mut self.s, i, m);
         }
@@ -572,6 +588,9 @@ fn material(s: &mut String, i: usize, m: &Material) {
                 s,
                 "\"string type\" \"mix\" \"string materials\" [ \"m{a}\" \"m{b}\" ] \"float amount\" [ {amount} ]"
             );
+        }
+        Material::MetallicRoughness(m) => {
+            s.push_str(&metallic_roughness::parameters(i, m));
         }
         Material::CoatedDiffuse(material::CoatedDiffuse {
             reflectance,

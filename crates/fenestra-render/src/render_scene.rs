@@ -104,7 +104,7 @@ impl RenderScene {
         }
     }
 
-    /// The BSDF at a surface point: the material's, with textured reflectance looked up at
+    /// The BSDF at a surface point: the material's, with textured parameters looked up at
     /// the point's uv.
     pub fn bsdf_at(&self, si: &SurfaceInteraction) -> Cow<'_, Bsdf> {
         let material = self.material_at(si);
@@ -136,6 +136,9 @@ impl RenderScene {
                 )),
                 other => Cow::Borrowed(other),
             },
+            Material::MetallicRoughness(m) if m.is_textured() => Cow::Owned(
+                Bsdf::MetallicRoughness(bsdf::MetallicRoughness::of(m, m.at(si.uv))),
+            ),
             _ => Cow::Borrowed(&self.bsdfs[material]),
         }
     }

@@ -73,6 +73,9 @@ pub fn run(args: SceneArgs) -> Result<()> {
             for f in written.files {
                 println!("wrote {}", f.display());
             }
+            for a in written.approximations {
+                eprintln!("approximated: {a}");
+            }
             Ok(())
         }
     }

@@ -7,16 +7,19 @@ mod conductor;
 mod dielectric;
 mod diffuse;
 pub mod fresnel;
+mod metallic_roughness;
 pub(crate) mod microfacet;
 mod mirror;
 mod phong;
 mod rough_dielectric;
+mod specular_albedo;
 mod ward;
 
 pub use coated::{CoatedConductor, CoatedDiffuse};
 pub use conductor::RoughConductor;
 pub use dielectric::{SmoothDielectric, ThinDielectric};
 pub use diffuse::{Diffuse, DiffuseTransmission};
+pub use metallic_roughness::MetallicRoughness;
 pub use mirror::Mirror;
 pub use phong::Phong;
 pub use rough_dielectric::RoughDielectric;
@@ -85,6 +88,8 @@ pub enum Bsdf {
     CoatedDiffuse(CoatedDiffuse),
     /// GGX dielectric coat over a GGX conductor.
     CoatedConductor(CoatedConductor),
+    /// glTF's metallic-roughness BRDF.
+    MetallicRoughness(MetallicRoughness),
 }
 
 /// Mirror image of `v` in the local z axis' plane (reflection about the normal).
@@ -118,6 +123,7 @@ impl Bsdf {
             Material::RoughConductor(m) => Bsdf::RoughConductor(m.into()),
             Material::CoatedDiffuse(m) => Bsdf::CoatedDiffuse(m.into()),
             Material::CoatedConductor(m) => Bsdf::CoatedConductor(m.into()),
+            Material::MetallicRoughness(m) => Bsdf::MetallicRoughness(m.into()),
         }
     }
 
@@ -184,6 +190,7 @@ impl Bsdf {
             Bsdf::RoughConductor(b) => b.eval(wo, wi),
             Bsdf::CoatedDiffuse(b) => b.eval(wo, wi),
             Bsdf::CoatedConductor(b) => b.eval(wo, wi),
+            Bsdf::MetallicRoughness(b) => b.eval(wo, wi),
             Bsdf::Mirror(_)
             | Bsdf::SmoothDielectric(_)
             | Bsdf::ThinDielectric(_)
@@ -209,6 +216,7 @@ impl Bsdf {
             Bsdf::RoughConductor(b) => b.pdf(wo, wi),
             Bsdf::CoatedDiffuse(b) => b.pdf(wo, wi),
             Bsdf::CoatedConductor(b) => b.pdf(wo, wi),
+            Bsdf::MetallicRoughness(b) => b.pdf(wo, wi),
             Bsdf::Mirror(_)
             | Bsdf::SmoothDielectric(_)
             | Bsdf::ThinDielectric(_)
@@ -239,6 +247,7 @@ impl Bsdf {
             Bsdf::RoughConductor(b) => b.sample(wo, u),
             Bsdf::CoatedDiffuse(b) => b.sample(wo, uc, u),
             Bsdf::CoatedConductor(b) => b.sample(wo, uc, u),
+            Bsdf::MetallicRoughness(b) => b.sample(wo, uc, u),
             Bsdf::SmoothDielectric(_)
             | Bsdf::ThinDielectric(_)
             | Bsdf::RoughDielectric(_)

@@ -8,6 +8,7 @@ mod coated;
 mod conductor;
 mod dielectric;
 mod diffuse;
+mod metallic_roughness;
 mod mirror;
 mod mix;
 mod phong;
@@ -17,6 +18,7 @@ pub use coated::{CoatedConductor, CoatedDiffuse};
 pub use conductor::RoughConductor;
 pub use dielectric::{Dielectric, RoughDielectric, ThinDielectric};
 pub use diffuse::{Diffuse, DiffuseTransmission, TexturedDiffuse};
+pub use metallic_roughness::{MetallicRoughness, NormalMap};
 pub use mirror::Mirror;
 pub use mix::Mix;
 pub use phong::Phong;
@@ -65,6 +67,7 @@ kinds! {
     DiffuseTransmission,
     Mix,
     CoatedDiffuse,
+    MetallicRoughness,
 }
 
 impl Material {
@@ -75,11 +78,12 @@ impl Material {
         })
     }
 
-    /// The image texture the material looks up at each hit, if any.
+    /// The image texture of the material's reflectance (its base colour), if any.
     pub fn texture(&self) -> Option<&Arc<ImageTexture>> {
         match self {
             Material::TexturedDiffuse(m) => Some(&m.texture),
             Material::CoatedDiffuse(m) => m.texture.as_ref(),
+            Material::MetallicRoughness(m) => m.base_color_texture.as_ref(),
             _ => None,
         }
     }
