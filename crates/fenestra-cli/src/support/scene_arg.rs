@@ -1,5 +1,5 @@
-//! Turning the SCENE argument into a scene description: `builtin:NAME`, a pbrt-v4 file, or an
-//! OBJ/PLY mesh staged for viewing.
+//! Turning the SCENE argument into a scene description: `builtin:NAME`, a pbrt-v4 file, a
+//! glTF 2.0 scene, or an OBJ/PLY mesh staged for viewing.
 
 use anyhow::{bail, Context, Result};
 use fenestra_builtin as builtin;
@@ -45,6 +45,10 @@ pub struct SceneOptions {
         requires = "environment"
     )]
     pub environment_up: Option<String>,
+    /// A glTF scene's camera, by name or index (`fenestra scene info` lists them) [default:
+    /// its first camera; a camera framing the scene in a file without one].
+    #[arg(long, value_name = "NAME|INDEX")]
+    pub camera: Option<String>,
 }
 
 /// A loaded scene with its load time, what it could not represent and the files it read.
@@ -80,6 +84,13 @@ pub fn load(arg: &str, opts: &SceneOptions) -> Result<LoadedScene> {
 
 pub fn load_quietly(arg: &str, opts: &SceneOptions) -> Result<LoadedScene> {
     let start = Instant::now();
+    let is_gltf = matches!(
+        mesh::format_of(Path::new(arg)).as_deref(),
+        Some("gltf" | "glb")
+    );
+    if opts.camera.is_some() && !is_gltf {
+        bail!("--camera picks a glTF scene's camera; {arg} is not a .gltf or .glb file");
+    }
     let (mut substitutions, mut notes) = (Vec::new(), Vec::new());
     let (desc, warnings, files) = if let Some(name) = arg.strip_prefix("builtin:") {
         (builtin::load(name)?, Vec::new(), Vec::new())
@@ -91,6 +102,17 @@ pub fn load_quietly(arg: &str, opts: &SceneOptions) -> Result<LoadedScene> {
                 (substitutions, notes) = (l.warnings, l.notes);
                 (l.desc, Vec::new(), l.files)
             }
+            Some("gltf" | "glb") => {
+                let l = fenestra_gltf::load(path, opts.camera.as_deref())?;
+                if opts.strict && !l.warnings.is_empty() {
+                    bail!(
+                        "{arg}: refused (--strict): {}",
+                        l.warnings.join("; ")
+                    );
+                }
+                let warnings = l.warnings.iter().map(|w| format!("{arg}: {w}")).collect();
+                (l.desc, warnings, l.files)
+            }
             Some("obj" | "ply") => {
                 let (desc, warnings) = mesh::viewer_scene(path)?;
                 let textures = desc
@@ -101,7 +123,7 @@ pub fn load_quietly(arg: &str, opts: &SceneOptions) -> Result<LoadedScene> {
                 (desc, warnings, files)
             }
             _ => bail!(
-                "{arg}: unknown scene type (expected a .pbrt or .pbrt.gz file, an .obj or .ply mesh, or builtin:NAME; `fenestra list` shows the built-in scenes)"
+                "{arg}: unknown scene type (expected a .pbrt or .pbrt.gz file, a .gltf or .glb scene, an .obj or .ply mesh, or builtin:NAME; `fenestra list` shows the built-in scenes)"
             ),
         }
     };

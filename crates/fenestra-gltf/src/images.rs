@@ -1,0 +1,116 @@
+//! The images textures use, read and decoded in parallel: colour as sRGB, data (roughness,
+//! metalness, normals) as stored.
+
+use crate::error::GltfError;
+use crate::source::Source;
+use fenestra_core::image::{srgb_to_linear, Image};
+use fenestra_core::Rgb;
+use rayon::prelude::*;
+use std::collections::HashMap;
+use std::path::PathBuf;
+use std::sync::Arc;
+
+/// How an image's texel values are meant.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Encoding {
+    /// Colour: sRGB-encoded 8-bit values, decoded to linear.
+    Srgb,
+    /// Data: values as stored, scaled to [0, 1].
+    Linear,
+}
+
+/// Decoded images by glTF image index and encoding, with where each came from.
+#[derive(Default)]
+pub struct Images {
+    decoded: HashMap<(usize, Encoding), (Arc<Image>, PathBuf)>,
+}
+
+impl Images {
+    /// Reads and decodes every (image, encoding) in `wanted`.
+    pub fn decode(src: &mut Source, wanted: &[(usize, Encoding)]) -> Result<Images, GltfError> {
+        let mut bytes: HashMap<usize, (Vec<u8>, PathBuf)> = HashMap::new();
+        for &(i, _) in wanted {
+            if bytes.contains_key(&i) {
+                continue;
+            }
+            let at = format!("/images/{i}");
+            let image = src
+                .document
+                .images()
+                .nth(i)
+                .ok_or_else(|| GltfError::at(&src.path, &at, "no such image"))?;
+            let uri = match image.source() {
+                gltf::image::Source::View { view, .. } => {
+                    let buffer = &src.buffers[view.buffer().index()];
+                    let range = view.offset()..view.offset().saturating_add(view.length());
+                    let data = buffer.get(range).ok_or_else(|| {
+                        GltfError::at(&src.path, &at, "its buffer view lies beyond its buffer")
+                    })?;
+                    let name = src.path.with_extension(format!("image{i}"));
+                    bytes.insert(i, (data.to_vec(), name));
+                    continue;
+                }
+                gltf::image::Source::Uri { uri, .. } => uri.to_string(),
+            };
+            let read = (src.read_uri(&uri, &at)?, src.file_of(&uri));
+            bytes.insert(i, read);
+        }
+        let path = src.path.clone();
+        let decoded = wanted
+            .par_iter()
+            .map(|&(i, encoding)| {
+                let (data, file) = &bytes[&i];
+                let image = decode(data, encoding).map_err(|e| {
+                    GltfError::at(
+                        &path,
+                        format!("/images/{i}"),
+                        format!("{}: {e}", file.display()),
+                    )
+                })?;
+                Ok(((i, encoding), (Arc::new(image), file.clone())))
+            })
+            .collect::<Result<HashMap<_, _>, GltfError>>()?;
+        Ok(Images { decoded })
+    }
+
+    /// Image `i` decoded as `encoding` (it must have been asked for), with its file.
+    pub fn get(&self, i: usize, encoding: Encoding) -> Option<&(Arc<Image>, PathBuf)> {
+        self.decoded.get(&(i, encoding))
+    }
+}
+
+/// Decodes a PNG or JPEG (or any format the `image` crate knows) into linear RGB; 8-bit
+/// images through a table (sRGB decoding per texel is most of a large scene's load time).
+fn decode(data: &[u8], encoding: Encoding) -> Result<Image, String> {
+    let decoded = image::load_from_memory(data).map_err(|e| e.to_string())?;
+    let (w, h) = (decoded.width() as usize, decoded.height() as usize);
+    let pixels = if decoded.color().bytes_per_pixel() / decoded.color().channel_count() == 1 {
+        let table: Vec<f32> = (0..256)
+            .map(|v| match encoding {
+                Encoding::Srgb => srgb_to_linear(v as f32 / 255.0),
+                Encoding::Linear => v as f32 / 255.0,
+            })
+            .collect();
+        let t = |v: u8| table[v as usize];
+        decoded
+            .to_rgb8()
+            .pixels()
+            .map(|p| Rgb::new(t(p[0]), t(p[1]), t(p[2])))
+            .collect()
+    } else {
+        let f = match encoding {
+            Encoding::Srgb => srgb_to_linear,
+            Encoding::Linear => |v: f32| v,
+        };
+        decoded
+            .to_rgb32f()
+            .pixels()
+            .map(|p| Rgb::new(f(p[0]), f(p[1]), f(p[2])))
+            .collect()
+    };
+    Ok(Image {
+        width: w,
+        height: h,
+        pixels,
+    })
+}
