@@ -90,10 +90,10 @@ fn view_bytes<'s>(src: &'s Source, view: &gltf::buffer::View) -> Result<&'s [u8]
 }
 
 /// `count` elements of `size` bytes, `stride` apart from `offset` in `bytes`, checked.
-fn elements<'b>(
-    bytes: &'b [u8],
+fn elements(
+    bytes: &[u8],
     (offset, stride, size, count): (usize, usize, usize, usize),
-) -> Option<impl Iterator<Item = &'b [u8]>> {
+) -> Option<impl Iterator<Item = &[u8]>> {
     let end = match count {
         0 => offset,
         n => offset

@@ -92,12 +92,12 @@ pub fn load(path: &Path, camera: Option<&str>) -> Result<Loaded, GltfError> {
             lights.push(lights::light(&light, &p.world, &mut report));
         }
         let Some(mesh) = p.node.mesh() else { continue };
-        if !local.contains_key(&mesh.index()) {
+        if let std::collections::hash_map::Entry::Vacant(e) = local.entry(mesh.index()) {
             let mut prims = Vec::new();
             for prim in mesh.primitives() {
                 prims.extend(geometry::primitive(&src, mesh.index(), &prim, &mut report)?);
             }
-            local.insert(mesh.index(), prims);
+            e.insert(prims);
         }
         for prim in &local[&mesh.index()] {
             if prim.mesh.indices.is_empty() {

@@ -253,7 +253,7 @@ fn emission(
     if let Some(info) = m.emissive_texture() {
         let t = TextureRef::of(&info, format!("{at}/emissiveTexture"));
         if let Some(texture) = texture(src, images, t, Encoding::Srgb, report)? {
-            radiance = radiance * texture.average();
+            radiance *= texture.average();
             report.say(
                 format!("{at}/emissiveTexture"),
                 "emissive textures emit their mean over the surface",
