@@ -17,6 +17,8 @@ pub enum Encoding {
     Srgb,
     /// Data: values as stored, scaled to [0, 1].
     Linear,
+    /// The alpha channel (1 where the image has none), in every channel.
+    Alpha,
 }
 
 /// Decoded images by glTF image index and encoding, with where each came from.
@@ -84,11 +86,17 @@ impl Images {
 fn decode(data: &[u8], encoding: Encoding) -> Result<Image, String> {
     let decoded = image::load_from_memory(data).map_err(|e| e.to_string())?;
     let (w, h) = (decoded.width() as usize, decoded.height() as usize);
-    let pixels = if decoded.color().bytes_per_pixel() / decoded.color().channel_count() == 1 {
+    let pixels = if encoding == Encoding::Alpha {
+        decoded
+            .to_rgba32f()
+            .pixels()
+            .map(|p| Rgb::splat(p[3]))
+            .collect()
+    } else if decoded.color().bytes_per_pixel() / decoded.color().channel_count() == 1 {
         let table: Vec<f32> = (0..256)
             .map(|v| match encoding {
                 Encoding::Srgb => srgb_to_linear(v as f32 / 255.0),
-                Encoding::Linear => v as f32 / 255.0,
+                _ => v as f32 / 255.0,
             })
             .collect();
         let t = |v: u8| table[v as usize];
@@ -100,7 +108,7 @@ fn decode(data: &[u8], encoding: Encoding) -> Result<Image, String> {
     } else {
         let f = match encoding {
             Encoding::Srgb => srgb_to_linear,
-            Encoding::Linear => |v: f32| v,
+            _ => |v: f32| v,
         };
         decoded
             .to_rgb32f()

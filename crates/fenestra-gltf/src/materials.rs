@@ -8,7 +8,7 @@ use crate::report::Report;
 use crate::source::Source;
 use fenestra_core::Rgb;
 use fenestra_scene::light::Emission;
-use fenestra_scene::material::{self, MetallicRoughness, NormalMap};
+use fenestra_scene::material::{self, Alpha, AlphaMode, MetallicRoughness, NormalMap};
 use fenestra_scene::texture::ImageTexture;
 use fenestra_scene::Material;
 use std::sync::Arc;
@@ -66,6 +66,9 @@ pub fn wanted_images(doc: &gltf::Document) -> Vec<(usize, Encoding)> {
         );
         want(m.normal_texture().map(|n| n.texture()), Encoding::Linear);
         want(m.emissive_texture().map(|i| i.texture()), Encoding::Srgb);
+        if m.alpha_mode() != gltf::material::AlphaMode::Opaque {
+            want(pbr.base_color_texture().map(|i| i.texture()), Encoding::Alpha);
+        }
     }
     out
 }
@@ -147,6 +150,7 @@ fn one(
         specular: 1.0,
         specular_color: Rgb::ONE,
         normal_map: None,
+        alpha: None,
     };
     if let Some(n) = m.normal_texture() {
         let t = TextureRef {
@@ -175,17 +179,42 @@ fn one(
     if m.occlusion_texture().is_some() {
         report.say(format!("{at}/occlusionTexture"), "occlusion textures are a baking hint for rasterisers: ignored (a path tracer computes occlusion)");
     }
-    match m.alpha_mode() {
-        gltf::material::AlphaMode::Opaque => {}
-        mode => report.say(
-            format!("{at}/alphaMode"),
-            format!("alphaMode {mode:?} is not supported yet: the surface is opaque"),
-        ),
-    }
+    built.alpha = alpha(src, images, m, at, report)?;
     if let Some(what) = built.validate() {
         return Err(GltfError::at(&src.path, at, what));
     }
     Ok(built)
+}
+
+/// The cut-out of a MASK or BLEND material: base colour alpha factor times its texture's
+/// alpha.
+fn alpha(
+    src: &Source,
+    images: &Images,
+    m: &gltf::Material,
+    at: &str,
+    report: &mut Report,
+) -> Result<Option<Alpha>, GltfError> {
+    let mode = match m.alpha_mode() {
+        gltf::material::AlphaMode::Opaque => return Ok(None),
+        gltf::material::AlphaMode::Mask => AlphaMode::Mask {
+            cutoff: m.alpha_cutoff().unwrap_or(0.5),
+        },
+        gltf::material::AlphaMode::Blend => AlphaMode::Blend,
+    };
+    let pbr = m.pbr_metallic_roughness();
+    let texture = match pbr.base_color_texture() {
+        Some(info) => {
+            let t = TextureRef::of(&info, format!("{at}/pbrMetallicRoughness/baseColorTexture"));
+            texture(src, images, t, Encoding::Alpha, report)?
+        }
+        None => None,
+    };
+    Ok(Some(Alpha {
+        factor: pbr.base_color_factor()[3],
+        texture,
+        mode,
+    }))
 }
 
 /// AMD's vendor extension that splits the metallic-roughness texture in two. Its textures

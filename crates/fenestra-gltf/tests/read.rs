@@ -360,7 +360,10 @@ fn bad_files_give_errors_with_file_and_json_path() {
     assert_refused(
         "vertex",
         |j, _| j["accessors"][3]["bufferView"] = json!(1),
-        &["/meshes/0/primitives/0/indices: vertex index", "out of range (4 vertices)"],
+        &[
+            "/meshes/0/primitives/0/indices: vertex index",
+            "out of range (4 vertices)",
+        ],
     );
     assert_refused(
         "type",

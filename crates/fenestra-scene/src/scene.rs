@@ -97,6 +97,14 @@ impl SceneDesc {
     }
 }
 
+/// The cut-out of a material, if it has one.
+fn cutout(m: &Material) -> Option<&material::Alpha> {
+    match m {
+        Material::MetallicRoughness(m) => m.alpha.as_ref(),
+        _ => None,
+    }
+}
+
 /// Why a scene description is not a valid scene.
 #[derive(Debug, thiserror::Error)]
 pub enum SceneError {
@@ -175,7 +183,12 @@ pub struct Scene {
     bounds: (Vec3, Vec3),
     /// Whether the meshes outgrow a core's cache, so that [`Scene::prefetch_hits`] pays.
     large: bool,
+    /// Whether any shape's material has cut-outs (then every ray query looks through them).
+    cutouts: bool,
 }
+
+/// Cut-out surfaces a ray passes before the query gives up and takes the next as solid.
+const MAX_CUTOUT_LAYERS: usize = 64;
 
 /// Mesh data (triangles' indices and vertices) beyond which hits are prefetched: about a
 /// core's L2 cache. Below it the data stays cached and prefetching costs 1-2% (measured).
@@ -186,6 +199,10 @@ impl Scene {
     pub fn build(desc: SceneDesc, backend: Backend) -> Result<Scene, SceneError> {
         validate(&desc)?;
         let accel = backend.build(&desc.shapes)?;
+        let cutouts = desc
+            .shapes
+            .iter()
+            .any(|s| cutout(&desc.materials[s.material]).is_some());
         let mut lo = Vec3::splat(f32::INFINITY);
         let mut hi = Vec3::splat(f32::NEG_INFINITY);
         for s in &desc.shapes {
@@ -218,27 +235,67 @@ impl Scene {
             accel,
             bounds: (lo, hi),
             large: mesh_bytes > PREFETCH_ABOVE_BYTES,
+            cutouts,
         })
     }
 
-    /// The closest hit along `ray` in (0, tmax).
+    /// The closest hit along `ray` in (0, tmax) (cut-outs passed through).
     pub fn intersect(&self, ray: &Ray, tmax: f32) -> Option<Hit> {
-        self.accel.intersect(ray, tmax)
+        match self.cutouts {
+            false => self.accel.intersect(ray, tmax),
+            true => self.through_cutouts(ray, tmax),
+        }
     }
 
-    /// Whether anything lies along `ray` in (0, tmax).
+    /// Whether anything lies along `ray` in (0, tmax) (cut-outs passed through).
     pub fn occluded(&self, ray: &Ray, tmax: f32) -> bool {
-        self.accel.occluded(ray, tmax)
+        match self.cutouts {
+            false => self.accel.occluded(ray, tmax),
+            true => self.through_cutouts(ray, tmax).is_some(),
+        }
     }
 
     /// [`Scene::intersect`] of eight rays by one packet query.
     pub fn intersect8(&self, rays: &[Ray; PACKET], tmax: [f32; PACKET]) -> [Option<Hit>; PACKET] {
-        self.accel.intersect8(rays, tmax)
+        match self.cutouts {
+            false => self.accel.intersect8(rays, tmax),
+            true => std::array::from_fn(|i| self.through_cutouts(&rays[i], tmax[i])),
+        }
     }
 
     /// [`Scene::occluded`] of eight rays by one packet query.
     pub fn occluded8(&self, rays: &[Ray; PACKET], tmax: [f32; PACKET]) -> [bool; PACKET] {
-        self.accel.occluded8(rays, tmax)
+        match self.cutouts {
+            false => self.accel.occluded8(rays, tmax),
+            true => std::array::from_fn(|i| self.through_cutouts(&rays[i], tmax[i]).is_some()),
+        }
+    }
+
+    /// The closest hit along `ray` in (0, tmax) where the surface is present: at a cut-out,
+    /// the ray goes on from just beyond it (its hit's `t` stays on the original ray).
+    fn through_cutouts(&self, ray: &Ray, tmax: f32) -> Option<Hit> {
+        let (mut cur, mut travelled) = (*ray, 0.0f32);
+        for layer in 0..MAX_CUTOUT_LAYERS {
+            let mut hit = self.accel.intersect(&cur, tmax - travelled)?;
+            let shape = &self.shapes[hit.shape as usize];
+            let solid = |si: &SurfaceInteraction, alpha: &material::Alpha| {
+                layer + 1 == MAX_CUTOUT_LAYERS || alpha.present(si.uv, si.p)
+            };
+            let through = match cutout(&self.materials[shape.material]) {
+                None => None,
+                Some(alpha) => {
+                    let si = SurfaceInteraction::from_hit(shape, &cur, &hit);
+                    (!solid(&si, alpha)).then(|| si.spawn(cur.d))
+                }
+            };
+            let Some(origin) = through else {
+                hit.t += travelled;
+                return Some(hit);
+            };
+            travelled = (origin - ray.o).dot(ray.d);
+            cur = Ray::new(origin, ray.d);
+        }
+        None
     }
 
     /// Asks the CPU to bring the mesh data of `hits` into the cache, before their surface
@@ -264,9 +321,19 @@ impl Scene {
         }
     }
 
-    /// The surface point of `hit` found along `ray`.
+    /// The surface point of `hit` found along `ray`, its shading normal tilted by its
+    /// material's normal map if it has one.
     pub fn interaction(&self, ray: &Ray, hit: &Hit) -> SurfaceInteraction {
-        SurfaceInteraction::from_hit(&self.shapes[hit.shape as usize], ray, hit)
+        let shape = &self.shapes[hit.shape as usize];
+        let mut si = SurfaceInteraction::from_hit(shape, ray, hit);
+        if let (Material::MetallicRoughness(m), ShapeKind::Mesh(mesh)) =
+            (&self.materials[shape.material], &shape.kind)
+        {
+            if let Some(map) = &m.normal_map {
+                map.apply(&mut si, mesh);
+            }
+        }
+        si
     }
 
     /// Axis-aligned bounds of all geometry.

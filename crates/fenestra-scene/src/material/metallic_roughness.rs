@@ -3,6 +3,7 @@
 //! `KHR_materials_specular`.
 
 use super::checks::{albedo, index_of_refraction, non_negative};
+use super::{Alpha, NormalMap};
 use crate::texture::ImageTexture;
 use fenestra_core::{Rgb, Vec2};
 use std::sync::Arc;
@@ -29,16 +30,8 @@ pub struct MetallicRoughness {
     pub specular_color: Rgb,
     /// A tangent-space normal map, if any.
     pub normal_map: Option<NormalMap>,
-}
-
-/// A tangent-space normal map: texel (r, g, b) in [0, 1] is the normal
-/// ((2r - 1) scale, (2g - 1) scale, 2b - 1) in the frame (tangent, bitangent, normal).
-#[derive(Clone, Debug)]
-pub struct NormalMap {
-    /// Linear texels.
-    pub texture: Arc<ImageTexture>,
-    /// Scales the map's tangential components.
-    pub scale: f32,
+    /// Where the surface is a cut-out, if anywhere.
+    pub alpha: Option<Alpha>,
 }
 
 impl MetallicRoughness {
@@ -55,6 +48,7 @@ impl MetallicRoughness {
             specular: 1.0,
             specular_color: Rgb::ONE,
             normal_map: None,
+            alpha: None,
         }
     }
 
@@ -72,6 +66,7 @@ impl MetallicRoughness {
                 (!non_negative(&c)).then(|| format!("specular colour {c:?} must be non-negative"))
             })
             .or_else(|| index_of_refraction(self.ior))
+            .or_else(|| self.alpha.as_ref().and_then(Alpha::validate))
             .or_else(|| {
                 let scale = self.normal_map.as_ref().map_or(1.0, |n| n.scale);
                 (!scale.is_finite()).then(|| format!("normal map scale {scale} is not finite"))

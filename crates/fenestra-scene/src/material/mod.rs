@@ -3,6 +3,7 @@
 //! line in [`kinds!`]'s list (then a BSDF in the render crate, and its pbrt-v4 reading and
 //! writing).
 
+mod alpha;
 mod checks;
 mod coated;
 mod conductor;
@@ -11,16 +12,19 @@ mod diffuse;
 mod metallic_roughness;
 mod mirror;
 mod mix;
+mod normal_map;
 mod phong;
 mod ward;
 
+pub use alpha::{Alpha, AlphaMode};
 pub use coated::{CoatedConductor, CoatedDiffuse};
 pub use conductor::RoughConductor;
 pub use dielectric::{Dielectric, RoughDielectric, ThinDielectric};
 pub use diffuse::{Diffuse, DiffuseTransmission, TexturedDiffuse};
-pub use metallic_roughness::{MetallicRoughness, NormalMap};
+pub use metallic_roughness::MetallicRoughness;
 pub use mirror::Mirror;
 pub use mix::Mix;
+pub use normal_map::NormalMap;
 pub use phong::Phong;
 pub use ward::Ward;
 
