@@ -6,6 +6,10 @@ use crate::error::GltfError;
 use crate::source::Source;
 use gltf::accessor::{DataType, Dimensions};
 
+/// The most elements an accessor without a buffer view may have (2^28: a billion-triangle
+/// mesh's worth).
+const MAX_ZERO_ELEMENTS: usize = 1 << 28;
+
 /// The JSON pointer of accessor `a`.
 fn at(a: &gltf::Accessor) -> String {
     format!("/accessors/{}", a.index())
@@ -124,7 +128,15 @@ fn read<T: Copy>(
         )
     };
     let mut out = match a.view() {
-        // No view: zeros, which sparse values may replace.
+        // No view: zeros, which sparse values may replace (a count beyond any real mesh is
+        // refused before it is allocated).
+        None if a.count() > MAX_ZERO_ELEMENTS => {
+            return Err(GltfError::at(
+                &src.path,
+                at(a),
+                format!("{} elements without a buffer view", a.count()),
+            ));
+        }
         None => vec![zero; a.count()],
         Some(view) => {
             let bytes = view_bytes(src, &view)?;

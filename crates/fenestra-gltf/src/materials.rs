@@ -67,7 +67,10 @@ pub fn wanted_images(doc: &gltf::Document) -> Vec<(usize, Encoding)> {
         want(m.normal_texture().map(|n| n.texture()), Encoding::Linear);
         want(m.emissive_texture().map(|i| i.texture()), Encoding::Srgb);
         if m.alpha_mode() != gltf::material::AlphaMode::Opaque {
-            want(pbr.base_color_texture().map(|i| i.texture()), Encoding::Alpha);
+            want(
+                pbr.base_color_texture().map(|i| i.texture()),
+                Encoding::Alpha,
+            );
         }
     }
     out

@@ -385,3 +385,43 @@ fn a_flat_texture_ramp_reads_as_srgb() {
     let texel: &Image = &t.image;
     assert!((texel.get(0, 0).r - fenestra_core::image::srgb_to_linear(200.0 / 255.0)).abs() < 1e-6);
 }
+
+/// A cheap fuzzer: 400 corruptions of the room (bytes of its JSON, buffer or texture
+/// overwritten, or the file cut short) each load or fail with an error, never panic.
+#[test]
+fn corrupted_files_never_panic() {
+    let d = dir("fuzz");
+    let path = write_room(&d);
+    let originals: Vec<(PathBuf, Vec<u8>)> = ["room.gltf", "room.bin", "plaster.png"]
+        .iter()
+        .map(|f| (d.join(f), std::fs::read(d.join(f)).expect("read")))
+        .collect();
+    let mut state = 0x2545_f491_4f6c_dd1d_u64;
+    let mut next = |n: usize| {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state % n as u64) as usize
+    };
+    for case in 0..400 {
+        let (file, bytes) = &originals[next(3)];
+        let mut bad = bytes.clone();
+        match next(3) {
+            0 => bad.truncate(next(bad.len())),
+            _ => {
+                for _ in 0..1 + next(4) {
+                    let i = next(bad.len());
+                    bad[i] = next(256) as u8;
+                }
+            }
+        }
+        std::fs::write(file, &bad).expect("write");
+        let result = std::panic::catch_unwind(|| load(&path, None).map(|_| ()));
+        assert!(
+            result.is_ok(),
+            "case {case}: loading a corrupted {} panicked",
+            file.display()
+        );
+        std::fs::write(file, bytes).expect("restore");
+    }
+}

@@ -136,6 +136,7 @@ fn info(scene: &str, options: SceneOptions, json: bool) -> Result<()> {
         "resolution": [d.defaults.width, d.defaults.height],
         "spp": d.defaults.spp,
         "max_depth": d.defaults.max_depth,
+        "cameras": loaded.cameras,
         "warnings": loaded.warnings(),
     });
     if json {
@@ -160,6 +161,15 @@ fn info(scene: &str, options: SceneOptions, json: bool) -> Result<()> {
         "  defaults: {}x{}, {} spp, path length {}",
         d.defaults.width, d.defaults.height, d.defaults.spp, d.defaults.max_depth
     );
+    if !loaded.cameras.is_empty() {
+        let named: Vec<String> = loaded
+            .cameras
+            .iter()
+            .enumerate()
+            .map(|(i, c)| format!("{i}: {c}"))
+            .collect();
+        println!("  cameras (--camera): {}", named.join(", "));
+    }
     for w in &loaded.warnings() {
         println!("  warning: {w}");
     }

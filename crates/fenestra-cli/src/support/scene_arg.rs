@@ -63,6 +63,8 @@ pub struct LoadedScene {
     pub seconds: f64,
     /// Every file read (scene, includes, meshes, images): outputs must not replace them.
     pub files: Vec<PathBuf>,
+    /// A glTF file's cameras by name, in index order (empty for other scenes).
+    pub cameras: Vec<String>,
 }
 
 impl LoadedScene {
@@ -91,7 +93,7 @@ pub fn load_quietly(arg: &str, opts: &SceneOptions) -> Result<LoadedScene> {
     if opts.camera.is_some() && !is_gltf {
         bail!("--camera picks a glTF scene's camera; {arg} is not a .gltf or .glb file");
     }
-    let (mut substitutions, mut notes) = (Vec::new(), Vec::new());
+    let (mut substitutions, mut notes, mut cameras) = (Vec::new(), Vec::new(), Vec::new());
     let (desc, warnings, files) = if let Some(name) = arg.strip_prefix("builtin:") {
         (builtin::load(name)?, Vec::new(), Vec::new())
     } else {
@@ -111,6 +113,7 @@ pub fn load_quietly(arg: &str, opts: &SceneOptions) -> Result<LoadedScene> {
                     );
                 }
                 let warnings = l.warnings.iter().map(|w| format!("{arg}: {w}")).collect();
+                cameras = l.cameras;
                 (l.desc, warnings, l.files)
             }
             Some("obj" | "ply") => {
@@ -147,6 +150,7 @@ pub fn load_quietly(arg: &str, opts: &SceneOptions) -> Result<LoadedScene> {
         other: warnings,
         seconds: start.elapsed().as_secs_f64(),
         files,
+        cameras,
     })
 }
 
