@@ -47,6 +47,9 @@ pub(super) fn approximations(i: usize, m: &MetallicRoughness) -> Vec<String> {
     if m.normal_map.is_some() {
         say("the normal map is left out");
     }
+    if m.alpha.is_some() {
+        say("its cut-out (alpha) is left out: the surface is solid");
+    }
     if m.specular_color != fenestra_core::Rgb::ONE || !(m.specular == 0.0 || m.specular == 1.0) {
         say("the specular weight and colour are left out");
     }
