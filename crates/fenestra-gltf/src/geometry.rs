@@ -91,6 +91,12 @@ pub fn primitive(
             "vertex colours are not supported (ignored)",
         );
     }
+    if p.get(&Semantic::Tangents).is_some() {
+        report.say(
+            format!("{at}/attributes/TANGENT"),
+            "tangents are not read (normal maps use each triangle's uv frame)",
+        );
+    }
     if p.morph_targets().next().is_some() {
         report.say(
             format!("{at}/targets"),

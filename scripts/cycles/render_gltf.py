@@ -1,0 +1,51 @@
+"""Renders a glTF scene with Blender's Cycles (bpy from PyPI) under an environment map, as
+`scripts/gltf-vs-cycles` compares it with fenestra: Blender's own glTF importer, a box pixel
+filter, 7 bounces (fenestra's path length 8), no clamping, no denoising, no adaptive sampling,
+the Standard view transform, linear 32-bit EXR out.
+
+    python render_gltf.py -- SCENE.gltf CAMERA ENV.exr WIDTH HEIGHT SPP OUT.exr
+
+Materials that take their metalness from AMD_split_roughnessMetallic's DDS maps get metallic 0,
+as fenestra gives them (neither reads the DDS). SINGLE_SCATTER=1 switches the Principled BSDFs
+to single-scattering GGX (fenestra's metal is single-scattering).
+"""
+import bpy, sys
+scene_file, camera, env_file, width, height, spp, out = sys.argv[sys.argv.index('--')+1:]
+bpy.ops.wm.read_factory_settings(use_empty=True)
+bpy.ops.import_scene.gltf(filepath=scene_file)
+sc = bpy.context.scene
+import json
+doc = json.load(open(scene_file))
+amd = [m.get('name') for m in doc.get('materials', []) if 'metallicTexture' in m.get('extensions', {}).get('AMD_split_roughnessMetallic', {})]
+for name in amd:
+    m = bpy.data.materials.get(name)
+    p = m and next((n for n in m.node_tree.nodes if n.type == 'BSDF_PRINCIPLED'), None)
+    if p and not p.inputs['Metallic'].is_linked:
+        p.inputs['Metallic'].default_value = 0.0   # as fenestra: the DDS metallic map is not read
+print('metallic 0 for', amd)
+import os
+if os.environ.get('SINGLE_SCATTER'):
+    for m in bpy.data.materials:
+        for n in (m.node_tree.nodes if m.node_tree else []):
+            if n.type == 'BSDF_PRINCIPLED':
+                n.distribution = 'GGX'
+    print('single-scattering GGX')
+cams = [o for o in sc.objects if o.type == 'CAMERA']
+cam = next((o for o in cams if o.data.name == camera or o.name == camera), cams[0])
+sc.camera = cam
+print('camera', cam.name, cam.data.name)
+w = bpy.data.worlds.new('sky'); sc.world = w; w.use_nodes = True
+nt = w.node_tree; bg = nt.nodes['Background']
+env = nt.nodes.new('ShaderNodeTexEnvironment'); env.image = bpy.data.images.load(env_file)
+nt.links.new(env.outputs['Color'], bg.inputs['Color']); bg.inputs['Strength'].default_value = 1.0
+sc.render.engine = 'CYCLES'; c = sc.cycles
+c.device = 'CPU'; c.samples = int(spp); c.use_adaptive_sampling = False; c.use_denoising = False
+c.max_bounces = 7; c.diffuse_bounces = 7; c.glossy_bounces = 7; c.transmission_bounces = 7
+c.transparent_max_bounces = 64; c.sample_clamp_direct = 0; c.sample_clamp_indirect = 0
+c.caustics_reflective = True; c.caustics_refractive = True; c.blur_glossy = 0.0
+c.pixel_filter_type = 'BOX'; c.filter_width = 1.0
+sc.render.resolution_x = int(width); sc.render.resolution_y = int(height); sc.render.resolution_percentage = 100
+sc.view_settings.view_transform = 'Standard'; sc.view_settings.exposure = 0.0; sc.view_settings.look = 'None'
+sc.render.image_settings.file_format = 'OPEN_EXR'; sc.render.image_settings.color_depth = '32'
+sc.render.filepath = out
+bpy.ops.render.render(write_still=True)
