@@ -1,28 +1,32 @@
 """Writes a 512x256 latitude-longitude sky that depends on elevation only (blue zenith, pale
-horizon, grey ground), as a linear EXR: the same light for renderers whose azimuth conventions
-differ. Runs under bpy's Python (Blender writes the EXR).
+horizon, grey ground) as a Radiance .hdr (flat RGBE scanlines, top row the zenith): the same
+light for renderers whose azimuth conventions differ. Plain Python, no packages.
 
-    python gradient_sky.py -- OUT.exr
+    python gradient_sky.py OUT.hdr
 """
 import math
 import sys
 
-import bpy
-
-out = sys.argv[sys.argv.index('--') + 1]
 W, H = 512, 256
-zenith, horizon, ground = (0.5, 0.9, 2.0), (1.8, 1.8, 2.0), (0.4, 0.4, 0.4)
-img = bpy.data.images.new('sky', W, H, float_buffer=True, alpha=False)
-px = []
-for y in range(H):  # Blender's rows run bottom to top
-    el = math.pi * ((y + 0.5) / H - 0.5)
-    if el > 0:
-        t = math.sqrt(math.sin(el))
-        c = [h + (z - h) * t for z, h in zip(zenith, horizon)]
-    else:
-        c = list(ground)
-    px.extend((c + [1.0]) * W)
-img.pixels.foreach_set(px)
-img.filepath_raw = out
-img.file_format = 'OPEN_EXR'
-img.save()
+ZENITH, HORIZON, GROUND = (0.5, 0.9, 2.0), (1.8, 1.8, 2.0), (0.4, 0.4, 0.4)
+
+
+def rgbe(c):
+    m = max(c)
+    if m < 1e-32:
+        return bytes(4)
+    mant, exp = math.frexp(m)
+    s = mant * 256.0 / m
+    return bytes([int(c[0] * s), int(c[1] * s), int(c[2] * s), exp + 128])
+
+
+with open(sys.argv[1], "wb") as f:
+    f.write(b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y %d +X %d\n" % (H, W))
+    for y in range(H):
+        el = math.pi * (0.5 - (y + 0.5) / H)
+        if el > 0:
+            t = math.sqrt(math.sin(el))
+            c = [h + (z - h) * t for z, h in zip(ZENITH, HORIZON)]
+        else:
+            c = list(GROUND)
+        f.write(rgbe(c) * W)
