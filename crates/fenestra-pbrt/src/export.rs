@@ -4,7 +4,6 @@
 //! equivalent); everything else is plain pbrt-v4.
 
 use fenestra_core::fs::{write_atomically, write_text_atomically};
-use fenestra_core::image::Image;
 use fenestra_core::{Rgb, Vec3};
 use fenestra_scene::filter::{FilterShape, PixelFilter};
 use fenestra_scene::light::{EnvironmentDesc, LightDesc};
@@ -257,16 +256,11 @@ impl Export<'_> {
                             scale,
                             to_world,
                         } => {
-                            let mut baked = Image::new(image.width, image.height);
-                            for y in 0..image.height {
-                                for x in 0..image.width {
-                                    let c = image.get(x, y);
-                                    baked.set(
-                                        x,
-                                        y,
-                                        Rgb::new(c.r * scale.r, c.g * scale.g, c.b * scale.b),
-                                    );
-                                }
+                            // pbrt-v4 reads square equal-area maps only: resampled (side = the
+                            // map's height, so that reading it back gives the same size).
+                            let mut baked = crate::equal_area::latlong_to_equal_area(image);
+                            for c in &mut baked.pixels {
+                                *c = Rgb::new(c.r * scale.r, c.g * scale.g, c.b * scale.b);
                             }
                             let file = self.data(format!("environment-{i}.exr"), &|tmp| {
                                 baked
@@ -277,9 +271,6 @@ impl Export<'_> {
                             let _ = writeln!(self.s, "AttributeBegin");
                             let _ =
                                 writeln!(self.s, "  Transform [ {} ]", join(&m.to_cols_array()));
-                            let _ = writeln!(self.s,
-                                "  # A 2:1 latitude-longitude map (fenestra reads these; pbrt-v4 wants square equal-area maps)"
-                            );
                             let _ =
                                 writeln!(self.s,
                                 "  LightSource \"infinite\" \"string filename\" \"{file}\"{portal}"

@@ -5,6 +5,7 @@
 
 mod builder;
 mod camera;
+mod equal_area;
 pub mod export;
 mod lexer;
 mod lights;

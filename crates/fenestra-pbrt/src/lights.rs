@@ -5,6 +5,7 @@
 //! for pbrt's photometric normalisation.
 
 use crate::builder::{AreaSpec, Builder};
+use crate::equal_area::equal_area_to_latlong;
 use crate::params::ParamList;
 use crate::parser::Directive;
 use crate::spectra;
@@ -12,7 +13,7 @@ use crate::{Loc, PbrtError, Topic};
 use fenestra_core::image::Image;
 use fenestra_core::{Rgb, Vec3, PI};
 use fenestra_scene::light::{EnvironmentDesc, LightDesc};
-use glam::{DMat3, DVec3};
+use glam::DMat3;
 use std::path::Path;
 use std::sync::Arc;
 
@@ -233,64 +234,6 @@ fn orthonormal(m: &DMat3) -> Option<DMat3> {
     ok.then(|| *m * (1.0 / s))
 }
 
-/// Clarberg's equal-area octahedral mapping of the unit sphere to [0,1]^2 (pbrt-v4's
-/// environment map layout).
-pub(super) fn sphere_to_square(d: DVec3) -> (f64, f64) {
-    let (x, y, z) = (d.x.abs(), d.y.abs(), d.z.abs());
-    let r = (1.0 - z).max(0.0).sqrt();
-    let a = x.max(y);
-    let b = if a == 0.0 { 0.0 } else { x.min(y) / a };
-    let mut phi = b.atan() * 2.0 / std::f64::consts::PI;
-    if x < y {
-        phi = 1.0 - phi;
-    }
-    let mut v = phi * r;
-    let mut u = r - v;
-    if d.z < 0.0 {
-        std::mem::swap(&mut u, &mut v);
-        u = 1.0 - u;
-        v = 1.0 - v;
-    }
-    ((u.copysign(d.x) + 1.0) * 0.5, (v.copysign(d.y) + 1.0) * 0.5)
-}
-
-/// The unit direction at polar angle `theta` from +z and azimuth `phi` from +x.
-fn spherical(theta: f64, phi: f64) -> DVec3 {
-    DVec3::new(
-        theta.sin() * phi.cos(),
-        theta.sin() * phi.sin(),
-        theta.cos(),
-    )
-}
-
-/// Resamples an equal-area square map (side N) to latitude-longitude (2N x N), bilinearly.
-fn equal_area_to_latlong(sq: &Image) -> Image {
-    let n = sq.width;
-    let (w, h) = (2 * n, n);
-    let mut out = Image::new(w, h);
-    for row in 0..h {
-        let theta = std::f64::consts::PI * (row as f64 + 0.5) / h as f64;
-        for col in 0..w {
-            let phi = 2.0 * std::f64::consts::PI * (col as f64 + 0.5) / w as f64;
-            let (u, v) = sphere_to_square(spherical(theta, phi));
-            let (x, y) = (u * n as f64 - 0.5, v * n as f64 - 0.5);
-            let (x0, y0) = (x.floor(), y.floor());
-            let (fx, fy) = ((x - x0) as f32, (y - y0) as f32);
-            let at = |dx: f64, dy: f64| {
-                let cx = (x0 + dx).clamp(0.0, (n - 1) as f64) as usize;
-                let cy = (y0 + dy).clamp(0.0, (n - 1) as f64) as usize;
-                sq.get(cx, cy)
-            };
-            let c = at(0.0, 0.0) * ((1.0 - fx) * (1.0 - fy))
-                + at(1.0, 0.0) * (fx * (1.0 - fy))
-                + at(0.0, 1.0) * ((1.0 - fx) * fy)
-                + at(1.0, 1.0) * (fx * fy);
-            out.set(col, row, c);
-        }
-    }
-    out
-}
-
 /// Illuminance (luminance-weighted) a latitude-longitude map gives a surface facing +z,
 /// exact for the piecewise-constant map: a texel row between theta0 and theta1 contributes
 /// dphi * (sin^2 theta1 - sin^2 theta0) / 2 per unit radiance.
@@ -315,31 +258,6 @@ fn upper_illuminance(img: &Image) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn equal_area_mapping_is_equal_area() {
-        // Directions on a fine latitude-longitude grid, weighted by solid angle, must cover
-        // the square's 4x4 cells evenly.
-        let mut cells = [0.0f64; 16];
-        let (nt, np) = (400, 800);
-        for i in 0..nt {
-            let theta = std::f64::consts::PI * (i as f64 + 0.5) / nt as f64;
-            for j in 0..np {
-                let phi = 2.0 * std::f64::consts::PI * (j as f64 + 0.5) / np as f64;
-                let (u, v) = sphere_to_square(spherical(theta, phi));
-                assert!((0.0..=1.0).contains(&u) && (0.0..=1.0).contains(&v));
-                let c = ((u * 4.0).min(3.0) as usize) + 4 * ((v * 4.0).min(3.0) as usize);
-                cells[c] += theta.sin();
-            }
-        }
-        let total: f64 = cells.iter().sum();
-        for c in cells {
-            assert!((c / total - 1.0 / 16.0).abs() < 2e-3, "{cells:?}");
-        }
-        // +z maps to the centre, -z to the corners.
-        let (u, v) = sphere_to_square(DVec3::Z);
-        assert!((u - 0.5).abs() < 1e-12 && (v - 0.5).abs() < 1e-12);
-    }
 
     #[test]
     fn constant_map_illuminance_is_pi_times_radiance() {

@@ -84,13 +84,17 @@ fn light_key(l: &LightDesc) -> String {
             image,
             scale,
             to_world,
-        }) => round_numbers(&format!(
-            "image {}x{} {:?} {:?} {to_world:?}",
-            image.width,
-            image.height,
-            image.mean(),
-            scale
-        )),
+        }) => {
+            // Written as pbrt-v4's equal-area square and read back as latitude-longitude: the
+            // same size, the mean to three figures (resampled twice).
+            let m = image
+                .mean()
+                .map(|v| format!("{v:.2e}").parse().unwrap_or(v));
+            round_numbers(&format!(
+                "image {}x{} {m:?} {scale:?} {to_world:?}",
+                image.width, image.height
+            ))
+        }
         other => round_numbers(&format!("{other:?}")),
     }
 }
