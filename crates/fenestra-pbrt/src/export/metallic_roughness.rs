@@ -1,7 +1,8 @@
 //! glTF's metallic-roughness material in pbrt-v4's terms. pbrt-v4 has no such material: the
-//! dielectric part becomes a "coateddiffuse" (a layer over the base, not glTF's Fresnel mix)
-//! or, with no specular layer, an exact "diffuse"; the metal a "conductor" of the base colour's
-//! reflectance; the two a "mix" by the metallic factor.
+//! dielectric part becomes a "diffuse" of the base colour (exact with no specular layer; with
+//! one, its sheen is lost but not its energy: pbrt-v4's "coateddiffuse", a layer over the base,
+//! kept a fifth of the light of a white room, docs/scenes.md), the metal a "conductor" of the
+//! base colour's reflectance, the two a "mix" by the metallic factor.
 
 use super::rgb;
 use fenestra_scene::material::MetallicRoughness;
@@ -33,7 +34,7 @@ pub(super) fn approximations(i: usize, m: &MetallicRoughness) -> Vec<String> {
     let mut out = Vec::new();
     let mut say = |what: &str| out.push(format!("material m{i} (glTF metallic-roughness): {what}"));
     if m.metallic < 1.0 && m.specular > 0.0 {
-        say("its dielectric part is pbrt-v4's coateddiffuse (a layer, not glTF's Fresnel mix)");
+        say("its dielectric part is a diffuse of the base colour (the specular sheen is left out)");
     }
     if m.metallic > 0.0 {
         say("its metal is a conductor of the base colour's reflectance (complex Fresnel, not Schlick)");
@@ -69,15 +70,7 @@ fn alpha(m: &MetallicRoughness) -> f32 {
 }
 
 fn dielectric(i: usize, m: &MetallicRoughness) -> String {
-    let reflectance = reflectance(i, m);
-    if m.specular == 0.0 {
-        return format!("\"string type\" \"diffuse\" {reflectance}");
-    }
-    format!(
-        "\"string type\" \"coateddiffuse\" {reflectance} \"float eta\" [ {} ] \"float roughness\" [ {} ] \"bool remaproughness\" false",
-        m.ior,
-        alpha(m)
-    )
+    format!("\"string type\" \"diffuse\" {}", reflectance(i, m))
 }
 
 fn metal(i: usize, m: &MetallicRoughness) -> String {
