@@ -327,6 +327,14 @@ fn texture(
     let (image, path) = images
         .get(image.index(), encoding)
         .ok_or_else(|| GltfError::at(&src.path, &t.at, "texture image was not decoded"))?;
+    let sampler = texture.sampler();
+    let repeat = gltf::texture::WrappingMode::Repeat;
+    if sampler.wrap_s() != repeat || sampler.wrap_t() != repeat {
+        report.say(
+            &t.at,
+            "clamped and mirrored texture wrapping are not supported (textures repeat)",
+        );
+    }
     if t.tex_coord != 0 {
         report.say(
             &t.at,
