@@ -269,7 +269,7 @@ fn a_glb_reads_as_its_gltf() {
     let png = std::fs::read(d.join("plaster.png")).expect("png");
     let png_at = bin.len();
     bin.extend(&png);
-    while bin.len() % 4 != 0 {
+    while !bin.len().is_multiple_of(4) {
         bin.push(0);
     }
     json["buffers"] = json!([{"byteLength": bin.len()}]);
@@ -279,7 +279,7 @@ fn a_glb_reads_as_its_gltf() {
         .push(json!({"buffer": 0, "byteOffset": png_at, "byteLength": png.len()}));
     json["images"] = json!([{"bufferView": 4, "mimeType": "image/png"}]);
     let mut text = json.to_string().into_bytes();
-    while text.len() % 4 != 0 {
+    while !text.len().is_multiple_of(4) {
         text.push(b' ');
     }
     let mut glb = Vec::new();
