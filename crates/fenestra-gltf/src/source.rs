@@ -23,6 +23,7 @@ impl Source {
     pub fn open(path: &Path) -> Result<Source, GltfError> {
         let bytes =
             std::fs::read(path).map_err(|e| GltfError::file(path, format!("cannot read: {e}")))?;
+        check_glb_header(path, &bytes)?;
         let gltf = gltf::Gltf::from_slice_without_validation(&bytes)
             .map_err(|e| GltfError::file(path, e.to_string()))?;
         check(path, &gltf.document)?;
@@ -97,6 +98,28 @@ impl Source {
     pub fn file_of(&self, uri: &str) -> PathBuf {
         let dir = self.path.parent().unwrap_or(Path::new("."));
         dir.join(percent_decode(uri))
+    }
+}
+
+/// A GLB's declared total length must cover at least its 12-byte header (the `gltf` crate
+/// subtracts the header from it unchecked: found by fuzzing) and no more than the file.
+fn check_glb_header(path: &Path, bytes: &[u8]) -> Result<(), GltfError> {
+    let Some(rest) = bytes.strip_prefix(b"glTF") else {
+        return Ok(());
+    };
+    let declared = rest
+        .get(4..8)
+        .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as usize);
+    match declared {
+        Some(n) if (12..=bytes.len()).contains(&n) => Ok(()),
+        Some(n) => Err(GltfError::file(
+            path,
+            format!(
+                "GLB header declares {n} bytes, the file has {} (truncated or corrupt)",
+                bytes.len()
+            ),
+        )),
+        None => Err(GltfError::file(path, "GLB header cut short")),
     }
 }
 

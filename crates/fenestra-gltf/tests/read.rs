@@ -299,6 +299,16 @@ fn a_glb_reads_as_its_gltf() {
     );
     assert_eq!(format!("{:?}", a.shapes), format!("{:?}", b.shapes));
     assert_eq!(a.materials.len(), b.materials.len());
+    // A header declaring fewer bytes than itself (found by fuzzing: the gltf crate's
+    // arithmetic overflowed).
+    let mut short = glb.clone();
+    short[8..12].copy_from_slice(&4u32.to_le_bytes());
+    std::fs::write(d.join("short.glb"), &short).expect("glb");
+    let err = load(&d.join("short.glb"), None)
+        .err()
+        .expect("short")
+        .to_string();
+    assert!(err.contains("GLB header declares 4 bytes"), "{err}");
     // Truncated: the BIN chunk cut short.
     std::fs::write(d.join("cut.glb"), &glb[..glb.len() - 100]).expect("glb");
     let err = load(&d.join("cut.glb"), None)
