@@ -127,6 +127,26 @@ fn check_glb_header(path: &Path, bytes: &[u8]) -> Result<(), GltfError> {
 /// the one on `extensionsRequired`: the loader reports the extensions it cannot honour itself.
 fn check(path: &Path, document: &gltf::Document) -> Result<(), GltfError> {
     let root = document.as_json();
+    // gltf-json's own check of POSITION's min and max indexes the accessors unchecked
+    // (found by fuzzing): its index is checked first.
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, prim) in mesh.primitives.iter().enumerate() {
+            let position = gltf::json::validation::Checked::Valid(gltf::Semantic::Positions);
+            if let Some(i) = prim.attributes.get(&position) {
+                if i.value() >= root.accessors.len() {
+                    return Err(GltfError::at(
+                        path,
+                        format!("/meshes/{m}/primitives/{p}/attributes/POSITION"),
+                        format!(
+                            "accessor {} out of range ({} accessors)",
+                            i.value(),
+                            root.accessors.len()
+                        ),
+                    ));
+                }
+            }
+        }
+    }
     let mut errors = Vec::new();
     root.validate(root, gltf::json::Path::new, &mut |at, error| {
         let at = at().to_string();

@@ -343,6 +343,12 @@ fn bad_files_give_errors_with_file_and_json_path() {
         |j, _| j["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = json!(41),
         &["bad.gltf: /meshes/0/primitives/0/attributes/TEXCOORD_0: index out of range"],
     );
+    // gltf-json's own checks indexed this one unchecked (found by fuzzing).
+    assert_refused(
+        "position",
+        |j, _| j["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = json!(99),
+        &["bad.gltf: /meshes/0/primitives/0/attributes/POSITION: accessor 99 out of range (4 accessors)"],
+    );
     assert_refused(
         "truncated",
         |_, d| {
