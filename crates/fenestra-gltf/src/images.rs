@@ -36,13 +36,19 @@ impl Images {
                 continue;
             }
             let at = format!("/images/{i}");
+            // Read from the JSON: the gltf crate's `Image::source` unwraps a missing
+            // mimeType or uri (found by fuzzing).
             let image = src
                 .document
-                .images()
-                .nth(i)
+                .as_json()
+                .images
+                .get(i)
                 .ok_or_else(|| GltfError::at(&src.path, &at, "no such image"))?;
-            let uri = match image.source() {
-                gltf::image::Source::View { view, .. } => {
+            let uri = match (&image.buffer_view, &image.uri) {
+                (Some(view), _) => {
+                    let view = src.document.views().nth(view.value()).ok_or_else(|| {
+                        GltfError::at(&src.path, &at, "its bufferView is out of range")
+                    })?;
                     let buffer = &src.buffers[view.buffer().index()];
                     let range = view.offset()..view.offset().saturating_add(view.length());
                     let data = buffer.get(range).ok_or_else(|| {
@@ -52,7 +58,14 @@ impl Images {
                     bytes.insert(i, (data.to_vec(), name));
                     continue;
                 }
-                gltf::image::Source::Uri { uri, .. } => uri.to_string(),
+                (None, Some(uri)) => uri.clone(),
+                (None, None) => {
+                    return Err(GltfError::at(
+                        &src.path,
+                        &at,
+                        "has neither a uri nor a bufferView",
+                    ))
+                }
             };
             let read = (src.read_uri(&uri, &at)?, src.file_of(&uri));
             bytes.insert(i, read);

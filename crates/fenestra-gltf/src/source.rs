@@ -147,6 +147,27 @@ fn check(path: &Path, document: &gltf::Document) -> Result<(), GltfError> {
             }
         }
     }
+    // ... and the gltf crate unwraps a camera's projection of its type.
+    for (c, camera) in root.cameras.iter().enumerate() {
+        use gltf::json::camera::Type;
+        use gltf::json::validation::Checked;
+        let missing = match camera.type_ {
+            Checked::Valid(Type::Perspective) => {
+                camera.perspective.is_none().then_some("perspective")
+            }
+            Checked::Valid(Type::Orthographic) => {
+                camera.orthographic.is_none().then_some("orthographic")
+            }
+            Checked::Invalid => Some("type"),
+        };
+        if let Some(what) = missing {
+            return Err(GltfError::at(
+                path,
+                format!("/cameras/{c}/{what}"),
+                "required value missing",
+            ));
+        }
+    }
     let mut errors = Vec::new();
     root.validate(root, gltf::json::Path::new, &mut |at, error| {
         let at = at().to_string();

@@ -350,6 +350,16 @@ fn bad_files_give_errors_with_file_and_json_path() {
         &["bad.gltf: /meshes/0/primitives/0/attributes/POSITION: accessor 99 out of range (4 accessors)"],
     );
     assert_refused(
+        "image",
+        |j, _| j["images"][0] = json!({"name": "nowhere"}),
+        &["bad.gltf: /images/0: has neither a uri nor a bufferView"],
+    );
+    assert_refused(
+        "camera",
+        |j, _| j["cameras"][0]["type"] = json!("orthographic"),
+        &["bad.gltf: /cameras/0/orthographic: required value missing"],
+    );
+    assert_refused(
         "truncated",
         |_, d| {
             let bin = room_buffer().0;
