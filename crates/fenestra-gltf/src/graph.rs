@@ -1,5 +1,6 @@
-//! The node hierarchy: every node of the scene visited with its world matrix (a node used
-//! twice is placed twice; a cycle is an error, not a hang).
+//! The node hierarchy: every node of the scene visited once with its world matrix. glTF
+//! gives a node one parent at most; a node reached twice (a cycle, a second parent, a root
+//! listed twice) is an error, so that no file can make the walk loop or multiply.
 
 use crate::error::GltfError;
 use crate::source::Source;
@@ -27,50 +28,30 @@ pub fn walk(src: &Source) -> Result<Vec<Placed<'_>>, GltfError> {
             doc.nodes().filter(|n| !is_child[n.index()]).collect()
         }
     };
+    let mut seen = vec![false; doc.nodes().len()];
     let mut out = Vec::new();
-    let mut stack: Vec<usize> = Vec::new();
-    for root in roots {
-        visit(src, root, Mat4::IDENTITY, &mut stack, &mut out)?;
+    // An explicit stack: a hierarchy as deep as the file is long must not overflow ours.
+    let mut todo: Vec<(gltf::Node, Mat4)> = roots
+        .into_iter()
+        .rev()
+        .map(|n| (n, Mat4::IDENTITY))
+        .collect();
+    while let Some((node, parent)) = todo.pop() {
+        let at = format!("/nodes/{}", node.index());
+        if std::mem::replace(&mut seen[node.index()], true) {
+            return Err(GltfError::at(
+                &src.path,
+                at,
+                "reached a second time: the node graph has a cycle, or the node a second parent (glTF allows one)",
+            ));
+        }
+        let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
+        if !world.is_finite() {
+            return Err(GltfError::at(&src.path, at, "its transform is not finite"));
+        }
+        let children: Vec<gltf::Node> = node.children().collect();
+        todo.extend(children.into_iter().rev().map(|c| (c, world)));
+        out.push(Placed { node, world });
     }
     Ok(out)
-}
-
-fn visit<'a>(
-    src: &Source,
-    node: gltf::Node<'a>,
-    parent: Mat4,
-    stack: &mut Vec<usize>,
-    out: &mut Vec<Placed<'a>>,
-) -> Result<(), GltfError> {
-    if stack.contains(&node.index()) {
-        let path: Vec<String> = stack.iter().map(|i| i.to_string()).collect();
-        return Err(GltfError::at(
-            &src.path,
-            format!("/nodes/{}", node.index()),
-            format!(
-                "the node graph has a cycle (nodes {} -> {})",
-                path.join(" -> "),
-                node.index()
-            ),
-        ));
-    }
-    let local = Mat4::from_cols_array_2d(&node.transform().matrix());
-    let world = parent * local;
-    if !world.is_finite() {
-        return Err(GltfError::at(
-            &src.path,
-            format!("/nodes/{}", node.index()),
-            "its transform is not finite",
-        ));
-    }
-    stack.push(node.index());
-    out.push(Placed {
-        node: node.clone(),
-        world,
-    });
-    for child in node.children() {
-        visit(src, child, world, stack, out)?;
-    }
-    stack.pop();
-    Ok(())
 }

@@ -131,8 +131,10 @@ pub fn load(path: &Path, camera: Option<&str>) -> Result<Loaded, GltfError> {
             (camera::framing(&src, &meshes)?, None)
         }
     };
+    // An aspect ratio beyond 10:1 either way is not a picture anyone frames (and would ask
+    // for an image of millions of rows): the default stands in.
     let aspect = aspect
-        .filter(|a| a.is_finite() && *a > 0.0)
+        .filter(|a| (0.1..=10.0).contains(a))
         .unwrap_or(16.0 / 9.0);
     let width = 960u32;
     let desc = SceneDesc {

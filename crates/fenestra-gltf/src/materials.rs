@@ -87,23 +87,18 @@ pub fn build(src: &Source, images: &Images, report: &mut Report) -> Result<Mater
         .push(Material::MetallicRoughness(MetallicRoughness::new()));
     for m in src.document.materials() {
         let at = format!("/materials/{}", m.index().unwrap_or(0));
-        let built = one(src, images, &m, &at, report)?;
-        let index = match transmission(&m, &at, report) {
-            Some(glass) => {
-                let surface = out.materials.len();
-                out.materials.push(Material::MetallicRoughness(built));
-                out.materials.push(glass.0);
-                out.materials.push(Material::Mix(material::Mix {
-                    materials: [surface, surface + 1],
-                    amount: glass.1,
-                }));
-                out.materials.len() - 1
-            }
-            None => {
-                out.materials.push(Material::MetallicRoughness(built));
-                out.materials.len() - 1
-            }
-        };
+        let surface = out.materials.len();
+        out.materials.push(Material::MetallicRoughness(one(
+            src, images, &m, &at, report,
+        )?));
+        if let Some((glass, amount)) = transmission(&m, &at, report) {
+            out.materials.push(glass);
+            out.materials.push(Material::Mix(material::Mix {
+                materials: [surface, surface + 1],
+                amount,
+            }));
+        }
+        let index = out.materials.len() - 1;
         out.of_gltf
             .push((index, emission(src, images, &m, &at, report)?));
     }

@@ -378,6 +378,11 @@ fn bad_files_give_errors_with_file_and_json_path() {
         &["bad.gltf: /images/0: cannot read", "missing.png"],
     );
     assert_refused(
+        "two parents",
+        |j, _| j["nodes"][0]["children"] = json!([3]),
+        &["bad.gltf: /nodes/3: reached a second time", "second parent"],
+    );
+    assert_refused(
         "cycle",
         |j, _| j["nodes"][3]["children"] = json!([1]),
         &["/nodes/1:", "cycle"],
