@@ -34,11 +34,7 @@ pub fn primitive(
         report.say(&at, format!("{:?} primitives are not rendered", p.mode()));
         return Ok(None);
     }
-    let attribute = |semantic: Semantic, name: &str| {
-        p.get(&semantic)
-            .map(|a| (a, format!("{at}/attributes/{name}")))
-    };
-    let Some((positions, _)) = attribute(Semantic::Positions, "POSITION") else {
+    let Some(positions) = p.get(&Semantic::Positions) else {
         return Err(GltfError::at(
             &src.path,
             format!("{at}/attributes"),
@@ -50,41 +46,15 @@ pub fn primitive(
         .map(Vec3::from)
         .collect();
     let n = positions.len();
-    let per_vertex = |what: &str, len: usize| {
-        (len != n).then(|| {
-            GltfError::at(
-                &src.path,
-                format!("{at}/attributes/{what}"),
-                format!("{len} values for {n} vertices"),
-            )
-        })
-    };
-    let normals = match attribute(Semantic::Normals, "NORMAL") {
-        Some((a, _)) => {
-            let v: Vec<Vec3> = accessor::floats::<3>(src, &a)?
-                .into_iter()
-                .map(Vec3::from)
-                .collect();
-            if let Some(e) = per_vertex("NORMAL", v.len()) {
-                return Err(e);
-            }
-            Some(v)
-        }
-        None => None,
-    };
-    let uvs = match attribute(Semantic::TexCoords(0), "TEXCOORD_0") {
-        Some((a, _)) => {
-            let v: Vec<Vec2> = accessor::floats::<2>(src, &a)?
-                .into_iter()
-                .map(|[u, v]| Vec2::new(u, 1.0 - v))
-                .collect();
-            if let Some(e) = per_vertex("TEXCOORD_0", v.len()) {
-                return Err(e);
-            }
-            Some(v)
-        }
-        None => None,
-    };
+    let normals = per_vertex(src, p, (Semantic::Normals, &at, "NORMAL"), n, Vec3::from)?;
+    // fenestra's v runs up the image, glTF's down.
+    let uvs = per_vertex(
+        src,
+        p,
+        (Semantic::TexCoords(0), &at, "TEXCOORD_0"),
+        n,
+        |[u, v]| Vec2::new(u, 1.0 - v),
+    )?;
     if p.get(&Semantic::Colors(0)).is_some() {
         report.say(
             format!("{at}/attributes/COLOR_0"),
@@ -124,6 +94,29 @@ pub fn primitive(
         },
         material: p.material().index(),
     }))
+}
+
+/// Attribute `semantic` of primitive `p` (at JSON path `at`/attributes/`name`), if it has
+/// it: `N` floats per vertex mapped by `f`, one for each of the `n` vertices.
+fn per_vertex<const N: usize, T>(
+    src: &Source,
+    p: &gltf::Primitive,
+    (semantic, at, name): (Semantic, &str, &str),
+    n: usize,
+    f: impl Fn([f32; N]) -> T,
+) -> Result<Option<Vec<T>>, GltfError> {
+    let Some(a) = p.get(&semantic) else {
+        return Ok(None);
+    };
+    let values: Vec<T> = accessor::floats::<N>(src, &a)?.into_iter().map(f).collect();
+    if values.len() != n {
+        return Err(GltfError::at(
+            &src.path,
+            format!("{at}/attributes/{name}"),
+            format!("{} values for {n} vertices", values.len()),
+        ));
+    }
+    Ok(Some(values))
 }
 
 /// Triangles of a list, strip or fan of vertex indices (degenerate ones dropped).

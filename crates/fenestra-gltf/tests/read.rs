@@ -378,6 +378,11 @@ fn bad_files_give_errors_with_file_and_json_path() {
         &["bad.gltf: /images/0: cannot read", "missing.png"],
     );
     assert_refused(
+        "uv count",
+        |j, _| j["accessors"][1]["count"] = json!(3),
+        &["bad.gltf: /meshes/0/primitives/0/attributes/TEXCOORD_0: 3 values for 4 vertices"],
+    );
+    assert_refused(
         "two parents",
         |j, _| j["nodes"][0]["children"] = json!([3]),
         &["bad.gltf: /nodes/3: reached a second time", "second parent"],
