@@ -70,21 +70,37 @@ impl Images {
             let read = (src.read_uri(&uri, &at)?, src.file_of(&uri));
             bytes.insert(i, read);
         }
+        // Each image decoded once, then converted to every encoding asked of it (a MASK
+        // material's base colour is read as colour and as alpha).
         let path = src.path.clone();
-        let decoded = wanted
+        let mut images: Vec<(usize, Vec<Encoding>)> = Vec::new();
+        for &(i, encoding) in wanted {
+            match images.iter_mut().find(|(j, _)| *j == i) {
+                Some((_, encodings)) => encodings.push(encoding),
+                None => images.push((i, vec![encoding])),
+            }
+        }
+        let decoded = images
             .par_iter()
-            .map(|&(i, encoding)| {
-                let (data, file) = &bytes[&i];
-                let image = decode(data, encoding).map_err(|e| {
+            .map(|(i, encodings)| {
+                let (data, file) = &bytes[i];
+                let err = |e: String| {
                     GltfError::at(
                         &path,
                         format!("/images/{i}"),
                         format!("{}: {e}", file.display()),
                     )
-                })?;
-                Ok(((i, encoding), (Arc::new(image), file.clone())))
+                };
+                let image = image::load_from_memory(data).map_err(|e| err(e.to_string()))?;
+                Ok(encodings
+                    .iter()
+                    .map(|&e| ((*i, e), (Arc::new(convert(&image, e)), file.clone())))
+                    .collect::<Vec<_>>())
             })
-            .collect::<Result<HashMap<_, _>, GltfError>>()?;
+            .collect::<Result<Vec<_>, GltfError>>()?
+            .into_iter()
+            .flatten()
+            .collect();
         Ok(Images { decoded })
     }
 
@@ -94,10 +110,9 @@ impl Images {
     }
 }
 
-/// Decodes a PNG or JPEG (or any format the `image` crate knows) into linear RGB; 8-bit
+/// A decoded PNG or JPEG (or any format the `image` crate knows) as linear RGB; 8-bit
 /// images through a table (sRGB decoding per texel is most of a large scene's load time).
-fn decode(data: &[u8], encoding: Encoding) -> Result<Image, String> {
-    let decoded = image::load_from_memory(data).map_err(|e| e.to_string())?;
+fn convert(decoded: &image::DynamicImage, encoding: Encoding) -> Image {
     let (w, h) = (decoded.width() as usize, decoded.height() as usize);
     let pixels = if encoding == Encoding::Alpha {
         decoded
@@ -129,9 +144,9 @@ fn decode(data: &[u8], encoding: Encoding) -> Result<Image, String> {
             .map(|p| Rgb::new(f(p[0]), f(p[1]), f(p[2])))
             .collect()
     };
-    Ok(Image {
+    Image {
         width: w,
         height: h,
         pixels,
-    })
+    }
 }

@@ -461,3 +461,33 @@ fn corrupted_files_never_panic() {
         std::fs::write(file, bytes).expect("restore");
     }
 }
+
+/// A MASK material reads its cut-out from the base colour texture's alpha channel (as
+/// stored, not sRGB-decoded), and its colour from the same image's RGB.
+#[test]
+fn a_masked_material_reads_its_alpha_channel() {
+    let d = dir("mask");
+    write_room(&d);
+    let mut img = image::RgbaImage::new(2, 1);
+    img.put_pixel(0, 0, image::Rgba([200, 100, 50, 255]));
+    img.put_pixel(1, 0, image::Rgba([200, 100, 50, 64]));
+    img.save(d.join("leaf.png")).expect("png");
+    let mut json = room_json("room.bin", "leaf.png");
+    json["materials"][0]["alphaMode"] = json!("MASK");
+    json["materials"][0]["alphaCutoff"] = json!(0.3);
+    std::fs::write(d.join("leaf.gltf"), json.to_string()).expect("gltf");
+    let loaded = load(&d.join("leaf.gltf"), None).expect("glTF");
+    let fenestra_scene::Material::MetallicRoughness(m) = &loaded.desc.materials[1] else {
+        panic!("{:?}", loaded.desc.materials[1]);
+    };
+    let alpha = m.alpha.as_ref().expect("a cut-out");
+    assert_eq!(
+        alpha.mode,
+        fenestra_scene::material::AlphaMode::Mask { cutoff: 0.3 }
+    );
+    let a = &alpha.texture.as_ref().expect("alpha texture").image;
+    assert_eq!((a.get(0, 0).r, a.get(1, 0).r), (1.0, 64.0 / 255.0));
+    let c = &m.base_color_texture.as_ref().expect("colour").image;
+    let srgb = fenestra_core::image::srgb_to_linear(200.0 / 255.0);
+    assert!((c.get(1, 0).r - srgb).abs() < 1e-6);
+}
