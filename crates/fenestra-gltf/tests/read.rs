@@ -491,3 +491,104 @@ fn a_masked_material_reads_its_alpha_channel() {
     let srgb = fenestra_core::image::srgb_to_linear(200.0 / 255.0);
     assert!((c.get(1, 0).r - srgb).abs() < 1e-6);
 }
+
+/// KHR_mesh_quantization's integer attributes (plain shorts for positions, with a padded
+/// stride; normalised bytes for uvs) and a sparse accessor (zeros without a buffer view, two
+/// vertices substituted) read as the floats they stand for.
+#[test]
+fn quantized_and_sparse_accessors_read_as_their_floats() {
+    let d = dir("quantized");
+    let mut buf = Vec::new();
+    for p in [[-2i16, 0, 3], [5, 0, 3], [5, 0, -7]] {
+        buf.extend(p.iter().flat_map(|v| v.to_le_bytes()));
+        buf.extend([0u8, 0]); // stride 8
+    }
+    let uv_at = buf.len();
+    buf.extend([0u8, 255, 0, 0, 255, 0, 0, 0, 255, 255, 0, 0]); // (0,1) (1,0) (1,1), stride 4
+    let idx_at = buf.len();
+    buf.extend([1u8, 2, 0, 0]);
+    let val_at = buf.len();
+    buf.extend(f32s(&[1.0, 0.0, 0.0, 0.0, 0.0, 1.0]));
+    std::fs::write(d.join("q.bin"), &buf).expect("bin");
+    let json = json!({
+        "asset": {"version": "2.0"},
+        "extensionsUsed": ["KHR_mesh_quantization"],
+        "extensionsRequired": ["KHR_mesh_quantization"],
+        "buffers": [{"uri": "q.bin", "byteLength": buf.len()}],
+        "bufferViews": [
+            {"buffer": 0, "byteOffset": 0, "byteLength": uv_at, "byteStride": 8},
+            {"buffer": 0, "byteOffset": uv_at, "byteLength": 12, "byteStride": 4},
+            {"buffer": 0, "byteOffset": idx_at, "byteLength": 2},
+            {"buffer": 0, "byteOffset": val_at, "byteLength": 24}
+        ],
+        "accessors": [
+            {"bufferView": 0, "componentType": 5122, "count": 3, "type": "VEC3", "min": [-2, 0, -7], "max": [5, 0, 3]},
+            {"bufferView": 1, "componentType": 5121, "normalized": true, "count": 3, "type": "VEC2"},
+            {"componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 0, 1],
+             "sparse": {"count": 2, "indices": {"bufferView": 2, "componentType": 5121},
+                        "values": {"bufferView": 3}}}
+        ],
+        "meshes": [
+            {"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1}}]},
+            {"primitives": [{"attributes": {"POSITION": 2}}]}
+        ],
+        "scenes": [{"nodes": [0, 1]}],
+        "nodes": [{"mesh": 0}, {"mesh": 1, "translation": [0, 1, 0]}]
+    });
+    std::fs::write(d.join("q.gltf"), json.to_string()).expect("gltf");
+    let loaded = load(&d.join("q.gltf"), None).expect("glTF");
+    assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
+    let mesh = |i: usize| match &loaded.desc.shapes[i].kind {
+        fenestra_scene::ShapeKind::Mesh(m) => m.clone(),
+        other => panic!("{other:?}"),
+    };
+    let (a, b) = (mesh(0), mesh(1));
+    let v = |x: f32, y: f32, z: f32| fenestra_core::Vec3::new(x, y, z);
+    assert_eq!(
+        a.positions,
+        vec![v(-2.0, 0.0, 3.0), v(5.0, 0.0, 3.0), v(5.0, 0.0, -7.0)]
+    );
+    // glTF's v flipped: (0, 1) -> (0, 0) and so on.
+    let uv = |x: f32, y: f32| fenestra_core::Vec2::new(x, y);
+    assert_eq!(a.uvs, Some(vec![uv(0.0, 0.0), uv(1.0, 1.0), uv(1.0, 0.0)]));
+    assert_eq!(
+        b.positions,
+        vec![v(0.0, 1.0, 0.0), v(1.0, 1.0, 0.0), v(0.0, 1.0, 1.0)]
+    );
+}
+
+/// KHR_texture_transform: a texture offset by (0.25, 0.5) and scaled by (0.5, 0.5) in glTF's
+/// uv space (v down the image) looks up, at any point, the texel the untransformed texture
+/// has at the transformed coordinates.
+#[test]
+fn texture_transforms_map_gltf_coordinates() {
+    let d = dir("transform");
+    write_room(&d);
+    let mut json = room_json("room.bin", "plaster.png");
+    json["extensionsUsed"]
+        .as_array_mut()
+        .expect("used")
+        .push(json!("KHR_texture_transform"));
+    json["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"] =
+        json!({"KHR_texture_transform": {"offset": [0.25, 0.5], "scale": [0.5, 0.5]}});
+    std::fs::write(d.join("t.gltf"), json.to_string()).expect("gltf");
+    let loaded = load(&d.join("t.gltf"), None).expect("glTF");
+    assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
+    let fenestra_scene::Material::MetallicRoughness(m) = &loaded.desc.materials[1] else {
+        panic!("{:?}", loaded.desc.materials[1]);
+    };
+    let t = m.base_color_texture.as_ref().expect("texture");
+    let plain = fenestra_scene::ImageTexture::new(t.image.clone(), t.path.clone());
+    for (ug, vg) in [(0.1f32, 0.2f32), (0.7, 0.9), (0.45, 0.05)] {
+        // The mesh holds (u, 1 - v); the transform acts on glTF's (u, v).
+        let at = fenestra_core::Vec2::new(ug, 1.0 - vg);
+        let (su, sv) = (0.5 * ug + 0.25, 0.5 * vg + 0.5);
+        let expect = plain.lookup(fenestra_core::Vec2::new(su, 1.0 - sv));
+        let got = t.lookup(at);
+        assert!(
+            (got - expect).max_component().abs() < 1e-5
+                && (expect - got).max_component().abs() < 1e-5,
+            "({ug}, {vg}): {got:?} vs {expect:?}"
+        );
+    }
+}
