@@ -86,7 +86,7 @@ impl MetallicRoughness {
         let tint =
             schlick(self.f0, self.f90, cos) * (1.0 - m) + schlick(self.base_color, 1.0, cos) * m;
         let s = self.ggx.d(h) * self.ggx.g(wo, wi) / (4.0 * wo.z * wi.z);
-        let diffuse = self.diffuse_albedo(self.specular_albedos(wo).0);
+        let diffuse = self.diffuse_albedo(albedo(self.f0, self.f90, wo.z, self.roughness));
         diffuse * INV_PI + tint * s
     }
 
