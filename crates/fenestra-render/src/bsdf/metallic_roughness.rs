@@ -9,8 +9,8 @@
 //!
 //! where schlick(f0, f90)(c) = f0 + (f90 - f0) (1 - c)^5. One departure: Appendix B weighs
 //! the base by 1 - max3 F_d(v.h), which gains energy (a white dielectric of roughness 0.1
-//! reflects 1.48 of the light arriving at cos 0.1, 1.025 at cos 0.5); here the base gets what
-//! the specular layer leaves, 1 - its directional albedo E_d at n.v (as Cycles' Principled BSDF
+//! reflects 1.48-1.54 of the light arriving at cos 0.1, docs/scenes.md); here the base gets
+//! what the specular layer leaves, 1 - its directional albedo E_d at n.v (as Cycles' Principled BSDF
 //! scales its albedo), so a white dielectric reflects exactly all the light at every angle.
 //! Directions are sampled from the visible normals of D or the cosine, chosen by each lobe's
 //! albedo at `wo`.
