@@ -191,6 +191,59 @@ fn bad_input_gets_a_clear_error() {
         ],
         "invalid value 'bdpt' for '--integrator <integrator>'",
     );
+    for (args, error) in [
+        (
+            &["--sky", "--sun", "95,0"][..],
+            "--sky: the sun's elevation must lie in [0, 90] degrees",
+        ),
+        (
+            &["--sky", "--sun", "high"][..],
+            "--sun: expected ELEVATION,AZIMUTH in degrees",
+        ),
+        (
+            &["--sky", "--sky-turbidity", "12"][..],
+            "--sky: turbidity must lie in [1, 10]",
+        ),
+        (
+            &[
+                "--sky",
+                "--sun-time",
+                "2026-06-21T15:00",
+                "--location",
+                "48.85,2.35",
+            ][..],
+            "--sun-time: expected a date and time with its UTC offset",
+        ),
+        (
+            &[
+                "--sky",
+                "--sun-time",
+                "2026-06-21T23:00+02:00",
+                "--location",
+                "48.85,2.35",
+            ][..],
+            "the sun is 8.1 degrees below the horizon",
+        ),
+        (
+            &[
+                "--sky",
+                "--sun-time",
+                "2026-06-21T15:00Z",
+                "--location",
+                "91,0",
+            ][..],
+            "--location: expected LATITUDE,LONGITUDE",
+        ),
+        (
+            &["--environment-rotation", "30"][..],
+            "place --environment or --sky; neither is given",
+        ),
+    ] {
+        let mut all = vec!["render", "builtin:box-hole"];
+        all.extend(args);
+        all.extend(["-o", o]);
+        assert_clear_error(&all, error);
+    }
     assert_clear_error(
         &[
             "render",

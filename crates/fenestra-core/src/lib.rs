@@ -14,6 +14,7 @@ pub mod ray;
 pub mod rgb;
 pub mod rng;
 pub mod sampler;
+pub mod spectrum;
 pub mod stats;
 pub mod trig;
 pub mod warp;

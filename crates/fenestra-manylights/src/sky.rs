@@ -98,7 +98,12 @@ pub fn polar(d: Vec3) -> [f32; 2] {
 /// The regions of every environment light of `lights`, `count` for each.
 pub fn regions(lights: &Lights, count: usize) -> Vec<SkyRegion> {
     let mut out = Vec::new();
-    for &e in &lights.environments {
+    // The sun's disk, narrower than a grid cell, is sampled whole (as a distant light is).
+    for &e in lights
+        .environments
+        .iter()
+        .filter(|&&e| !lights.lights[e].is_compact())
+    {
         let light = &lights.lights[e];
         // Luminance x solid angle of each grid cell.
         let (rows, cols) = (GRID, 2 * GRID);

@@ -229,6 +229,22 @@ impl Export<'_> {
                         rgb(*irradiance)
                     );
                 }
+                LightDesc::Environment(EnvironmentDesc::Sun {
+                    direction,
+                    radiance,
+                    half_angle,
+                }) => {
+                    let cap = 1.0 - half_angle.cos();
+                    let _ = writeln!(self.s,
+                        "LightSource \"distant\" \"point3 from\" [ 0 0 0 ] \"point3 to\" [ {} ] \"rgb L\" [ {} ]  # the sun",
+                        v3(-*direction),
+                        rgb(*radiance * (2.0 * std::f32::consts::PI * cap))
+                    );
+                    self.approximations.push(format!(
+                        "light {i}: the sun's disk ({:.3} degrees across) as a distant light of its irradiance (pbrt-v4 has no disk at infinity: sharp shadows, no sun in mirrors)",
+                        2.0 * half_angle.to_degrees()
+                    ));
+                }
                 LightDesc::Environment(env) => {
                     let portal = if portals_written {
                         String::new()
@@ -277,6 +293,7 @@ impl Export<'_> {
                             );
                             let _ = writeln!(self.s, "AttributeEnd");
                         }
+                        EnvironmentDesc::Sun { .. } => unreachable!("written above"),
                     }
                 }
             }

@@ -1,7 +1,8 @@
 //! pbrt-v4 spectra turned into fenestra's linear sRGB: sampled spectra and blackbodies through
-//! the CIE 1931 observer (the analytic multi-lobe fit of Wyman, Sloan and Shirley 2013, JCGT
-//! 2(2)), and the named spectra pbrt-v4 ships, as RGB values.
+//! the CIE 1931 observer (`fenestra_core::spectrum`), and the named spectra pbrt-v4 ships, as
+//! RGB values.
 
+use fenestra_core::spectrum::spectrum_to_linear_srgb;
 use fenestra_core::Rgb;
 
 /// A spectrum-valued parameter as written.
@@ -15,46 +16,11 @@ pub enum SpectrumParam {
     Named(String),
 }
 
-fn lobe(l: f64, mu: f64, s1: f64, s2: f64) -> f64 {
-    let s = if l < mu { s1 } else { s2 };
-    (-0.5 * ((l - mu) / s).powi(2)).exp()
-}
-
-/// CIE 1931 2-degree colour matching functions at wavelength `l` (nm), Wyman et al. 2013.
-fn cie_xyz(l: f64) -> [f64; 3] {
-    [
-        1.056 * lobe(l, 599.8, 37.9, 31.0) + 0.362 * lobe(l, 442.0, 16.0, 26.7)
-            - 0.065 * lobe(l, 501.1, 20.4, 26.2),
-        0.821 * lobe(l, 568.8, 46.9, 40.5) + 0.286 * lobe(l, 530.9, 16.3, 31.1),
-        1.217 * lobe(l, 437.0, 11.8, 36.0) + 0.681 * lobe(l, 459.0, 26.0, 13.8),
-    ]
-}
-
-fn xyz_to_linear_srgb([x, y, z]: [f64; 3]) -> [f64; 3] {
-    [
-        3.2406 * x - 1.5372 * y - 0.4986 * z,
-        -0.9689 * x + 1.8758 * y + 0.0415 * z,
-        0.0557 * x - 0.2040 * y + 1.0570 * z,
-    ]
-}
-
 /// RGB of a spectrum given as a function of wavelength, scaled per channel so that the
 /// constant spectrum 1 maps to white (1, 1, 1).
 fn spectrum_to_rgb(s: impl Fn(f64) -> f64) -> Rgb {
-    let integrate = |s: &dyn Fn(f64) -> f64| {
-        let mut acc = [0.0; 3];
-        for i in 0..=470 {
-            let l = 360.0 + i as f64;
-            let c = cie_xyz(l);
-            let v = s(l);
-            for k in 0..3 {
-                acc[k] += c[k] * v;
-            }
-        }
-        xyz_to_linear_srgb(acc)
-    };
-    let white = integrate(&|_| 1.0);
-    let c = integrate(&s);
+    let white = spectrum_to_linear_srgb(|_| 1.0);
+    let c = spectrum_to_linear_srgb(s);
     Rgb::new(
         (c[0] / white[0]) as f32,
         (c[1] / white[1]) as f32,

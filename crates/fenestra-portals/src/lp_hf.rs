@@ -1,8 +1,9 @@
 //! `lp_hf` (seed 000 ch. 4): next-event estimation through light portals. A portal is picked
 //! and a direction through it sampled (eq. 4.1, or by solid angle); the ray finds whatever
 //! lies beyond (an emitter, or the environment for sky-lit interiors, which the seed does not
-//! treat) and is combined with BSDF sampling by MIS. Dirac lights, which no ray finds, keep
-//! their own light sampling; optionally a share of the samples comes from light sampling
+//! treat) and is combined with BSDF sampling by MIS. Compact lights keep their own light
+//! sampling: Dirac lights, which no ray finds, and the sun, which a portal's directions meet
+//! too rarely to carry; optionally a share of the samples comes from light sampling
 //! (a one-sample mixture, as Cycles mixes its portals with environment sampling).
 //!
 //! The portals come from the scene, a portals.json file, or an estimate made while the
@@ -166,11 +167,13 @@ impl PortalNextEvent {
         // ray would have it), so the mixture density counts that light's density alone.
         let (wi, sampled, portal_pdf) = if by_light {
             let (index, _) = self.lights.sampler().sample(&s.light_context(), u_pick)?;
-            match scene.lights.lights[index].sample_li(&scene.scene, si.p, u) {
-                // Dirac lights have their own estimator.
-                Some(ls) if !ls.delta => (ls.wi, Some(index), None),
-                _ => return None,
+            let light = &scene.lights.lights[index];
+            // Compact lights have their own estimator.
+            if light.is_compact() {
+                return None;
             }
+            let ls = light.sample_li(&scene.scene, si.p, u)?;
+            (ls.wi, Some(index), None)
         } else {
             let ps = self.portals.sample(&v.weights, u_pick, u)?;
             (ps.wi, None, Some(ps.pdf))
@@ -318,7 +321,7 @@ impl NextEvent for PortalNextEvent {
         if let Some(probe) = self.sample_portal(scene, s, v, mis, sample.sampler, sample.rays) {
             out.probes.push(probe);
         }
-        if scene.lights.has_delta {
+        if scene.lights.has_compact {
             let shadows = &mut out.shadows;
             self.lights
                 .sample_light(scene, s, true, mis, sample, shadows);
@@ -365,17 +368,17 @@ impl NextEvent for PortalNextEvent {
                 }
                 _ => (Rgb::ZERO, 0.0),
             },
-            None => scene.lights.environments.iter().filter(|&&e| seen(e)).fold(
-                (Rgb::ZERO, 0.0),
-                |(l, pdf), &e| {
+            // The sun is its own estimator's: portals leave it.
+            None => (scene.lights.environments.iter())
+                .filter(|&&e| seen(e) && !scene.lights.lights[e].is_compact())
+                .fold((Rgb::ZERO, 0.0), |(l, pdf), &e| {
                     let light = &scene.lights.lights[e];
                     (
                         l + tr * light.le(LightHit::Escaped, wi),
                         pdf + light_sampler.pmf(&ctx, e)
                             * light.pdf_li(&scene.scene, probe.p, wi, LightHit::Escaped),
                     )
-                },
-            ),
+                }),
         };
         if li.is_black() {
             return Rgb::ZERO;
@@ -398,14 +401,17 @@ impl NextEvent for PortalNextEvent {
         found: Found,
         sample: &SampleContext,
     ) -> f32 {
+        let ctx = from.light_context(sample);
+        // A compact light (the sun) found by the BSDF's ray competes with its own light
+        // sampling alone.
+        if scene.lights.lights[found.light].is_compact() {
+            return self.lights.light_pdf(scene, &ctx, wi, found);
+        }
         let v = &from.vertex;
         let light_mix = self.options.light_mix;
         let mut p = (1.0 - light_mix) * self.portals.pdf(&v.weights, wi);
         if light_mix > 0.0 {
-            p += light_mix
-                * self
-                    .lights
-                    .light_pdf(scene, &from.light_context(sample), wi, found);
+            p += light_mix * self.lights.light_pdf(scene, &ctx, wi, found);
         }
         p
     }

@@ -16,6 +16,7 @@ pub mod material;
 pub mod mesh;
 pub mod scene;
 pub mod shape;
+pub mod sky;
 pub mod texture;
 pub mod transform;
 

@@ -48,6 +48,15 @@ pub enum EnvironmentDesc {
         /// The map's frame in the world.
         to_world: glam::Mat3,
     },
+    /// The sun: a disk of uniform radiance seen from everywhere in the same direction.
+    Sun {
+        /// Unit vector towards the sun's centre.
+        direction: Vec3,
+        /// Radiance over the disk (W/(m^2 sr)).
+        radiance: Rgb,
+        /// Angular radius of the disk (radians, in (0, pi/2)).
+        half_angle: f32,
+    },
 }
 
 impl LightDesc {
@@ -92,6 +101,17 @@ impl LightDesc {
                 if !finite_rgb(scale) || image.pixels.iter().any(|p| !finite_rgb(p)) =>
             {
                 "environment image or scale is not finite or negative"
+            }
+            LightDesc::Environment(EnvironmentDesc::Sun {
+                direction,
+                radiance,
+                half_angle,
+            }) if !((direction.length() - 1.0).abs() < 1e-4
+                && finite_rgb(radiance)
+                && *half_angle > 0.0
+                && *half_angle < 0.5 * fenestra_core::PI) =>
+            {
+                "the sun needs a unit direction, a finite radiance and an angular radius in (0, 90) degrees"
             }
             _ => return None,
         };

@@ -7,6 +7,8 @@ use fenestra_core::image::Image;
 use fenestra_core::Vec3;
 use fenestra_pbrt as pbrt;
 use fenestra_scene::environment::EnvironmentMap;
+use fenestra_scene::sky::solar_position::{sun_position, Moment};
+use fenestra_scene::sky::Sky;
 use fenestra_scene::{mesh, SceneDesc};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -23,27 +25,56 @@ pub struct SceneOptions {
     /// importance-sampled like any environment.
     #[arg(long, value_name = "FILE")]
     pub environment: Option<PathBuf>,
-    /// Turn --environment about the up axis by this many degrees (counter-clockwise seen from
-    /// above).
+    /// Light the scene by a physical clear sky and its sun (Hosek-Wilkie 2012 sky, SPECTRL2
+    /// sun disk of 0.53 degrees) instead of its own environment (its other lights stay).
+    #[arg(long, conflicts_with = "environment")]
+    pub sky: bool,
+    /// --sky's atmospheric turbidity: 1 (arctic clear) to 10 (hazy); 3 is a clear temperate
+    /// day.
+    #[arg(long, value_name = "T", default_value_t = 3.0, requires = "sky")]
+    pub sky_turbidity: f32,
+    /// --sky's ground albedo (in the sky model, and the ground below the horizon).
+    #[arg(long, value_name = "ALBEDO", default_value_t = 0.3, requires = "sky")]
+    pub sky_albedo: f32,
+    /// --sky's sun: elevation above the horizon and azimuth clockwise from north, in degrees
+    /// (north is the environment's phi = 0 direction, turned by --environment-rotation)
+    /// [default: 45,180].
+    #[arg(
+        long,
+        value_name = "ELEVATION,AZIMUTH",
+        requires = "sky",
+        conflicts_with = "sun_time",
+        allow_hyphen_values = true
+    )]
+    pub sun: Option<String>,
+    /// --sky's sun where it stands at this moment (RFC 3339 with its UTC offset, e.g.
+    /// 2026-06-21T15:30+02:00) seen from --location.
+    #[arg(long, value_name = "DATETIME", requires_all = ["sky", "location"])]
+    pub sun_time: Option<String>,
+    /// Where --sun-time's sun is seen from: latitude (north positive) and longitude (east
+    /// positive), in degrees.
+    #[arg(
+        long,
+        value_name = "LATITUDE,LONGITUDE",
+        requires = "sun_time",
+        allow_hyphen_values = true
+    )]
+    pub location: Option<String>,
+    /// Turn --environment or --sky about the up axis by this many degrees
+    /// (counter-clockwise seen from above).
     #[arg(
         long,
         value_name = "DEGREES",
         default_value_t = 0.0,
-        allow_negative_numbers = true,
-        requires = "environment"
+        allow_negative_numbers = true
     )]
     pub environment_rotation: f32,
-    /// Multiply --environment's radiance by this.
-    #[arg(long, default_value_t = 1.0, requires = "environment")]
+    /// Multiply --environment's or --sky's radiance (and the sun's) by this.
+    #[arg(long, default_value_t = 1.0)]
     pub environment_strength: f32,
-    /// The scene's up axis for --environment: x, y, z, -x, -y or -z [default: the axis
-    /// nearest the camera's up].
-    #[arg(
-        long,
-        value_name = "AXIS",
-        allow_hyphen_values = true,
-        requires = "environment"
-    )]
+    /// The scene's up axis for --environment or --sky: x, y, z, -x, -y or -z [default: the
+    /// axis nearest the camera's up].
+    #[arg(long, value_name = "AXIS", allow_hyphen_values = true)]
     pub environment_up: Option<String>,
     /// A glTF scene's camera, by name or index (`fenestra scene info` lists them) [default:
     /// its first camera; a camera framing the scene in a file without one].
@@ -130,11 +161,19 @@ pub fn load_quietly(arg: &str, opts: &SceneOptions) -> Result<LoadedScene> {
             ),
         }
     };
+    let placed = opts.environment.is_some() || opts.sky;
+    let moved = opts.environment_rotation != 0.0
+        || opts.environment_strength != 1.0
+        || opts.environment_up.is_some();
+    if moved && !placed {
+        bail!("--environment-rotation, --environment-strength and --environment-up place --environment or --sky; neither is given");
+    }
     let (desc, files) = match &opts.environment {
         Some(path) => (
             with_environment(desc, path, opts)?,
             [files, vec![path.clone()]].concat(),
         ),
+        None if opts.sky => (with_sky(desc, opts)?, files),
         None => (desc, files),
     };
     let mut warnings = warnings;
@@ -156,16 +195,10 @@ pub fn load_quietly(arg: &str, opts: &SceneOptions) -> Result<LoadedScene> {
 
 /// `desc` lit by the environment map at `path` as `opts` place it.
 fn with_environment(desc: SceneDesc, path: &Path, opts: &SceneOptions) -> Result<SceneDesc> {
-    let up = match opts.environment_up.as_deref() {
-        None => desc.camera_up_axis(),
-        Some(axis) => axis_of(axis).ok_or_else(|| {
-            anyhow::anyhow!("--environment-up: expected x, y, z, -x, -y or -z, got \"{axis}\"")
-        })?,
-    };
     let image = Image::read(path).with_context(|| format!("--environment {}", path.display()))?;
     let map = EnvironmentMap {
         image: Arc::new(image),
-        up,
+        up: up_axis(&desc, opts)?,
         rotation_deg: opts.environment_rotation,
         strength: opts.environment_strength,
     };
@@ -173,6 +206,70 @@ fn with_environment(desc: SceneDesc, path: &Path, opts: &SceneOptions) -> Result
         bail!("--environment {}: {problem}", path.display());
     }
     Ok(desc.with_environment(&map))
+}
+
+/// `desc` lit by the clear sky and sun `opts` describe.
+fn with_sky(desc: SceneDesc, opts: &SceneOptions) -> Result<SceneDesc> {
+    let (elevation_deg, azimuth_deg) = match (&opts.sun, &opts.sun_time, &opts.location) {
+        (Some(sun), ..) => pair(sun).ok_or_else(|| {
+            anyhow::anyhow!(
+                "--sun: expected ELEVATION,AZIMUTH in degrees (e.g. 30,200), got \"{sun}\""
+            )
+        })?,
+        (None, Some(time), Some(location)) => {
+            let moment = Moment::parse(time).map_err(|e| anyhow::anyhow!("--sun-time: {e}"))?;
+            let (lat, lon) = pair(location)
+                .filter(|(lat, lon)| lat.abs() <= 90.0 && lon.abs() <= 180.0)
+                .ok_or_else(|| {
+                    anyhow::anyhow!("--location: expected LATITUDE,LONGITUDE in degrees (latitude -90..90, longitude -180..180), got \"{location}\"")
+                })?;
+            let (el, az) = sun_position(&moment, lat as f64, lon as f64);
+            if el < 0.0 {
+                bail!("--sun-time {time} at {location}: the sun is {:.1} degrees below the horizon (the sky model covers a sun above it)", -el);
+            }
+            (el as f32, az as f32)
+        }
+        _ => (45.0, 180.0),
+    };
+    let sky = Sky {
+        turbidity: opts.sky_turbidity,
+        albedo: opts.sky_albedo,
+        elevation_deg,
+        azimuth_deg,
+    };
+    if let Some(problem) = sky.validate() {
+        bail!("--sky: {problem}");
+    }
+    if !(opts.environment_strength.is_finite() && opts.environment_strength > 0.0) {
+        bail!(
+            "--environment-strength must be positive, got {}",
+            opts.environment_strength
+        );
+    }
+    let up = up_axis(&desc, opts)?;
+    Ok(desc.with_sky(
+        &sky,
+        up,
+        opts.environment_rotation,
+        opts.environment_strength,
+    ))
+}
+
+/// Two comma-separated numbers.
+fn pair(text: &str) -> Option<(f32, f32)> {
+    let (a, b) = text.split_once(',')?;
+    let (a, b) = (a.trim().parse::<f32>().ok()?, b.trim().parse::<f32>().ok()?);
+    (a.is_finite() && b.is_finite()).then_some((a, b))
+}
+
+/// The up axis `opts` give for `desc`'s environment.
+fn up_axis(desc: &SceneDesc, opts: &SceneOptions) -> Result<Vec3> {
+    match opts.environment_up.as_deref() {
+        None => Ok(desc.camera_up_axis()),
+        Some(axis) => axis_of(axis).ok_or_else(|| {
+            anyhow::anyhow!("--environment-up: expected x, y, z, -x, -y or -z, got \"{axis}\"")
+        }),
+    }
 }
 
 /// A world axis by name (x, -y, ...).

@@ -176,7 +176,10 @@ impl Integrator for Ias {
         self.far = match self.options.pdf {
             Pdf::Adaptive if self.options.sky_regions > 0 => {
                 let others = forest.infinite.iter().copied();
-                let others = others.filter(|l| !lights.environments.contains(l));
+                // The sun stays whole: a region would spread its samples over its cell.
+                let others = others.filter(|&l| {
+                    !lights.environments.contains(&l) || lights.lights[l].is_compact()
+                });
                 sky::regions(lights, self.options.sky_regions)
                     .into_iter()
                     .map(Far::Region)

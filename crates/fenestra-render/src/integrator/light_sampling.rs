@@ -106,14 +106,15 @@ impl LightNextEvent {
     /// BSDF: its shadow rays (one per light picked) go to `shadows`, each with its record if
     /// the sample's records keep this sample's.
     /// Other strategies call it for their share of light sampling.
-    /// With `delta_only`, only Dirac lights contribute (strategies that reach the other
-    /// lights by other means use it for point, spot and distant lights); the light pick
-    /// probability still divides, so the estimate of the Dirac lights' share stays unbiased.
+    /// With `compact_only`, only compact lights contribute ([`crate::light::Light::is_compact`]: Dirac
+    /// lights and the sun; strategies that reach the other lights by other means use it for
+    /// those); the light pick probability still divides, so the estimate of the compact
+    /// lights' share stays unbiased.
     pub fn sample_light(
         &self,
         scene: &RenderScene,
         s: &Shading,
-        delta_only: bool,
+        compact_only: bool,
         mis: MisHeuristic,
         sample: &mut PathSample,
         shadows: &mut Vec<ShadowRay>,
@@ -127,9 +128,14 @@ impl LightNextEvent {
         self.sampler
             .sample_all(&s.light_context(), u_pick, &mut picks);
         for &(index, pick) in picks.as_slice() {
-            if let Some(shadow) =
-                self.light_sample(scene, s, (index, pick, u), delta_only, mis, sample.records)
-            {
+            if let Some(shadow) = self.light_sample(
+                scene,
+                s,
+                (index, pick, u),
+                compact_only,
+                mis,
+                sample.records,
+            ) {
                 sample.rays.shadow += 1;
                 shadows.push(shadow);
             }
@@ -144,14 +150,15 @@ impl LightNextEvent {
         scene: &RenderScene,
         s: &Shading,
         (index, pick, u): (usize, f32, Vec2),
-        delta_only: bool,
+        compact_only: bool,
         mis: MisHeuristic,
         records: &LightRecords,
     ) -> Option<ShadowRay> {
-        let ls = scene.lights.lights[index].sample_li(&scene.scene, s.si.p, u)?;
-        if delta_only && !ls.delta {
+        let light = &scene.lights.lights[index];
+        if compact_only && !light.is_compact() {
             return None;
         }
+        let ls = light.sample_li(&scene.scene, s.si.p, u)?;
         let (wi_local, f) = s.bsdf_toward(ls.wi)?;
         let origin = s.si.spawn(ls.wi);
         let tmax = ls

@@ -156,6 +156,17 @@ impl Light {
         }
     }
 
+    /// Whether a strategy that does not aim at this light (BSDF or portal sampling) finds it
+    /// never or too rarely to carry it: Dirac lights and the sun, which keep their own light
+    /// sampling where portals or guiding take the rest.
+    pub fn is_compact(&self) -> bool {
+        match self {
+            Light::Point(_) | Light::Spot(_) | Light::Distant(_) => true,
+            Light::Area(_) => false,
+            Light::Environment(e) => e.is_compact(),
+        }
+    }
+
     /// Total emitted power (luminance of watts), for power-proportional light selection.
     pub fn power(&self, scene: &Scene) -> f32 {
         match self {
@@ -178,8 +189,8 @@ pub struct Lights {
     pub first_area_light: Vec<Option<usize>>,
     /// Indices of environment lights (seen by rays that escape).
     pub environments: Vec<usize>,
-    /// Whether any light is a Dirac one (point, spot, distant).
-    pub has_delta: bool,
+    /// Whether any light is compact (see [`Light::is_compact`]).
+    pub has_compact: bool,
 }
 
 impl Lights {
@@ -237,14 +248,12 @@ impl Lights {
                 })
             })
             .collect();
-        let has_delta = lights
-            .iter()
-            .any(|l| matches!(l, Light::Point(_) | Light::Spot(_) | Light::Distant(_)));
+        let has_compact = lights.iter().any(Light::is_compact);
         Lights {
             lights,
             first_area_light,
             environments,
-            has_delta,
+            has_compact,
         }
     }
 
