@@ -229,26 +229,12 @@ impl Export<'_> {
                         rgb(*irradiance)
                     );
                 }
-                LightDesc::Environment(EnvironmentDesc::Sun {
-                    direction,
-                    radiance,
-                    half_angle,
-                }) => {
-                    let cap = 1.0 - half_angle.cos();
-                    let _ = writeln!(self.s,
-                        "LightSource \"distant\" \"point3 from\" [ 0 0 0 ] \"point3 to\" [ {} ] \"rgb L\" [ {} ]  # the sun",
-                        v3(-*direction),
-                        rgb(*radiance * (2.0 * std::f32::consts::PI * cap))
-                    );
-                    self.approximations.push(format!(
-                        "light {i}: the sun's disk ({:.3} degrees across) as a distant light of its irradiance (pbrt-v4 has no disk at infinity: sharp shadows, no sun in mirrors)",
-                        2.0 * half_angle.to_degrees()
-                    ));
-                }
                 LightDesc::Environment(env) => {
-                    let portal = if portals_written {
-                        String::new()
-                    } else {
+                    // The scene's first portal goes with its first environment that takes one.
+                    let mut portal = || {
+                        if portals_written {
+                            return String::new();
+                        }
                         portals_written = true;
                         let c = desc.portals[0];
                         format!(
@@ -261,6 +247,7 @@ impl Export<'_> {
                     };
                     match env {
                         EnvironmentDesc::Constant(l) => {
+                            let portal = portal();
                             let _ = writeln!(
                                 self.s,
                                 "LightSource \"infinite\" \"rgb L\" [ {} ]{portal}",
@@ -283,6 +270,7 @@ impl Export<'_> {
                                     .write_exr(tmp, &Default::default())
                                     .map_err(|e| e.to_string())
                             })?;
+                            let portal = portal();
                             let m = glam::Mat4::from_mat3(*to_world);
                             let _ = writeln!(self.s, "AttributeBegin");
                             let _ =
@@ -293,7 +281,22 @@ impl Export<'_> {
                             );
                             let _ = writeln!(self.s, "AttributeEnd");
                         }
-                        EnvironmentDesc::Sun { .. } => unreachable!("written above"),
+                        EnvironmentDesc::Sun {
+                            direction,
+                            radiance,
+                            half_angle,
+                        } => {
+                            let cap = 1.0 - half_angle.cos();
+                            let _ = writeln!(self.s,
+                                "LightSource \"distant\" \"point3 from\" [ 0 0 0 ] \"point3 to\" [ {} ] \"rgb L\" [ {} ]  # the sun",
+                                v3(-*direction),
+                                rgb(*radiance * (2.0 * std::f32::consts::PI * cap))
+                            );
+                            self.approximations.push(format!(
+                                "light {i}: the sun's disk ({:.3} degrees across) as a distant light of its irradiance (pbrt-v4 has no disk at infinity: sharp shadows, no sun in mirrors)",
+                                2.0 * half_angle.to_degrees()
+                            ));
+                        }
                     }
                 }
             }

@@ -6,6 +6,7 @@ use anyhow::{bail, Result};
 use clap::{Args, Subcommand};
 use fenestra_pbrt as pbrt;
 use fenestra_scene::light::LightDesc;
+use fenestra_scene::sky::{sky_irradiance, sun, Sky};
 use fenestra_scene::ShapeKind;
 use std::path::PathBuf;
 
@@ -137,6 +138,7 @@ fn info(scene: &str, options: SceneOptions, json: bool) -> Result<()> {
         "spp": d.defaults.spp,
         "max_depth": d.defaults.max_depth,
         "cameras": loaded.cameras,
+        "sky": loaded.sky.as_ref().map(|(sky, strength)| sky_report(sky, *strength)),
         "warnings": loaded.warnings(),
     });
     if json {
@@ -169,6 +171,21 @@ fn info(scene: &str, options: SceneOptions, json: bool) -> Result<()> {
             .map(|(i, c)| format!("{i}: {c}"))
             .collect();
         println!("  cameras (--camera): {}", named.join(", "));
+    }
+    if let Some((sky, strength)) = &loaded.sky {
+        let r = sky_report(sky, *strength);
+        let klux = |key: &str| r[key].as_f64().unwrap_or(0.0) / 1e3;
+        println!(
+            "  sky: turbidity {}, ground albedo {}, the sun {:.1} degrees up at azimuth {:.1}: \
+             {:.1} klux direct normal; on the ground {:.1} klux from the sun, {:.1} klux from the sky",
+            sky.turbidity,
+            sky.albedo,
+            sky.elevation_deg,
+            sky.azimuth_deg,
+            klux("sun_direct_normal_lux"),
+            klux("sun_horizontal_lux"),
+            klux("sky_horizontal_lux"),
+        );
     }
     for w in &loaded.warnings() {
         println!("  warning: {w}");
@@ -238,4 +255,18 @@ fn capitalised(s: &str) -> String {
     c.next()
         .map(|f| f.to_uppercase().chain(c).collect())
         .unwrap_or_default()
+}
+
+/// What --sky sends: its parameters and illuminances (lux, times `strength`).
+fn sky_report(sky: &Sky, strength: f32) -> serde_json::Value {
+    let lux = |e: fenestra_core::Rgb| f64::from(e.luminance() * strength) * 683.0;
+    serde_json::json!({
+        "turbidity": sky.turbidity,
+        "albedo": sky.albedo,
+        "sun_elevation_deg": sky.elevation_deg,
+        "sun_azimuth_deg": sky.azimuth_deg,
+        "sun_direct_normal_lux": lux(sun::irradiance(sky.elevation_deg, sky.turbidity)),
+        "sun_horizontal_lux": lux(sky.sun_irradiance()),
+        "sky_horizontal_lux": lux(sky_irradiance(&sky.map())),
+    })
 }

@@ -61,17 +61,12 @@ pub struct SceneOptions {
     )]
     pub location: Option<String>,
     /// Turn --environment or --sky about the up axis by this many degrees
-    /// (counter-clockwise seen from above).
-    #[arg(
-        long,
-        value_name = "DEGREES",
-        default_value_t = 0.0,
-        allow_negative_numbers = true
-    )]
-    pub environment_rotation: f32,
-    /// Multiply --environment's or --sky's radiance (and the sun's) by this.
-    #[arg(long, default_value_t = 1.0)]
-    pub environment_strength: f32,
+    /// (counter-clockwise seen from above) [default: 0].
+    #[arg(long, value_name = "DEGREES", allow_negative_numbers = true)]
+    pub environment_rotation: Option<f32>,
+    /// Multiply --environment's or --sky's radiance (and the sun's) by this [default: 1].
+    #[arg(long, value_name = "X")]
+    pub environment_strength: Option<f32>,
     /// The scene's up axis for --environment or --sky: x, y, z, -x, -y or -z [default: the
     /// axis nearest the camera's up].
     #[arg(long, value_name = "AXIS", allow_hyphen_values = true)]
@@ -80,6 +75,18 @@ pub struct SceneOptions {
     /// its first camera; a camera framing the scene in a file without one].
     #[arg(long, value_name = "NAME|INDEX")]
     pub camera: Option<String>,
+}
+
+impl SceneOptions {
+    /// The environment's turn about the up axis (degrees).
+    fn rotation_deg(&self) -> f32 {
+        self.environment_rotation.unwrap_or(0.0)
+    }
+
+    /// The environment's strength.
+    fn strength(&self) -> f32 {
+        self.environment_strength.unwrap_or(1.0)
+    }
 }
 
 /// A loaded scene with its load time, what it could not represent and the files it read.
@@ -96,6 +103,8 @@ pub struct LoadedScene {
     pub files: Vec<PathBuf>,
     /// A glTF file's cameras by name, in index order (empty for other scenes).
     pub cameras: Vec<String>,
+    /// The sky of --sky, with the strength it was given.
+    pub sky: Option<(Sky, f32)>,
 }
 
 impl LoadedScene {
@@ -162,18 +171,23 @@ pub fn load_quietly(arg: &str, opts: &SceneOptions) -> Result<LoadedScene> {
         }
     };
     let placed = opts.environment.is_some() || opts.sky;
-    let moved = opts.environment_rotation != 0.0
-        || opts.environment_strength != 1.0
+    let moved = opts.environment_rotation.is_some()
+        || opts.environment_strength.is_some()
         || opts.environment_up.is_some();
     if moved && !placed {
         bail!("--environment-rotation, --environment-strength and --environment-up place --environment or --sky; neither is given");
     }
+    let mut sky = None;
     let (desc, files) = match &opts.environment {
         Some(path) => (
             with_environment(desc, path, opts)?,
             [files, vec![path.clone()]].concat(),
         ),
-        None if opts.sky => (with_sky(desc, opts)?, files),
+        None if opts.sky => {
+            let (desc, s) = with_sky(desc, opts)?;
+            sky = Some((s, opts.strength()));
+            (desc, files)
+        }
         None => (desc, files),
     };
     let mut warnings = warnings;
@@ -190,6 +204,7 @@ pub fn load_quietly(arg: &str, opts: &SceneOptions) -> Result<LoadedScene> {
         seconds: start.elapsed().as_secs_f64(),
         files,
         cameras,
+        sky,
     })
 }
 
@@ -199,8 +214,8 @@ fn with_environment(desc: SceneDesc, path: &Path, opts: &SceneOptions) -> Result
     let map = EnvironmentMap {
         image: Arc::new(image),
         up: up_axis(&desc, opts)?,
-        rotation_deg: opts.environment_rotation,
-        strength: opts.environment_strength,
+        rotation_deg: opts.rotation_deg(),
+        strength: opts.strength(),
     };
     if let Some(problem) = map.validate() {
         bail!("--environment {}: {problem}", path.display());
@@ -208,8 +223,8 @@ fn with_environment(desc: SceneDesc, path: &Path, opts: &SceneOptions) -> Result
     Ok(desc.with_environment(&map))
 }
 
-/// `desc` lit by the clear sky and sun `opts` describe.
-fn with_sky(desc: SceneDesc, opts: &SceneOptions) -> Result<SceneDesc> {
+/// `desc` lit by the clear sky and sun `opts` describe, and that sky.
+fn with_sky(desc: SceneDesc, opts: &SceneOptions) -> Result<(SceneDesc, Sky)> {
     let (elevation_deg, azimuth_deg) = match (&opts.sun, &opts.sun_time, &opts.location) {
         (Some(sun), ..) => pair(sun).ok_or_else(|| {
             anyhow::anyhow!(
@@ -240,19 +255,19 @@ fn with_sky(desc: SceneDesc, opts: &SceneOptions) -> Result<SceneDesc> {
     if let Some(problem) = sky.validate() {
         bail!("--sky: {problem}");
     }
-    if !(opts.environment_strength.is_finite() && opts.environment_strength > 0.0) {
+    let strength = opts.strength();
+    if !(strength.is_finite() && strength > 0.0) {
+        bail!("--environment-strength must be positive, got {strength}");
+    }
+    if !opts.rotation_deg().is_finite() {
         bail!(
-            "--environment-strength must be positive, got {}",
-            opts.environment_strength
+            "--environment-rotation must be finite, got {}",
+            opts.rotation_deg()
         );
     }
     let up = up_axis(&desc, opts)?;
-    Ok(desc.with_sky(
-        &sky,
-        up,
-        opts.environment_rotation,
-        opts.environment_strength,
-    ))
+    let desc = desc.with_sky(&sky, up, opts.rotation_deg(), strength);
+    Ok((desc, sky))
 }
 
 /// Two comma-separated numbers.

@@ -93,8 +93,8 @@ impl Environment {
         }
     }
 
-    /// Whether a strategy that does not aim at this light (BSDF or portal sampling) finds it
-    /// too rarely to carry it: the sun.
+    /// Whether a strategy that does not aim at this light (BSDF sampling, or sampling the
+    /// openings light comes through) finds it too rarely to carry it: the sun.
     pub fn is_compact(&self) -> bool {
         matches!(self, Environment::Sun(_))
     }

@@ -156,9 +156,9 @@ impl Light {
         }
     }
 
-    /// Whether a strategy that does not aim at this light (BSDF or portal sampling) finds it
-    /// never or too rarely to carry it: Dirac lights and the sun, which keep their own light
-    /// sampling where portals or guiding take the rest.
+    /// Whether a strategy that does not aim at this light (BSDF sampling, or sampling the
+    /// openings light comes through) finds it never or too rarely to carry it: Dirac lights
+    /// and the sun, which keep their own light sampling where such a strategy takes the rest.
     pub fn is_compact(&self) -> bool {
         match self {
             Light::Point(_) | Light::Spot(_) | Light::Distant(_) => true,

@@ -1,10 +1,16 @@
 //! The sun's disk as seen through a clear atmosphere: the direct-beam part of Bird and
 //! Riordan's SPECTRL2 clear-sky spectral model (J. Climate Appl. Meteor. 25(1), 1986): the
-//! extraterrestrial spectrum attenuated by Rayleigh scattering, aerosols (Angstrom's law),
-//! ozone, water vapour and mixed gases along the relative air mass, integrated against the
-//! CIE observer. The aerosol's Angstrom coefficient comes from the sky's turbidity as
-//! Preetham, Shirley and Smits give it (SIGGRAPH 1999, Appendix: beta = 0.04608 T - 0.04586,
-//! alpha = 1.3), so the sun and the Hosek-Wilkie sky share one turbidity parameter.
+//! extraterrestrial spectrum attenuated by Rayleigh scattering, aerosols (Angstrom's law,
+//! alpha = 1.3), ozone, water vapour and mixed gases along the relative air mass, integrated
+//! against the CIE observer.
+//!
+//! The aerosol's Angstrom coefficient beta comes from the sky's turbidity through a table
+//! fit so that the sun agrees with the Hosek-Wilkie solar radiance the sky model was built
+//! with (Hosek and Wilkie 2013, as Mitsuba 3.9.1's `sunsky` gives it): least squares in log
+//! illuminance over elevations 20-80 degrees, which leaves the sun within 8% of theirs there
+//! and 0.75-0.78 of theirs at 10 degrees (their sun fades less towards the horizon than any
+//! Beer-Lambert beam does). Preetham et al.'s relation (beta = 0.04608 T - 0.04586) was
+//! tried first: it made the turbidity-6 sun 0.14-0.77 of the sky model's (docs/scenes.md).
 
 use fenestra_core::spectrum::spectrum_to_linear_srgb;
 use fenestra_core::Rgb;
@@ -49,6 +55,19 @@ const TABLE: [(f64, f64, f64, f64, f64); 42] = [
     (831.5, 1.038, 0.0, 0.5, 0.0), (840.0, 1.022, 0.0, 0.155, 0.0),
 ];
 
+/// Angstrom's beta for turbidity 1, 2, ..., 10 (see the module's header).
+const BETA: [f64; 10] = [
+    0.0375, 0.0425, 0.05, 0.0625, 0.0775, 0.0875, 0.1025, 0.13, 0.175, 0.25,
+];
+
+/// Angstrom's beta at `turbidity` (1 to 10), linear between the table's entries.
+fn angstrom_beta(turbidity: f64) -> f64 {
+    let t = turbidity.clamp(1.0, 10.0) - 1.0;
+    let i = (t.floor() as usize).min(BETA.len() - 2);
+    let f = t - i as f64;
+    BETA[i] * (1.0 - f) + BETA[i + 1] * f
+}
+
 /// Relative optical air mass at `elevation_deg` above the horizon (Kasten and Young 1989).
 pub fn air_mass(elevation_deg: f64) -> f64 {
     let zenith = 90.0 - elevation_deg;
@@ -63,7 +82,7 @@ fn direct_normal(elevation_deg: f64, turbidity: f64) -> [(f64, f64); 42] {
     let cos_z = (90.0 - elevation_deg).to_radians().cos();
     let h = OZONE_HEIGHT_KM / EARTH_RADIUS_KM;
     let m_ozone = (1.0 + h) / (cos_z * cos_z + 2.0 * h).sqrt();
-    let beta = (0.04608 * turbidity - 0.04586).max(0.0);
+    let beta = angstrom_beta(turbidity);
     TABLE.map(|(nm, et, ozone, water, mixed)| {
         let l = nm * 1e-3;
         let rayleigh = (-m / (l.powi(4) * (115.6406 - 1.335 / (l * l)))).exp();
