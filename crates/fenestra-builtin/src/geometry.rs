@@ -3,6 +3,7 @@
 
 use fenestra_core::image::Image;
 use fenestra_core::{Rgb, Vec3, PI};
+use fenestra_scene::environment::latlong_direction;
 use fenestra_scene::light::{Emission, EnvironmentDesc, LightDesc};
 use fenestra_scene::mesh::grid;
 use fenestra_scene::{Camera, Material, RenderDefaults, SceneDesc, Shape, ShapeKind, TriangleMesh};
@@ -190,14 +191,8 @@ pub fn column(
 pub fn sky(width: usize, height: usize, sun: Vec3, strength: f32) -> EnvironmentDesc {
     let mut img = Image::new(width, height);
     for row in 0..height {
-        let theta = PI * (row as f32 + 0.5) / height as f32;
         for col in 0..width {
-            let phi = 2.0 * PI * (col as f32 + 0.5) / width as f32;
-            let d = Vec3::new(
-                theta.sin() * phi.cos(),
-                theta.sin() * phi.sin(),
-                theta.cos(),
-            );
+            let d = latlong_direction(col, row, width, height);
             let c = if d.z < 0.0 {
                 Rgb::new(0.12, 0.11, 0.10)
             } else {

@@ -646,7 +646,10 @@ fn an_environment_map_replaces_the_scenes_environment() {
             "strength must be positive",
         ),
         (vec!["--environment", "missing.exr"], "--environment"),
-        (vec!["--environment-strength", "2"], "place --environment or --sky"),
+        (
+            vec!["--environment-strength", "2"],
+            "place --environment or --sky",
+        ),
     ] {
         let flags: Vec<String> = flags
             .iter()

@@ -14,7 +14,7 @@ use fenestra_render::{render_image, Integrator, RenderScene, RenderSettings};
 use fenestra_scene::light::EnvironmentDesc;
 use fenestra_scene::material;
 use fenestra_scene::sky::Sky;
-use fenestra_scene::{Backend, Camera, LightDesc, Material, Scene};
+use fenestra_scene::{Backend, Camera, LightDesc, Material, Scene, SceneDesc};
 
 const SIZE: u32 = 48;
 /// The box's floor and ceiling heights, the hole's half-width.
@@ -22,10 +22,10 @@ const FLOOR: f32 = -0.5;
 const CEILING: f32 = 0.5;
 const HOLE: f32 = 0.125;
 
-/// box-hole seen from under the ceiling, looking straight down at the floor (50 degrees:
-/// the view stays on the floor), with the panel's radiance and the floor's albedo.
-fn floor_under_the_hole() -> (RenderScene, f64, f64) {
-    let mut desc = builtin::load("box-hole").expect("builtin");
+/// The built-in box `name` seen from under the ceiling, looking straight down at the floor
+/// (50 degrees: the view stays on the floor), and the floor's albedo.
+fn looking_at_the_floor(name: &str) -> (SceneDesc, f64) {
+    let mut desc = builtin::load(name).expect("builtin");
     desc.camera = Camera::look_at(
         Vec3::new(0.0, 0.0, 0.4),
         Vec3::new(0.0, 0.0, FLOOR),
@@ -33,17 +33,23 @@ fn floor_under_the_hole() -> (RenderScene, f64, f64) {
         50.0,
     )
     .expect("camera");
+    let albedo = match &desc.materials[0] {
+        Material::Diffuse(material::Diffuse { reflectance }) => red(*reflectance),
+        m => panic!("walls of {m:?}"),
+    };
+    (desc, albedo)
+}
+
+/// box-hole's floor under the hole, with the panel's radiance and the floor's albedo.
+fn floor_under_the_hole() -> (RenderScene, f64, f64) {
+    let (desc, albedo) = looking_at_the_floor("box-hole");
     let radiance = desc
         .shapes
         .iter()
         .find_map(|s| s.emission.map(|e| e.radiance))
         .expect("the panel");
-    let albedo = match &desc.materials[0] {
-        Material::Diffuse(material::Diffuse { reflectance }) => *reflectance,
-        m => panic!("walls of {m:?}"),
-    };
     let scene = RenderScene::new(Scene::build(desc, Backend::default()).expect("scene"));
-    (scene, red(radiance), red(albedo))
+    (scene, red(radiance), albedo)
 }
 
 fn red(c: Rgb) -> f64 {
@@ -104,10 +110,8 @@ fn render(integrator: &mut dyn Integrator, scene: &RenderScene, spp: u32) -> (f6
     (mean, var.sqrt() / n)
 }
 
-#[test]
-fn direct_light_through_the_hole_matches_its_integral() {
-    let (scene, radiance, albedo) = floor_under_the_hole();
-    let expect = expected_mean(&scene, radiance, albedo);
+/// lp_hf through the scene's portals and af_hf, both for direct light only (path length 2).
+fn direct_light_integrators() -> [(&'static str, Box<dyn Integrator>); 2] {
     let direct = PathOptions {
         max_depth: 2,
         ..Default::default()
@@ -119,16 +123,19 @@ fn direct_light_through_the_hole_matches_its_integral() {
         LightNextEvent::new(LightSelection::Power),
     )
     .expect("lp_hf");
+    [
+        ("lp_hf", Box::new(portals)),
+        ("af_hf", Box::new(af_hf(direct, LightSelection::Power))),
+    ]
+}
+
+#[test]
+fn direct_light_through_the_hole_matches_its_integral() {
+    let (scene, radiance, albedo) = floor_under_the_hole();
+    let expect = expected_mean(&scene, radiance, albedo);
     // lp_hf through the scene's portal resolves a few parts in a million; af_hf, whose light
     // samples mostly meet the ceiling, a few parts in a thousand.
-    for (name, mut integrator, spp) in [
-        ("lp_hf", Box::new(portals) as Box<dyn Integrator>, 1024),
-        (
-            "af_hf",
-            Box::new(af_hf(direct, LightSelection::Power)) as Box<dyn Integrator>,
-            256,
-        ),
-    ] {
+    for ((name, mut integrator), spp) in direct_light_integrators().into_iter().zip([1024, 256]) {
         let (mean, se) = render(integrator.as_mut(), &scene, spp);
         let off = (mean - expect) / expect;
         assert!(
@@ -223,18 +230,7 @@ fn expected_sky_mean(scene: &RenderScene, albedo: f64) -> f64 {
 /// samples mostly meet the ceiling, to 1e-2.
 #[test]
 fn direct_sky_and_sun_through_the_hole_match_their_integral() {
-    let mut desc = builtin::load("box-hole-sky").expect("builtin");
-    desc.camera = Camera::look_at(
-        Vec3::new(0.0, 0.0, 0.4),
-        Vec3::new(0.0, 0.0, FLOOR),
-        Vec3::Y,
-        50.0,
-    )
-    .expect("camera");
-    let albedo = match &desc.materials[0] {
-        Material::Diffuse(material::Diffuse { reflectance }) => red(*reflectance),
-        m => panic!("walls of {m:?}"),
-    };
+    let (desc, albedo) = looking_at_the_floor("box-hole-sky");
     // The sun 75 degrees up: its patch lands on the floor in view.
     let sky = Sky {
         turbidity: 3.0,
@@ -243,10 +239,6 @@ fn direct_sky_and_sun_through_the_hole_match_their_integral() {
         azimuth_deg: 30.0,
     };
     let desc = desc.with_sky(&sky, Vec3::Z, 0.0, 1.0);
-    let direct = PathOptions {
-        max_depth: 2,
-        ..Default::default()
-    };
     // The sky and the sun apart: each estimate's noise is then its own, small enough to see
     // a bias of a few parts in a thousand.
     for (part, compact, spp) in [("sun", true, 1024), ("sky", false, 256)] {
@@ -257,20 +249,7 @@ fn direct_sky_and_sun_through_the_hole_match_their_integral() {
         });
         let scene = RenderScene::new(Scene::build(only, Backend::default()).expect("scene"));
         let expect = expected_sky_mean(&scene, albedo);
-        let portals = lp_hf(
-            direct,
-            PortalOptions::default(),
-            PortalSource::Scene,
-            LightNextEvent::new(LightSelection::Power),
-        )
-        .expect("lp_hf");
-        for (name, mut integrator) in [
-            ("lp_hf", Box::new(portals) as Box<dyn Integrator>),
-            (
-                "af_hf",
-                Box::new(af_hf(direct, LightSelection::Power)) as Box<dyn Integrator>,
-            ),
-        ] {
+        for (name, mut integrator) in direct_light_integrators() {
             let (mean, se) = render(integrator.as_mut(), &scene, spp);
             let off = (mean - expect) / expect;
             eprintln!(

@@ -22,6 +22,19 @@ pub struct EnvironmentMap {
     pub strength: f32,
 }
 
+/// The direction through the centre of pixel (`col`, `row`) of a `width` x `height`
+/// latitude-longitude map in its frame: row 0 at +z, column 0 at phi = 0 (+x), phi growing
+/// towards +y.
+pub fn latlong_direction(col: usize, row: usize, width: usize, height: usize) -> Vec3 {
+    let theta = std::f32::consts::PI * (row as f32 + 0.5) / height as f32;
+    let phi = 2.0 * std::f32::consts::PI * (col as f32 + 0.5) / width as f32;
+    Vec3::new(
+        theta.sin() * phi.cos(),
+        theta.sin() * phi.sin(),
+        theta.cos(),
+    )
+}
+
 impl EnvironmentMap {
     /// Why the map cannot light a scene, if it cannot.
     pub fn validate(&self) -> Option<String> {

@@ -18,7 +18,7 @@
 pub mod solar_position;
 pub mod sun;
 
-use crate::environment::EnvironmentMap;
+use crate::environment::{latlong_direction, EnvironmentMap};
 use crate::light::{EnvironmentDesc, LightDesc};
 use crate::scene::SceneDesc;
 use fenestra_core::image::Image;
@@ -113,15 +113,8 @@ impl Sky {
         let radiance = self.radiance();
         let mut image = Image::new(w, h);
         for y in 0..h / 2 {
-            let theta = PI * (y as f32 + 0.5) / h as f32;
             for x in 0..w {
-                let phi = 2.0 * PI * (x as f32 + 0.5) / w as f32;
-                let d = Vec3::new(
-                    theta.sin() * phi.cos(),
-                    theta.sin() * phi.sin(),
-                    theta.cos(),
-                );
-                image.set(x, y, radiance(d));
+                image.set(x, y, radiance(latlong_direction(x, y, w, h)));
             }
         }
         let ground = (sky_irradiance(&image) + self.sun_irradiance()) * (self.albedo / PI);
