@@ -5,7 +5,7 @@ use crate::support::scene_arg::{self, SceneOptions};
 use anyhow::{bail, Result};
 use clap::{Args, Subcommand};
 use fenestra_pbrt as pbrt;
-use fenestra_scene::light::LightDesc;
+use fenestra_scene::light::{EnvironmentDesc, LightDesc};
 use fenestra_scene::sky::{sky_irradiance, sun, Sky};
 use fenestra_scene::ShapeKind;
 use std::path::PathBuf;
@@ -94,11 +94,14 @@ fn info(scene: &str, options: SceneOptions, json: bool) -> Result<()> {
         })
         .sum();
     let count = |f: fn(&LightDesc) -> bool| d.lights.iter().filter(|l| f(l)).count();
-    let (points, spots, distant, env) = (
+    let (points, spots, distant, suns, env) = (
         count(|l| matches!(l, LightDesc::Point { .. })),
         count(|l| matches!(l, LightDesc::Spot { .. })),
         count(|l| matches!(l, LightDesc::Distant { .. })),
-        count(|l| matches!(l, LightDesc::Environment(_))),
+        count(|l| matches!(l, LightDesc::Environment(EnvironmentDesc::Sun { .. }))),
+        count(
+            |l| matches!(l, LightDesc::Environment(e) if !matches!(e, EnvironmentDesc::Sun { .. })),
+        ),
     );
     // As light sampling counts them: one light per emitting triangle, sphere and disk
     // (fenestra_render::light::Lights), beside the shapes they belong to.
@@ -131,6 +134,7 @@ fn info(scene: &str, options: SceneOptions, json: bool) -> Result<()> {
         "point_lights": points,
         "spot_lights": spots,
         "distant_lights": distant,
+        "suns": suns,
         "environments": env,
         "portals": d.portals.len(),
         "bounds": [lo.to_array(), hi.to_array()],
@@ -153,9 +157,10 @@ fn info(scene: &str, options: SceneOptions, json: bool) -> Result<()> {
     );
     println!(
         "  lights: {lights} ({emitters} area in {} emitting shape{}, {points} point, {spots} spot, \
-         {distant} distant, {env} environment); {} portals",
+         {distant} distant, {env} environment{}); {} portals",
         emitting.len(),
         if emitting.len() == 1 { "" } else { "s" },
+        if suns > 0 { ", the sun" } else { "" },
         d.portals.len()
     );
     println!("  bounds {lo} .. {hi}");
