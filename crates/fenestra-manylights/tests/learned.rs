@@ -121,16 +121,17 @@ fn af_hf_renders_the_same_image_with_the_learned_sampler_as_with_power_selection
     }
 }
 
-/// The learned sampler renders the light tree's image to a tenth of a percent at several path
-/// lengths, in a room where boxes hide most lights from much of the floor: the image means
-/// of 64 samples a pixel (after its learning pre-pass, in streams of their own) agree within
-/// 3.5 standard errors, each below 0.03%. Its samples were once drawn from the same
-/// Owen-scrambled stream as the samples it learned from, and so were stratified against
+/// The learned sampler renders the light tree's image to a tenth of a percent at a short and
+/// a long path length, in a room where boxes hide most lights from much of the floor: the
+/// image means of 64 samples a pixel (after its learning pre-pass, in streams of their own)
+/// agree within 3.5 standard errors, each below 0.03%. Its samples were once drawn from the
+/// same Owen-scrambled stream as the samples it learned from, and so were stratified against
 /// them: +0.57%, +0.37% and +0.24% at path lengths 2, 3 and 5 (z = 13, 11 and 8 with
-/// 98,304 pixels).
+/// 98,304 pixels). Path length 3 was checked too until CI time asked for a third of this
+/// test's 145 s back: it lies between the two, on the same code.
 #[test]
 fn the_learned_sampler_renders_the_light_trees_image_to_a_tenth_of_a_percent() {
-    for (max_depth, size) in [(2, (640, 400)), (3, (480, 320)), (5, (384, 256))] {
+    for (max_depth, size) in [(2, (640, 400)), (5, (384, 256))] {
         let options = PathOptions {
             max_depth,
             ..Default::default()
