@@ -236,7 +236,7 @@ impl Export<'_> {
                             return String::new();
                         }
                         portals_written = true;
-                        let c = desc.portals[0];
+                        let c = facing(desc.portals[0], desc.camera.position);
                         format!(
                             " \"point3 portal\" [ {} {} {} {} ]",
                             v3(c[0]),
@@ -387,6 +387,18 @@ impl Export<'_> {
             let _ = writeln!(self.s, "AttributeEnd");
         }
         Ok(())
+    }
+}
+
+/// The quad `c` wound so that its normal (right-handed, corners in order) points to `inside`:
+/// pbrt-v4 takes light through a portal from the side its normal faces away from, and renders
+/// black through a portal wound the other way.
+fn facing(c: [Vec3; 4], inside: Vec3) -> [Vec3; 4] {
+    let n = (c[1] - c[0]).cross(c[2] - c[0]);
+    if n.dot(inside - c[0]) >= 0.0 {
+        c
+    } else {
+        [c[0], c[3], c[2], c[1]]
     }
 }
 
@@ -639,4 +651,28 @@ fn inline_mesh(s: &mut String, m: &TriangleMesh) {
         let _ = write!(s, "\n    \"point2 uv\" [ {} ]", t.join("  "));
     }
     s.push('\n');
+}
+
+#[cfg(test)]
+mod portal_winding_tests {
+    use super::*;
+
+    #[test]
+    fn a_portal_is_wound_to_face_the_inside() {
+        // box-hole's hole, wound counter-clockwise seen from above (normal up, to the sky):
+        // pbrt-v4 rendered the sky through it black until it was turned to face the room.
+        let up = [
+            Vec3::new(-1.0, -1.0, 0.5),
+            Vec3::new(1.0, -1.0, 0.5),
+            Vec3::new(1.0, 1.0, 0.5),
+            Vec3::new(-1.0, 1.0, 0.5),
+        ];
+        let normal = |c: [Vec3; 4]| (c[1] - c[0]).cross(c[2] - c[0]).normalize();
+        let inside = Vec3::new(0.3, 0.2, 0.0);
+        assert_eq!(normal(facing(up, inside)), -Vec3::Z);
+        assert_eq!(facing(up, Vec3::new(0.0, 0.0, 2.0)), up);
+        // The same four corners either way.
+        let turned = facing(up, inside);
+        assert!(up.iter().all(|p| turned.contains(p)));
+    }
 }
