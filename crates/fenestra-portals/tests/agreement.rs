@@ -220,6 +220,7 @@ fn lp_hf_agrees_with_af_hf_under_the_sky_and_sun() {
         builtin::load("box-hole-sky")
             .expect("builtin")
             .with_sky(&sky, Vec3::Z, 0.0, 1.0)
+            .expect("a valid sky")
     };
     let power = MisHeuristic::Power { beta: 2.0 };
     let af = render(

@@ -238,7 +238,7 @@ fn direct_sky_and_sun_through_the_hole_match_their_integral() {
         elevation_deg: 75.0,
         azimuth_deg: 30.0,
     };
-    let desc = desc.with_sky(&sky, Vec3::Z, 0.0, 1.0);
+    let desc = desc.with_sky(&sky, Vec3::Z, 0.0, 1.0).expect("a valid sky");
     // The sky and the sun apart: each estimate's noise is then its own, small enough to see
     // a bias of a few parts in a thousand.
     for (part, compact, spp) in [("sun", true, 1024), ("sky", false, 256)] {

@@ -7,7 +7,7 @@ use clap::{Args, Subcommand};
 use fenestra_pbrt as pbrt;
 use fenestra_scene::light::{EnvironmentDesc, LightDesc};
 use fenestra_scene::sky::{sky_irradiance, sun, Sky};
-use fenestra_scene::ShapeKind;
+use fenestra_scene::{SceneDesc, ShapeKind};
 use std::path::PathBuf;
 
 #[derive(Args)]
@@ -121,6 +121,7 @@ fn info(scene: &str, options: SceneOptions, json: bool) -> Result<()> {
             hi = hi.max(b);
         }
     }
+    let sky = (loaded.sky.as_ref()).map(|(sky, strength)| sky_report(sky, *strength, d));
     let v = serde_json::json!({
         "scene": scene,
         "name": d.name,
@@ -142,7 +143,7 @@ fn info(scene: &str, options: SceneOptions, json: bool) -> Result<()> {
         "spp": d.defaults.spp,
         "max_depth": d.defaults.max_depth,
         "cameras": loaded.cameras,
-        "sky": loaded.sky.as_ref().map(|(sky, strength)| sky_report(sky, *strength)),
+        "sky": sky,
         "warnings": loaded.warnings(),
     });
     if json {
@@ -177,8 +178,8 @@ fn info(scene: &str, options: SceneOptions, json: bool) -> Result<()> {
             .collect();
         println!("  cameras (--camera): {}", named.join(", "));
     }
-    if let Some((sky, strength)) = &loaded.sky {
-        let r = sky_report(sky, *strength);
+    if let Some((sky, _)) = &loaded.sky {
+        let r = &v["sky"];
         let klux = |key: &str| r[key].as_f64().unwrap_or(0.0) / 1e3;
         println!(
             "  sky: turbidity {}, ground albedo {}, the sun {:.1} degrees up at azimuth {:.1}: \
@@ -262,9 +263,14 @@ fn capitalised(s: &str) -> String {
         .unwrap_or_default()
 }
 
-/// What --sky sends: its parameters and illuminances (lux, times `strength`).
-fn sky_report(sky: &Sky, strength: f32) -> serde_json::Value {
+/// What --sky sends: its parameters and illuminances (lux, times `strength`), the sky's from
+/// the map baked into `desc`.
+fn sky_report(sky: &Sky, strength: f32, desc: &SceneDesc) -> serde_json::Value {
     let lux = |e: fenestra_core::Rgb| f64::from(e.luminance() * strength) * 683.0;
+    let map = desc.lights.iter().find_map(|l| match l {
+        LightDesc::Environment(EnvironmentDesc::Image { image, .. }) => Some(image),
+        _ => None,
+    });
     serde_json::json!({
         "turbidity": sky.turbidity,
         "albedo": sky.albedo,
@@ -272,6 +278,6 @@ fn sky_report(sky: &Sky, strength: f32) -> serde_json::Value {
         "sun_azimuth_deg": sky.azimuth_deg,
         "sun_direct_normal_lux": lux(sun::irradiance(sky.elevation_deg, sky.turbidity)),
         "sun_horizontal_lux": lux(sky.sun_irradiance()),
-        "sky_horizontal_lux": lux(sky_irradiance(&sky.map())),
+        "sky_horizontal_lux": map.map(|m| lux(sky_irradiance(m))),
     })
 }

@@ -252,21 +252,9 @@ fn with_sky(desc: SceneDesc, opts: &SceneOptions) -> Result<(SceneDesc, Sky)> {
         elevation_deg,
         azimuth_deg,
     };
-    if let Some(problem) = sky.validate() {
-        bail!("--sky: {problem}");
-    }
-    let strength = opts.strength();
-    if !(strength.is_finite() && strength > 0.0) {
-        bail!("--environment-strength must be positive, got {strength}");
-    }
-    if !opts.rotation_deg().is_finite() {
-        bail!(
-            "--environment-rotation must be finite, got {}",
-            opts.rotation_deg()
-        );
-    }
     let up = up_axis(&desc, opts)?;
-    let desc = desc.with_sky(&sky, up, opts.rotation_deg(), strength);
+    let desc = (desc.with_sky(&sky, up, opts.rotation_deg(), opts.strength()))
+        .map_err(|problem| anyhow::anyhow!("--sky: {problem}"))?;
     Ok((desc, sky))
 }
 

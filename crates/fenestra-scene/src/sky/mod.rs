@@ -88,7 +88,7 @@ impl Sky {
     }
 
     /// The sky's radiance (Hosek-Wilkie) along directions of its frame (z up), above the
-    /// horizon.
+    /// horizon. Panics for a sky [`Sky::validate`] refuses.
     pub fn radiance(&self) -> impl Fn(Vec3) -> Rgb {
         let state = SkyState::new(&SkyParams {
             elevation: self.elevation_deg.to_radians(),
@@ -108,6 +108,7 @@ impl Sky {
 
     /// The sky as a `SKY_MAP_WIDTH` x `SKY_MAP_WIDTH / 2` latitude-longitude map in its
     /// frame (row 0 at the zenith), without the sun's disk; below the horizon the ground.
+    /// Panics for a sky [`Sky::validate`] refuses.
     pub fn map(&self) -> Image {
         let (w, h) = (SKY_MAP_WIDTH, SKY_MAP_WIDTH / 2);
         let radiance = self.radiance();
@@ -152,13 +153,27 @@ impl SceneDesc {
     /// The scene lit by `sky` and its sun instead of the environments it had (its other
     /// lights stay): the sky's pole along `up`, turned by `rotation_deg` about it as an
     /// environment map is, its radiance and the sun's times `strength`.
-    pub fn with_sky(self, sky: &Sky, up: Vec3, rotation_deg: f32, strength: f32) -> SceneDesc {
+    /// Refuses a sky that does not validate, and a placement `EnvironmentMap::validate`
+    /// refuses.
+    pub fn with_sky(
+        self,
+        sky: &Sky,
+        up: Vec3,
+        rotation_deg: f32,
+        strength: f32,
+    ) -> Result<SceneDesc, String> {
+        if let Some(problem) = sky.validate() {
+            return Err(problem);
+        }
         let map = EnvironmentMap {
             image: Arc::new(sky.map()),
             up,
             rotation_deg,
             strength,
         };
+        if let Some(problem) = map.validate() {
+            return Err(problem);
+        }
         let mut desc = self.with_environment(&map);
         desc.lights
             .push(LightDesc::Environment(EnvironmentDesc::Sun {
@@ -166,7 +181,7 @@ impl SceneDesc {
                 radiance: sky.sun_radiance() * strength,
                 half_angle: sun::SUN_HALF_ANGLE_DEG.to_radians(),
             }));
-        desc
+        Ok(desc)
     }
 }
 
