@@ -16,9 +16,6 @@ pub enum PortalError {
     /// lp_hf was given no portal.
     #[error("lp_hf needs light portals and the scene has none")]
     NoPortals,
-    /// Estimation ran but fitted no portal.
-    #[error("portal estimation found no portal in this scene; see `fenestra portals` to tune it")]
-    NoneFound,
     /// A portals.json file is unreadable or describes an invalid portal.
     #[error("{}: {reason}", path.display())]
     File {

@@ -3,6 +3,8 @@
 //! (MVCE by Alg. 4, the PCA rectangle of §5.1, or the minimum-area rectangle) -> portals;
 //! rectangles around openings in planar occluders are then snapped onto the openings' edges.
 
+use crate::aim::{camera_surroundings, Surroundings};
+use crate::carry::Carry;
 use crate::cluster::{dbscan, DbscanParams};
 use crate::error::PortalError;
 use crate::mvce::mvce;
@@ -11,7 +13,8 @@ use crate::photon::{trace, PhotonParams, Photons};
 use crate::portal::{EstimationRecord, Portal, PortalFile, PortalRecord, Portals};
 use crate::ransac::{ransac_plane, Plane, Ransac};
 use crate::rectangle::{inner_rectangle, min_area_rectangle, pca_rectangle, Rectangle};
-use crate::snap::snap_to_opening;
+use crate::snap::{snap_to_opening, Opening};
+use crate::window::{windows, within, WINDOW_GAP};
 use fenestra_core::{UnknownName, Vec3};
 use fenestra_render::options::ValueError;
 use fenestra_render::{Progress, RenderScene};
@@ -250,16 +253,23 @@ pub fn estimate(
 ) -> Result<Estimate, PortalError> {
     let t0 = Instant::now();
     params.validate()?;
+    let surroundings = camera_surroundings(&scene.scene);
     let mut settling = Settling {
         scene,
+        surroundings: &surroundings,
         params,
         deposit: crate::photon::deposit_rule(scene, &params.photons),
         next_fit: FIRST_FIT,
         last: None,
     };
-    let photons = trace(scene, &params.photons, cancel, progress, &mut |points| {
-        settling.settled(points)
-    })?;
+    let photons = trace(
+        scene,
+        &params.photons,
+        surroundings.sphere,
+        cancel,
+        progress,
+        &mut |points| settling.settled(points),
+    )?;
     let t1 = Instant::now();
     let mut tracing = (t1 - t0).as_secs_f64();
     // Settled: the last test's fit, made while tracing, is that of all the photons.
@@ -268,7 +278,13 @@ pub fn estimate(
             tracing -= fit.2.clustering + fit.2.fitting;
             fit
         }
-        _ => fit_portals(scene, &photons.points, photons.deposit, params),
+        _ => fit_portals(
+            scene,
+            &surroundings,
+            &photons.points,
+            photons.deposit,
+            params,
+        ),
     };
     Ok(Estimate {
         photons,
@@ -285,9 +301,11 @@ pub fn estimate(
 /// stage took (photon tracing's left zero).
 type Fit = (Vec<Vec<usize>>, Vec<Estimated>, Timings);
 
-/// The [`Fit`] of `points`.
+/// The [`Fit`] of `points`: the seed's portals (a DBSCAN cluster each) and the windows found
+/// plane first ([`crate::window`]), combined by [`combine`].
 fn fit_portals(
     scene: &RenderScene,
+    surroundings: &Surroundings,
     points: &[Vec3],
     deposit: Deposit,
     params: &EstimateParams,
@@ -296,20 +314,23 @@ fn fit_portals(
     let clusters = dbscan(points, params.dbscan);
     let t2 = Instant::now();
     let ring = deposit == Deposit::Depth;
-    let portals = clusters
-        .iter()
-        .enumerate()
-        .filter_map(|(k, c)| {
+    let seed: Vec<(Vec<usize>, Estimated)> = clusters
+        .into_iter()
+        .filter_map(|c| {
             let cluster: Vec<Vec3> = c.iter().map(|&i| points[i]).collect();
-            fit_cluster(&cluster, params, ring).map(|mut e| {
-                e.cluster = k;
-                if ring {
-                    e.portal = snap_to_opening(&scene.scene, &e.portal);
-                }
-                e
-            })
+            let mut e = fit_cluster(&cluster, params, ring)?;
+            if ring {
+                e.portal = snap_to_opening(&scene.scene, &e.portal);
+            }
+            Some((c, e))
         })
         .collect();
+    let glass = crate::photon::glass_shapes(scene);
+    let opening = Opening::new(&scene.scene, &glass);
+    let gap = if ring { WINDOW_GAP } else { params.dbscan.eps };
+    let windows = windows(&opening, points, &params.ransac, gap);
+    let carry = Carry::new(scene, surroundings, &glass);
+    let (clusters, portals) = combine(&carry, seed, windows);
     let t3 = Instant::now();
     let timings = Timings {
         photons: 0.0,
@@ -319,6 +340,61 @@ fn fit_portals(
     (clusters, portals, timings)
 }
 
+/// A seed portal at least this share of the window around it stands for the window (the seed's
+/// fit, snapped onto the opening's edges, is the more exact).
+const SEED_STANDS_FOR_WINDOW: f32 = 0.8;
+/// How far (relative to a window's size) a portal may reach out of it and still lie within it.
+const WITHIN: f32 = 0.05;
+
+/// The portals of an estimate: each window (largest first) unless it lies within one already
+/// kept, or the one seed portal within it when that covers most of it; then the seed portals
+/// within no window; of these, those that carry light ([`Carry::keep`]). Ordered by photons,
+/// most first, with each portal's photons as its cluster.
+fn combine(
+    carry: &Carry,
+    seed: Vec<(Vec<usize>, Estimated)>,
+    mut windows: Vec<(Vec<usize>, Estimated)>,
+) -> (Vec<Vec<usize>>, Vec<Estimated>) {
+    windows.sort_by(|a, b| b.1.portal.area().total_cmp(&a.1.portal.area()));
+    let mut used = vec![false; seed.len()];
+    let mut kept: Vec<(Vec<usize>, Estimated)> = Vec::new();
+    for w in windows {
+        if kept
+            .iter()
+            .any(|k| within(&w.1.portal, &k.1.portal, WITHIN))
+        {
+            continue;
+        }
+        let inside: Vec<usize> = (0..seed.len())
+            .filter(|&i| !used[i] && within(&seed[i].1.portal, &w.1.portal, WITHIN))
+            .collect();
+        for &i in &inside {
+            used[i] = true;
+        }
+        match inside[..] {
+            [i] if seed[i].1.portal.area() >= SEED_STANDS_FOR_WINDOW * w.1.portal.area() => {
+                kept.push(seed[i].clone())
+            }
+            _ => kept.push(w),
+        }
+    }
+    kept.extend(
+        seed.into_iter()
+            .zip(used)
+            .filter(|(_, u)| !u)
+            .map(|(s, _)| s),
+    );
+    let mut kept = carry.keep(kept, |(_, e)| &e.portal);
+    kept.sort_by_key(|(c, _)| std::cmp::Reverse(c.len()));
+    kept.into_iter()
+        .enumerate()
+        .map(|(k, (c, mut e))| {
+            e.cluster = k;
+            (c, e)
+        })
+        .unzip()
+}
+
 /// Photons before the first fit of the settling test.
 const FIRST_FIT: usize = 64;
 
@@ -326,6 +402,7 @@ const FIRST_FIT: usize = 64;
 /// their number has grown by half, compared with the previous fit.
 struct Settling<'a> {
     scene: &'a RenderScene,
+    surroundings: &'a Surroundings,
     params: &'a EstimateParams,
     deposit: Deposit,
     next_fit: usize,
@@ -342,7 +419,13 @@ impl Settling<'_> {
             return false;
         }
         self.next_fit = points.len() + points.len() / 2;
-        let fit = fit_portals(self.scene, points, self.deposit, self.params);
+        let fit = fit_portals(
+            self.scene,
+            self.surroundings,
+            points,
+            self.deposit,
+            self.params,
+        );
         let portals = &fit.1;
         let settled = !portals.is_empty()
             && self.last.as_ref().is_some_and(|(_, last, _)| {
@@ -447,7 +530,8 @@ fn ellipse_portal(plane: &Plane, e: &crate::mvce::Ellipse) -> Portal {
     }
 }
 
-fn quad_portal(plane: &Plane, r: Rectangle) -> Portal {
+/// The quad of rectangle `r` in `plane`.
+pub(crate) fn quad_portal(plane: &Plane, r: Rectangle) -> Portal {
     let to3 = |v: DVec2| (plane.from_plane(v) - plane.point).as_vec3();
     let (a, b) = (to3(r.half[0]), to3(r.half[1]));
     Portal::Quad {

@@ -6,6 +6,8 @@
 
 #![warn(missing_docs)]
 
+pub mod aim;
+pub mod carry;
 pub mod cluster;
 pub mod error;
 pub mod estimate;
@@ -14,12 +16,14 @@ pub mod linalg;
 pub mod lp_hf;
 pub mod mvce;
 pub mod photon;
+pub mod pilot;
 pub mod plot;
 pub mod portal;
 pub mod ransac;
 pub mod rectangle;
 pub mod snap;
 pub mod source;
+pub mod window;
 
 pub use error::PortalError;
 pub use lp_hf::{lp_hf, PortalNextEvent, PortalOptions};

@@ -9,8 +9,10 @@
 //! The portals come from the scene, a portals.json file, or an estimate made while the
 //! integrator is prepared (so its time counts in the render's).
 
+use crate::aim::camera_surroundings;
 use crate::error::PortalError;
 use crate::estimate::{estimate, EstimateParams};
+use crate::pilot::measure;
 use crate::portal::{PickWeights, PortalChoice, PortalFile, PortalRecord, PortalSampling, Portals};
 use crate::source::PortalSource;
 use fenestra_core::mis::MisHeuristic;
@@ -43,6 +45,9 @@ fenestra_render::options! {
         /// Probability that a sample comes from light sampling instead of the portals (Cycles
         /// mixes its portals with environment sampling; 0 uses the portals only).
         pub light_mix: f32 = 0.0,
+        /// Keep the portals even when, measured before rendering at the points the camera
+        /// sees, light sampling alone (af_hf's) is the more efficient.
+        pub keep: bool = false,
     }
 }
 
@@ -83,6 +88,7 @@ pub fn lp_hf(
             portals: Portals::default(),
             lights,
             estimated: None,
+            gain: None,
         },
         path,
     ))
@@ -97,6 +103,9 @@ pub struct PortalNextEvent {
     lights: LightNextEvent,
     /// How the portals were estimated, when they were.
     estimated: Option<Estimation>,
+    /// The portals' efficiency over light sampling alone, measured before rendering (below 1:
+    /// the portals were left out).
+    gain: Option<f64>,
 }
 
 /// Where estimated portals came from.
@@ -106,6 +115,8 @@ enum Estimation {
     Made { photons: usize, seconds: f64 },
     /// Read from the cache.
     Cached,
+    /// Estimated now, and no portal carries light: the lights are sampled alone.
+    NoneFound,
 }
 
 /// The portals as portals.json records.
@@ -260,7 +271,12 @@ impl NextEvent for PortalNextEvent {
                     let e = estimate(scene, params, control.cancel, control.progress)?;
                     control.progress.note(&format!("portals: {}", e.summary()));
                     if e.portals.is_empty() {
-                        return Err(PortalError::NoneFound.into());
+                        control.progress.note(
+                            "portals: none found that carries light to what the camera sees; \
+                             lp_hf samples the lights alone, as af_hf does",
+                        );
+                        self.estimated = Some(Estimation::NoneFound);
+                        return Ok(());
                     }
                     // Rendered as the cache holds them (portals.json records rebuild them to
                     // within float rounding), so that a render from the cache is the same.
@@ -284,7 +300,27 @@ impl NextEvent for PortalNextEvent {
         if portals.is_empty() {
             return Err(PortalError::NoPortals.into());
         }
-        self.portals = portals.with_strategy(self.options.sampling, self.options.choice);
+        let portals = portals.with_strategy(self.options.sampling, self.options.choice);
+        if !self.options.keep {
+            let surroundings = camera_surroundings(&scene.scene);
+            let verdict = measure(scene, &portals, self.lights.sampler(), &surroundings);
+            self.gain = Some(verdict.gain());
+            if verdict.gain() < 1.0 {
+                control.progress.note(&format!(
+                    "portals: light sampling alone measured {:.2}x as efficient at the points \
+                     the camera sees; lp_hf samples the lights alone, as af_hf does \
+                     (--portal-keep keeps the portals)",
+                    1.0 / verdict.gain()
+                ));
+                return Ok(());
+            }
+            control.progress.note(&format!(
+                "portals: measured {:.2}x as efficient as light sampling alone at the points \
+                 the camera sees",
+                verdict.gain()
+            ));
+        }
+        self.portals = portals;
         Ok(())
     }
 
@@ -318,6 +354,13 @@ impl NextEvent for PortalNextEvent {
         sample: &mut PathSample,
         out: &mut LightRays<PortalProbe>,
     ) -> Rgb {
+        if self.portals.is_empty() {
+            // No portal was found: af_hf's light sampling.
+            let shadows = &mut out.shadows;
+            self.lights
+                .sample_light(scene, s, false, mis, sample, shadows);
+            return Rgb::ZERO;
+        }
         if let Some(probe) = self.sample_portal(scene, s, v, mis, sample.sampler, sample.rays) {
             out.probes.push(probe);
         }
@@ -403,8 +446,8 @@ impl NextEvent for PortalNextEvent {
     ) -> f32 {
         let ctx = from.light_context(sample);
         // A compact light (the sun) found by the BSDF's ray competes with its own light
-        // sampling alone.
-        if scene.lights.lights[found.light].is_compact() {
+        // sampling alone, and so does any light when there is no portal.
+        if scene.lights.lights[found.light].is_compact() || self.portals.is_empty() {
             return self.lights.light_pdf(scene, &ctx, wi, found);
         }
         let v = &from.vertex;
@@ -428,7 +471,13 @@ impl NextEvent for PortalNextEvent {
             Some(Estimation::Cached) => {
                 stats.extra.insert("portals_cached".into(), 1.0);
             }
+            Some(Estimation::NoneFound) => {
+                stats.extra.insert("portals_none_found".into(), 1.0);
+            }
             None => {}
+        }
+        if let Some(gain) = self.gain {
+            stats.extra.insert("portal_gain".into(), gain);
         }
     }
 }

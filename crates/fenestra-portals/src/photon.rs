@@ -6,9 +6,10 @@
 //!
 //! Our reading of Alg. 1 and Fig. 4.6: a beam whose rays are not all stopped by the scene
 //! (a gray ray escapes) deposits nothing; a ray deposits its hit x' when x' lies farther than
-//! r from the central hit x and above the plane through x facing the emitter, i.e. nearer the
-//! light (green); hits within r of x (red: no discontinuity) or below that plane (blue: the
-//! far side) deposit nothing. The pseudo-code's "remove the beam's points" on the first
+//! r from the central hit x and in front of the surface at x, on the light's side (green);
+//! hits within r of x (red: no discontinuity) or behind that surface's plane (blue: the far
+//! side) deposit nothing. (Alg. 1's plane through x faces the emitter; the surface's own plane
+//! keeps a slanted floor or ground from passing for an edge.) The pseudo-code's "remove the beam's points" on the first
 //! failing ray would reject every beam that crosses an opening's edge, since its central ray
 //! passes the opening; the figure deposits exactly those, so the test is per ray.
 
@@ -101,12 +102,14 @@ const BATCH: u64 = 8192;
 /// Beams per parallel work item (one scratch buffer each).
 const CHUNK: u64 = 256;
 
-/// Traces cone-beams from the scene's lights until the target number of photons is gathered,
+/// Traces cone-beams from the scene's lights (those at infinity aimed at the sphere `aim`,
+/// centre and radius: see [`crate::aim`]) until the target number of photons is gathered,
 /// `params.max_beams` beams are spent, `enough` says so of the photons so far (asked after
 /// each batch) or `cancel` is set (then the photons so far are kept).
 pub fn trace(
     scene: &RenderScene,
     params: &PhotonParams,
+    aim: (Vec3, f32),
     cancel: &AtomicBool,
     progress: &dyn Progress,
     enough: &mut dyn FnMut(&[Vec3]) -> bool,
@@ -144,6 +147,8 @@ pub fn trace(
     let tracer = BeamTracer {
         scene,
         params,
+        aim,
+        parallel_radius: aim.1 * params.theta_deg.to_radians().tan(),
         pick: Distribution1D::new(&powers),
         glass,
         deposit,
@@ -196,7 +201,7 @@ pub fn trace(
 }
 
 /// Which shapes are glass (transmissive materials).
-fn glass_shapes(scene: &RenderScene) -> Vec<bool> {
+pub(crate) fn glass_shapes(scene: &RenderScene) -> Vec<bool> {
     scene
         .scene
         .shapes
@@ -220,6 +225,11 @@ pub fn deposit_rule(scene: &RenderScene, params: &PhotonParams) -> Deposit {
 struct BeamTracer<'a> {
     scene: &'a RenderScene,
     params: &'a PhotonParams,
+    /// The sphere (centre, radius) beams from lights at infinity are aimed at.
+    aim: (Vec3, f32),
+    /// The radius of their parallel beams: the footprint of a cone of angle theta whose apex
+    /// lies on the far side of that sphere.
+    parallel_radius: f32,
     pick: Distribution1D,
     glass: Vec<bool>,
     deposit: Deposit,
@@ -235,20 +245,24 @@ const FOLLOW_UP_SPREAD: f32 = 2.0;
 
 impl BeamTracer<'_> {
     /// One iteration of Alg. 1 and, if it deposited photons, its follow-up beams: appends the
-    /// photons to `out`, returns the rays traced.
+    /// photons to `out`, returns the rays traced. Light from infinity arrives as parallel rays
+    /// (a cone from an origin outside the scene would spread over many metres): its beams are
+    /// cylinders of rays around the central one.
     fn beam(&self, index: u64, out: &mut Vec<Vec3>) -> u64 {
         let scene = &self.scene.scene;
         let mut sampler = Sampler::new(self.params.seed, 0x5048_4f54, index as u32);
         let (light, _, _) = self.pick.sample_discrete(sampler.next_1d());
         let (u_pos, u_dir) = (sampler.next_2d(), sampler.next_2d());
-        let Some(emitted) = self.scene.lights.lights[light].sample_ray(scene, u_pos, u_dir) else {
+        let light = &self.scene.lights.lights[light];
+        let Some(emitted) = light.sample_ray_aimed(scene, self.aim, u_pos, u_dir) else {
             return 0;
         };
+        let parallel = light.at_infinity();
         // Off the emitter by the rounding of a point of its magnitude.
         let off = offset_distance(emitted.origin.abs().max_element());
         let y = offset_origin(emitted.origin, emitted.dir, emitted.dir, off);
         let before = out.len();
-        let mut rays = self.cone_beam(y, emitted.dir, &mut sampler, out);
+        let mut rays = self.beam_from(y, emitted.dir, parallel, &mut sampler, out);
         if out.len() > before {
             let frame = Frame::from_normal(emitted.dir);
             let spread = 1.0
@@ -256,18 +270,35 @@ impl BeamTracer<'_> {
                     .to_radians()
                     .cos();
             for _ in 0..FOLLOW_UPS {
-                let d = frame.to_world(warp::square_to_uniform_cone(sampler.next_2d(), spread));
-                rays += self.cone_beam(y, d, &mut sampler, out);
+                let u = sampler.next_2d();
+                rays += if parallel {
+                    let d = warp::square_to_disk_concentric(u)
+                        * (FOLLOW_UP_SPREAD * self.parallel_radius);
+                    let origin = y + frame.to_world(Vec3::new(d.x, d.y, 0.0));
+                    self.beam_from(origin, emitted.dir, true, &mut sampler, out)
+                } else {
+                    let d = frame.to_world(warp::square_to_uniform_cone(u, spread));
+                    self.beam_from(y, d, false, &mut sampler, out)
+                };
             }
         }
         rays
     }
 
-    /// A ray from `y` along `dir` and, where it hits at x, the cone-beam of n rays towards x
-    /// with the deposit rule; returns the rays traced.
-    fn cone_beam(&self, y: Vec3, dir: Vec3, sampler: &mut Sampler, out: &mut Vec<Vec3>) -> u64 {
+    /// A ray from `y` along `dir` and, where it hits at x, the beam of n rays around it (a
+    /// cone from `y`, or with `parallel` rays along `dir` from the disk around `y`) with the
+    /// deposit rule; returns the rays traced.
+    fn beam_from(
+        &self,
+        y: Vec3,
+        dir: Vec3,
+        parallel: bool,
+        sampler: &mut Sampler,
+        out: &mut Vec<Vec3>,
+    ) -> u64 {
         let scene = &self.scene.scene;
-        let Some(hit) = scene.intersect(&Ray::new(y, dir), f32::INFINITY) else {
+        let central = Ray::new(y, dir);
+        let Some(hit) = scene.intersect(&central, f32::INFINITY) else {
             return 1;
         };
         let x = y + dir * hit.t;
@@ -276,21 +307,28 @@ impl BeamTracer<'_> {
         if self.deposit == Deposit::Depth && hit.t <= self.params.reject_radius {
             return 1;
         }
+        // The surface's plane at x, facing the emitter.
+        let ng = scene.interaction(&central, &hit).ng;
+        let facing = if ng.dot(dir) > 0.0 { -ng } else { ng };
         let frame = Frame::from_normal(dir);
         let first = out.len();
         let n = self.params.rays_per_beam;
         for i in 0..n {
-            let d = frame.to_world(warp::square_to_uniform_cone(sampler.next_2d(), self.cap));
-            let Some(h) = scene.intersect(&Ray::new(y, d), f32::INFINITY) else {
+            let u = sampler.next_2d();
+            let ray = if parallel {
+                let d = warp::square_to_disk_concentric(u) * self.parallel_radius;
+                Ray::new(y + frame.to_world(Vec3::new(d.x, d.y, 0.0)), dir)
+            } else {
+                Ray::new(y, frame.to_world(warp::square_to_uniform_cone(u, self.cap)))
+            };
+            let Some(h) = scene.intersect(&ray, f32::INFINITY) else {
                 // A gray ray: light escapes, the beam says nothing about an opening.
                 out.truncate(first);
                 return 2 + i as u64;
             };
-            let xp = y + d * h.t;
+            let xp = ray.o + ray.d * h.t;
             let keep = match self.deposit {
-                Deposit::Depth => {
-                    (xp - x).length() > self.params.reject_radius && (xp - x).dot(-dir) > 0.0
-                }
+                Deposit::Depth => self.discontinuity(x, facing, xp),
                 Deposit::Material => self.glass[h.shape as usize],
             };
             if keep {
@@ -298,5 +336,16 @@ impl BeamTracer<'_> {
             }
         }
         1 + n as u64
+    }
+
+    /// Whether a beam ray's hit `xp` lies across a depth discontinuity from the central hit
+    /// `x`: farther than r from it, and in front of the surface there (`facing`, its normal on
+    /// the emitter's side) by more than a tenth of r. Alg. 1 tests the side of the plane
+    /// through x facing the emitter; across a slanted floor or ground, half a beam's hits lie
+    /// on its near side with no edge between them, and the ground of an open scene filled
+    /// the classroom's photons with such noise.
+    fn discontinuity(&self, x: Vec3, facing: Vec3, xp: Vec3) -> bool {
+        let r = self.params.reject_radius;
+        (xp - x).length() > r && (xp - x).dot(facing) > 0.1 * r
     }
 }

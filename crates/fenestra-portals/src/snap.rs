@@ -113,3 +113,128 @@ pub fn snap_to_opening(scene: &Scene, portal: &Portal) -> Portal {
         e2: b * 2.0,
     }
 }
+
+/// Where light can cross a plane of the scene: a point of the plane is closed when something
+/// other than glass (the `passes` shapes, which let light through) lies within a tenth of the
+/// portal's size of it along the normal: a wall, a frame, a blind's slat, a desk.
+pub struct Opening<'a> {
+    scene: &'a Scene,
+    passes: &'a [bool],
+}
+
+/// Lines probed from each side of a rectangle inwards, and points probed along each line.
+const LINES: usize = 64;
+const LINE_POINTS: usize = 33;
+/// Points of a grid side probed for [`Opening::open_fraction`].
+const GRID: usize = 16;
+/// A portal less open than this carries next to no light (a desk top, a wall) and is dropped.
+pub const MIN_OPEN: f32 = 0.2;
+/// Glass layers a probe passes through at most.
+const MAX_LAYERS: usize = 8;
+
+impl<'a> Opening<'a> {
+    /// The openings of `scene`, whose shapes `passes` marks let light through.
+    pub fn new(scene: &'a Scene, passes: &'a [bool]) -> Self {
+        Opening { scene, passes }
+    }
+
+    /// Whether light crosses the plane of normal `n` at `q` (portal size `size`).
+    fn open(&self, q: Vec3, n: Vec3, size: f32) -> bool {
+        let lift = 0.1 * size;
+        let mut ray = Ray::new(q + n * lift, -n);
+        let mut left = 2.0 * lift;
+        for _ in 0..MAX_LAYERS {
+            let Some(h) = self.scene.intersect(&ray, left) else {
+                return true;
+            };
+            if !self.passes[h.shape as usize] {
+                return false;
+            }
+            let si = self.scene.interaction(&ray, &h);
+            left -= h.t;
+            ray = Ray::new(si.spawn(ray.d), ray.d);
+        }
+        false
+    }
+
+    /// The fraction of the portal's points (a grid over it) where light crosses its plane.
+    pub fn open_fraction(&self, portal: &Portal) -> f32 {
+        let (n, size) = (portal.normal(), portal.area().sqrt());
+        let open = (0..GRID * GRID)
+            .filter(|k| {
+                let u = fenestra_core::Vec2::new(
+                    ((k % GRID) as f32 + 0.5) / GRID as f32,
+                    ((k / GRID) as f32 + 0.5) / GRID as f32,
+                );
+                self.open(portal.sample_area(u), n, size)
+            })
+            .count();
+        open as f32 / (GRID * GRID) as f32
+    }
+
+    /// The quad with each side moved inwards to the first line along it where light crosses
+    /// somewhere (the opening's bounding rectangle, whatever frames, mullions or slats lie
+    /// inside it), or `None` when the quad holds no opening or too little of one
+    /// ([`MIN_OPEN`]). Sides already on an open line stay.
+    pub fn shrink(&self, portal: &Portal) -> Option<Portal> {
+        let Portal::Quad { corner, e1, e2 } = portal else {
+            return Some(portal.clone());
+        };
+        let n = e1.cross(*e2).normalize_or_zero();
+        let (l1, l2) = (e1.length(), e2.length());
+        if n == Vec3::ZERO || l1 == 0.0 || l2 == 0.0 {
+            return None;
+        }
+        let (u, v) = (*e1 / l1, *e2 / l2);
+        let c = *corner + (*e1 + *e2) * 0.5;
+        let size = l1.max(l2);
+        // Extents from c along +u, -u, +v, -v.
+        let mut half = [l1 * 0.5, l1 * 0.5, l2 * 0.5, l2 * 0.5];
+        for k in 0..4 {
+            let (dir, along, lo, hi) = match k {
+                0 => (u, v, -half[3], half[2]),
+                1 => (-u, v, -half[3], half[2]),
+                2 => (v, u, -half[1], half[0]),
+                _ => (-v, u, -half[1], half[0]),
+            };
+            let line_open = |s: f32| {
+                (0..LINE_POINTS).any(|i| {
+                    let t = lo + (hi - lo) * (i as f32 + 0.5) / LINE_POINTS as f32;
+                    self.open(c + dir * s + along * t, n, size)
+                })
+            };
+            let h = half[k];
+            let at = |j: usize| {
+                h * (1.0 - j as f32 / LINES as f32) - half[k ^ 1] * (j as f32 / LINES as f32)
+            };
+            // From the side inwards across the whole rectangle to the opposite side.
+            let first = (0..=LINES).find(|&j| line_open(at(j)))?;
+            if first > 0 {
+                let (mut shut, mut open) = (at(first - 1), at(first));
+                for _ in 0..STEPS {
+                    let mid = 0.5 * (shut + open);
+                    if line_open(mid) {
+                        open = mid;
+                    } else {
+                        shut = mid;
+                    }
+                }
+                half[k] = shut;
+            }
+        }
+        if !(half[0] + half[1] > 0.0 && half[2] + half[3] > 0.0) {
+            return None;
+        }
+        let centre = c + u * (0.5 * (half[0] - half[1])) + v * (0.5 * (half[2] - half[3]));
+        let (a, b) = (
+            u * (0.5 * (half[0] + half[1])),
+            v * (0.5 * (half[2] + half[3])),
+        );
+        let shrunk = Portal::Quad {
+            corner: centre - a - b,
+            e1: a * 2.0,
+            e2: b * 2.0,
+        };
+        (self.open_fraction(&shrunk) >= MIN_OPEN).then_some(shrunk)
+    }
+}

@@ -73,15 +73,9 @@ fn lp_hf_agrees_with_af_hf_with_exact_small_and_large_portals() {
                 512,
             );
             let cases = [
-                ("exact portals", 1.0, PortalOptions::default(), power, 256),
-                (
-                    "half-size portals",
-                    0.5,
-                    PortalOptions::default(),
-                    balance,
-                    512,
-                ),
-                ("4x portals", 4.0, PortalOptions::default(), balance, 512),
+                ("exact portals", 1.0, kept_portals(), power, 256),
+                ("half-size portals", 0.5, kept_portals(), balance, 512),
+                ("4x portals", 4.0, kept_portals(), balance, 512),
                 // The seed's rules: area sampling, uniform choice.
                 (
                     "half-size portals by area",
@@ -149,11 +143,7 @@ fn light_through_thin_glass_agrees_between_bsdf_and_portal_sampling() {
         for depth in [2, 4] {
             let load = || builtin::glazed(builtin::load(scene).expect("builtin"));
             let hf = render(load(), &mut hf(path(power, depth)), 2048);
-            let lp = render(
-                load(),
-                &mut portals(PortalOptions::default(), power, depth),
-                256,
-            );
+            let lp = render(load(), &mut portals(kept_portals(), power, depth), 256);
             assert_agree(
                 &format!("glazed {scene}: hf vs lp_hf, depth {depth}"),
                 &hf,
@@ -178,7 +168,7 @@ fn lp_hf_refuses_a_scene_without_portals_and_a_bad_mixture() {
         time_limit: None,
         seed: 0,
     };
-    let mut lp = portals(PortalOptions::default(), MisHeuristic::Balance, 2);
+    let mut lp = portals(kept_portals(), MisHeuristic::Balance, 2);
     let Err(e) = render_image(&mut lp, &scene, 4, 4, &settings) else {
         panic!("rendered without portals");
     };
@@ -239,5 +229,43 @@ fn lp_hf_agrees_with_af_hf_under_the_sky_and_sun() {
         let shift = fenestra_eval::mean_shift(&af.estimate(), &lp.estimate()).expect("sizes");
         eprintln!("{label}: {shift:?}");
         assert!(shift.z().abs() < 3.5, "{label}: {shift:?}");
+    }
+}
+
+/// Default portal options, the portals kept whatever lp_hf's measurement before rendering
+/// finds (these tests are about sampling them).
+fn kept_portals() -> PortalOptions {
+    PortalOptions {
+        keep: true,
+        ..PortalOptions::default()
+    }
+}
+
+/// Where estimation finds no portal carrying light (the Cornell box: its light hangs inside) or
+/// the measurement before rendering finds light sampling the more efficient (glossy-room:
+/// the sun is most of its light, and portals would add a ray per vertex), lp_hf samples as
+/// af_hf does: the same image, bit for bit.
+#[test]
+fn lp_hf_without_paying_portals_renders_as_af_hf() {
+    let power = MisHeuristic::Power { beta: 2.0 };
+    for scene in ["cornell-box", "glossy-room"] {
+        let load = || builtin::load(scene).expect("builtin");
+        let af = render(load(), &mut af_hf(path(power, 4), LightSelection::Power), 8);
+        let estimated = PortalSource::Estimated {
+            params: fenestra_portals::estimate::EstimateParams::default(),
+            cache: None,
+        };
+        let mut lp = lp_hf(
+            path(power, 4),
+            PortalOptions::default(),
+            estimated,
+            LightNextEvent::new(LightSelection::Power),
+        )
+        .expect("lp_hf");
+        let lp = render(load(), &mut lp, 8);
+        assert!(
+            af.image().pixels == lp.image().pixels,
+            "{scene}: lp_hf differs from af_hf"
+        );
     }
 }

@@ -3,6 +3,7 @@
 
 use fenestra_builtin as builtin;
 use fenestra_core::Vec3;
+use fenestra_portals::aim::camera_surroundings;
 use fenestra_portals::estimate::{estimate, Estimate, EstimateParams};
 use fenestra_portals::Portal;
 use fenestra_render::{NoProgress, RenderScene};
@@ -149,6 +150,7 @@ fn photons_do_not_depend_on_the_thread_count() {
             trace(
                 &scene,
                 &params,
+                camera_surroundings(&scene.scene).sphere,
                 &AtomicBool::new(false),
                 &NoProgress,
                 &mut |_| false,

@@ -134,8 +134,7 @@ fn a_path_in_a_wave_gets_the_estimate_it_gets_alone() {
         let all = af_hf(path, LightSelection::All);
         assert_same(&name("af_hf all"), in_a_wave_and_alone(all, &box_hole));
         let lights = LightNextEvent::new(LightSelection::Power);
-        let portals =
-            lp_hf(path, PortalOptions::default(), PortalSource::Scene, lights).expect("lp_hf");
+        let portals = lp_hf(path, kept_portals(), PortalSource::Scene, lights).expect("lp_hf");
         assert_same(&name("lp_hf"), in_a_wave_and_alone(portals, &box_hole));
         // Only a sky beyond the portal: probes are any-hit queries in a wave (a slab under
         // the hole blocks some).
@@ -145,8 +144,7 @@ fn a_path_in_a_wave_gets_the_estimate_it_gets_alone() {
         });
         assert!(!sky.has_surface_lights());
         let lights = LightNextEvent::new(LightSelection::Power);
-        let portals =
-            lp_hf(path, PortalOptions::default(), PortalSource::Scene, lights).expect("lp_hf");
+        let portals = lp_hf(path, kept_portals(), PortalSource::Scene, lights).expect("lp_hf");
         assert_same(&name("lp_hf sky"), in_a_wave_and_alone(portals, &sky));
         // A mesh larger than the cache: a packet's hits are prefetched before its paths step.
         let dense = scene_with("box-hole", backend, |desc| {
@@ -166,7 +164,16 @@ fn a_path_in_a_wave_gets_the_estimate_it_gets_alone() {
             params: EstimateParams::default(),
             cache: None,
         };
-        let portals = lp_hf(path, PortalOptions::default(), estimated, lights).expect("lp_hf");
+        let portals = lp_hf(path, kept_portals(), estimated, lights).expect("lp_hf");
         assert_same(&name("lp_hf hall"), in_a_wave_and_alone(portals, &hall));
+    }
+}
+
+/// Default portal options, the portals kept whatever lp_hf's measurement before rendering
+/// finds (these tests are about sampling them).
+fn kept_portals() -> PortalOptions {
+    PortalOptions {
+        keep: true,
+        ..PortalOptions::default()
     }
 }

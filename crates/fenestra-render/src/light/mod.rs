@@ -51,15 +51,23 @@ pub struct EmittedRay {
     pub power: Rgb,
 }
 
-/// A ray from outside the scene's bounding sphere travelling along `dir` (lights at
-/// infinity): its origin is uniform on the disk of the sphere's radius facing `dir`;
+/// A ray from outside the scene travelling along `dir` (lights at infinity) towards the
+/// sphere `aim` (centre, radius): its origin is uniform on the disk of the sphere's radius
+/// facing `dir`, moved back along `dir` until it lies outside the scene's bounding sphere;
 /// `irradiance` is the light's across the disk (over the density of `dir`).
-fn ray_from_infinity(scene: &Scene, dir: Vec3, irradiance: Rgb, u: Vec2) -> EmittedRay {
-    let (center, radius) = scene.bounding_sphere();
+fn ray_from_infinity(
+    scene: &Scene,
+    (center, radius): (Vec3, f32),
+    dir: Vec3,
+    irradiance: Rgb,
+    u: Vec2,
+) -> EmittedRay {
+    let (scene_center, scene_radius) = scene.bounding_sphere();
+    let back = scene_radius + (center - scene_center).length();
     let d = fenestra_core::warp::square_to_disk_concentric(u) * radius;
     let offset = fenestra_core::Frame::from_normal(dir).to_world(Vec3::new(d.x, d.y, 0.0));
     EmittedRay {
-        origin: center - dir * radius + offset,
+        origin: center - dir * back + offset,
         dir,
         power: irradiance * (std::f32::consts::PI * radius * radius),
     }
@@ -135,6 +143,19 @@ impl Light {
     /// (uniform for point lights, within the cone for spots, cosine-weighted for area
     /// emitters, importance-sampled for environments). Used by photon tracing.
     pub fn sample_ray(&self, scene: &Scene, u_pos: Vec2, u_dir: Vec2) -> Option<EmittedRay> {
+        self.sample_ray_aimed(scene, scene.bounding_sphere(), u_pos, u_dir)
+    }
+
+    /// [`Light::sample_ray`] with the rays of lights at infinity aimed at the sphere `aim`
+    /// (centre, radius) instead of the whole scene; their power is then that through the
+    /// sphere's disk.
+    pub fn sample_ray_aimed(
+        &self,
+        scene: &Scene,
+        aim: (Vec3, f32),
+        u_pos: Vec2,
+        u_dir: Vec2,
+    ) -> Option<EmittedRay> {
         match self {
             Light::Point(l) => Some(EmittedRay {
                 origin: l.position(),
@@ -144,6 +165,7 @@ impl Light {
             Light::Spot(l) => Some(l.sample_ray(u_dir)),
             Light::Distant(l) => Some(ray_from_infinity(
                 scene,
+                aim,
                 l.direction(),
                 l.irradiance(),
                 u_pos,
@@ -151,9 +173,14 @@ impl Light {
             Light::Area(l) => l.sample_ray(scene, u_pos, u_dir),
             Light::Environment(l) => {
                 let s = l.sample_li(u_dir)?;
-                (s.pdf > 0.0).then(|| ray_from_infinity(scene, -s.wi, s.li / s.pdf, u_pos))
+                (s.pdf > 0.0).then(|| ray_from_infinity(scene, aim, -s.wi, s.li / s.pdf, u_pos))
             }
         }
+    }
+
+    /// Whether the light lies at infinity (directional lights and environments).
+    pub fn at_infinity(&self) -> bool {
+        matches!(self, Light::Distant(_) | Light::Environment(_))
     }
 
     /// Whether a strategy that does not aim at this light (BSDF sampling, or sampling the

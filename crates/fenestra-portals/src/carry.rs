@@ -1,0 +1,116 @@
+//! Which portals carry light to what the camera sees (beyond seed 000, which keeps every
+//! cluster's portal): from points the camera sees, rays aimed at points of a portal either go
+//! on to a light (the sky, an emitter), passing glass, or stop. A portal through which no light
+//! arrives (a desk top's photons, the gap between two desks, a glass vase in a room lit by a
+//! lamp) only takes samples from the light sampling it is mixed with, and is dropped.
+
+use crate::aim::Surroundings;
+use crate::portal::Portal;
+use fenestra_core::{Ray, Sampler};
+use fenestra_render::RenderScene;
+
+/// Points of the surroundings each portal is tried from, and rays from each.
+const POINTS: usize = 256;
+const RAYS_PER_POINT: usize = 4;
+/// Glass layers a ray passes through at most.
+const MAX_LAYERS: usize = 8;
+/// A portal through which fewer of the rays than this reach a light is dropped, and so is one
+/// that carries less than this share of the light all portals carry (its area times the
+/// fraction of its rays that reach a light): a gap between desks lets a little sky through
+/// to the floor beneath them, but sampling it takes samples from the windows.
+pub const MIN_CARRY: f32 = 0.01;
+const MIN_SHARE: f32 = 0.01;
+
+/// Decides whether portals carry light.
+pub struct Carry<'a> {
+    scene: &'a RenderScene,
+    surroundings: &'a Surroundings,
+    passes: &'a [bool],
+    /// Whether a ray that leaves the scene meets a light (an environment other than the sun).
+    sky: bool,
+}
+
+impl<'a> Carry<'a> {
+    /// The test in `scene` from the camera's `surroundings`, rays passing the `passes` shapes.
+    pub fn new(scene: &'a RenderScene, surroundings: &'a Surroundings, passes: &'a [bool]) -> Self {
+        let lights = &scene.lights;
+        let sky = lights
+            .environments
+            .iter()
+            .any(|&i| !lights.lights[i].is_compact());
+        Carry {
+            scene,
+            surroundings,
+            passes,
+            sky,
+        }
+    }
+
+    /// The fraction of rays from the surroundings through points of `portal` that reach a
+    /// light.
+    fn fraction(&self, portal: &Portal) -> f32 {
+        let points = &self.surroundings.points;
+        if points.is_empty() {
+            return 0.0;
+        }
+        let step = points.len().div_ceil(POINTS);
+        let mut sampler = Sampler::new(0, 0x4341_5252, 0);
+        let (mut tried, mut carried) = (0usize, 0usize);
+        for si in points.iter().step_by(step) {
+            for _ in 0..RAYS_PER_POINT {
+                let y = portal.sample_area(sampler.next_2d());
+                let Some(d) = (y - si.p).try_normalize() else {
+                    continue;
+                };
+                tried += 1;
+                carried += usize::from(self.reaches_light(Ray::new(si.spawn(d), d)));
+            }
+        }
+        if tried == 0 {
+            return 0.0;
+        }
+        carried as f32 / tried as f32
+    }
+
+    /// The portals (with what goes with them) that carry light, in their order.
+    pub fn keep<T>(&self, portals: Vec<T>, portal: impl Fn(&T) -> &Portal) -> Vec<T> {
+        let carried: Vec<f32> = portals
+            .iter()
+            .map(|p| {
+                let f = self.fraction(portal(p));
+                if f >= MIN_CARRY {
+                    f * portal(p).area()
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+        let total: f32 = carried.iter().sum();
+        portals
+            .into_iter()
+            .zip(carried)
+            .filter(|(_, c)| *c > 0.0 && *c >= MIN_SHARE * total)
+            .map(|(p, _)| p)
+            .collect()
+    }
+
+    /// Whether `ray` meets an emitter, or leaves the scene under a sky, through glass.
+    fn reaches_light(&self, mut ray: Ray) -> bool {
+        let scene = &self.scene.scene;
+        for _ in 0..MAX_LAYERS {
+            let Some(hit) = scene.intersect(&ray, f32::INFINITY) else {
+                return self.sky;
+            };
+            let shape = hit.shape as usize;
+            if self.scene.lights.first_area_light[shape].is_some() {
+                return true;
+            }
+            if !self.passes[shape] {
+                return false;
+            }
+            let si = scene.interaction(&ray, &hit);
+            ray = Ray::new(si.spawn(ray.d), ray.d);
+        }
+        false
+    }
+}
