@@ -195,6 +195,21 @@ fn portals_command_writes_json_picture_and_exports_that_render_reads_back() {
     }
     let photons = doc["estimation"]["photons"].as_u64().expect("photon count");
     assert_eq!(svg.matches("h0").count() as u64, 3 * photons);
+    // Beside it, the camera's view (the box's camera does not see its ceiling); the hall's
+    // camera sees its lit windows, drawn in the portals' colours over the grey geometry.
+    let coloured = |png: &Path| {
+        let view = image::open(png).expect("view").to_rgb8();
+        assert_eq!(view.width(), 640);
+        view.pixels()
+            .filter(|p| p.0.iter().max().unwrap_or(&0) - p.0.iter().min().unwrap_or(&0) > 60)
+            .count()
+    };
+    assert_eq!(coloured(&dir.join("p.png")), 0);
+    let hall = dir.join("hall.json");
+    let r = fenestra(&["portals", "builtin:hall-windows", "-o", &p(&hall), "-q"]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let shown = coloured(&dir.join("hall.png"));
+    assert!(shown > 500, "{shown} pixels show a portal");
     let obj_text = std::fs::read_to_string(&obj).expect("obj");
     assert_eq!(obj_text.matches("\nf ").count(), 4);
     // The pbrt export is invisible to light: the scene with it included renders the same.

@@ -1,15 +1,19 @@
 //! A picture of an estimate (seed 000 Fig. 5.6): the fitted portals' outlines in black under
 //! the photons coloured by cluster (noise in grey), projected on the XY, XZ and YZ planes side
-//! by side, each with its axes in metres and the scene's bounding box in light grey. SVG,
-//! drawn with plotters, so the axis labels need no font files.
+//! by side, each framed on the photons with its axes in metres and the scene's bounding box in
+//! light grey. SVG, drawn with plotters, so the axis labels need no font files. And the
+//! portals over the scene as its camera sees it (PNG).
 
 use crate::error::PortalError;
 use crate::estimate::Estimate;
 use crate::portal::Portal;
 use fenestra_core::fs::write_atomically;
+use fenestra_core::image::{srgb_to_linear, Image};
 use fenestra_core::palette::CATEGORIES;
-use fenestra_core::Vec3;
+use fenestra_core::{Rgb, Vec2, Vec3};
+use fenestra_scene::Scene;
 use plotters::prelude::*;
+use rayon::prelude::*;
 use std::path::Path;
 
 /// Pixels of one panel's plotting area, square so that the projections keep their shape.
@@ -100,7 +104,7 @@ fn draw<'a>(
             .points
             .iter()
             .chain(outlines.iter().flatten());
-        for q in drawn.chain(&[lo3, hi3]).map(|&p| project(p)) {
+        for q in drawn.map(|&p| project(p)) {
             (lo[0], hi[0]) = (lo[0].min(q.0), hi[0].max(q.0));
             (lo[1], hi[1]) = (lo[1].min(q.1), hi[1].max(q.1));
         }
@@ -126,7 +130,14 @@ fn draw<'a>(
             .x_label_formatter(&tick)
             .y_label_formatter(&tick)
             .draw()?;
-        let (a, b) = (project(lo3), project(hi3));
+        // The scene's bounds, clipped to the window (a ground plane's reach far beyond it).
+        let clip = |(x, y): (f64, f64)| {
+            (
+                x.clamp(mid[0] - half, mid[0] + half),
+                y.clamp(mid[1] - half, mid[1] + half),
+            )
+        };
+        let (a, b) = (clip(project(lo3)), clip(project(hi3)));
         chart.draw_series(std::iter::once(Rectangle::new(
             [a, b],
             BOUNDS.stroke_width(1),
@@ -145,4 +156,89 @@ fn draw<'a>(
     }
     root.present()?;
     Ok(dots)
+}
+
+/// Width in pixels of [`write_view`]'s picture.
+const VIEW_WIDTH: u32 = 640;
+/// Opacity of a portal's colour where it lies in front of the geometry (or on it), and where
+/// it lies behind it (seen through the walls, fainter).
+const IN_FRONT: f32 = 0.55;
+const BEHIND: f32 = 0.18;
+
+/// Writes the estimated portals over the scene as its camera sees it to `path` (PNG): the
+/// geometry in grey shaded by the angle it is seen at, the sky in pale blue, each portal in
+/// its cluster's colour (fainter where a wall hides it) with its outline: a picture in which a
+/// user checks in seconds that the portals sit on the windows.
+pub fn write_view(scene: &Scene, estimate: &Estimate, path: &Path) -> Result<(), PortalError> {
+    let (w, h) = (scene.defaults.width.max(1), scene.defaults.height.max(1));
+    let (vw, vh) = (
+        VIEW_WIDTH,
+        ((VIEW_WIDTH as u64 * h as u64 / w as u64) as u32).max(1),
+    );
+    let portals: Vec<&Portal> = estimate.portals.iter().map(|e| &e.portal).collect();
+    // Per pixel: the shaded grey and the nearest portal in front (or, failing that, behind).
+    let pixels: Vec<(f32, Option<(usize, bool)>)> = (0..vw * vh)
+        .into_par_iter()
+        .map(|k| {
+            let film = Vec2::new(
+                ((k % vw) as f32 + 0.5) * w as f32 / vw as f32,
+                ((k / vw) as f32 + 0.5) * h as f32 / vh as f32,
+            );
+            let ray = scene.camera.generate_ray(film, w, h);
+            let hit = scene.intersect(&ray, f32::INFINITY);
+            let (grey, t_hit) = match &hit {
+                Some(hit) => {
+                    let si = scene.interaction(&ray, hit);
+                    (0.08 + 0.6 * si.ns.dot(ray.d).abs(), hit.t)
+                }
+                None => (-1.0, f32::INFINITY),
+            };
+            let nearest = portals
+                .iter()
+                .enumerate()
+                .filter_map(|(i, p)| p.intersect(ray.o, ray.d).map(|t| (i, t)))
+                .min_by(|a, b| a.1.total_cmp(&b.1))
+                .map(|(i, t)| (i, t <= t_hit * 1.01 + 1e-3));
+            (grey, nearest)
+        })
+        .collect();
+    let sky = Rgb::new(0.45, 0.6, 0.8);
+    let mut image = Image::new(vw as usize, vh as usize);
+    for (k, (grey, portal)) in pixels.iter().enumerate() {
+        let base = if *grey < 0.0 { sky } else { Rgb::splat(*grey) };
+        let (x, y) = ((k as u32 % vw) as i64, (k as u32 / vw) as i64);
+        // An outline where a neighbour holds another portal (or none).
+        let edge = portal.is_some()
+            && [(-1i64, 0i64), (1, 0), (0, -1), (0, 1)]
+                .iter()
+                .any(|(dx, dy)| {
+                    let (nx, ny) = (x + dx, y + dy);
+                    nx < 0
+                        || ny < 0
+                        || nx >= vw as i64
+                        || ny >= vh as i64
+                        || pixels[(ny * vw as i64 + nx) as usize].1.map(|p| p.0)
+                            != portal.map(|p| p.0)
+                });
+        image.pixels[k] = match portal {
+            Some((i, front)) => {
+                let [r, g, b] = fenestra_core::palette::category(estimate.portals[*i].cluster);
+                let colour = Rgb::new(
+                    srgb_to_linear(r as f32 / 255.0),
+                    srgb_to_linear(g as f32 / 255.0),
+                    srgb_to_linear(b as f32 / 255.0),
+                );
+                let alpha = match (edge, front) {
+                    (true, _) => 1.0,
+                    (false, true) => IN_FRONT,
+                    (false, false) => BEHIND,
+                };
+                base * (1.0 - alpha) + colour * alpha
+            }
+            None => base,
+        };
+    }
+    image
+        .write_png_to(path, Some(0.0))
+        .map_err(|e| PortalError::Plot(e.to_string()))
 }

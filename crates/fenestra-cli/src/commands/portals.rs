@@ -125,7 +125,8 @@ pub struct PortalsArgs {
     #[arg(long)]
     export: Vec<PathBuf>,
     /// Picture of photons, clusters and portals on XY, XZ and YZ, with axes in metres, as
-    /// SVG (default: beside the output, with .svg).
+    /// SVG (default: beside the output, with .svg); beside it, with .png, the portals over the
+    /// scene as its camera sees it.
     #[arg(long)]
     plot: Option<PathBuf>,
     /// Worker threads (default: all cores).
@@ -159,32 +160,34 @@ pub fn run(args: PortalsArgs) -> Result<bool> {
         .plot
         .clone()
         .unwrap_or_else(|| args.output.with_extension("svg"));
-    let mut files = crate::support::files::Files::default();
-    files
-        .inputs(&loaded.files, "scene file")
-        .output(&args.output, "portals file")
-        .output(&plot_path, "picture");
-    for path in &args.export {
-        files.output(path, "export");
-    }
-    files.check()?;
     if plot_path.extension().and_then(|e| e.to_str()) != Some("svg") {
         bail!(
             "--plot {}: the picture is SVG, name it .svg",
             plot_path.display()
         );
     }
+    let view_path = plot_path.with_extension("png");
+    let mut files = crate::support::files::Files::default();
+    files
+        .inputs(&loaded.files, "scene file")
+        .output(&args.output, "portals file")
+        .output(&plot_path, "picture")
+        .output(&view_path, "camera-view picture");
+    for path in &args.export {
+        files.output(path, "export");
+    }
+    files.check()?;
     let pool = crate::thread_pool(args.threads)?;
     let cancel = interrupt::on_ctrl_c("stopping; nothing is written");
     let params = args.estimate.params();
-    let (e, bounds) = pool.install(|| -> Result<_> {
+    let (e, scene) = pool.install(|| -> Result<_> {
         let scene =
             Scene::build(loaded.desc, args.bvh.unwrap_or_default()).context("invalid scene")?;
         let scene = RenderScene::new(scene);
         let bar = Bar::new(args.quiet || args.json);
         let e = estimate(&scene, &params, &cancel, &bar)?;
         bar.finish();
-        Ok((e, scene.scene.bounds()))
+        Ok((e, scene))
     })?;
     if cancel.load(std::sync::atomic::Ordering::SeqCst) {
         // Portals of part of the photons would replace a complete estimate: keep the files.
@@ -196,9 +199,8 @@ pub fn run(args: PortalsArgs) -> Result<bool> {
     }
     if e.portals.is_empty() {
         eprintln!(
-            "warning: no portal found ({} photons, {} clusters); try more --photons, a larger --theta or a smaller --radius",
+            "warning: no portal found that carries light to what the camera sees ({} photons); lp_hf would sample the lights alone, as af_hf does; more --photons, a larger --theta or a smaller --radius may find one",
             e.photons.points.len(),
-            e.clusters.len()
         );
     }
     // Every file or none (a full disk wrote the .json and not the .svg).
@@ -209,7 +211,9 @@ pub fn run(args: PortalsArgs) -> Result<bool> {
     for path in &args.export {
         set.stage(path, |tmp| export::write(&portals, tmp))?;
     }
+    let bounds = scene.scene.bounds();
     set.stage(&plot_path, |tmp| plot::write_projections(&e, bounds, tmp))?;
+    pool.install(|| set.stage(&view_path, |tmp| plot::write_view(&scene.scene, &e, tmp)))?;
     set.commit()?;
     if args.json {
         println!("{}", serde_json::to_string(&file)?);
@@ -218,6 +222,7 @@ pub fn run(args: PortalsArgs) -> Result<bool> {
         let mut wrote = vec![
             args.output.display().to_string(),
             plot_path.display().to_string(),
+            view_path.display().to_string(),
         ];
         wrote.extend(args.export.iter().map(|p| p.display().to_string()));
         println!("wrote {}", wrote.join(", "));
