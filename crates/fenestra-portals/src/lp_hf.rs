@@ -48,11 +48,24 @@ fenestra_render::options! {
         /// Keep the portals even when, measured before rendering at the points the camera
         /// sees, light sampling alone (af_hf's) is the more efficient.
         pub keep: bool = false,
+        /// With compact lights (Dirac lights, the sun): the probability that a vertex samples
+        /// them instead of the portals, one ray per vertex (default: measured before rendering
+        /// along with whether the portals pay; with portal.keep, both at every vertex).
+        pub compact_share: Option<f32> = None,
     }
 }
 
 impl Validate for PortalOptions {
     fn validate(&self) -> Result<(), OptionError> {
+        if self.compact_share.is_some_and(|c| !(c > 0.0 && c < 1.0)) {
+            return Err(OptionError::new(
+                "compact_share",
+                format!(
+                    "must lie in (0, 1), got {}",
+                    self.compact_share.unwrap_or_default()
+                ),
+            ));
+        }
         if !(0.0..=1.0).contains(&self.light_mix) {
             return Err(OptionError::new(
                 "light_mix",
@@ -89,6 +102,7 @@ pub fn lp_hf(
             lights,
             estimated: None,
             gain: None,
+            compact_share: options.compact_share,
         },
         path,
     ))
@@ -106,6 +120,9 @@ pub struct PortalNextEvent {
     /// The portals' efficiency over light sampling alone, measured before rendering (below 1:
     /// the portals were left out).
     gain: Option<f64>,
+    /// The probability that a vertex samples the compact lights instead of the portals (the
+    /// option's, or measured), or `None`: both at every vertex.
+    compact_share: Option<f32>,
 }
 
 /// Where estimated portals came from.
@@ -156,6 +173,15 @@ impl PortalNextEvent {
         &self.portals
     }
 
+    /// The probabilities that a vertex samples the compact lights and the portals: both 1
+    /// when it samples both, else one or the other.
+    fn shares(&self, scene: &RenderScene) -> (f32, f32) {
+        match self.compact_share {
+            Some(c) if scene.lights.has_compact => (c, 1.0 - c),
+            _ => (1.0, 1.0),
+        }
+    }
+
     /// Portal sampling at `s` (eq. 4.1), or with probability `light_mix` light sampling: a
     /// direction, and the probe ray that finds whatever lies beyond thin glass along it
     /// (emitter or environment); [`PortalNextEvent::probed`] weighs that by MIS against the
@@ -202,6 +228,7 @@ impl PortalNextEvent {
                 bsdf_pdf: s.bsdf.pdf(s.wo_local, wi_local),
                 sampled,
                 portal_pdf: portal_pdf.unwrap_or_else(|| self.portals.pdf(&v.weights, wi)),
+                share: 1.0,
                 mis,
             },
         })
@@ -223,6 +250,9 @@ pub struct PortalProbe {
     sampled: Option<usize>,
     /// The portals' density of the direction.
     portal_pdf: f32,
+    /// The probability that the vertex sampled the portals (one of them and the compact
+    /// lights per vertex), else 1.
+    share: f32,
     mis: MisHeuristic,
 }
 
@@ -303,8 +333,15 @@ impl NextEvent for PortalNextEvent {
         let portals = portals.with_strategy(self.options.sampling, self.options.choice);
         if !self.options.keep {
             let surroundings = camera_surroundings(&scene.scene);
-            let verdict = measure(scene, &portals, self.lights.sampler(), &surroundings);
+            let verdict = measure(
+                scene,
+                &portals,
+                self.lights.sampler(),
+                &surroundings,
+                self.options.compact_share,
+            );
             self.gain = Some(verdict.gain());
+            self.compact_share = verdict.compact_share;
             if verdict.gain() < 1.0 {
                 control.progress.note(&format!(
                     "portals: light sampling alone measured {:.2}x as efficient at the points \
@@ -314,9 +351,16 @@ impl NextEvent for PortalNextEvent {
                 ));
                 return Ok(());
             }
+            let how = match verdict.compact_share {
+                Some(c) if scene.lights.has_compact => format!(
+                    "; a vertex samples the compact lights with probability {c:.2}, else the \
+                     portals"
+                ),
+                _ => String::new(),
+            };
             control.progress.note(&format!(
                 "portals: measured {:.2}x as efficient as light sampling alone at the points \
-                 the camera sees",
+                 the camera sees{how}",
                 verdict.gain()
             ));
         }
@@ -361,13 +405,24 @@ impl NextEvent for PortalNextEvent {
                 .sample_light(scene, s, false, mis, sample, shadows);
             return Rgb::ZERO;
         }
-        if let Some(probe) = self.sample_portal(scene, s, v, mis, sample.sampler, sample.rays) {
-            out.probes.push(probe);
+        let (compact, through) = self.shares(scene);
+        // One strategy or both at this vertex.
+        let u = match self.compact_share {
+            Some(_) if scene.lights.has_compact => sample.sampler.next_1d(),
+            _ => f32::NAN,
+        };
+        if !(u < compact) {
+            if let Some(mut probe) =
+                self.sample_portal(scene, s, v, mis, sample.sampler, sample.rays)
+            {
+                probe.probe.share = through;
+                out.probes.push(probe);
+            }
         }
-        if scene.lights.has_compact {
+        if scene.lights.has_compact && !(u >= compact) {
             let shadows = &mut out.shadows;
             self.lights
-                .sample_light(scene, s, true, mis, sample, shadows);
+                .sample_light_share(scene, s, (true, compact), mis, sample, shadows);
         }
         Rgb::ZERO
     }
@@ -426,7 +481,7 @@ impl NextEvent for PortalNextEvent {
         if li.is_black() {
             return Rgb::ZERO;
         }
-        let pdf = (1.0 - light_mix) * probe.portal_pdf + light_mix * light_pdf;
+        let pdf = probe.share * ((1.0 - light_mix) * probe.portal_pdf + light_mix * light_pdf);
         if !(pdf > 0.0) {
             return Rgb::ZERO;
         }
@@ -447,8 +502,12 @@ impl NextEvent for PortalNextEvent {
         let ctx = from.light_context(sample);
         // A compact light (the sun) found by the BSDF's ray competes with its own light
         // sampling alone, and so does any light when there is no portal.
-        if scene.lights.lights[found.light].is_compact() || self.portals.is_empty() {
+        if self.portals.is_empty() {
             return self.lights.light_pdf(scene, &ctx, wi, found);
+        }
+        let (compact, through) = self.shares(scene);
+        if scene.lights.lights[found.light].is_compact() {
+            return compact * self.lights.light_pdf(scene, &ctx, wi, found);
         }
         let v = &from.vertex;
         let light_mix = self.options.light_mix;
@@ -456,7 +515,7 @@ impl NextEvent for PortalNextEvent {
         if light_mix > 0.0 {
             p += light_mix * self.lights.light_pdf(scene, &ctx, wi, found);
         }
-        p
+        through * p
     }
 
     fn report(&self, stats: &mut RenderStats) {
@@ -478,6 +537,9 @@ impl NextEvent for PortalNextEvent {
         }
         if let Some(gain) = self.gain {
             stats.extra.insert("portal_gain".into(), gain);
+        }
+        if let Some(c) = self.compact_share {
+            stats.extra.insert("portal_compact_share".into(), c as f64);
         }
     }
 }

@@ -22,13 +22,17 @@ const SAMPLES: u32 = 8;
 /// Points of the surroundings used at most.
 const POINTS: usize = 2048;
 
-/// The two estimators' measured variance times cost.
+/// The estimators' measured variance times cost, and how lp_hf should sample.
 #[derive(Clone, Copy, Debug)]
 pub struct Verdict {
-    /// Portals (with compact lights by light sampling), as lp_hf samples.
+    /// Portals (with compact lights by light sampling), as lp_hf samples with
+    /// `compact_share`.
     pub portals: f64,
     /// Light sampling alone, as af_hf samples.
     pub lights: f64,
+    /// The probability that a vertex samples the compact lights instead of the portals, or
+    /// `None` for both at every vertex, whichever measured the more efficient.
+    pub compact_share: Option<f32>,
 }
 
 impl Verdict {
@@ -45,13 +49,99 @@ impl Verdict {
     }
 }
 
-/// Measures the two estimators at the camera's `surroundings` in `scene`.
+/// How lp_hf's portal estimator is taken in a measurement: both strategies at a vertex, or
+/// the compact lights with probability `compact` and else the portals.
+#[derive(Clone, Copy)]
+enum Plan {
+    Both,
+    OneOf { compact: f32 },
+}
+
+/// Measures the estimators at the camera's `surroundings` in `scene`: light sampling alone,
+/// and the portals with the compact lights sampled at every vertex or (chosen per vertex with
+/// `compact_share`, else the probability that minimises the variance measured) one or the
+/// other.
 pub fn measure(
     scene: &RenderScene,
     portals: &Portals,
     lights: &dyn LightSampler,
     surroundings: &Surroundings,
+    compact_share: Option<f32>,
 ) -> Verdict {
+    // Rays per path vertex: the BSDF's, and a light sample's shadow ray or a portal's probe
+    // ray, or both.
+    let (one, two) = (2.0, 3.0);
+    if !scene.lights.has_compact {
+        let m = moments(scene, portals, lights, surroundings, Plan::Both);
+        return Verdict {
+            portals: m.portals * one,
+            lights: m.lights * one,
+            compact_share: None,
+        };
+    }
+    if let Some(c) = compact_share {
+        let m = moments(
+            scene,
+            portals,
+            lights,
+            surroundings,
+            Plan::OneOf { compact: c },
+        );
+        return Verdict {
+            portals: m.portals * one,
+            lights: m.lights * one,
+            compact_share: Some(c),
+        };
+    }
+    let both = moments(scene, portals, lights, surroundings, Plan::Both);
+    // A sum of two estimators taken one at a time with probabilities c and 1 - c has the
+    // variance M_c / c + M_p / (1 - c) - mean^2, least at c = sqrt(M_c) / (sqrt(M_c) +
+    // sqrt(M_p)).
+    let (mc, mp) = (both.second_compact.sqrt(), both.second_portals.sqrt());
+    let c = if mc + mp > 0.0 {
+        (mc / (mc + mp)) as f32
+    } else {
+        0.5
+    };
+    let c = c.clamp(MIN_SHARE, 1.0 - MIN_SHARE);
+    let one_of = moments(
+        scene,
+        portals,
+        lights,
+        surroundings,
+        Plan::OneOf { compact: c },
+    );
+    let (portals_cost, compact_share) = if one_of.portals * one < both.portals * two {
+        (one_of.portals * one, Some(c))
+    } else {
+        (both.portals * two, None)
+    };
+    Verdict {
+        portals: portals_cost,
+        lights: both.lights * one,
+        compact_share,
+    }
+}
+
+/// The least probability of either strategy when one is taken per vertex.
+const MIN_SHARE: f32 = 0.05;
+
+/// Variances (summed over the points) of the two estimators, and the second moments of the
+/// portal estimator's two parts.
+struct Measured {
+    portals: f64,
+    lights: f64,
+    second_compact: f64,
+    second_portals: f64,
+}
+
+fn moments(
+    scene: &RenderScene,
+    portals: &Portals,
+    lights: &dyn LightSampler,
+    surroundings: &Surroundings,
+    plan: Plan,
+) -> Measured {
     let camera = scene.scene.camera.position;
     let points = &surroundings.points;
     let step = points.len().div_ceil(POINTS).max(1);
@@ -64,7 +154,16 @@ pub fn measure(
         pass: 0,
         index: 0,
     };
-    let (mut var_portals, mut var_lights) = (0.0f64, 0.0f64);
+    let mut m = Measured {
+        portals: 0.0,
+        lights: 0.0,
+        second_compact: 0.0,
+        second_portals: 0.0,
+    };
+    let (compact, through) = match plan {
+        Plan::Both => (1.0, 1.0),
+        Plan::OneOf { compact } => (compact, 1.0 - compact),
+    };
     for (k, si) in points.iter().enumerate().step_by(step) {
         // The side the camera sees.
         let to_camera = camera - si.p;
@@ -86,25 +185,30 @@ pub fn measure(
             weights: portals.pick_weights(si.p, Some(n)),
         };
         let mut sampler = Sampler::new(0, 0x5049_4c54, k as u32);
-        let (mut through, mut direct) = (Moments::default(), Moments::default());
+        let (mut lp, mut af) = (Moments::default(), Moments::default());
         for _ in 0..SAMPLES {
-            let (by_bsdf_portals, by_bsdf_lights) = at.bsdf_sample(&mut sampler);
-            let compact = at.light_sample(true, &mut sampler);
-            let all = at.light_sample(false, &mut sampler);
-            let portal = at.portal_sample(&mut sampler);
-            through.add(portal + compact + by_bsdf_portals);
-            direct.add(all + by_bsdf_lights);
+            let (by_bsdf_portals, by_bsdf_lights) =
+                at.bsdf_sample((compact, through), &mut sampler);
+            let all = at.light_sample(false, 1.0, &mut sampler);
+            let (c, p) = match plan {
+                Plan::Both => (
+                    at.light_sample(true, 1.0, &mut sampler),
+                    at.portal_sample(1.0, &mut sampler),
+                ),
+                Plan::OneOf { compact } if sampler.next_1d() < compact => {
+                    (at.light_sample(true, compact, &mut sampler), 0.0)
+                }
+                Plan::OneOf { .. } => (0.0, at.portal_sample(through, &mut sampler)),
+            };
+            m.second_compact += c * c;
+            m.second_portals += p * p;
+            lp.add(c + p + by_bsdf_portals);
+            af.add(all + by_bsdf_lights);
         }
-        var_portals += through.variance();
-        var_lights += direct.variance();
+        m.portals += lp.variance();
+        m.lights += af.variance();
     }
-    // Rays per path vertex: the BSDF's, the light sample's shadow ray, and for the portals a
-    // probe ray besides the compact lights' shadow ray.
-    let cost_portals = if scene.lights.has_compact { 3.0 } else { 2.0 };
-    Verdict {
-        portals: var_portals * cost_portals,
-        lights: var_lights * 2.0,
-    }
+    m
 }
 
 /// A point the camera sees, as a white diffuse surface facing it, and the samplers at it.
@@ -133,8 +237,9 @@ impl Point<'_> {
             as f64
     }
 
-    /// A light sample by the light sampler (only compact lights count with `compact_only`).
-    fn light_sample(&self, compact_only: bool, sampler: &mut Sampler) -> f64 {
+    /// A light sample by the light sampler (only compact lights count with `compact_only`),
+    /// taken with probability `share`.
+    fn light_sample(&self, compact_only: bool, share: f32, sampler: &mut Sampler) -> f64 {
         let (u_pick, u) = (sampler.next_1d(), sampler.next_2d());
         let Some((index, pick)) = self.lights.sample(&self.ctx, u_pick) else {
             return 0.0;
@@ -147,7 +252,7 @@ impl Point<'_> {
             return 0.0;
         };
         let cos = ls.wi.dot(self.ctx.n);
-        let p = pick as f64 * ls.pdf as f64;
+        let p = share as f64 * pick as f64 * ls.pdf as f64;
         if cos <= 0.0 || !(p > 0.0) {
             return 0.0;
         }
@@ -165,8 +270,8 @@ impl Point<'_> {
     }
 
     /// A direction through the portals, finding what lies beyond thin glass (the sun left to
-    /// light sampling).
-    fn portal_sample(&self, sampler: &mut Sampler) -> f64 {
+    /// light sampling), taken with probability `share`.
+    fn portal_sample(&self, share: f32, sampler: &mut Sampler) -> f64 {
         let (u_pick, u) = (sampler.next_1d(), sampler.next_2d());
         let Some(ps) = self.portals.sample(&self.weights, u_pick, u) else {
             return 0.0;
@@ -177,25 +282,30 @@ impl Point<'_> {
         }
         let found = self.found(ps.wi);
         let le: f64 = found.iter().filter(|f| !f.compact).map(|f| f.le).sum();
-        le * cos as f64 / (ps.pdf as f64 + self.bsdf_pdf(ps.wi))
+        le * cos as f64 / (share as f64 * ps.pdf as f64 + self.bsdf_pdf(ps.wi))
     }
 
     /// A cosine-weighted direction: its balance-weighted value against the portals' mixture
-    /// (portals for what they carry, light sampling for compact lights) and against light
-    /// sampling alone.
-    fn bsdf_sample(&self, sampler: &mut Sampler) -> (f64, f64) {
+    /// (portals for what they carry, light sampling for compact lights, taken with the
+    /// probabilities `shares`) and against light sampling alone.
+    fn bsdf_sample(&self, (compact, through): (f32, f32), sampler: &mut Sampler) -> (f64, f64) {
         let local = fenestra_core::warp::square_to_cosine_hemisphere(sampler.next_2d());
         let wi = fenestra_core::Frame::from_normal(self.ctx.n).to_world(local);
         let (pdf, cos) = (self.bsdf_pdf(wi), wi.dot(self.ctx.n) as f64);
         if !(pdf > 0.0) {
             return (0.0, 0.0);
         }
-        let portal_pdf = self.portals.pdf(&self.weights, wi) as f64;
+        let portal_pdf = through as f64 * self.portals.pdf(&self.weights, wi) as f64;
         let (mut with_portals, mut with_lights) = (0.0, 0.0);
         for f in self.found(wi) {
             let light_pdf = self.light_pdf(f.light, wi, f.hit());
             with_lights += f.le * cos / (pdf + light_pdf);
-            with_portals += f.le * cos / (pdf + if f.compact { light_pdf } else { portal_pdf });
+            let strategy = if f.compact {
+                compact as f64 * light_pdf
+            } else {
+                portal_pdf
+            };
+            with_portals += f.le * cos / (pdf + strategy);
         }
         (with_portals, with_lights)
     }

@@ -192,9 +192,9 @@ fn lp_hf_refuses_a_scene_without_portals_and_a_bad_mixture() {
 }
 
 /// Under `--sky`'s sky and sun (75 degrees up: its patch lands on the floor), lp_hf leaves the
-/// sun to its own light sampling at every vertex, and a BSDF ray that meets it is weighted
-/// against that sampling alone: with indirect light (path length 4) lp_hf, alone and mixed
-/// with light sampling, agrees with af_hf over the image and 8x8 regions, and their image
+/// sun to its own light sampling, at every vertex or (compact_share) instead of the portals at
+/// some, and a BSDF ray that meets it is weighted against that sampling alone: with indirect
+/// light (path length 4) lp_hf, alone and mixed with light sampling, agrees with af_hf over the image and 8x8 regions, and their image
 /// means agree within 3.5 standard errors (a standard error of about 0.45%: af_hf finds the
 /// sun's bounce light only by the BSDF's rays; the direct sun is checked to 5e-4 against its
 /// integral in analytic.rs).
@@ -218,10 +218,16 @@ fn lp_hf_agrees_with_af_hf_under_the_sky_and_sun() {
         &mut af_hf(path(power, 4), LightSelection::Power),
         2048,
     );
-    for (what, light_mix) in [("portals", 0.0), ("portals mixed with light sampling", 0.5)] {
+    for (what, light_mix, compact_share) in [
+        ("portals and the sun at every vertex", 0.0, None),
+        ("portals mixed with light sampling", 0.5, None),
+        ("the sun or else the portals at a vertex", 0.0, Some(0.3)),
+        ("the sun or else portals mixed with light sampling", 0.5, Some(0.6)),
+    ] {
         let options = PortalOptions {
             light_mix,
-            ..Default::default()
+            compact_share,
+            ..kept_portals()
         };
         let lp = render(load(), &mut portals(options, power, 4), 2048);
         let label = format!("box-hole-sky under --sky: af_hf vs lp_hf with {what}");

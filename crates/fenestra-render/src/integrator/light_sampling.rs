@@ -119,6 +119,21 @@ impl LightNextEvent {
         sample: &mut PathSample,
         shadows: &mut Vec<ShadowRay>,
     ) {
+        self.sample_light_share(scene, s, (compact_only, 1.0), mis, sample, shadows);
+    }
+
+    /// [`LightNextEvent::sample_light`] taken with probability `share` at this vertex (a
+    /// strategy that picks it or another per vertex): its densities are `share` times the
+    /// light sampler's, in the estimate and in the MIS weight.
+    pub fn sample_light_share(
+        &self,
+        scene: &RenderScene,
+        s: &Shading,
+        (compact_only, share): (bool, f32),
+        mis: MisHeuristic,
+        sample: &mut PathSample,
+        shadows: &mut Vec<ShadowRay>,
+    ) {
         // The pick and the point on the light stratified together: the triangles of an
         // emitter are lights of their own, and an emitter's samples should cover it as a
         // 2D sample over the whole would.
@@ -131,7 +146,7 @@ impl LightNextEvent {
             if let Some(shadow) = self.light_sample(
                 scene,
                 s,
-                (index, pick, u),
+                (index, pick * share, u),
                 compact_only,
                 mis,
                 sample.records,
