@@ -13,7 +13,7 @@ use crate::photon::{trace, PhotonParams, Photons};
 use crate::portal::{EstimationRecord, Portal, PortalFile, PortalRecord, Portals};
 use crate::ransac::{ransac_plane, Plane, Ransac};
 use crate::rectangle::{inner_rectangle, min_area_rectangle, pca_rectangle, Rectangle};
-use crate::snap::{snap_to_opening, Opening};
+use crate::snap::{snap_to_opening, Opening, MIN_ENCLOSED};
 use crate::window::{windows, within, WINDOW_GAP};
 use fenestra_core::{UnknownName, Vec3};
 use fenestra_render::options::ValueError;
@@ -330,7 +330,7 @@ fn fit_portals(
     let gap = if ring { WINDOW_GAP } else { params.dbscan.eps };
     let windows = windows(&opening, points, &params.ransac, gap);
     let carry = Carry::new(scene, surroundings, &glass);
-    let (clusters, portals) = combine(&carry, seed, windows);
+    let (clusters, portals) = combine(&opening, &carry, seed, windows);
     let t3 = Instant::now();
     let timings = Timings {
         photons: 0.0,
@@ -340,17 +340,20 @@ fn fit_portals(
     (clusters, portals, timings)
 }
 
-/// A seed portal at least this share of the window around it stands for the window (the seed's
-/// fit, snapped onto the opening's edges, is the more exact).
-const SEED_STANDS_FOR_WINDOW: f32 = 0.8;
+/// A seed portal of this share of the area of the window around it stands for the window (the
+/// seed's fit, snapped onto the opening's edges, is the more exact; a larger one was not
+/// snapped, because mullions or slats stopped the probes).
+const SEED_STANDS_FOR_WINDOW: std::ops::RangeInclusive<f32> = 0.8..=1.02;
 /// How far (relative to a window's size) a portal may reach out of it and still lie within it.
 const WITHIN: f32 = 0.05;
 
 /// The portals of an estimate: each window (largest first) unless it lies within one already
 /// kept, or the one seed portal within it when that covers most of it; then the seed portals
-/// within no window; of these, those that carry light ([`Carry::keep`]). Ordered by photons,
+/// within no window; of these, those cut in an occluder (most of a ring around them closed,
+/// [`MIN_ENCLOSED`]) that carry light ([`Carry::keep`]). Ordered by photons,
 /// most first, with each portal's photons as its cluster.
 fn combine(
+    opening: &Opening,
     carry: &Carry,
     seed: Vec<(Vec<usize>, Estimated)>,
     mut windows: Vec<(Vec<usize>, Estimated)>,
@@ -372,7 +375,9 @@ fn combine(
             used[i] = true;
         }
         match inside[..] {
-            [i] if seed[i].1.portal.area() >= SEED_STANDS_FOR_WINDOW * w.1.portal.area() => {
+            [i] if SEED_STANDS_FOR_WINDOW
+                .contains(&(seed[i].1.portal.area() / w.1.portal.area())) =>
+            {
                 kept.push(seed[i].clone())
             }
             _ => kept.push(w),
@@ -384,6 +389,7 @@ fn combine(
             .filter(|(_, u)| !u)
             .map(|(s, _)| s),
     );
+    kept.retain(|(_, e)| opening.enclosed_fraction(&e.portal) >= MIN_ENCLOSED);
     let mut kept = carry.keep(kept, |(_, e)| &e.portal);
     kept.sort_by_key(|(c, _)| std::cmp::Reverse(c.len()));
     kept.into_iter()

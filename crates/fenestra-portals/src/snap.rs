@@ -129,6 +129,12 @@ const LINE_POINTS: usize = 33;
 const GRID: usize = 16;
 /// A portal less open than this carries next to no light (a desk top, a wall) and is dropped.
 pub const MIN_OPEN: f32 = 0.2;
+/// The ring [`Opening::enclosed_fraction`] probes lies this far outside the portal
+/// (relative to its size), at this many points.
+const RING: f32 = 0.05;
+const RING_POINTS: usize = 64;
+/// A portal with less of its surroundings closed than this is no opening in an occluder.
+pub const MIN_ENCLOSED: f32 = 0.5;
 /// Glass layers a probe passes through at most.
 const MAX_LAYERS: usize = 8;
 
@@ -155,6 +161,44 @@ impl<'a> Opening<'a> {
             ray = Ray::new(si.spawn(ray.d), ray.d);
         }
         false
+    }
+
+    /// The fraction of points just outside the portal (a ring a twentieth of its size wide
+    /// around it) where light does not cross its plane: an opening cut in a wall, a roof or
+    /// a pane's frame has them all closed; a portal fitted to photons on a free-standing
+    /// object (a lamp shade that stops a sunbeam) has open air around it.
+    pub fn enclosed_fraction(&self, portal: &Portal) -> f32 {
+        let (n, size) = (portal.normal(), portal.area().sqrt());
+        let ring: Vec<Vec3> = match portal {
+            Portal::Quad { corner, e1, e2 } => {
+                let (g1, g2) = (RING * size / e1.length(), RING * size / e2.length());
+                (0..RING_POINTS)
+                    .map(|k| {
+                        // Around the square [-g, 1 + g]^2, side by side.
+                        let t = (k % (RING_POINTS / 4)) as f32 / (RING_POINTS / 4) as f32;
+                        let (s, u) = match k / (RING_POINTS / 4) {
+                            0 => (-g1 + t * (1.0 + 2.0 * g1), -g2),
+                            1 => (1.0 + g1, -g2 + t * (1.0 + 2.0 * g2)),
+                            2 => (1.0 + g1 - t * (1.0 + 2.0 * g1), 1.0 + g2),
+                            _ => (-g1, 1.0 + g2 - t * (1.0 + 2.0 * g2)),
+                        };
+                        *corner + *e1 * s + *e2 * u
+                    })
+                    .collect()
+            }
+            Portal::Ellipse { center, a, b } => {
+                let grow = 1.0 + RING * size / b.length().min(a.length());
+                (0..RING_POINTS)
+                    .map(|k| {
+                        let t = k as f32 / RING_POINTS as f32 * std::f32::consts::TAU;
+                        *center + (*a * t.cos() + *b * t.sin()) * grow
+                    })
+                    .collect()
+            }
+            Portal::Triangle { .. } => return 1.0,
+        };
+        let closed = ring.iter().filter(|&&q| !self.open(q, n, size)).count();
+        closed as f32 / ring.len() as f32
     }
 
     /// The fraction of the portal's points (a grid over it) where light crosses its plane.

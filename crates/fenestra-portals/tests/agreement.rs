@@ -222,7 +222,11 @@ fn lp_hf_agrees_with_af_hf_under_the_sky_and_sun() {
         ("portals and the sun at every vertex", 0.0, None),
         ("portals mixed with light sampling", 0.5, None),
         ("the sun or else the portals at a vertex", 0.0, Some(0.3)),
-        ("the sun or else portals mixed with light sampling", 0.5, Some(0.6)),
+        (
+            "the sun or else portals mixed with light sampling",
+            0.5,
+            Some(0.6),
+        ),
     ] {
         let options = PortalOptions {
             light_mix,

@@ -163,3 +163,60 @@ fn photons_do_not_depend_on_the_thread_count() {
     assert_eq!(one.points, three.points);
     assert_eq!((one.beams, one.rays), (three.beams, three.rays));
 }
+
+/// The estimate of box-hole-sky with extra shapes (material 0, the box's).
+fn sky_box_with(shapes: Vec<fenestra_scene::TriangleMesh>) -> ([Vec3; 4], Estimate) {
+    use fenestra_scene::{Shape, ShapeKind};
+    let mut desc = builtin::load("box-hole-sky").expect("builtin");
+    let hole = desc.portals[0];
+    for mesh in shapes {
+        desc.shapes.push(Shape::new(ShapeKind::Mesh(mesh), 0));
+    }
+    let scene = RenderScene::new(Scene::build(desc, Backend::Obvhs).expect("scene"));
+    let e = estimate(
+        &scene,
+        &EstimateParams::default(),
+        &AtomicBool::new(false),
+        &NoProgress,
+    )
+    .expect("estimate");
+    (hole, e)
+}
+
+/// A free-standing object in the light (a square frame of 2 cm bars hanging under
+/// box-hole-sky's hole, as a lamp shade in a sunbeam) casts edges into the light and lets it
+/// through, but it is no opening: only the hole gets a portal.
+#[test]
+fn a_free_standing_object_in_the_light_is_no_portal() {
+    use fenestra_scene::TriangleMesh;
+    let (z, h, w) = (0.4, 0.09, 0.01);
+    let bars = [
+        (Vec3::new(0.0, h, z), Vec3::X * h, Vec3::Y * w),
+        (Vec3::new(0.0, -h, z), Vec3::X * h, Vec3::Y * w),
+        (Vec3::new(h, 0.0, z), Vec3::X * w, Vec3::Y * h),
+        (Vec3::new(-h, 0.0, z), Vec3::X * w, Vec3::Y * h),
+    ]
+    .map(|(c, hu, hv)| TriangleMesh::quad(c, hu, hv));
+    let (hole, e) = sky_box_with(bars.to_vec());
+    assert_eq!(e.portals.len(), 1, "{}", e.summary());
+    assert!(covers(&e.portals[0].portal, &hole), "{}", e.summary());
+}
+
+/// A window broken up by frames is found as a whole: box-hole-sky's hole with a cross of 2 cm
+/// mullions in it (the photons ring the hole and line the mullions) gets one portal covering
+/// the hole to its corners, at most 2% larger than it.
+#[test]
+fn an_opening_with_mullions_is_one_portal() {
+    use fenestra_scene::TriangleMesh;
+    let bars = [
+        (Vec3::X * 0.125, Vec3::Y * 0.01),
+        (Vec3::X * 0.01, Vec3::Y * 0.125),
+    ]
+    .map(|(hu, hv)| TriangleMesh::quad(Vec3::new(0.0, 0.0, 0.5), hu, hv));
+    let (hole, e) = sky_box_with(bars.to_vec());
+    assert_eq!(e.portals.len(), 1, "{}", e.summary());
+    let portal = &e.portals[0].portal;
+    assert!(covers(portal, &hole), "{}", e.summary());
+    let ratio = portal.area() / area(&hole);
+    assert!(ratio <= 1.02, "the portal is {ratio} times the hole");
+}
