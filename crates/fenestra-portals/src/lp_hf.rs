@@ -101,6 +101,7 @@ pub fn lp_hf(
             portals: Portals::default(),
             lights,
             estimated: None,
+            none_found: false,
             gain: None,
             compact_share: options.compact_share,
         },
@@ -117,6 +118,8 @@ pub struct PortalNextEvent {
     lights: LightNextEvent,
     /// How the portals were estimated, when they were.
     estimated: Option<Estimation>,
+    /// The estimate (made now or cached) holds no portal: the lights are sampled alone.
+    none_found: bool,
     /// The portals' efficiency over light sampling alone, measured before rendering (below 1:
     /// the portals were left out).
     gain: Option<f64>,
@@ -132,8 +135,6 @@ enum Estimation {
     Made { photons: usize, seconds: f64 },
     /// Read from the cache.
     Cached,
-    /// Estimated now, and no portal carries light: the lights are sampled alone.
-    NoneFound,
 }
 
 /// The portals as portals.json records.
@@ -155,7 +156,6 @@ fn cached<'a>(path: &'a Path, params: &EstimateParams) -> Option<(&'a Path, Port
     (same && !record.interrupted)
         .then(|| file.portals(path).ok())
         .flatten()
-        .filter(|p| !p.is_empty())
         .map(|p| (path, p))
 }
 
@@ -289,7 +289,9 @@ impl NextEvent for PortalNextEvent {
             PortalSource::Scene => Portals::from_quads(&scene.scene.portals),
             PortalSource::Given(p) => p.clone(),
             PortalSource::Estimated { params, cache } => {
-                if let Some((path, portals)) = cache.as_deref().and_then(|c| cached(c, params)) {
+                let portals = if let Some((path, portals)) =
+                    cache.as_deref().and_then(|c| cached(c, params))
+                {
                     control.progress.note(&format!(
                         "portals: {} from the cache {}",
                         portals.portals().len(),
@@ -300,16 +302,9 @@ impl NextEvent for PortalNextEvent {
                 } else {
                     let e = estimate(scene, params, control.cancel, control.progress)?;
                     control.progress.note(&format!("portals: {}", e.summary()));
-                    if e.portals.is_empty() {
-                        control.progress.note(
-                            "portals: none found that carries light to what the camera sees; \
-                             lp_hf samples the lights alone, as af_hf does",
-                        );
-                        self.estimated = Some(Estimation::NoneFound);
-                        return Ok(());
-                    }
                     // Rendered as the cache holds them (portals.json records rebuild them to
-                    // within float rounding), so that a render from the cache is the same.
+                    // within float rounding), so that a render from the cache is the same; an
+                    // estimate that found none is cached too, and spares the next render it.
                     let file = e.file(&scene.scene.name, params);
                     if let (Some(path), false) = (cache, control.cancelled()) {
                         if let Some(dir) = path.parent() {
@@ -324,7 +319,16 @@ impl NextEvent for PortalNextEvent {
                         seconds: e.timings.total(),
                     });
                     file.portals(Path::new("the estimated portals"))?
+                };
+                if portals.is_empty() {
+                    control.progress.note(
+                        "portals: none found that carries light to what the camera sees; \
+                         lp_hf samples the lights alone, as af_hf does",
+                    );
+                    self.none_found = true;
+                    return Ok(());
                 }
+                portals
             }
         };
         if portals.is_empty() {
@@ -530,10 +534,10 @@ impl NextEvent for PortalNextEvent {
             Some(Estimation::Cached) => {
                 stats.extra.insert("portals_cached".into(), 1.0);
             }
-            Some(Estimation::NoneFound) => {
-                stats.extra.insert("portals_none_found".into(), 1.0);
-            }
             None => {}
+        }
+        if self.none_found {
+            stats.extra.insert("portals_none_found".into(), 1.0);
         }
         if let Some(gain) = self.gain {
             stats.extra.insert("portal_gain".into(), gain);

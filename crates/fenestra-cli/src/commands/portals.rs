@@ -160,23 +160,26 @@ pub fn run(args: PortalsArgs) -> Result<bool> {
         .plot
         .clone()
         .unwrap_or_else(|| args.output.with_extension("svg"));
-    if plot_path.extension().and_then(|e| e.to_str()) != Some("svg") {
-        bail!(
-            "--plot {}: the picture is SVG, name it .svg",
-            plot_path.display()
-        );
-    }
+    let svg = plot_path.extension().and_then(|e| e.to_str()) == Some("svg");
     let view_path = plot_path.with_extension("png");
     let mut files = crate::support::files::Files::default();
     files
         .inputs(&loaded.files, "scene file")
         .output(&args.output, "portals file")
-        .output(&plot_path, "picture")
-        .output(&view_path, "camera-view picture");
+        .output(&plot_path, "picture");
+    if svg {
+        files.output(&view_path, "camera-view picture");
+    }
     for path in &args.export {
         files.output(path, "export");
     }
     files.check()?;
+    if !svg {
+        bail!(
+            "--plot {}: the picture is SVG, name it .svg",
+            plot_path.display()
+        );
+    }
     let pool = crate::thread_pool(args.threads)?;
     let cancel = interrupt::on_ctrl_c("stopping; nothing is written");
     let params = args.estimate.params();
