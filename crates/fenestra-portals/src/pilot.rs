@@ -145,15 +145,7 @@ fn moments(
     let camera = scene.scene.camera.position;
     let points = &surroundings.points;
     let step = points.len().div_ceil(POINTS).max(1);
-    let context = SampleContext {
-        x: 0,
-        y: 0,
-        width: 1,
-        height: 1,
-        block: 0,
-        pass: 0,
-        index: 0,
-    };
+    let context = SampleContext::SINGLE;
     let mut m = Measured {
         portals: 0.0,
         lights: 0.0,

@@ -16,6 +16,20 @@ const ON_PLANE: f32 = 1e-3;
 /// Bisection steps: the edge is found to 2^-24 of the search interval.
 const STEPS: usize = 24;
 
+/// The edge between `open` (where `is_open` holds) and `shut` (where it does not), to 2^-24
+/// of their distance, on the shut side.
+fn bisect(mut open: f32, mut shut: f32, is_open: impl Fn(f32) -> bool) -> f32 {
+    for _ in 0..STEPS {
+        let mid = 0.5 * (open + shut);
+        if is_open(mid) {
+            open = mid;
+        } else {
+            shut = mid;
+        }
+    }
+    shut
+}
+
 /// Whether the point `q` of the portal's plane lies on the occluder.
 fn blocked(scene: &Scene, q: Vec3, n: Vec3, size: f32) -> bool {
     let lift = LIFT * size;
@@ -53,19 +67,11 @@ fn snap_pass(
         for (edge, f) in edges.iter_mut().zip([-0.25f32, 0.0, 0.25]) {
             let base = c + along * (f * other);
             let at = |s: f32| blocked(scene, base + dir * s, n, size);
-            let (mut open, mut shut) = (0.5 * *h, 1.02 * *h);
+            let (open, shut) = (0.5 * *h, 1.02 * *h);
             if at(open) || !at(shut) {
                 return None;
             }
-            for _ in 0..STEPS {
-                let mid = 0.5 * (open + shut);
-                if at(mid) {
-                    shut = mid;
-                } else {
-                    open = mid;
-                }
-            }
-            *edge = shut;
+            *edge = bisect(open, shut, |s| !at(s));
         }
         *h = edges.iter().fold(0.0f32, |m, &e| m.max(e));
         turn += sign * ((edges[2] - edges[0]) / (0.5 * other)).atan() / 4.0;
@@ -254,16 +260,7 @@ impl<'a> Opening<'a> {
             // From the side inwards across the whole rectangle to the opposite side.
             let first = (0..=LINES).find(|&j| line_open(at(j)))?;
             if first > 0 {
-                let (mut shut, mut open) = (at(first - 1), at(first));
-                for _ in 0..STEPS {
-                    let mid = 0.5 * (shut + open);
-                    if line_open(mid) {
-                        open = mid;
-                    } else {
-                        shut = mid;
-                    }
-                }
-                half[k] = shut;
+                half[k] = bisect(at(first), at(first - 1), line_open);
             }
         }
         if !(half[0] + half[1] > 0.0 && half[2] + half[3] > 0.0) {

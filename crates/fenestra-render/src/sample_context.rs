@@ -27,6 +27,18 @@ pub struct SampleContext {
 }
 
 impl SampleContext {
+    /// A sample outside any film (the one pixel of a 1x1 image, pass 0), for light samplers
+    /// asked at single points: tests, measurements before rendering.
+    pub const SINGLE: SampleContext = SampleContext {
+        x: 0,
+        y: 0,
+        width: 1,
+        height: 1,
+        block: 0,
+        pass: 0,
+        index: 0,
+    };
+
     /// Row-major index of the pixel.
     pub fn pixel(&self) -> u64 {
         self.y as u64 * self.width as u64 + self.x as u64

@@ -368,15 +368,7 @@ pub fn picks_follow_pmf(
 }
 
 /// The sample light samplers see in tests of single points.
-pub const SAMPLE: SampleContext = SampleContext {
-    x: 0,
-    y: 0,
-    width: 1,
-    height: 1,
-    block: 0,
-    pass: 0,
-    index: 0,
-};
+pub const SAMPLE: SampleContext = SampleContext::SINGLE;
 
 /// Six points in [many_lights]'s room with random normals; the first receives from every
 /// side (a zero normal).

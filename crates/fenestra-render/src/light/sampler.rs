@@ -261,15 +261,7 @@ mod tests {
     #[test]
     fn one_pick_and_the_splitting_picks_have_the_probabilities_they_claim() {
         let mut rng = fenestra_core::Rng::new(8);
-        let sample = SampleContext {
-            x: 0,
-            y: 0,
-            width: 1,
-            height: 1,
-            block: 0,
-            pass: 0,
-            index: 0,
-        };
+        let sample = SampleContext::SINGLE;
         let ctx = LightContext {
             p: Vec3::ZERO,
             n: Vec3::Z,
