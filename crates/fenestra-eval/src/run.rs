@@ -132,6 +132,8 @@ impl Runner<'_> {
         }
     }
 
+    /// `fenestra SUB SCENE` at the suite's resolution and path length `depth`, with the
+    /// scene entry's own arguments.
     fn base(&self, sub: &str, scene: &str, depth: u32) -> Command {
         let mut cmd = Command::new(&self.program);
         let [w, h] = self.suite.resolution;
@@ -147,6 +149,9 @@ impl Runner<'_> {
         ]);
         if let Some(t) = self.threads {
             cmd.args(["--threads", &t.to_string()]);
+        }
+        if let Some(entry) = self.suite.scenes.iter().find(|e| e.scene == scene) {
+            cmd.args(&entry.args);
         }
         cmd
     }

@@ -59,6 +59,10 @@ pub struct SceneEntry {
     pub scene: String,
     /// Path lengths to run (segments, 2 = direct light).
     pub max_depth: Vec<u32>,
+    /// More `fenestra render` arguments for this scene, its reference's and every
+    /// technique's, e.g. ["--sky"] for a glTF interior.
+    #[serde(default)]
+    pub args: Vec<String>,
 }
 
 /// A way of rendering: an integrator with options.
@@ -244,7 +248,7 @@ impl Suite {
                                 (&tech.integrator, &tech.args),
                                 tech.budget_args(budget),
                                 seed,
-                                (&s.scene, d),
+                                (&s.scene, &s.args, d),
                                 (&self.reference.integrator, self.reference.spp),
                                 &self.reference.args,
                                 env!("CARGO_PKG_VERSION"),
@@ -422,6 +426,10 @@ max_time = 5
             SUITE.replace("integrator = \"hf\"", "integrator = \"af_hf\""),
             SUITE.replace("spp = 64", "spp = 32"),
             SUITE.replace("repetitions = 2", "repetitions = 2\nseed = 5"),
+            SUITE.replace(
+                "max_depth = [2, 4]",
+                "max_depth = [2, 4]\nargs = [\"--sky\"]",
+            ),
         ] {
             assert_ne!(key(&changed), base, "{changed}");
         }
