@@ -7,7 +7,10 @@ the Standard view transform, linear 32-bit EXR out.
 
 Materials that take their metalness from AMD_split_roughnessMetallic's DDS maps get metallic 0,
 as fenestra gives them (neither reads the DDS). SINGLE_SCATTER=1 switches the Principled BSDFs
-to single-scattering GGX (fenestra's metal is single-scattering).
+to single-scattering GGX (fenestra's metal is single-scattering). For equal-time runs
+(scripts/interiors-vs-cycles): TIME_LIMIT=S renders for S seconds instead of SPP samples;
+PORTALS=portals.json adds fenestra's estimated portals as Cycles portal lights (rectangles);
+GUIDING=1 turns on Cycles' path guiding (OpenPGL, surfaces); SEED=N seeds its samples.
 """
 import bpy, sys
 scene_file, camera, env_file, width, height, spp, out = sys.argv[sys.argv.index('--')+1:]
@@ -38,8 +41,34 @@ w = bpy.data.worlds.new('sky'); sc.world = w; w.use_nodes = True
 nt = w.node_tree; bg = nt.nodes['Background']
 env = nt.nodes.new('ShaderNodeTexEnvironment'); env.image = bpy.data.images.load(env_file)
 nt.links.new(env.outputs['Color'], bg.inputs['Color']); bg.inputs['Strength'].default_value = 1.0
+portals = os.environ.get('PORTALS')
+if portals:
+    from mathutils import Matrix, Vector
+    to_blender = lambda v: Vector((v[0], -v[2], v[1]))   # glTF's y-up axes as the importer turns them
+    for k, rec in enumerate(json.load(open(portals))['portals']):
+        if rec.get('kind') != 'quad':
+            continue
+        v0, v1, _, v3 = (to_blender(v) for v in rec['vertices'])
+        e1, e2 = v1 - v0, v3 - v0
+        centre = v0 + 0.5 * (e1 + e2)
+        # A portal light emits along its -Z: into the room, towards the camera.
+        if e1.cross(e2).dot(cam.location - centre) > 0:
+            e1, e2 = e2, e1
+        x, y = e1.normalized(), e2.normalized()
+        light = bpy.data.lights.new('portal%d' % k, 'AREA')
+        light.shape = 'RECTANGLE'; light.size = e1.length; light.size_y = e2.length
+        light.cycles.is_portal = True
+        obj = bpy.data.objects.new('portal%d' % k, light)
+        obj.matrix_world = Matrix.Translation(centre) @ Matrix((x, y, x.cross(y))).transposed().to_4x4()
+        sc.collection.objects.link(obj)
+    print('portals from', portals)
 sc.render.engine = 'CYCLES'; c = sc.cycles
 c.device = 'CPU'; c.samples = int(spp); c.use_adaptive_sampling = False; c.use_denoising = False
+c.seed = int(os.environ.get('SEED', '0'))
+if os.environ.get('TIME_LIMIT'):
+    c.time_limit = float(os.environ['TIME_LIMIT']); c.samples = 1 << 24
+if os.environ.get('GUIDING'):
+    c.use_guiding = True; c.use_surface_guiding = True; c.use_volume_guiding = False
 c.max_bounces = 7; c.diffuse_bounces = 7; c.glossy_bounces = 7; c.transmission_bounces = 7
 c.transparent_max_bounces = 64; c.sample_clamp_direct = 0; c.sample_clamp_indirect = 0
 c.caustics_reflective = True; c.caustics_refractive = True; c.blur_glossy = 0.0
