@@ -220,3 +220,29 @@ fn an_opening_with_mullions_is_one_portal() {
     let ratio = portal.area() / area(&hole);
     assert!(ratio <= 1.02, "the portal is {ratio} times the hole");
 }
+
+/// What estimation keeps a portal by: box-hole-sky's hole is open and enclosed by the ceiling;
+/// the same square on the ceiling beside it is closed; hanging in the box's middle, it is open
+/// and surrounded by open air.
+#[test]
+fn openings_are_open_and_enclosed_free_squares_are_not() {
+    use fenestra_portals::snap::{Opening, MIN_ENCLOSED};
+    let desc = builtin::load("box-hole-sky").expect("builtin");
+    let hole = desc.portals[0];
+    let scene = Scene::build(desc, Backend::Obvhs).expect("scene");
+    let glass = vec![false; scene.shapes.len()];
+    let opening = Opening::new(&scene, &glass);
+    let square = |offset: Vec3| Portal::Quad {
+        corner: hole[0] + offset,
+        e1: hole[1] - hole[0],
+        e2: hole[3] - hole[0],
+    };
+    let at_hole = square(Vec3::ZERO);
+    let beside = square(Vec3::new(0.3, 0.0, 0.0));
+    let hanging = square(Vec3::new(0.0, 0.0, -0.5));
+    assert!(opening.open_fraction(&at_hole) > 0.99);
+    assert!(opening.enclosed_fraction(&at_hole) > 0.99);
+    assert!(opening.open_fraction(&beside) < 0.01);
+    assert!(opening.open_fraction(&hanging) > 0.99);
+    assert!(opening.enclosed_fraction(&hanging) < MIN_ENCLOSED);
+}
