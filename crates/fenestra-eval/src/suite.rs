@@ -289,7 +289,11 @@ fn distinct(names: impl Iterator<Item = String>, what: &str) -> Result<(), Strin
 /// A name made safe for file names: lower case, `builtin:` dropped, anything but letters,
 /// digits, '-' and '.' replaced by '_'.
 pub fn slug(s: &str) -> String {
-    let s = s.strip_prefix("builtin:").unwrap_or(s);
+    let mut s = s.strip_prefix("builtin:").unwrap_or(s);
+    // A scene beside the repository ("../../shared/scenes/...") is named by what follows.
+    while let Some(rest) = s.strip_prefix("../").or_else(|| s.strip_prefix("./")) {
+        s = rest;
+    }
     s.chars()
         .map(|c| {
             if c.is_ascii_alphanumeric() || c == '-' || c == '.' {
@@ -410,6 +414,16 @@ max_time = 5
                 .to_string();
             assert!(e.contains("must be positive and finite"), "{bad}: {e}");
         }
+    }
+
+    #[test]
+    fn slugs_name_scenes_by_what_sets_them_apart() {
+        assert_eq!(slug("builtin:box-hole"), "box-hole");
+        assert_eq!(
+            slug("../../shared/scenes/gltf/Breakfast Room.gltf"),
+            "shared_scenes_gltf_breakfast_room.gltf"
+        );
+        assert_eq!(slug("./a/b.pbrt"), "a_b.pbrt");
     }
 
     #[test]
