@@ -266,6 +266,53 @@ fn direct_sky_and_sun_through_the_hole_match_their_integral() {
     }
 }
 
+/// The sky and the sun together, lp_hf sampling the sun or else the portal at each vertex
+/// (portal.compact_share): each strategy's estimate is divided by its probability and its MIS
+/// weights use its density times that probability. With the sun 20 degrees up its light falls
+/// outside the view, and the sky through the portal (taken at 20% or 70% of the vertices) is
+/// checked at the strength of the tests above (a standard error of 2-3e-4); with the sun 75
+/// degrees up, in view, the sun's share of the estimate is checked to its standard error of
+/// 2e-3 (a one-in-five choice of the brightest light is noisy; a missing division by the share
+/// would be 25% off).
+#[test]
+fn sun_or_portal_per_vertex_matches_the_integral() {
+    let direct = PathOptions {
+        max_depth: 2,
+        ..Default::default()
+    };
+    for (elevation_deg, share, spp) in [(20.0, 0.3, 1024), (20.0, 0.8, 2048), (75.0, 0.8, 2048)] {
+        let (desc, albedo) = looking_at_the_floor("box-hole-sky");
+        let sky = Sky {
+            turbidity: 3.0,
+            albedo: 0.3,
+            elevation_deg,
+            azimuth_deg: 30.0,
+        };
+        let desc = desc.with_sky(&sky, Vec3::Z, 0.0, 1.0).expect("a valid sky");
+        let scene = RenderScene::new(Scene::build(desc, Backend::default()).expect("scene"));
+        let expect = expected_sky_mean(&scene, albedo);
+        let options = PortalOptions {
+            compact_share: Some(share),
+            ..kept_portals()
+        };
+        let lights = LightNextEvent::new(LightSelection::Power);
+        let mut lp = lp_hf(direct, options, PortalSource::Scene, lights).expect("lp_hf");
+        let (mean, se) = render(&mut lp, &scene, spp);
+        let off = (mean - expect) / expect;
+        let what = format!("sun {elevation_deg} degrees up, sampled at {share} of the vertices");
+        eprintln!(
+            "{what}: {mean:.6} vs {expect:.6} ({off:+.2e}, se {:.1e})",
+            se / expect
+        );
+        assert!(
+            (mean - expect).abs() < 4.0 * se + 3e-4 * expect,
+            "{what}: image mean {mean:.6} against the integral's {expect:.6} \
+             ({off:+.2e} relative, standard error {:.1e})",
+            se / expect
+        );
+    }
+}
+
 /// Default portal options, the portals kept whatever lp_hf's measurement before rendering
 /// finds (these tests are about sampling them).
 fn kept_portals() -> PortalOptions {
