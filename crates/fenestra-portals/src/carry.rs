@@ -1,6 +1,6 @@
 //! Which portals carry light to what the camera sees (beyond seed 000, which keeps every
 //! cluster's portal): from points the camera sees, rays aimed at points of a portal either go
-//! on to a light (the sky, an emitter), passing glass, or stop. A portal through which no light
+//! on to a light (the sky, an emitter), passing thin glass as lp_hf's probe rays do, or stop. A portal through which no light
 //! arrives (a desk top's photons, the gap between two desks, a glass vase in a room lit by a
 //! lamp) only takes samples from the light sampling it is mixed with, and is dropped.
 
@@ -12,27 +12,24 @@ use fenestra_render::RenderScene;
 /// Points of the surroundings each portal is tried from, and rays from each.
 const POINTS: usize = 256;
 const RAYS_PER_POINT: usize = 4;
-/// Glass layers a ray passes through at most.
-const MAX_LAYERS: usize = 8;
 /// A portal through which fewer of the rays than this reach a light is dropped, and so is one
 /// that carries less than this share of the light all portals carry (its area times the
 /// fraction of its rays that reach a light): a gap between desks lets a little sky through
 /// to the floor beneath them, but sampling it takes samples from the windows.
-pub const MIN_CARRY: f32 = 0.01;
+const MIN_CARRY: f32 = 0.01;
 const MIN_SHARE: f32 = 0.01;
 
 /// Decides whether portals carry light.
 pub struct Carry<'a> {
     scene: &'a RenderScene,
     surroundings: &'a Surroundings,
-    passes: &'a [bool],
     /// Whether a ray that leaves the scene meets a light (an environment other than the sun).
     sky: bool,
 }
 
 impl<'a> Carry<'a> {
-    /// The test in `scene` from the camera's `surroundings`, rays passing the `passes` shapes.
-    pub fn new(scene: &'a RenderScene, surroundings: &'a Surroundings, passes: &'a [bool]) -> Self {
+    /// The test in `scene` from the camera's `surroundings`.
+    pub fn new(scene: &'a RenderScene, surroundings: &'a Surroundings) -> Self {
         let lights = &scene.lights;
         let sky = lights
             .environments
@@ -41,7 +38,6 @@ impl<'a> Carry<'a> {
         Carry {
             scene,
             surroundings,
-            passes,
             sky,
         }
     }
@@ -94,23 +90,13 @@ impl<'a> Carry<'a> {
             .collect()
     }
 
-    /// Whether `ray` meets an emitter, or leaves the scene under a sky, through glass.
-    fn reaches_light(&self, mut ray: Ray) -> bool {
-        let scene = &self.scene.scene;
-        for _ in 0..MAX_LAYERS {
-            let Some(hit) = scene.intersect(&ray, f32::INFINITY) else {
-                return self.sky;
-            };
-            let shape = hit.shape as usize;
-            if self.scene.lights.first_area_light[shape].is_some() {
-                return true;
-            }
-            if !self.passes[shape] {
-                return false;
-            }
-            let si = scene.interaction(&ray, &hit);
-            ray = Ray::new(si.spawn(ray.d), ray.d);
+    /// Whether `ray` meets an emitter, or leaves the scene under a sky, through thin glass:
+    /// what lp_hf's probe ray through a portal finds.
+    fn reaches_light(&self, ray: Ray) -> bool {
+        match self.scene.through_glass(ray, f32::INFINITY) {
+            (_, Some(si)) => (self.scene.lights.surface_emission(&si, ray.d))
+                .is_some_and(|(_, le)| !le.is_black()),
+            (tr, None) => self.sky && !tr.is_black(),
         }
-        false
     }
 }

@@ -254,11 +254,15 @@ pub fn estimate(
     let t0 = Instant::now();
     params.validate()?;
     let surroundings = camera_surroundings(&scene.scene);
-    let mut settling = Settling {
+    let fitter = Fitter {
         scene,
-        surroundings: &surroundings,
         params,
         deposit: crate::photon::deposit_rule(scene, &params.photons),
+        glass: crate::photon::glass_shapes(scene),
+        surroundings: &surroundings,
+    };
+    let mut settling = Settling {
+        fitter: &fitter,
         next_fit: FIRST_FIT,
         last: None,
     };
@@ -278,13 +282,7 @@ pub fn estimate(
             tracing -= fit.2.clustering + fit.2.fitting;
             fit
         }
-        _ => fit_portals(
-            scene,
-            &surroundings,
-            &photons.points,
-            photons.deposit,
-            params,
-        ),
+        _ => fitter.fit(&photons.points),
     };
     Ok(Estimate {
         photons,
@@ -301,43 +299,51 @@ pub fn estimate(
 /// stage took (photon tracing's left zero).
 type Fit = (Vec<Vec<usize>>, Vec<Estimated>, Timings);
 
-/// The [`Fit`] of `points`: the seed's portals (a DBSCAN cluster each) and the windows found
-/// plane first ([`crate::window`]), combined by [`combine`].
-fn fit_portals(
-    scene: &RenderScene,
-    surroundings: &Surroundings,
-    points: &[Vec3],
+/// What fitting portals to photons needs, gathered once per estimate.
+struct Fitter<'a> {
+    scene: &'a RenderScene,
+    params: &'a EstimateParams,
+    /// How the photons were deposited.
     deposit: Deposit,
-    params: &EstimateParams,
-) -> Fit {
-    let t1 = Instant::now();
-    let clusters = dbscan(points, params.dbscan);
-    let t2 = Instant::now();
-    let ring = deposit == Deposit::Depth;
-    let seed: Vec<(Vec<usize>, Estimated)> = clusters
-        .into_iter()
-        .filter_map(|c| {
-            let cluster: Vec<Vec3> = c.iter().map(|&i| points[i]).collect();
-            let mut e = fit_cluster(&cluster, params, ring)?;
-            if ring {
-                e.portal = snap_to_opening(&scene.scene, &e.portal);
-            }
-            Some((c, e))
-        })
-        .collect();
-    let glass = crate::photon::glass_shapes(scene);
-    let opening = Opening::new(&scene.scene, &glass);
-    let gap = if ring { WINDOW_GAP } else { params.dbscan.eps };
-    let windows = windows(&opening, points, &params.ransac, gap);
-    let carry = Carry::new(scene, surroundings, &glass);
-    let (clusters, portals) = combine(&opening, &carry, seed, windows);
-    let t3 = Instant::now();
-    let timings = Timings {
-        photons: 0.0,
-        clustering: (t2 - t1).as_secs_f64(),
-        fitting: (t3 - t2).as_secs_f64(),
-    };
-    (clusters, portals, timings)
+    /// Which shapes are glass.
+    glass: Vec<bool>,
+    /// What the camera sees.
+    surroundings: &'a Surroundings,
+}
+
+impl Fitter<'_> {
+    /// The [`Fit`] of `points`: the seed's portals (a DBSCAN cluster each) and the windows
+    /// found plane first ([`crate::window`]), combined by [`combine`].
+    fn fit(&self, points: &[Vec3]) -> Fit {
+        let (scene, params) = (self.scene, self.params);
+        let t1 = Instant::now();
+        let clusters = dbscan(points, params.dbscan);
+        let t2 = Instant::now();
+        let ring = self.deposit == Deposit::Depth;
+        let seed: Vec<(Vec<usize>, Estimated)> = clusters
+            .into_iter()
+            .filter_map(|c| {
+                let cluster: Vec<Vec3> = c.iter().map(|&i| points[i]).collect();
+                let mut e = fit_cluster(&cluster, params, ring)?;
+                if ring {
+                    e.portal = snap_to_opening(&scene.scene, &e.portal);
+                }
+                Some((c, e))
+            })
+            .collect();
+        let opening = Opening::new(&scene.scene, &self.glass);
+        let gap = if ring { WINDOW_GAP } else { params.dbscan.eps };
+        let windows = windows(&opening, points, &params.ransac, gap);
+        let carry = Carry::new(scene, self.surroundings);
+        let (clusters, portals) = combine(&opening, &carry, seed, windows);
+        let t3 = Instant::now();
+        let timings = Timings {
+            photons: 0.0,
+            clustering: (t2 - t1).as_secs_f64(),
+            fitting: (t3 - t2).as_secs_f64(),
+        };
+        (clusters, portals, timings)
+    }
 }
 
 /// A seed portal of this share of the area of the window around it stands for the window (the
@@ -407,10 +413,7 @@ const FIRST_FIT: usize = 64;
 /// The settling test of [`EstimateParams::settle`]: portals fitted to the photons each time
 /// their number has grown by half, compared with the previous fit.
 struct Settling<'a> {
-    scene: &'a RenderScene,
-    surroundings: &'a Surroundings,
-    params: &'a EstimateParams,
-    deposit: Deposit,
+    fitter: &'a Fitter<'a>,
     next_fit: usize,
     /// The previous test's fit.
     last: Option<Fit>,
@@ -418,20 +421,14 @@ struct Settling<'a> {
 
 impl Settling<'_> {
     fn settled(&mut self, points: &[Vec3]) -> bool {
-        let Some(tolerance) = self.params.settle else {
+        let Some(tolerance) = self.fitter.params.settle else {
             return false;
         };
         if points.len() < self.next_fit {
             return false;
         }
         self.next_fit = points.len() + points.len() / 2;
-        let fit = fit_portals(
-            self.scene,
-            self.surroundings,
-            points,
-            self.deposit,
-            self.params,
-        );
+        let fit = self.fitter.fit(points);
         let portals = &fit.1;
         let settled = !portals.is_empty()
             && self.last.as_ref().is_some_and(|(_, last, _)| {

@@ -9,9 +9,10 @@
 //! r from the central hit x and in front of the surface at x, on the light's side (green);
 //! hits within r of x (red: no discontinuity) or behind that surface's plane (blue: the far
 //! side) deposit nothing. (Alg. 1's plane through x faces the emitter; the surface's own plane
-//! keeps a slanted floor or ground from passing for an edge.) The pseudo-code's "remove the beam's points" on the first
-//! failing ray would reject every beam that crosses an opening's edge, since its central ray
-//! passes the opening; the figure deposits exactly those, so the test is per ray.
+//! keeps a slanted floor or ground from passing for an edge.) The pseudo-code's "remove the
+//! beam's points" on the first failing ray would reject every beam that crosses an opening's
+//! edge, since its central ray passes the opening; the figure deposits exactly those, so the
+//! test is per ray.
 
 use crate::error::PortalError;
 use fenestra_core::distribution::Distribution1D;
@@ -307,9 +308,18 @@ impl BeamTracer<'_> {
         if self.deposit == Deposit::Depth && hit.t <= self.params.reject_radius {
             return 1;
         }
-        // The surface's plane at x, facing the emitter.
-        let ng = scene.interaction(&central, &hit).ng;
-        let facing = if ng.dot(dir) > 0.0 { -ng } else { ng };
+        // The surface's plane at x, facing the emitter (what the depth rule tests against).
+        let facing = match self.deposit {
+            Deposit::Depth => {
+                let ng = scene.interaction(&central, &hit).ng;
+                if ng.dot(dir) > 0.0 {
+                    -ng
+                } else {
+                    ng
+                }
+            }
+            Deposit::Material => Vec3::ZERO,
+        };
         let frame = Frame::from_normal(dir);
         let first = out.len();
         let n = self.params.rays_per_beam;
