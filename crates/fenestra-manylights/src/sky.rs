@@ -8,9 +8,25 @@
 
 use fenestra_core::{Vec2, Vec3, PI};
 use fenestra_render::light::{LightHit, Lights};
+use fenestra_render::options::OptionError;
 
 /// The seed's number of environment regions.
 pub const SKY_REGIONS: usize = 300;
+
+/// Most regions of an environment (each is a cluster of every cut of ias, a group of the
+/// learned sampler).
+const MAX_SKY_REGIONS: usize = 4096;
+
+/// `sky_regions` of an options group: at most [`MAX_SKY_REGIONS`].
+pub fn check_sky_regions(regions: usize) -> Result<(), OptionError> {
+    if regions > MAX_SKY_REGIONS {
+        return Err(OptionError::new(
+            "sky_regions",
+            format!("is at most {MAX_SKY_REGIONS}, got {regions}"),
+        ));
+    }
+    Ok(())
+}
 
 /// Directions per side of the grid the regions' power is integrated on (2:1 in azimuth).
 const GRID: usize = 128;
@@ -97,14 +113,29 @@ pub fn polar(d: Vec3) -> [f32; 2] {
 
 /// The regions of every environment light of `lights`, `count` for each.
 pub fn regions(lights: &Lights, count: usize) -> Vec<SkyRegion> {
-    let mut out = Vec::new();
     // The sun's disk, narrower than a grid cell, is sampled whole (as a distant light is).
-    for &e in lights
+    lights
         .environments
         .iter()
         .filter(|&&e| !lights.lights[e].is_compact())
-    {
-        let light = &lights.lights[e];
+        .flat_map(|&e| SkyMap::new(lights, e, count).regions)
+        .collect()
+}
+
+/// One environment light's regions, and which region each direction lies in.
+#[derive(Clone, Debug)]
+pub struct SkyMap {
+    /// The regions, tiling the sphere.
+    pub regions: Vec<SkyRegion>,
+    /// Per cell of the grid the regions are made of (row by polar angle): its region.
+    cells: Vec<u16>,
+}
+
+impl SkyMap {
+    /// The regions of environment light `light` of `lights`: `count` at most (and at most
+    /// one per grid cell).
+    pub fn new(lights: &Lights, light: usize, count: usize) -> Self {
+        let env = &lights.lights[light];
         // Luminance x solid angle of each grid cell.
         let (rows, cols) = (GRID, 2 * GRID);
         let (dt, dp) = (PI / rows as f32, 2.0 * PI / cols as f32);
@@ -113,7 +144,7 @@ pub fn regions(lights: &Lights, count: usize) -> Vec<SkyRegion> {
                 let (i, j) = (k / cols, k % cols);
                 let t = (i as f32 + 0.5) * dt;
                 let d = direction(t, (j as f32 + 0.5) * dp);
-                light.le(LightHit::Escaped, d).luminance() * t.sin() * dt * dp
+                env.le(LightHit::Escaped, d).luminance() * t.sin() * dt * dp
             })
             .collect();
         // Regions as cell rectangles [i0, i1) x [j0, j1), split at the most powerful.
@@ -122,6 +153,7 @@ pub fn regions(lights: &Lights, count: usize) -> Vec<SkyRegion> {
                 .map(|i| cells[i * cols + j0..i * cols + j1].iter().sum::<f32>())
                 .sum()
         };
+        let count = count.clamp(1, MAX_SKY_REGIONS);
         let mut rects = vec![(0, rows, 0, cols, power(0, rows, 0, cols))];
         while rects.len() < count {
             // The most powerful region that can still be split (ties: the first).
@@ -143,16 +175,34 @@ pub fn regions(lights: &Lights, count: usize) -> Vec<SkyRegion> {
             rects[k] = (a.0, a.1, a.2, a.3, power(a.0, a.1, a.2, a.3));
             rects.push((b.0, b.1, b.2, b.3, power(b.0, b.1, b.2, b.3)));
         }
-        for (i0, i1, j0, j1, p) in rects {
-            out.push(SkyRegion::new(
-                e,
-                [i0 as f32 * dt, i1 as f32 * dt],
-                [j0 as f32 * dp, j1 as f32 * dp],
-                p,
-            ));
+        let mut region_of = vec![0u16; rows * cols];
+        let regions = (rects.iter().enumerate())
+            .map(|(r, &(i0, i1, j0, j1, p))| {
+                for i in i0..i1 {
+                    region_of[i * cols + j0..i * cols + j1].fill(r as u16);
+                }
+                SkyRegion::new(
+                    light,
+                    [i0 as f32 * dt, i1 as f32 * dt],
+                    [j0 as f32 * dp, j1 as f32 * dp],
+                    p,
+                )
+            })
+            .collect();
+        SkyMap {
+            regions,
+            cells: region_of,
         }
     }
-    out
+
+    /// The region unit direction `d` lies in.
+    pub fn region_of(&self, d: Vec3) -> usize {
+        let [theta, phi] = polar(d);
+        let (rows, cols) = (GRID, 2 * GRID);
+        let i = ((theta * (rows as f32 / PI)) as usize).min(rows - 1);
+        let j = ((phi * (cols as f32 / (2.0 * PI))) as usize).min(cols - 1);
+        self.cells[i * cols + j] as usize
+    }
 }
 
 #[cfg(test)]

@@ -203,13 +203,15 @@ impl PortalNextEvent {
         // The light sampled in light mode: only it may be found along the ray (as a shadow
         // ray would have it), so the mixture density counts that light's density alone.
         let (wi, sampled, portal_pdf) = if by_light {
-            let (index, _) = self.lights.sampler().sample(&s.light_context(), u_pick)?;
-            let light = &scene.lights.lights[index];
+            let ctx = s.light_context();
+            let sampler = self.lights.sampler();
+            let pick = sampler.sample(&ctx, u_pick)?;
             // Compact lights have their own estimator.
-            if light.is_compact() {
+            if scene.lights.lights[pick.0].is_compact() {
                 return None;
             }
-            let ls = light.sample_li(&scene.scene, si.p, u)?;
+            let ls = sampler.sample_li(&scene.scene, &scene.lights, &ctx, pick, u)?;
+            let index = pick.0;
             (ls.wi, Some(index), None)
         } else {
             let ps = self.portals.sample(&v.weights, u_pick, u)?;
@@ -456,13 +458,8 @@ impl NextEvent for PortalNextEvent {
             Some(surface) => match scene.lights.surface_emission(surface, wi) {
                 Some((index, le)) if seen(index) => {
                     let pdf = if light_mix > 0.0 {
-                        light_sampler.pmf(&ctx, index)
-                            * scene.lights.lights[index].pdf_li(
-                                &scene.scene,
-                                probe.p,
-                                wi,
-                                LightHit::Surface(surface),
-                            )
+                        let hit = LightHit::Surface(surface);
+                        light_sampler.pdf_li(&scene.scene, &scene.lights, &ctx, index, wi, hit)
                     } else {
                         0.0
                     };
@@ -477,8 +474,14 @@ impl NextEvent for PortalNextEvent {
                     let light = &scene.lights.lights[e];
                     (
                         l + tr * light.le(LightHit::Escaped, wi),
-                        pdf + light_sampler.pmf(&ctx, e)
-                            * light.pdf_li(&scene.scene, probe.p, wi, LightHit::Escaped),
+                        pdf + light_sampler.pdf_li(
+                            &scene.scene,
+                            &scene.lights,
+                            &ctx,
+                            e,
+                            wi,
+                            LightHit::Escaped,
+                        ),
                     )
                 }),
         };

@@ -224,27 +224,27 @@ impl Point<'_> {
 
     /// The light sampler's density of `wi` towards light `index` met at `hit`.
     fn light_pdf(&self, index: usize, wi: Vec3, hit: LightHit) -> f64 {
-        let light = &self.scene.lights.lights[index];
-        (self.lights.pmf(&self.ctx, index) * light.pdf_li(&self.scene.scene, self.si.p, wi, hit))
-            as f64
+        let scene = self.scene;
+        (self.lights).pdf_li(&scene.scene, &scene.lights, &self.ctx, index, wi, hit) as f64
     }
 
     /// A light sample by the light sampler (only compact lights count with `compact_only`),
     /// taken with probability `share`.
     fn light_sample(&self, compact_only: bool, share: f32, sampler: &mut Sampler) -> f64 {
         let (u_pick, u) = (sampler.next_1d(), sampler.next_2d());
-        let Some((index, pick)) = self.lights.sample(&self.ctx, u_pick) else {
+        let Some(pick) = self.lights.sample(&self.ctx, u_pick) else {
             return 0.0;
         };
-        let light = &self.scene.lights.lights[index];
-        if compact_only && !light.is_compact() {
+        let scene = self.scene;
+        if compact_only && !scene.lights.lights[pick.0].is_compact() {
             return 0.0;
         }
-        let Some(ls) = light.sample_li(&self.scene.scene, self.si.p, u) else {
+        let Some(ls) = (self.lights).sample_li(&scene.scene, &scene.lights, &self.ctx, pick, u)
+        else {
             return 0.0;
         };
         let cos = ls.wi.dot(self.ctx.n);
-        let p = share as f64 * pick as f64 * ls.pdf as f64;
+        let p = share as f64 * ls.pdf as f64;
         if cos <= 0.0 || !(p > 0.0) {
             return 0.0;
         }

@@ -1,7 +1,7 @@
 //! The options of iterative adaptive sampling (ias, ias_reference) and their limits.
 
 use crate::forest::CUT_SOLID_ANGLE;
-use crate::sky::SKY_REGIONS;
+use crate::sky::{check_sky_regions, SKY_REGIONS};
 use fenestra_render::options::{at_least_one, positive, OptionError, Validate};
 
 fenestra_render::choices! {
@@ -139,13 +139,7 @@ impl Validate for IasOptions {
             ));
         }
         at_least_one("region_hits", self.region_hits.into())?;
-        if self.sky_regions > MAX_SKY_REGIONS {
-            return Err(OptionError::new(
-                "sky_regions",
-                format!("is at most {MAX_SKY_REGIONS}, got {}", self.sky_regions),
-            ));
-        }
-        Ok(())
+        check_sky_regions(self.sky_regions)
     }
 }
 
@@ -157,9 +151,6 @@ pub const REGION_HITS: u32 = 64;
 
 /// Most eye rays a pixel takes at the edge of a light seen directly, by default.
 pub const EMITTED_RAYS: u32 = 256;
-
-/// Most environment regions (each is a cluster of every cut).
-const MAX_SKY_REGIONS: usize = 4096;
 
 /// The reference's rays per pass and its cap per pixel (§4.2, §4.6.4).
 pub(super) const REFERENCE_PASS_RAYS: u32 = 100;

@@ -21,11 +21,25 @@
 //! that learned enough; cells without samples use the BVH alone. Learning happens between
 //! passes, from every block's samples in block order: the same learned cells, and pixels,
 //! for any number of threads.
+//!
+//! Learned sky sampling: an environment (not the sun's disk, which is a group of its own) is
+//! cut into regions of directions ([`SkyMap`], split by the sky's power) and each region is a
+//! group, learned as the others are: through a window a cell learns the regions the window
+//! shows it. The environment l_e is picked with the sum of its regions' shares, and its
+//! direction w drawn either by the environment's own density p_e or, in proportion to the
+//! learned part, uniformly in a region r picked by its share, so that the joint density is
+//!
+//!   P(l_e, w) = (1 - a) P_base(l_e | p) p_e(w) + a L_c(r(w)) / |r(w)|,
+//!
+//! |r| being r's solid angle. The first term keeps every direction the sky lights samplable.
 
 use crate::bvh::LightBvh;
+use crate::sky::SkyMap;
 use fenestra_core::distribution::Distribution1D;
-use fenestra_core::Vec3;
-use fenestra_render::light::{LightContext, LightRecords, LightSampler, Lights};
+use fenestra_core::{Vec2, Vec3};
+use fenestra_render::light::{
+    Light, LightContext, LightHit, LightRecords, LightSample, LightSampler, Lights,
+};
 use fenestra_scene::Scene;
 use rayon::prelude::*;
 use std::collections::HashMap;
@@ -194,23 +208,52 @@ fn slot(key: u64, capacity: usize) -> usize {
     (key.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 32) as usize & (capacity - 1)
 }
 
-/// A group picked from a cell's entries with `u`: (group, probability, `u` rescaled).
-fn pick(entries: &[(u32, f32)], u: f32) -> (u32, f32, f32) {
-    let i = entries
-        .partition_point(|&(_, c)| c <= u)
-        .min(entries.len() - 1);
-    let below = if i == 0 { 0.0 } else { entries[i - 1].1 };
-    let p = entries[i].1 - below;
-    let u = ((u - below) / p).clamp(0.0, 1.0 - f32::EPSILON);
-    (entries[i].0, p, u)
+/// A group picked with `u` among `within`, entries of a cell after cumulative probability
+/// `below`, in proportion to their probabilities: (group, probability, `u` rescaled).
+fn pick_within(within: &[(u32, f32)], below: f32, u: f32) -> (u32, f32, f32) {
+    let total = within[within.len() - 1].1 - below;
+    let target = below + u * total;
+    let i = within
+        .partition_point(|&(_, c)| c <= target)
+        .min(within.len() - 1);
+    let start = if i == 0 { below } else { within[i - 1].1 };
+    let p = within[i].1 - start;
+    let v = ((target - start) / p).clamp(0.0, 1.0 - f32::EPSILON);
+    (within[i].0, p / total, v)
 }
 
-/// Probability of `group` in a cell's entries.
-fn group_pmf(entries: &[(u32, f32)], group: u32) -> f32 {
-    match entries.binary_search_by_key(&group, |&(g, _)| g) {
-        Ok(i) => entries[i].1 - if i == 0 { 0.0 } else { entries[i - 1].1 },
-        Err(_) => 0.0,
+/// The entries of `groups` (a range) among a cell's entries, and the cumulative probability
+/// before them.
+fn entries_of(entries: &[(u32, f32)], groups: Groups) -> (&[(u32, f32)], f32) {
+    let start = entries.partition_point(|&(g, _)| g < groups.0);
+    let end = start + entries[start..].partition_point(|&(g, _)| g < groups.1);
+    let below = if start == 0 {
+        0.0
+    } else {
+        entries[start - 1].1
+    };
+    (&entries[start..end], below)
+}
+
+/// Probability of `groups` (a range) in a cell's entries.
+fn groups_pmf(entries: &[(u32, f32)], groups: Groups) -> f32 {
+    match entries_of(entries, groups) {
+        (&[], _) => 0.0,
+        (within, below) => within[within.len() - 1].1 - below,
     }
+}
+
+/// The groups from `.0` up to `.1` (excluded): a light's (one, or an environment's regions).
+type Groups = (u32, u32);
+
+/// An environment whose regions are groups.
+struct Sky {
+    /// The environment light.
+    light: usize,
+    /// Its first region's group.
+    first: u32,
+    /// Its regions.
+    map: SkyMap,
 }
 
 /// The learned light sampler.
@@ -229,8 +272,14 @@ pub struct LearnedLights {
     group_node: Vec<(usize, u32)>,
     /// Per BVH node: its group, or [`NONE`] for nodes not in the cut.
     node_group: Vec<u32>,
-    /// Per light: its group, or [`NONE`].
+    /// Per light: its group (an environment of [`LearnedLights::skies`]: its first region's),
+    /// or [`NONE`].
     light_group: Vec<u32>,
+    /// The light of each group after the tree's (lights at infinity, a group per region of
+    /// an environment of `skies`).
+    group_light: Vec<usize>,
+    /// The environments whose regions are groups.
+    skies: Vec<Sky>,
     /// Tables learned so far (the first is empty: the BVH alone); `current` is in use.
     tables: Vec<OnceLock<Table>>,
     current: AtomicUsize,
@@ -268,8 +317,25 @@ impl LearnedLights {
                 }
             }
         }
-        for (k, &light) in bvh.infinite().iter().enumerate() {
-            light_group[light] = (group_node.len() + k) as u32;
+        let mut group_light = Vec::new();
+        let mut skies = Vec::new();
+        for &light in bvh.infinite() {
+            let group = (group_node.len() + group_light.len()) as u32;
+            light_group[light] = group;
+            let regions = match &lights.lights[light] {
+                l @ Light::Environment(_) if !l.is_compact() && options.sky_regions > 0 => {
+                    let map = SkyMap::new(lights, light, options.sky_regions);
+                    let count = map.regions.len();
+                    skies.push(Sky {
+                        light,
+                        first: group,
+                        map,
+                    });
+                    count
+                }
+                _ => 1,
+            };
+            group_light.extend(std::iter::repeat_n(light, regions));
         }
         // Power only for lights the groups hold, so both distributions cover the same lights.
         let powers: Vec<f32> = lights
@@ -291,6 +357,8 @@ impl LearnedLights {
             group_node,
             node_group,
             light_group,
+            group_light,
+            skies,
             tables,
             current: AtomicUsize::new(0),
             sums: Mutex::default(),
@@ -306,6 +374,46 @@ impl LearnedLights {
         self.tables[self.current.load(Ordering::Acquire)]
             .get()
             .expect("the current table is set")
+    }
+
+    /// The groups of `light`: its own, or its regions', or `None`.
+    fn groups(&self, light: usize) -> Option<Groups> {
+        let first = *self.light_group.get(light).filter(|&&g| g != NONE)?;
+        Some(match self.sky(light) {
+            Some(sky) => (first, first + sky.map.regions.len() as u32),
+            None => (first, first + 1),
+        })
+    }
+
+    /// The environment `light` if its regions are groups.
+    fn sky(&self, light: usize) -> Option<&Sky> {
+        self.skies.iter().find(|s| s.light == light)
+    }
+
+    /// The group a light sample towards `light` along `wi` counts for.
+    fn group_of(&self, light: usize, wi: Vec3) -> u32 {
+        match self.sky(light) {
+            Some(sky) => sky.first + sky.map.region_of(wi) as u32,
+            None => self.light_group[light],
+        }
+    }
+
+    /// P(l_e, w) of the module's equation for the environment of `sky` learned in a cell with
+    /// `entries`: the environment's density `own` of w given.
+    fn sky_pdf(
+        &self,
+        ctx: &LightContext,
+        entries: &[(u32, f32)],
+        sky: &Sky,
+        wi: Vec3,
+        own: f32,
+    ) -> f32 {
+        let a = self.options.mix;
+        let (base, _) = self.base_and_below(ctx, sky.light, sky.first);
+        let r = sky.map.region_of(wi);
+        let group = sky.first + r as u32;
+        let learned = groups_pmf(entries, (group, group + 1)) / sky.map.regions[r].solid_angle();
+        (1.0 - a) * base * own + a * learned
     }
 
     /// Probability of `light` from its group's node down, at `ctx`.
@@ -371,13 +479,12 @@ impl LearnedLights {
 
     /// P(l) of the module's equation at a point of a cell with `entries`.
     fn mixed_pmf(&self, ctx: &LightContext, entries: &[(u32, f32)], light: usize) -> f32 {
-        let group = self.light_group.get(light).copied().unwrap_or(NONE);
-        if group == NONE {
+        let Some(groups) = self.groups(light) else {
             return 0.0;
-        }
-        let (base, below) = self.base_and_below(ctx, light, group);
+        };
+        let (base, below) = self.base_and_below(ctx, light, groups.0);
         let a = self.options.mix;
-        (1.0 - a) * base + a * group_pmf(entries, group) * below
+        (1.0 - a) * base + a * groups_pmf(entries, groups) * below
     }
 }
 
@@ -445,7 +552,7 @@ impl LightSampler for LearnedLights {
         // Either branch finds the light's base probability and its learned one (its group's
         // times its probability from the group's node down) on the way, or at little cost.
         let (light, base, learned) = if u < a {
-            let (group, p_group, u) = pick(entries, u / a);
+            let (group, p_group, u) = pick_within(entries, 0.0, u / a);
             match self.group_node.get(group as usize) {
                 Some(&(node, _)) => {
                     let (light, below) = self.bvh.descend(node, 1.0, ctx, u, |_, _| {})?;
@@ -456,21 +563,23 @@ impl LightSampler for LearnedLights {
                     (light, base, p_group * below)
                 }
                 None => {
-                    let light = self.bvh.infinite()[group as usize - self.group_node.len()];
+                    let light = self.group_light[group as usize - self.group_node.len()];
                     let base = match self.options.base {
                         Base::Power => self.power.discrete_pmf(light),
                         Base::Bvh => self.bvh.infinite_pmf(light),
                     };
-                    (light, base, p_group)
+                    let groups = self.groups(light)?;
+                    (light, base, groups_pmf(entries, groups))
                 }
             }
         } else {
             let u = ((u - a) / (1.0 - a)).min(1.0 - f32::EPSILON);
-            let (light, group, base, below) = self.sample_base(ctx, u)?;
-            if group == NONE {
-                return None;
-            }
-            (light, base, group_pmf(entries, group) * below)
+            let (light, _, base, below) = self.sample_base(ctx, u)?;
+            (
+                light,
+                base,
+                groups_pmf(entries, self.groups(light)?) * below,
+            )
         };
         let pmf = (1.0 - a) * base + a * learned;
         (pmf > 0.0).then_some((light, pmf))
@@ -480,6 +589,67 @@ impl LightSampler for LearnedLights {
         match self.table().at(ctx.p, ctx.n) {
             Some(entries) => self.mixed_pmf(ctx, entries, light),
             None => self.bvh.pmf(ctx, light),
+        }
+    }
+
+    /// An environment of `skies` draws its direction by its own density or, in proportion
+    /// to what its regions learned, uniformly in a region picked by its share.
+    fn sample_li(
+        &self,
+        scene: &Scene,
+        lights: &Lights,
+        ctx: &LightContext,
+        pick: (usize, f32),
+        u: Vec2,
+    ) -> Option<LightSample> {
+        let learned = self.sky(pick.0).zip(self.table().at(ctx.p, ctx.n));
+        let Some((sky, entries)) = learned else {
+            return Some(
+                lights.lights[pick.0]
+                    .sample_li(scene, ctx.p, u)?
+                    .picked(pick.1),
+            );
+        };
+        let light = &lights.lights[sky.light];
+        let a = self.options.mix;
+        let (base, _) = self.base_and_below(ctx, sky.light, sky.first);
+        let groups = (sky.first, sky.first + sky.map.regions.len() as u32);
+        let (within, below) = entries_of(entries, groups);
+        let regions = within.last().map_or(0.0, |e| e.1 - below);
+        // The learned part's share of the environment's pick.
+        let q = a * regions / ((1.0 - a) * base + a * regions);
+        let wi = if u.x < q {
+            let (group, _, v) = pick_within(within, below, u.x / q);
+            let region = &sky.map.regions[(group - sky.first) as usize];
+            region.sample(Vec2::new(v, u.y))
+        } else {
+            let v = ((u.x - q) / (1.0 - q)).min(1.0 - f32::EPSILON);
+            light.sample_li(scene, ctx.p, Vec2::new(v, u.y))?.wi
+        };
+        let own = light.pdf_li(scene, ctx.p, wi, LightHit::Escaped);
+        let pdf = self.sky_pdf(ctx, entries, sky, wi, own);
+        (pdf > 0.0).then(|| LightSample {
+            wi,
+            li: light.le(LightHit::Escaped, wi),
+            pdf,
+            point: None,
+            delta: false,
+        })
+    }
+
+    fn pdf_li(
+        &self,
+        scene: &Scene,
+        lights: &Lights,
+        ctx: &LightContext,
+        light: usize,
+        wi: Vec3,
+        hit: LightHit,
+    ) -> f32 {
+        let own = lights.lights[light].pdf_li(scene, ctx.p, wi, hit);
+        match self.sky(light).zip(self.table().at(ctx.p, ctx.n)) {
+            Some((sky, entries)) => self.sky_pdf(ctx, entries, sky, wi, own),
+            None => self.pmf(ctx, light) * own,
         }
     }
 
@@ -497,7 +667,7 @@ impl LightSampler for LearnedLights {
         // A level per thread, in sample order: the same sums whatever the threads.
         sums.par_iter_mut().enumerate().for_each(|(level, sums)| {
             for r in records() {
-                let group = self.light_group[r.light as usize];
+                let group = self.group_of(r.light as usize, r.wi);
                 if group != NONE && r.weight > 0.0 && r.weight.is_finite() {
                     let key = grid.key(r.p, r.n, level as u32);
                     let sum = sums.entry((key, group)).or_default();
@@ -564,13 +734,13 @@ mod tests {
             let entries = found.expect("a learned cell");
             let total: f64 = (0..groups).map(|g| 1.0 + g as f64).sum();
             for g in 0..groups {
-                let p = group_pmf(entries, g);
+                let p = groups_pmf(entries, (g, g + 1));
                 assert!((f64::from(p) - (1.0 + g as f64) / total).abs() < 1e-6);
                 // Picking at the middle of its interval gives the group back.
                 let mid = entries[g as usize].1 - p / 2.0;
-                assert_eq!(pick(entries, mid).0, g);
+                assert_eq!(pick_within(entries, 0.0, mid).0, g);
             }
-            assert_eq!(group_pmf(entries, groups), 0.0);
+            assert_eq!(groups_pmf(entries, (groups, groups + 1)), 0.0);
         }
         assert!(table.cell(12345).is_none());
     }

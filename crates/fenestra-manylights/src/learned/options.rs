@@ -1,5 +1,6 @@
 //! The learned sampler's options: the `learned` group.
 
+use crate::sky::{check_sky_regions, SKY_REGIONS};
 use fenestra_render::options::{at_least_one, OptionError, Validate};
 
 /// Most passes learned from (a table is kept for each).
@@ -37,6 +38,11 @@ fenestra_render::options! {
         /// What the rest of the light samples are drawn by where a cell has learned something:
         /// bvh (the light tree) or power (emitted power, which costs almost nothing).
         pub base: Base = Base::Bvh,
+        /// Regions of directions an environment (sky or image; not the sun's disk) is cut
+        /// into, each learned as a group: a cell learns which parts of the sky it sees, through
+        /// windows too, and draws directions there (0: the environment is one group, sampled
+        /// by its own density).
+        pub sky_regions: usize = SKY_REGIONS,
     }
 }
 
@@ -44,8 +50,8 @@ impl LearnedOptions {
     /// The sampler's name with its settings, as the integrator's settings record it.
     pub fn name(&self) -> String {
         format!(
-            "learned(mix {}, cell records {}, groups {}, passes {}, base {:?})",
-            self.mix, self.cell_records, self.groups, self.passes, self.base
+            "learned(mix {}, cell records {}, groups {}, passes {}, base {:?}, sky regions {})",
+            self.mix, self.cell_records, self.groups, self.passes, self.base, self.sky_regions
         )
     }
 }
@@ -63,6 +69,7 @@ impl Validate for LearnedOptions {
         }
         at_least_one("cell_records", self.cell_records.into())?;
         at_least_one("groups", self.groups as u64)?;
+        check_sky_regions(self.sky_regions)?;
         if self.passes > MAX_PASSES {
             return Err(OptionError::new(
                 "passes",

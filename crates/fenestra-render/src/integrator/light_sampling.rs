@@ -142,11 +142,11 @@ impl LightNextEvent {
         let mut picks = Picks::default();
         self.sampler
             .sample_all(&s.light_context(), u_pick, &mut picks);
-        for &(index, pick) in picks.as_slice() {
+        for &pick in picks.as_slice() {
             if let Some(shadow) = self.light_sample(
                 scene,
                 s,
-                (index, pick * share, u),
+                (pick, share, u),
                 compact_only,
                 mis,
                 sample.records,
@@ -157,14 +157,14 @@ impl LightNextEvent {
         }
     }
 
-    /// The shadow ray towards light `index`, picked with probability `pick`, through a
-    /// point drawn with `u` on it, and what it brings to `s` weighted by MIS; see
-    /// [`LightNextEvent::sample_light`].
+    /// The shadow ray towards light `index`, picked with probability `pick` (and the light
+    /// sampling taken with probability `share`), in a direction drawn with `u`, and what it
+    /// brings to `s` weighted by MIS; see [`LightNextEvent::sample_light`].
     fn light_sample(
         &self,
         scene: &RenderScene,
         s: &Shading,
-        (index, pick, u): (usize, f32, Vec2),
+        ((index, pick), share, u): ((usize, f32), f32, Vec2),
         compact_only: bool,
         mis: MisHeuristic,
         records: &LightRecords,
@@ -173,13 +173,14 @@ impl LightNextEvent {
         if compact_only && !light.is_compact() {
             return None;
         }
-        let ls = light.sample_li(&scene.scene, s.si.p, u)?;
+        let ctx = s.light_context();
+        let ls = (self.sampler).sample_li(&scene.scene, &scene.lights, &ctx, (index, pick), u)?;
         let (wi_local, f) = s.bsdf_toward(ls.wi)?;
         let origin = s.si.spawn(ls.wi);
         let tmax = ls
             .point
             .map_or(f32::INFINITY, |q| (q - origin).length() * (1.0 - 1e-4));
-        let light_pdf = pick * ls.pdf;
+        let light_pdf = share * ls.pdf;
         let weight = if ls.delta {
             1.0
         } else {
@@ -189,6 +190,7 @@ impl LightNextEvent {
             p: s.si.p,
             n: s.si.ns,
             light: index as u32,
+            wi: ls.wi,
             weight: (f * ls.li).luminance() * wi_local.z.abs() / light_pdf,
         });
         Some(ShadowRay {
@@ -200,7 +202,7 @@ impl LightNextEvent {
     }
 
     /// Density with which [`LightNextEvent::sample_light`] at `ctx` gives the direction `wi`
-    /// towards `found` (light pick probability times the light's solid-angle density).
+    /// towards `found` (the light sampler's joint density of the pick and the direction).
     pub fn light_pdf(
         &self,
         scene: &RenderScene,
@@ -208,8 +210,7 @@ impl LightNextEvent {
         wi: Vec3,
         found: Found,
     ) -> f32 {
-        self.sampler.pmf(ctx, found.light)
-            * scene.lights.lights[found.light].pdf_li(&scene.scene, ctx.p, wi, found.hit)
+        (self.sampler).pdf_li(&scene.scene, &scene.lights, ctx, found.light, wi, found.hit)
     }
 }
 

@@ -6,7 +6,7 @@
 use crate::sample_context::SampleContext;
 use fenestra_core::Vec3;
 
-/// Records kept per pass at most (32 bytes each): a pass of many samples keeps the records
+/// Records kept per pass at most (44 bytes each): a pass of many samples keeps the records
 /// of a random share of its paths.
 pub const RECORD_BUDGET: u64 = 1 << 21;
 
@@ -19,6 +19,8 @@ pub struct LightRecord {
     pub n: Vec3,
     /// The light picked.
     pub light: u32,
+    /// The unit direction sampled towards it.
+    pub wi: Vec3,
     /// Luminance of what the sample brought (BSDF, cosine, visibility; no MIS weight) over
     /// its density, divided by the probability of picking the light: its mean over a
     /// region's samples estimates the light's share of the region's direct light.

@@ -37,6 +37,16 @@ pub struct LightSample {
     pub delta: bool,
 }
 
+impl LightSample {
+    /// The sample of a light picked with probability `pick`: its density times `pick`.
+    pub fn picked(self, pick: f32) -> Self {
+        LightSample {
+            pdf: self.pdf * pick,
+            ..self
+        }
+    }
+}
+
 /// A ray leaving a light (for photon tracing): origin, unit direction and the power it
 /// carries.
 #[derive(Clone, Copy, Debug)]

@@ -2,10 +2,10 @@
 //! learned samplers (seed 004's adaptive cuts, light trees) implement the same trait and see
 //! the shading point's pixel, block and pass through [`LightContext`].
 
-use super::{LightRecords, Lights};
+use super::{LightHit, LightRecords, LightSample, Lights};
 use crate::sample_context::SampleContext;
 use fenestra_core::distribution::Distribution1D;
-use fenestra_core::Vec3;
+use fenestra_core::{Vec2, Vec3};
 use fenestra_scene::Scene;
 
 /// What a light sampler sees of a shading point.
@@ -26,6 +26,39 @@ pub trait LightSampler: Send + Sync {
     /// Probability that `sample` picks `light` at `ctx` (for a sampler that picks several,
     /// the probability that the pick standing for `light`'s part of the light is `light`).
     fn pmf(&self, ctx: &LightContext, light: usize) -> f32;
+
+    /// A direction towards `light`, which `sample` picked at `ctx` with probability `pick`,
+    /// drawn with `u`; the sample's `pdf` is the joint density of the pick and the direction.
+    /// By default the light draws its own direction; a sampler that learned where light comes
+    /// from at `ctx` may draw it instead.
+    fn sample_li(
+        &self,
+        scene: &Scene,
+        lights: &Lights,
+        ctx: &LightContext,
+        (light, pick): (usize, f32),
+        u: Vec2,
+    ) -> Option<LightSample> {
+        Some(
+            lights.lights[light]
+                .sample_li(scene, ctx.p, u)?
+                .picked(pick),
+        )
+    }
+
+    /// The joint density with which `sample` and then [`LightSampler::sample_li`] at `ctx`
+    /// pick `light` and give the direction `wi` that meets it at `hit`.
+    fn pdf_li(
+        &self,
+        scene: &Scene,
+        lights: &Lights,
+        ctx: &LightContext,
+        light: usize,
+        wi: Vec3,
+        hit: LightHit,
+    ) -> f32 {
+        self.pmf(ctx, light) * lights.lights[light].pdf_li(scene, ctx.p, wi, hit)
+    }
 
     /// The lights one next-event estimate takes at `ctx`: each pick stands for its own part
     /// of the lights (disjoint), and their estimates add. One pick by `sample` unless the
