@@ -1,8 +1,9 @@
 //! Which portals carry light to what the camera sees (beyond seed 000, which keeps every
 //! cluster's portal): from points the camera sees, rays aimed at points of a portal either go
-//! on to a light (the sky, an emitter), passing thin glass as lp_hf's probe rays do, or stop. A portal through which no light
-//! arrives (a desk top's photons, the gap between two desks, a glass vase in a room lit by a
-//! lamp) only takes samples from the light sampling it is mixed with, and is dropped.
+//! on to a light (the sky, an emitter), passing thin glass as lp_hf's probe rays do, or stop.
+//! A portal through which no light arrives (a desk top's photons, the gap between two desks, a
+//! glass vase in a room lit by a lamp) only takes samples from the light sampling it is mixed
+//! with, and is dropped.
 
 use crate::aim::Surroundings;
 use crate::portal::Portal;
