@@ -1,14 +1,11 @@
 //! The `fenestra` command line.
 
-mod commands;
-mod integrators;
-mod support;
-
-use commands::{
+use fenestra_cli::commands::{
     bench, compare, lpca, merge, portals, prt, raybench, reference, relight, render, scene, split,
 };
 
 use clap::{Parser, Subcommand};
+use fenestra_cli::integrators;
 use std::process::ExitCode;
 
 #[derive(Parser)]
@@ -58,16 +55,6 @@ enum Command {
     Relight(relight::RelightArgs),
     /// List the built-in scenes and the integrators.
     List,
-}
-
-/// A rayon pool with `threads` workers (all cores by default).
-fn thread_pool(threads: Option<usize>) -> anyhow::Result<rayon::ThreadPool> {
-    let mut pool = rayon::ThreadPoolBuilder::new();
-    if let Some(t) = threads {
-        anyhow::ensure!(t > 0, "--threads must be at least 1");
-        pool = pool.num_threads(t);
-    }
-    Ok(pool.build()?)
 }
 
 fn main() -> ExitCode {

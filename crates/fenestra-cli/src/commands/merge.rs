@@ -8,7 +8,7 @@ use clap::Args;
 use fenestra_render::film_file::FilmHeader;
 use fenestra_render::merge::{self, Part};
 use fenestra_render::output;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 #[derive(Args)]
@@ -42,17 +42,18 @@ pub struct MergeArgs {
 
 /// Checks the parts, merges them and writes the image; nothing is written unless every part
 /// is whole and they belong together.
+/// The film-state file of a part given as its image (OUT.exr: OUT.film) or as itself.
+pub fn film_file_of(part: &Path) -> PathBuf {
+    match part.extension().and_then(|e| e.to_str()) {
+        Some(e) if e.eq_ignore_ascii_case("exr") => output::film_state_path(part),
+        _ => part.to_path_buf(),
+    }
+}
+
 pub fn run(args: MergeArgs) -> Result<()> {
     let started = Instant::now();
     check_exr(&args.output)?;
-    let paths: Vec<PathBuf> = args
-        .parts
-        .iter()
-        .map(|p| match p.extension().and_then(|e| e.to_str()) {
-            Some(e) if e.eq_ignore_ascii_case("exr") => output::film_state_path(p),
-            _ => p.clone(),
-        })
-        .collect();
+    let paths: Vec<PathBuf> = args.parts.iter().map(|p| film_file_of(p)).collect();
     let mut files = Files::default();
     files.inputs(&paths, "part");
     render_outputs(&mut files, &args.output, args.variance, true).check()?;

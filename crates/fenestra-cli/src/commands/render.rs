@@ -11,15 +11,17 @@ use fenestra_core::Rgb;
 use fenestra_eval::hash::{debug_hash, Fnv64};
 use fenestra_eval::metrics;
 
-use fenestra_render::control::{PassHook, ProgressHook};
+use fenestra_render::control::{PassHook, Progress, ProgressHook};
 use fenestra_render::film::{Pixel, Window};
 use fenestra_render::film_file::{FilmHeader, SampleRange};
 use fenestra_render::integrator::{IntegratorError, Split, WorkMap};
+use fenestra_render::options::OptionError;
 use fenestra_render::{
     output, Film, Integrator, RenderControl, RenderScene, RenderSettings, RenderStats,
 };
-use fenestra_scene::{Backend, Scene};
+use fenestra_scene::{Backend, Scene, SceneDesc};
 use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
 use std::sync::Mutex;
 
 /// What is rendered and how: shared by `render` and `reference`.
@@ -105,7 +107,7 @@ pub struct RenderArgs {
     opts: RenderOpts,
 }
 
-pub(crate) fn parse_resolution(s: &str) -> Result<(u32, u32)> {
+pub fn parse_resolution(s: &str) -> Result<(u32, u32)> {
     let bad = || {
         anyhow::anyhow!("bad resolution '{s}': expected WxH with positive integers, e.g. 512x512")
     };
@@ -182,8 +184,8 @@ fn film_fits_in_memory(window: Window) -> Result<()> {
 }
 
 /// A render fully specified and checked, ready to run.
-pub(crate) struct Job {
-    pub(crate) desc: fenestra_scene::SceneDesc,
+pub struct Job {
+    pub(crate) desc: SceneDesc,
     /// The hash of the scene's content that its images carry.
     scene_content: String,
     /// What the render reads: scene files, a portals file.
@@ -219,11 +221,13 @@ impl Job {
 
     /// Makes the job one piece of a split render: `--samples` and `--crop`. Returns what the
     /// piece's film-state file says of it, if it is one.
-    fn cut(
+    /// `spp_given`: whether a sample count was asked for too (which `samples` replaces).
+    pub fn cut(
         &mut self,
         samples: Option<&str>,
         crop: Option<&str>,
-        opts: &RenderOpts,
+        spp_given: bool,
+        backend: Backend,
     ) -> Result<Option<FilmHeader>> {
         if samples.is_none() && crop.is_none() {
             return Ok(None);
@@ -237,7 +241,7 @@ impl Job {
         }
         let range = samples.map(pieces::parse_samples).transpose()?;
         if let Some(r) = range {
-            if opts.spp.is_some() {
+            if spp_given {
                 bail!("--samples {r} says how many samples to take: not with --spp");
             }
             if split == Split::BlockTiles {
@@ -257,7 +261,7 @@ impl Job {
             end: self.settings.first_sample + self.settings.spp,
         });
         Ok(Some(FilmHeader {
-            key: format!("{:016x}", self.picture_key(opts.bvh.unwrap_or_default())),
+            key: format!("{:016x}", self.picture_key(backend)),
             samples,
             window: self.window,
             stats: RenderStats::default(),
@@ -265,56 +269,69 @@ impl Job {
     }
 }
 
-impl RenderOpts {
-    /// Checks every argument and builds the integrator before the (possibly long) scene
-    /// build.
-    pub(crate) fn job(&self, time: Option<f64>) -> Result<Job> {
-        let resolution = self
-            .resolution
-            .as_deref()
-            .map(parse_resolution)
-            .transpose()?;
-        if let Some(t) = time {
+/// What a render is asked to be beside its scene: what `fenestra render`'s flags (and the
+/// Python module's keyword arguments) say.
+pub struct JobSpec<'a> {
+    /// The integrator and its options.
+    pub integrator: &'a IntegratorArgs,
+    /// Samples per pixel (default: the scene's, or unlimited with `time`).
+    pub spp: Option<u32>,
+    /// Seconds to render for (with `spp`: whichever comes first).
+    pub time: Option<f64>,
+    pub seed: u64,
+    /// Image size (default: the scene's).
+    pub resolution: Option<(u32, u32)>,
+}
+
+impl Job {
+    /// A render of the scene `desc` (called `name`, read from `files`) as `spec` says,
+    /// checked and with its integrator built; an option's error is worded by `name_option`
+    /// (the command line names its flag).
+    pub fn new(
+        desc: SceneDesc,
+        name: &str,
+        files: &[PathBuf],
+        spec: &JobSpec,
+        name_option: &dyn Fn(&OptionError) -> String,
+    ) -> Result<Job> {
+        if let Some(t) = spec.time {
             if !(t.is_finite() && t > 0.0) {
                 bail!("--time must be a positive number of seconds, got {t}");
             }
         }
-        if let Some(e) = self.exposure.filter(|e| !e.is_finite()) {
-            bail!("--exposure must be a finite number of stops, got {e}");
-        }
-        if self.spp == Some(0) {
+        if spec.spp == Some(0) {
             bail!("--spp must be at least 1");
         }
-        let loaded = scene_arg::load(&self.scene, &self.scene_options)?;
-        let scene_content = scene_content(&self.scene, &loaded.files)?;
-        let desc = loaded.desc;
+        let scene_content = scene_content(name, files)?;
         let mut inputs = Files::default();
-        inputs.inputs(&loaded.files, "scene file");
-        if let Some(p) = self.integrator.portals_file() {
+        inputs.inputs(files, "scene file");
+        if let Some(p) = spec.integrator.portals_file() {
             inputs.input(Path::new(p), "portals file");
         }
-        let (width, height) = resolution.unwrap_or((desc.defaults.width, desc.defaults.height));
+        let (width, height) = spec
+            .resolution
+            .unwrap_or((desc.defaults.width, desc.defaults.height));
         let integrator = integrators::registry()
-            .build(&self.integrator.integrator, &self.integrator.params, &desc)
+            .build(&spec.integrator.integrator, &spec.integrator.params, &desc)
             .map_err(|e| match e {
-                IntegratorError::Option(e) => anyhow::anyhow!(integrators::flag_error(&e)),
+                IntegratorError::Option(e) => anyhow::anyhow!(name_option(&e)),
                 e => e.into(),
             })?;
-        if let (Some(spp), Split::BlockTiles) = (self.spp, integrator.split()) {
+        if let (Some(spp), Split::BlockTiles) = (spec.spp, integrator.split()) {
             bail!(
                 "{} decides how many samples each pixel takes (until the pixel's relative variance is below its threshold): --spp {spp} would not steer it; set --ias-threshold, or --time",
                 integrator.name()
             );
         }
-        let spp = match time {
-            Some(_) => self.spp.unwrap_or(u32::MAX),
-            None => self.spp.unwrap_or(desc.defaults.spp),
+        let spp = match spec.time {
+            Some(_) => spec.spp.unwrap_or(u32::MAX),
+            None => spec.spp.unwrap_or(desc.defaults.spp),
         };
         let settings = RenderSettings {
             first_sample: 0,
             spp,
-            time_limit: time,
-            seed: self.seed,
+            time_limit: spec.time,
+            seed: spec.seed,
         };
         Ok(Job {
             desc,
@@ -328,35 +345,33 @@ impl RenderOpts {
         })
     }
 
-    /// Builds the scene, prepares the integrator and renders, on a pool of --threads workers,
-    /// with Ctrl-C stopping it cleanly; `hook` after every pass, `watch` whenever the film
-    /// holds more of the image.
-    pub(crate) fn run(
-        &self,
-        job: Job,
+    /// Builds the scene, prepares the integrator and renders on a pool of `threads` workers
+    /// (all cores by default), until done or `cancel` is set (what was rendered is kept);
+    /// `hook` after every pass, `watch` whenever the film holds more of the image.
+    pub fn run(
+        self,
+        threads: Option<usize>,
+        backend: Backend,
+        cancel: &AtomicBool,
+        progress: &dyn Progress,
         hook: Option<PassHook>,
         watch: Option<ProgressHook>,
     ) -> Result<(RenderStats, Film, Vec<WorkMap>)> {
-        film_fits_in_memory(job.window)?;
-        let pool = crate::thread_pool(self.threads)?;
-        let cancel = interrupt::on_ctrl_c("writing the samples taken so far");
+        film_fits_in_memory(self.window)?;
+        let pool = crate::thread_pool(threads)?;
         let Job {
             desc,
             scene_content,
-            inputs: _,
-            width: _,
-            height: _,
             mut integrator,
             settings,
             window,
-        } = job;
+            ..
+        } = self;
         pool.install(|| -> Result<_> {
-            let scene =
-                Scene::build(desc, self.bvh.unwrap_or_default()).context("invalid scene")?;
+            let scene = Scene::build(desc, backend).context("invalid scene")?;
             let scene = RenderScene::new(scene);
             let mut film = Film::cropped(window);
-            let bar = Bar::new(self.quiet || self.json);
-            let mut control = RenderControl::new(&cancel, &bar);
+            let mut control = RenderControl::new(cancel, progress);
             control.on_pass = hook;
             control.on_progress = watch;
             let stats = fenestra_render::render(
@@ -366,13 +381,64 @@ impl RenderOpts {
                 &settings,
                 &control,
             );
-            bar.finish();
             let stats = RenderStats {
                 scene_content,
                 ..stats?
             };
             Ok((stats, film, integrator.work_maps()))
         })
+    }
+}
+
+impl RenderOpts {
+    /// Checks every argument and builds the integrator before the (possibly long) scene
+    /// build.
+    pub(crate) fn job(&self, time: Option<f64>) -> Result<Job> {
+        let resolution = self
+            .resolution
+            .as_deref()
+            .map(parse_resolution)
+            .transpose()?;
+        if let Some(e) = self.exposure.filter(|e| !e.is_finite()) {
+            bail!("--exposure must be a finite number of stops, got {e}");
+        }
+        let spec = JobSpec {
+            integrator: &self.integrator,
+            spp: self.spp,
+            time,
+            seed: self.seed,
+            resolution,
+        };
+        let loaded = scene_arg::load(&self.scene, &self.scene_options)?;
+        Job::new(
+            loaded.desc,
+            &self.scene,
+            &loaded.files,
+            &spec,
+            &integrators::flag_error,
+        )
+    }
+
+    /// [`Job::run`] with this command's threads and backend, Ctrl-C stopping it cleanly
+    /// and a progress bar.
+    pub(crate) fn run(
+        &self,
+        job: Job,
+        hook: Option<PassHook>,
+        watch: Option<ProgressHook>,
+    ) -> Result<(RenderStats, Film, Vec<WorkMap>)> {
+        let cancel = interrupt::on_ctrl_c("writing the samples taken so far");
+        let bar = Bar::new(self.quiet || self.json);
+        let done = job.run(
+            self.threads,
+            self.bvh.unwrap_or_default(),
+            &cancel,
+            &bar,
+            hook,
+            watch,
+        );
+        bar.finish();
+        done
     }
 
     fn report(&self, output: &Path, stats: &RenderStats) -> Result<()> {
@@ -501,7 +567,12 @@ pub fn run(args: RenderArgs) -> Result<bool> {
         }
     }
     let mut job = args.opts.job(args.time)?;
-    let piece = job.cut(args.samples.as_deref(), args.crop.as_deref(), &args.opts)?;
+    let piece = job.cut(
+        args.samples.as_deref(),
+        args.crop.as_deref(),
+        args.opts.spp.is_some(),
+        args.opts.bvh.unwrap_or_default(),
+    )?;
     if piece.is_some() && args.time.is_some() {
         bail!("a piece of a split render takes a fixed set of samples: not with --time");
     }

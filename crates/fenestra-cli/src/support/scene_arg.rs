@@ -14,8 +14,13 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::Instant;
 
+/// --sky's turbidity unless told: a clear temperate day.
+pub const SKY_TURBIDITY: f32 = 3.0;
+/// --sky's ground albedo unless told.
+pub const SKY_ALBEDO: f32 = 0.3;
+
 /// How scene files are read.
-#[derive(clap::Args, Clone, Debug, Default)]
+#[derive(clap::Args, Clone, Debug)]
 pub struct SceneOptions {
     /// Refuse scene files that use anything fenestra does not support (instead of warning).
     #[arg(long)]
@@ -31,10 +36,10 @@ pub struct SceneOptions {
     pub sky: bool,
     /// --sky's atmospheric turbidity: 1 (arctic clear) to 10 (hazy); 3 is a clear temperate
     /// day.
-    #[arg(long, value_name = "T", default_value_t = 3.0, requires = "sky")]
+    #[arg(long, value_name = "T", default_value_t = SKY_TURBIDITY, requires = "sky")]
     pub sky_turbidity: f32,
     /// --sky's ground albedo (in the sky model, and the ground below the horizon).
-    #[arg(long, value_name = "ALBEDO", default_value_t = 0.3, requires = "sky")]
+    #[arg(long, value_name = "ALBEDO", default_value_t = SKY_ALBEDO, requires = "sky")]
     pub sky_albedo: f32,
     /// --sky's sun: elevation above the horizon and azimuth clockwise from north, in degrees
     /// (north is the environment's phi = 0 direction, turned by --environment-rotation)
@@ -75,6 +80,26 @@ pub struct SceneOptions {
     /// its first camera; a camera framing the scene in a file without one].
     #[arg(long, value_name = "NAME|INDEX")]
     pub camera: Option<String>,
+}
+
+impl Default for SceneOptions {
+    /// The scene as its file describes it.
+    fn default() -> Self {
+        SceneOptions {
+            strict: false,
+            environment: None,
+            sky: false,
+            sky_turbidity: SKY_TURBIDITY,
+            sky_albedo: SKY_ALBEDO,
+            sun: None,
+            sun_time: None,
+            location: None,
+            environment_rotation: None,
+            environment_strength: None,
+            environment_up: None,
+            camera: None,
+        }
+    }
 }
 
 impl SceneOptions {

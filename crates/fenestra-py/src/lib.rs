@@ -1,0 +1,44 @@
+//! fenestra as a Python module (`fenestra._native`, wrapped by the `fenestra` package in
+//! `python/`): scenes loaded as the command line loads them, renders through the command
+//! line's own jobs (so an image is the one `fenestra render` makes with the same settings),
+//! films as bytes NumPy reads without a copy, and the measurement toolkit's comparisons.
+
+mod compare;
+mod options;
+mod pixels;
+mod progress;
+mod render;
+mod scene;
+
+use pyo3::create_exception;
+use pyo3::exceptions::PyException;
+use pyo3::prelude::*;
+
+create_exception!(
+    _native,
+    FenestraError,
+    PyException,
+    "An error fenestra reports: bad input (a scene file's file:line:col), a bad option (named by its keyword), an image that cannot be written."
+);
+
+/// The error `e` as Python sees it, with the message the command line prints.
+fn error(e: anyhow::Error) -> PyErr {
+    FenestraError::new_err(format!("{e:#}"))
+}
+
+#[pymodule]
+#[pyo3(name = "_native")]
+fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("FenestraError", m.py().get_type::<FenestraError>())?;
+    m.add("VERSION", env!("CARGO_PKG_VERSION"))?;
+    m.add_class::<scene::Scene>()?;
+    m.add_class::<render::Render>()?;
+    m.add_function(wrap_pyfunction!(scene::load, m)?)?;
+    m.add_function(wrap_pyfunction!(render::render, m)?)?;
+    m.add_function(wrap_pyfunction!(render::merge, m)?)?;
+    m.add_function(wrap_pyfunction!(options::options, m)?)?;
+    m.add_function(wrap_pyfunction!(compare::compare, m)?)?;
+    m.add_function(wrap_pyfunction!(compare::read_image, m)?)?;
+    m.add_function(wrap_pyfunction!(compare::png, m)?)?;
+    Ok(())
+}

@@ -1,0 +1,203 @@
+//! `fenestra.render`: a render through the command line's own job (`fenestra render`'s
+//! checks, integrator registry, scene build and render loop), with the interpreter released
+//! while it runs, Ctrl-C stopping it with what was rendered kept, and progress polled.
+
+use crate::options::{keyword_error, params};
+use crate::pixels::bytes;
+use crate::progress::{Polled, Reading};
+use crate::scene::Scene;
+use crate::{error, FenestraError};
+use fenestra_cli::commands::merge::film_file_of;
+use fenestra_cli::commands::render::{check_exr, parse_resolution, Job, JobSpec};
+use fenestra_cli::integrators::IntegratorArgs;
+use fenestra_core::stats::RenderStats;
+use fenestra_render::film_file::FilmHeader;
+use fenestra_render::merge::{merge as merge_parts, plan, Part};
+use fenestra_render::{output, Film};
+use fenestra_scene::Backend;
+use pyo3::prelude::*;
+use pyo3::types::PyBytes;
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Duration;
+
+/// How often the caller's thread looks for Ctrl-C and reports progress.
+const POLL: Duration = Duration::from_millis(50);
+
+/// A finished (or interrupted) render: its film and statistics.
+#[pyclass(frozen, module = "fenestra._native")]
+pub struct Render {
+    film: Film,
+    stats: RenderStats,
+    /// What its film-state file says of it, if it is a piece of a split render.
+    piece: Option<FilmHeader>,
+}
+
+#[pymethods]
+impl Render {
+    /// (width, height) of the film (the crop's, for a cropped render).
+    #[getter]
+    fn size(&self) -> (u32, u32) {
+        (self.film.width, self.film.height)
+    }
+
+    /// The image: the mean of each pixel's samples.
+    fn pixels<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyBytes>> {
+        bytes(py, &self.film.image())
+    }
+
+    /// The per-pixel variance of the mean.
+    fn variance<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyBytes>> {
+        bytes(py, &self.film.variance_image())
+    }
+
+    /// The statistics, as the JSON sidecar holds them.
+    fn stats_json(&self) -> PyResult<String> {
+        serde_json::to_string(&self.stats).map_err(|e| error(e.into()))
+    }
+
+    /// The one-line summary the command line prints.
+    fn summary(&self) -> String {
+        self.stats.summary()
+    }
+
+    /// Writes `path` (.exr), with the PNG and JSON sidecar beside it (and the variance as
+    /// PATH.var.exr if `variance`; a piece of a split render also PATH.film, for `merge`),
+    /// as `fenestra render` writes them, atomically.
+    #[pyo3(signature = (path, exposure=None, variance=false))]
+    fn write(&self, path: PathBuf, exposure: Option<f32>, variance: bool) -> PyResult<()> {
+        check_exr(&path).map_err(error)?;
+        output::write_render(
+            &path,
+            &self.film,
+            &self.stats,
+            exposure,
+            variance,
+            self.piece.as_ref(),
+        )
+        .map_err(|e| error(e.into()))
+    }
+}
+
+/// Renders `scene` with `integrator` and `options` (a JSON object of keywords or keys to
+/// values), as `fenestra render` does with the same flags. `progress(reading)` is called
+/// from the caller's thread as the render goes on; Ctrl-C stops the render and keeps what it
+/// has (the statistics say "interrupted").
+#[pyfunction]
+#[pyo3(signature = (scene, integrator, options, *, spp=None, time=None, seed=0, threads=None,
+    resolution=None, samples=None, crop=None, backend=None, progress=None))]
+#[allow(clippy::too_many_arguments)]
+pub fn render(
+    py: Python<'_>,
+    scene: &Scene,
+    integrator: String,
+    options: &str,
+    spp: Option<u32>,
+    time: Option<f64>,
+    seed: u64,
+    threads: Option<usize>,
+    resolution: Option<(u32, u32)>,
+    samples: Option<(u32, u32)>,
+    crop: Option<(u32, u32, u32, u32)>,
+    backend: Option<String>,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<Render> {
+    let backend = match backend {
+        Some(name) => name
+            .parse::<Backend>()
+            .map_err(|e| error(anyhow::anyhow!("backend: {e}")))?,
+        None => Backend::default(),
+    };
+    let resolution = resolution
+        .map(|(w, h)| parse_resolution(&format!("{w}x{h}")))
+        .transpose()
+        .map_err(error)?;
+    let integrator = IntegratorArgs {
+        integrator,
+        params: params(options).map_err(error)?,
+    };
+    let spec = JobSpec {
+        integrator: &integrator,
+        spp,
+        time,
+        seed,
+        resolution,
+    };
+    let mut job = Job::new(
+        scene.desc.clone(),
+        &scene.source,
+        &scene.files,
+        &spec,
+        &keyword_error,
+    )
+    .map_err(error)?;
+    let samples = samples.map(|(a, b)| format!("{a}..{b}"));
+    let crop = crop.map(|(x0, y0, x1, y1)| format!("{x0},{y0},{x1},{y1}"));
+    let piece = job
+        .cut(samples.as_deref(), crop.as_deref(), spp.is_some(), backend)
+        .map_err(error)?;
+    let (cancel, polled) = (AtomicBool::new(false), Polled::default());
+    let report = |py: Python<'_>, reading: Reading| -> PyResult<()> {
+        match &progress {
+            Some(callback) => callback.call1(py, reading).map(drop),
+            None => Ok(()),
+        }
+    };
+    let mut interrupt = None;
+    let done = std::thread::scope(|s| -> PyResult<_> {
+        let rendering = s.spawn(|| job.run(threads, backend, &cancel, &polled, None, None));
+        while !rendering.is_finished() {
+            py.detach(|| std::thread::sleep(POLL));
+            if let Err(e) = py.check_signals() {
+                // KeyboardInterrupt: stop the render, keep what it has.
+                cancel.store(true, Ordering::Relaxed);
+                interrupt.get_or_insert(e);
+            } else if let Err(e) = report(py, polled.read()) {
+                cancel.store(true, Ordering::Relaxed);
+                interrupt.get_or_insert(e);
+            }
+        }
+        py.detach(|| rendering.join())
+            .map_err(|_| FenestraError::new_err("the render panicked"))
+    })?;
+    let (stats, film, _) = done.map_err(error)?;
+    report(py, polled.read())?;
+    match interrupt {
+        Some(e) if !e.is_instance_of::<pyo3::exceptions::PyKeyboardInterrupt>(py) => Err(e),
+        _ => Ok(Render {
+            piece: piece.map(|header| FilmHeader {
+                stats: stats.clone(),
+                ..header
+            }),
+            film,
+            stats,
+        }),
+    }
+}
+
+/// The pieces of a split render (their .exr or .film files) merged into the render of them
+/// all, as `fenestra merge` merges them (`total`: the samples the whole takes, checked).
+#[pyfunction]
+#[pyo3(signature = (parts, total=None))]
+pub fn merge(parts: Vec<PathBuf>, total: Option<u32>) -> PyResult<Render> {
+    let run = || -> anyhow::Result<Render> {
+        let parts = parts
+            .iter()
+            .map(|p| Part::open(&film_file_of(p)))
+            .collect::<Result<Vec<_>, _>>()?;
+        let plan = plan(&parts, total)?;
+        let (film, stats) = merge_parts(&parts, &plan)?;
+        let piece = FilmHeader {
+            key: parts[0].header.key.clone(),
+            samples: plan.samples,
+            window: plan.window,
+            stats: stats.clone(),
+        };
+        Ok(Render {
+            film,
+            stats,
+            piece: Some(piece),
+        })
+    };
+    run().map_err(error)
+}
