@@ -6,6 +6,7 @@
 mod compare;
 mod options;
 mod pixels;
+mod portals;
 mod progress;
 mod render;
 mod scene;
@@ -37,6 +38,7 @@ fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(render::render, m)?)?;
     m.add_function(wrap_pyfunction!(render::merge, m)?)?;
     m.add_function(wrap_pyfunction!(options::options, m)?)?;
+    m.add_function(wrap_pyfunction!(portals::estimate, m)?)?;
     m.add_function(wrap_pyfunction!(compare::compare, m)?)?;
     m.add_function(wrap_pyfunction!(compare::read_image, m)?)?;
     m.add_function(wrap_pyfunction!(compare::png, m)?)?;

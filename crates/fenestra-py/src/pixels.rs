@@ -1,24 +1,37 @@
-//! Images as Python holds them: float32 RGB bytes, row-major, little-endian, which NumPy
-//! reads as a (height, width, 3) array without a copy.
+//! Images and points as Python holds them: float32 triples as little-endian bytes (images
+//! row-major), which NumPy reads as a (height, width, 3) or (n, 3) array without a copy.
 
 use fenestra_core::image::Image;
-use fenestra_core::Rgb;
+use fenestra_core::{Rgb, Vec3};
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 
 /// Bytes per pixel: three float32.
 const PIXEL: usize = 12;
 
-/// `image`'s pixels as bytes.
-pub fn bytes<'py>(py: Python<'py>, image: &Image) -> PyResult<Bound<'py, PyBytes>> {
-    PyBytes::new_with(py, image.pixels.len() * PIXEL, |out| {
-        for (chunk, p) in out.chunks_exact_mut(PIXEL).zip(&image.pixels) {
-            for (c, v) in chunk.chunks_exact_mut(4).zip(p.to_array()) {
+/// Triples as bytes.
+fn triples<'py>(
+    py: Python<'py>,
+    items: impl ExactSizeIterator<Item = [f32; 3]>,
+) -> PyResult<Bound<'py, PyBytes>> {
+    PyBytes::new_with(py, items.len() * PIXEL, |out| {
+        for (chunk, t) in out.chunks_exact_mut(PIXEL).zip(items) {
+            for (c, v) in chunk.chunks_exact_mut(4).zip(t) {
                 c.copy_from_slice(&v.to_le_bytes());
             }
         }
         Ok(())
     })
+}
+
+/// `image`'s pixels as bytes.
+pub fn bytes<'py>(py: Python<'py>, image: &Image) -> PyResult<Bound<'py, PyBytes>> {
+    triples(py, image.pixels.iter().map(|p| p.to_array()))
+}
+
+/// Points as bytes.
+pub fn points<'py>(py: Python<'py>, points: &[Vec3]) -> PyResult<Bound<'py, PyBytes>> {
+    triples(py, points.iter().map(|p| p.to_array()))
 }
 
 /// The image of `width` x `height` whose pixels are `bytes`.

@@ -1,9 +1,16 @@
-//! A render's progress as the Python side polls it: the render thread counts, the thread
-//! that holds the interpreter reads the counts and hands them to a callback.
+//! Long work run from Python: on a thread of its own, while the caller's thread (the one
+//! Python delivers Ctrl-C to) looks for Ctrl-C and hands the work's progress to a callback.
 
+use crate::FenestraError;
 use fenestra_render::Progress;
-use std::sync::atomic::{AtomicU64, Ordering};
+use pyo3::exceptions::PyKeyboardInterrupt;
+use pyo3::prelude::*;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::Mutex;
+use std::time::Duration;
+
+/// How often the caller's thread looks for Ctrl-C and reports progress.
+const POLL: Duration = Duration::from_millis(50);
 
 /// Progress counted for polling.
 #[derive(Default)]
@@ -52,6 +59,53 @@ impl Progress for Polled {
     fn note(&self, text: &str) {
         if let Ok(mut notes) = self.notes.lock() {
             notes.push(text.to_string());
+        }
+    }
+}
+
+/// How watched work ended: its result, and whether Ctrl-C stopped it.
+pub struct Watched<T> {
+    pub result: T,
+    pub interrupted: bool,
+}
+
+/// Runs `work(cancel, progress)` on a thread of its own with the interpreter released; every
+/// 50 ms the caller's thread hands `progress`'s reading to `callback` and looks for Ctrl-C.
+/// Ctrl-C sets `cancel` (the work stops and keeps what it has); an exception from the
+/// callback sets it too and is raised once the work has stopped.
+pub fn watched<T: Send>(
+    py: Python<'_>,
+    callback: Option<&Py<PyAny>>,
+    work: impl FnOnce(&AtomicBool, &Polled) -> T + Send,
+) -> PyResult<Watched<T>> {
+    let (cancel, polled) = (AtomicBool::new(false), Polled::default());
+    let report = |py: Python<'_>| -> PyResult<()> {
+        match callback {
+            Some(callback) => callback.call1(py, polled.read()).map(drop),
+            None => Ok(()),
+        }
+    };
+    let mut stopped: Option<PyErr> = None;
+    let result = std::thread::scope(|s| -> PyResult<T> {
+        let working = s.spawn(|| work(&cancel, &polled));
+        while !working.is_finished() {
+            py.detach(|| std::thread::sleep(POLL));
+            if let Err(e) = py.check_signals().and_then(|()| report(py)) {
+                cancel.store(true, Ordering::Relaxed);
+                stopped.get_or_insert(e);
+            }
+        }
+        py.detach(|| working.join())
+            .map_err(|_| FenestraError::new_err("fenestra panicked (a bug: please report it)"))
+    })?;
+    match stopped {
+        Some(e) if !e.is_instance_of::<PyKeyboardInterrupt>(py) => Err(e),
+        stopped => {
+            report(py)?;
+            Ok(Watched {
+                result,
+                interrupted: stopped.is_some(),
+            })
         }
     }
 }

@@ -2,11 +2,11 @@
 //! checks, integrator registry, scene build and render loop), with the interpreter released
 //! while it runs, Ctrl-C stopping it with what was rendered kept, and progress polled.
 
+use crate::error;
 use crate::options::{keyword_error, params};
 use crate::pixels::bytes;
-use crate::progress::{Polled, Reading};
+use crate::progress::watched;
 use crate::scene::Scene;
-use crate::{error, FenestraError};
 use fenestra_cli::commands::merge::film_file_of;
 use fenestra_cli::commands::render::{check_exr, parse_resolution, Job, JobSpec};
 use fenestra_cli::integrators::IntegratorArgs;
@@ -18,11 +18,6 @@ use fenestra_scene::Backend;
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::Duration;
-
-/// How often the caller's thread looks for Ctrl-C and reports progress.
-const POLL: Duration = Duration::from_millis(50);
 
 /// A finished (or interrupted) render: its film and statistics.
 #[pyclass(frozen, module = "fenestra._native")]
@@ -136,45 +131,19 @@ pub fn render(
     let piece = job
         .cut(samples.as_deref(), crop.as_deref(), spp.is_some(), backend)
         .map_err(error)?;
-    let (cancel, polled) = (AtomicBool::new(false), Polled::default());
-    let report = |py: Python<'_>, reading: Reading| -> PyResult<()> {
-        match &progress {
-            Some(callback) => callback.call1(py, reading).map(drop),
-            None => Ok(()),
-        }
-    };
-    let mut interrupt = None;
-    let done = std::thread::scope(|s| -> PyResult<_> {
-        let rendering = s.spawn(|| job.run(threads, backend, &cancel, &polled, None, None));
-        while !rendering.is_finished() {
-            py.detach(|| std::thread::sleep(POLL));
-            if let Err(e) = py.check_signals() {
-                // KeyboardInterrupt: stop the render, keep what it has.
-                cancel.store(true, Ordering::Relaxed);
-                interrupt.get_or_insert(e);
-            } else if let Err(e) = report(py, polled.read()) {
-                cancel.store(true, Ordering::Relaxed);
-                interrupt.get_or_insert(e);
-            }
-        }
-        py.detach(|| rendering.join())
-            .map_err(|_| FenestraError::new_err("the render panicked"))
+    let watched = watched(py, progress.as_ref(), |cancel, polled| {
+        job.run(threads, backend, cancel, polled, None, None)
     })?;
-    let (stats, film, _) = done.map_err(error)?;
-    report(py, polled.read())?;
-    match interrupt {
-        Some(e) if !e.is_instance_of::<pyo3::exceptions::PyKeyboardInterrupt>(py) => Err(e),
-        _ => Ok(Render {
-            piece: piece.map(|header| FilmHeader {
-                stats: stats.clone(),
-                ..header
-            }),
-            film,
-            stats,
+    let (stats, film, _) = watched.result.map_err(error)?;
+    Ok(Render {
+        piece: piece.map(|header| FilmHeader {
+            stats: stats.clone(),
+            ..header
         }),
-    }
+        film,
+        stats,
+    })
 }
-
 /// The pieces of a split render (their .exr or .film files) merged into the render of them
 /// all, as `fenestra merge` merges them (`total`: the samples the whole takes, checked).
 #[pyfunction]

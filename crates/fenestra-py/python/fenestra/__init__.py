@@ -20,6 +20,7 @@ from . import _native
 from ._native import FenestraError, Scene
 from .image import Comparison, Image
 from .progress import reporter
+from . import portals
 
 __version__ = _native.VERSION
 __all__ = [
@@ -32,6 +33,7 @@ __all__ = [
     "load",
     "merge",
     "options",
+    "portals",
     "read",
     "render",
 ]

@@ -1,0 +1,65 @@
+"""Automatic light portals (seed 000 ch. 4), estimated as `fenestra portals` estimates them.
+
+    est = fe.portals.estimate(scene)            # keywords: the command's flags (theta=3, ...)
+    est.portals        # the portals.json records: kind, center, normal, area, vertices/axes
+    est.photons        # float32 (n, 3): where the photons landed
+    est.clusters       # each cluster's photon indices, largest first
+    est.write("portals.json")
+    fe.render(scene, "lp_hf", portals="portals.json")
+"""
+
+import json
+
+import numpy as np
+
+from . import _native
+from .progress import reporter
+
+__all__ = ["Estimate", "estimate"]
+
+
+class Estimate:
+    """What portal estimation found: portals, the photons and clusters they were fitted to."""
+
+    def __init__(self, document, photons, clusters, summary):
+        self.document = json.loads(document)
+        self.portals = self.document["portals"]
+        self.photons = np.frombuffer(photons, dtype=np.float32).reshape(-1, 3)
+        self.clusters = [np.asarray(c, dtype=np.int64) for c in clusters]
+        self.summary = summary
+
+    def write(self, path):
+        """Writes portals.json, which `render(..., portals=path)` reads."""
+        with open(path, "w") as f:
+            json.dump(self.document, f, indent=2)
+            f.write("\n")
+
+    def __len__(self):
+        return len(self.portals)
+
+    def __repr__(self):
+        return f"<fenestra.portals.Estimate: {self.summary}>"
+
+
+def _flag(name, value):
+    flag = "--" + name.replace("_", "-")
+    if value is True:
+        return [flag]
+    if value is False or value is None:
+        return []
+    return [flag, str(value)]
+
+
+def estimate(scene, *, threads=None, backend=None, progress=True, **flags):
+    """Estimates `scene`'s portals (a Scene, or what `fenestra.load` takes). Keywords are
+    `fenestra portals`'s flags (theta, rays, radius, deposit, photons, max_beams, settle, eps,
+    min_points, ransac_eps, ransac_tau, ransac_trials, mvce_eps, model, seed). Ctrl-C stops
+    it and raises KeyboardInterrupt."""
+    from . import Scene, load
+
+    if not isinstance(scene, Scene):
+        scene = load(scene)
+    args = [a for name, value in flags.items() for a in _flag(name, value)]
+    with reporter(progress) as report:
+        found = _native.estimate(scene, args, threads=threads, backend=backend, progress=report)
+    return Estimate(*found)

@@ -1,0 +1,36 @@
+"""Portal estimation from Python: the command's portals, arrays of its photons, usable by lp_hf."""
+
+import json
+
+import numpy as np
+import pytest
+
+import fenestra as fe
+
+
+def test_the_estimate_is_the_commands(tmp_path, cli):
+    cli("portals", "builtin:box-hole", "-o", tmp_path / "cli.json", "--plot", tmp_path / "p.svg", "-q")
+    est = fe.portals.estimate("builtin:box-hole", progress=False)
+    assert est.portals == json.loads((tmp_path / "cli.json").read_text())["portals"]
+    assert len(est) == 1 and est.portals[0]["area"] == pytest.approx(0.0625, rel=1e-3)
+    assert est.photons.shape[1] == 3 and est.photons.dtype == np.float32
+    assert sum(len(c) for c in est.clusters) <= len(est.photons)
+    # The photons of its cluster lie in the hole's plane.
+    normal = np.array(est.portals[0]["normal"])
+    center = np.array(est.portals[0]["center"])
+    cluster = est.photons[est.clusters[0]]
+    assert np.abs((cluster - center) @ normal).max() < 0.05
+
+
+def test_written_portals_render_as_the_commands_portals_do(tmp_path):
+    est = fe.portals.estimate("builtin:box-hole", progress=False)
+    est.write(tmp_path / "portals.json")
+    args = dict(spp=2, resolution=(32, 32), progress=False)
+    a = fe.render("builtin:box-hole", "lp_hf", portals=str(tmp_path / "portals.json"), **args)
+    b = fe.render("builtin:box-hole", "lp_hf", portals="auto", no_portal_cache=True, **args)
+    assert np.array_equal(a.array, b.array)
+
+
+def test_a_bad_flag_is_named():
+    with pytest.raises(fe.FenestraError, match="--thetta"):
+        fe.portals.estimate("builtin:box-hole", thetta=3, progress=False)
