@@ -17,9 +17,9 @@ import numpy as np
 import fenestra as fe
 
 quick = os.environ.get("FENESTRA_NOTEBOOK_QUICK") == "1"
-size = (64, 64) if quick else (256, 256)
-seconds = 0.5 if quick else 8.0
-reference_spp = 256 if quick else 8192
+size = (64, 64) if quick else (128, 128)
+seconds = 0.5 if quick else 4.0
+reference_spp = 256 if quick else 4096
 
 scene = fe.load("builtin:box-hole")
 scene
@@ -91,4 +91,4 @@ if plt is not None:
         ax.axis("off")
     out = os.environ.get("FENESTRA_NOTEBOOK_FIGURE")
     if out:
-        fig.savefig(out, dpi=80)
+        fig.savefig(out, dpi=64)

@@ -4,6 +4,7 @@
 //! films as bytes NumPy reads without a copy, and the measurement toolkit's comparisons.
 
 mod compare;
+mod lpca;
 mod options;
 mod pixels;
 mod portals;
@@ -39,6 +40,8 @@ fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(render::merge, m)?)?;
     m.add_function(wrap_pyfunction!(options::options, m)?)?;
     m.add_function(wrap_pyfunction!(portals::estimate, m)?)?;
+    m.add_function(wrap_pyfunction!(lpca::fit, m)?)?;
+    m.add_function(wrap_pyfunction!(lpca::classify, m)?)?;
     m.add_function(wrap_pyfunction!(compare::compare, m)?)?;
     m.add_function(wrap_pyfunction!(compare::read_image, m)?)?;
     m.add_function(wrap_pyfunction!(compare::png, m)?)?;

@@ -20,7 +20,7 @@ from . import _native
 from ._native import FenestraError, Scene
 from .image import Comparison, Image
 from .progress import reporter
-from . import portals
+from . import lpca, portals
 
 __version__ = _native.VERSION
 __all__ = [
@@ -31,6 +31,7 @@ __all__ = [
     "compare",
     "integrators",
     "load",
+    "lpca",
     "merge",
     "options",
     "portals",
