@@ -9,6 +9,7 @@ mod options;
 mod pixels;
 mod portals;
 mod progress;
+mod relight;
 mod render;
 mod scene;
 
@@ -35,6 +36,7 @@ fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("VERSION", env!("CARGO_PKG_VERSION"))?;
     m.add_class::<scene::Scene>()?;
     m.add_class::<render::Render>()?;
+    m.add_class::<relight::Relighter>()?;
     m.add_function(wrap_pyfunction!(scene::load, m)?)?;
     m.add_function(wrap_pyfunction!(render::render, m)?)?;
     m.add_function(wrap_pyfunction!(render::merge, m)?)?;
@@ -42,6 +44,7 @@ fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(portals::estimate, m)?)?;
     m.add_function(wrap_pyfunction!(lpca::fit, m)?)?;
     m.add_function(wrap_pyfunction!(lpca::classify, m)?)?;
+    m.add_function(wrap_pyfunction!(relight::open, m)?)?;
     m.add_function(wrap_pyfunction!(compare::compare, m)?)?;
     m.add_function(wrap_pyfunction!(compare::read_image, m)?)?;
     m.add_function(wrap_pyfunction!(compare::png, m)?)?;

@@ -361,16 +361,17 @@ fn frame_range(s: Option<&str>, frames: u32) -> Result<std::ops::Range<u32>> {
 
 /// A precomputation opened: the folder, its animated scene, the lights to relight with, and
 /// every file that was read (outputs must not replace them).
-struct Opened {
-    store: Store,
-    animated: AnimatedScene,
-    lights: LightsFile,
-    inputs: Vec<PathBuf>,
+pub struct Opened {
+    pub store: Store,
+    pub animated: AnimatedScene,
+    pub lights: LightsFile,
+    /// Every file it read.
+    pub inputs: Vec<PathBuf>,
 }
 
 /// The precomputation in `dir`, its animated scene, and the lights of `lights` (default: the
 /// folder's own lights file).
-fn open(dir: &Path, lights: Option<&Path>) -> Result<Opened> {
+pub fn open(dir: &Path, lights: Option<&Path>) -> Result<Opened> {
     let store = Store::open(dir)?;
     let animation_text = std::fs::read_to_string(store.animation_path())
         .with_context(|| format!("cannot read {}", store.animation_path().display()))?;

@@ -20,7 +20,8 @@ from . import _native
 from ._native import FenestraError, Scene
 from .image import Comparison, Image
 from .progress import reporter
-from . import lpca, portals
+from . import lpca, portals, relight
+from .scene_dict import load_dict
 
 __version__ = _native.VERSION
 __all__ = [
@@ -31,11 +32,13 @@ __all__ = [
     "compare",
     "integrators",
     "load",
+    "load_dict",
     "lpca",
     "merge",
     "options",
     "portals",
     "read",
+    "relight",
     "render",
 ]
 
