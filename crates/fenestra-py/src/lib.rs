@@ -29,6 +29,14 @@ fn error(e: anyhow::Error) -> PyErr {
     FenestraError::new_err(format!("{e:#}"))
 }
 
+/// The ray-query backend called `name` (default: the binary's).
+fn backend_named(name: Option<&str>) -> PyResult<fenestra_scene::Backend> {
+    name.map_or(Ok(Default::default()), |n| {
+        n.parse()
+            .map_err(|e| error(anyhow::anyhow!("backend: {e}")))
+    })
+}
+
 #[pymodule]
 #[pyo3(name = "_native")]
 fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {

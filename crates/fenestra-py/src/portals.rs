@@ -2,14 +2,14 @@
 //! estimates them, with its flags as keywords, returned as the portals.json document and the
 //! photons and clusters behind it.
 
-use crate::error;
 use crate::pixels::points;
 use crate::progress::watched;
 use crate::scene::Scene;
+use crate::{backend_named, error};
 use fenestra_cli::commands::portals::EstimateOpts;
 use fenestra_portals::estimate::estimate as estimate_portals;
 use fenestra_render::RenderScene;
-use fenestra_scene::{Backend, Scene as Built};
+use fenestra_scene::Scene as Built;
 use pyo3::exceptions::PyKeyboardInterrupt;
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
@@ -41,12 +41,7 @@ pub fn estimate<'py>(
         .map_err(|e| error(anyhow::anyhow!("{}", e.render().to_string().trim_end())))?
         .opts;
     let params = opts.params();
-    let backend = match backend {
-        Some(name) => name
-            .parse::<Backend>()
-            .map_err(|e| error(anyhow::anyhow!("backend: {e}")))?,
-        None => Backend::default(),
-    };
+    let backend = backend_named(backend.as_deref())?;
     let pool = fenestra_cli::thread_pool(threads).map_err(error)?;
     let desc = scene.desc.clone();
     let watched = watched(py, progress.as_ref(), |cancel, polled| {

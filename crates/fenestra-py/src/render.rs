@@ -2,11 +2,11 @@
 //! checks, integrator registry, scene build and render loop), with the interpreter released
 //! while it runs, Ctrl-C stopping it with what was rendered kept, and progress polled.
 
-use crate::error;
 use crate::options::{keyword_error, params};
 use crate::pixels::bytes;
 use crate::progress::watched;
 use crate::scene::Scene;
+use crate::{backend_named, error};
 use fenestra_cli::commands::merge::film_file_of;
 use fenestra_cli::commands::render::{check_exr, parse_resolution, Job, JobSpec};
 use fenestra_cli::integrators::IntegratorArgs;
@@ -14,7 +14,6 @@ use fenestra_core::stats::RenderStats;
 use fenestra_render::film_file::FilmHeader;
 use fenestra_render::merge::{merge as merge_parts, plan, Part};
 use fenestra_render::{output, Film};
-use fenestra_scene::Backend;
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 use std::path::PathBuf;
@@ -97,12 +96,7 @@ pub fn render(
     backend: Option<String>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Render> {
-    let backend = match backend {
-        Some(name) => name
-            .parse::<Backend>()
-            .map_err(|e| error(anyhow::anyhow!("backend: {e}")))?,
-        None => Backend::default(),
-    };
+    let backend = backend_named(backend.as_deref())?;
     let resolution = resolution
         .map(|(w, h)| parse_resolution(&format!("{w}x{h}")))
         .transpose()

@@ -9,7 +9,7 @@ loaded from there.
 
     scene = fe.load_dict({
         "camera": {"eye": [0, 1, 3.5], "target": [0, 1, 0], "up": [0, 1, 0], "fov": 40},
-        "resolution": (256, 256), "spp": 64,
+        "resolution": (256, 256), "spp": 64, "max_depth": 6,
         "materials": {
             "white": {"type": "diffuse", "reflectance": [0.8, 0.8, 0.8]},
             "gold": {"type": "conductor", "eta": "metal-Au-eta", "k": "metal-Au-k",
@@ -124,6 +124,11 @@ def pbrt_text(scene, folder):
         f'Camera "perspective" "float fov" [ {float(cam.get("fov", 45.0))!r} ]',
         f'Film "rgb" "integer xresolution" [ {int(width)} ] "integer yresolution" [ {int(height)} ]',
         f'Sampler "zsobol" "integer pixelsamples" [ {int(scene.get("spp", 64))} ]',
+    ]
+    if "max_depth" in scene:
+        # pbrt-v4 counts bounces, fenestra path segments (2 = direct light).
+        lines.append(f'Integrator "path" "integer maxdepth" [ {int(scene["max_depth"]) - 1} ]')
+    lines += [
         "WorldBegin",
     ]
     for light in scene.get("lights", []):
@@ -167,9 +172,10 @@ def load_dict(scene, **scene_options):
     it)."""
     from . import load
 
-    unknown = set(scene) - {"camera", "resolution", "spp", "materials", "shapes", "lights"}
+    keys = ["camera", "resolution", "spp", "max_depth", "materials", "shapes", "lights"]
+    unknown = set(scene) - set(keys)
     if unknown:
-        raise ValueError(f"unknown scene keys {sorted(unknown)} (camera, resolution, spp, materials, shapes, lights; the path length is render's max_depth)")
+        raise ValueError(f"unknown scene keys {sorted(unknown)} (known: {', '.join(keys)})")
     staging = _cache() / "staging"
     staging.mkdir(parents=True, exist_ok=True)
     work = Path(os.path.join(staging, f"{os.getpid()}-{id(scene)}"))

@@ -61,3 +61,8 @@ def test_scene_keywords_need_what_they_describe():
 def test_a_wrong_piece_of_a_split_render_is_named(tmp_path):
     with pytest.raises(fe.FenestraError, match="--samples 0..2 says how many samples"):
         fe.render("builtin:cornell-box", spp=4, samples=(0, 2), progress=False)
+
+
+def test_an_unknown_backend_is_named():
+    with pytest.raises(fe.FenestraError, match="^backend: "):
+        fe.render("builtin:cornell-box", spp=1, backend="optix", progress=False)

@@ -15,6 +15,7 @@ import fenestra as fe
         ("af_hf", [], {}),
         ("af_hf", ["--max-depth", "3", "--light-selection", "bvh"], {"max_depth": 3, "light_selection": "bvh"}),
         ("lp_hf", ["--portals", "auto", "--no-portal-cache"], {"portals": "auto", "no_portal_cache": True}),
+        ("af_hf", ["--bvh", "obvhs"], {"backend": "obvhs"}),
     ],
 )
 def test_a_render_is_the_command_lines_bit_for_bit(tmp_path, cli, integrator, flags, keywords):

@@ -19,6 +19,7 @@ def box_scene():
         "camera": {"eye": [0, 1, 3.5], "target": [0, 1, 0], "up": [0, 1, 0], "fov": 40},
         "resolution": (40, 30),
         "spp": 8,
+        "max_depth": 4,
         "materials": {
             "white": {"type": "diffuse", "reflectance": [0.7, 0.7, 0.7]},
             "gold": {"type": "conductor", "eta": "metal-Au-eta", "k": "metal-Au-k", "roughness": 0.2},
@@ -48,6 +49,7 @@ def test_a_dict_scene_renders_as_the_same_pbrt_file(tmp_path):
 Camera "perspective" "float fov" [ 40 ]
 Film "rgb" "integer xresolution" [ 40 ] "integer yresolution" [ 30 ]
 Sampler "zsobol" "integer pixelsamples" [ 8 ]
+Integrator "path" "integer maxdepth" [ 3 ]
 WorldBegin
 LightSource "infinite" "rgb L" [ 0.05 0.06 0.08 ]
 MakeNamedMaterial "white" "string type" [ "diffuse" ] "rgb reflectance" [ 0.7 0.7 0.7 ]
@@ -66,8 +68,8 @@ AreaLightSource "diffuse" "rgb L" [ 8 8 8 ]
 AttributeEnd
 """
     (tmp_path / "box.pbrt").write_text(text)
-    from_file = fe.render(fe.load(tmp_path / "box.pbrt"), max_depth=4, progress=False)
-    from_dict = fe.render(fe.load_dict(d), max_depth=4, progress=False)
+    from_file = fe.render(fe.load(tmp_path / "box.pbrt"), progress=False)
+    from_dict = fe.render(fe.load_dict(d), progress=False)
     assert from_dict.stats["spp"] == 8 and from_dict.stats["max_depth"] == 4
     assert from_dict.array.shape == (30, 40, 3)
     assert from_dict.array.mean() > 0.01
