@@ -130,6 +130,10 @@ pub(super) struct Builder {
     /// The PixelFilter, if the scene names one (pbrt-v4's default is a gaussian).
     pub(crate) filter: Option<PixelFilter>,
     pub(crate) defaults: RenderDefaults,
+    /// The film's sensitivity (Film "iso") and the camera's shutter time (shutterclose -
+    /// shutteropen): pbrt-v4 exposes the image by iso / 100 x seconds, with where it was set.
+    pub(crate) iso: (f32, Option<Loc>),
+    pub(crate) shutter: (f32, Option<Loc>),
     warnings: Tally,
     /// Documented approximations met (see [`crate::Loaded::notes`]).
     pub notes: Tally,
@@ -163,6 +167,8 @@ impl Builder {
             object: None,
             camera: None,
             filter: None,
+            iso: (100.0, None),
+            shutter: (1.0, None),
             defaults: RenderDefaults {
                 width: 1280,
                 height: 720,
@@ -497,7 +503,12 @@ impl Builder {
         Ok(())
     }
 
-    pub fn finish(self, name: String) -> Result<(SceneDesc, Vec<Warning>), PbrtError> {
+    /// The scene, with the warnings and notes its directives gave.
+    pub fn finish(
+        mut self,
+        name: String,
+    ) -> Result<(SceneDesc, Vec<Warning>, Vec<Warning>), PbrtError> {
+        let exposure = self.exposure();
         if let Some(open) = self.stack.last() {
             return Err(PbrtError::at(
                 &open.loc,
@@ -550,7 +561,24 @@ impl Builder {
             defaults: self.defaults,
             portals: self.portals,
         };
-        Ok((desc, self.warnings.list))
+        Ok((desc.exposed(exposure), self.warnings.list, self.notes.list))
+    }
+}
+
+impl Builder {
+    /// pbrt-v4's imaging ratio, iso / 100 x the shutter's seconds, which scales the image
+    /// (noted where it is not 1).
+    fn exposure(&mut self) -> f32 {
+        let ((iso, iso_at), (seconds, shutter_at)) = (self.iso.clone(), self.shutter.clone());
+        let ratio = iso / 100.0 * seconds;
+        if let Some(loc) = iso_at.or(shutter_at).filter(|_| ratio != 1.0) {
+            self.note(
+                Topic::Camera,
+                format!("the film's iso {iso} and the shutter's {seconds} s expose the image {ratio}x (pbrt-v4's imaging ratio)"),
+                &loc,
+            );
+        }
+        ratio
     }
 }
 

@@ -34,6 +34,19 @@ impl Builder {
             );
         }
         p.float("focaldistance", 1e6).ok();
+        let open = p.float("shutteropen", 0.0).unwrap_or(0.0);
+        let close = p.float("shutterclose", 1.0).unwrap_or(1.0);
+        if close >= open {
+            self.shutter = (close - open, Some(d.loc.clone()));
+        } else {
+            self.warn(
+                Topic::Camera,
+                format!(
+                    "shutterclose {close} before shutteropen {open} (the exposure is taken as 1 s)"
+                ),
+                &d.loc,
+            );
+        }
         self.named_coords
             .insert("camera".into(), self.gs.ctm.inverse());
         self.camera = Some(CameraSpec {

@@ -163,8 +163,7 @@ pub fn load_bytes(bytes: &[u8], path: &Path, strict: bool) -> Result<Loaded, Pbr
         .map_or_else(|| "scene".into(), |s| s.to_string_lossy().into_owned());
     let mut files = vec![path.to_path_buf()];
     files.append(&mut b.files);
-    let notes = std::mem::take(&mut b.notes.list);
-    let (desc, warnings) = b.finish(name)?;
+    let (desc, warnings, notes) = b.finish(name)?;
     if strict && !warnings.is_empty() {
         let w = &warnings[0];
         let more = match warnings.len() {

@@ -205,7 +205,7 @@ impl Builder {
 /// A light's spectrum parameter as RGB; pbrt-v4's default is the colour space's white.
 fn spectrum(p: &ParamList, name: &str, _loc: &Loc) -> Result<Rgb, PbrtError> {
     match p.spectrum(name)? {
-        Some((s, l)) => spectra::to_rgb(&s).map_err(|e| PbrtError::at(&l, e)),
+        Some((s, l)) => spectra::illuminant_to_rgb(&s).map_err(|e| PbrtError::at(&l, e)),
         None => Ok(Rgb::ONE),
     }
 }

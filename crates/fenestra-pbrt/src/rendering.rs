@@ -19,6 +19,30 @@ impl Builder {
                     );
                 }
                 let p = &d.params;
+                let iso = p.float("iso", 100.0)?;
+                if !(iso.is_finite() && iso > 0.0) {
+                    return Err(PbrtError::at(
+                        &d.loc,
+                        format!("iso must be positive, found {iso}"),
+                    ));
+                }
+                self.iso = (iso, Some(d.loc.clone()));
+                let sensor = p.string("sensor")?.unwrap_or_else(|| "cie1931".into());
+                if sensor != "cie1931" {
+                    self.warn(
+                        Topic::Camera,
+                        format!("sensor \"{sensor}\" (rendered with the CIE 1931 observer: no sensor response curves, no white balance)"),
+                        &d.loc,
+                    );
+                }
+                let balance = p.float("whitebalance", 0.0)?;
+                if balance != 0.0 && sensor == "cie1931" {
+                    self.warn(
+                        Topic::Camera,
+                        format!("whitebalance {balance} (not applied)"),
+                        &d.loc,
+                    );
+                }
                 self.defaults.width = positive(p.int("xresolution", 1280)?, "xresolution", &d.loc)?;
                 self.defaults.height = positive(p.int("yresolution", 720)?, "yresolution", &d.loc)?;
                 // The output file is named on the command line.

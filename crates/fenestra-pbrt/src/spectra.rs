@@ -28,28 +28,59 @@ fn spectrum_to_rgb(s: impl Fn(f64) -> f64) -> Rgb {
     )
 }
 
-/// Colour of a blackbody at `kelvin`, normalised like pbrt-v4 (peak 1) and then to luminance 1.
-pub fn blackbody(kelvin: f32) -> Rgb {
-    let t = kelvin as f64;
-    let planck = |l: f64| {
-        let lm = l * 1e-9;
-        let (h, c, k) = (6.626_070_15e-34, 299_792_458.0, 1.380_649e-23);
-        2.0 * h * c * c / (lm.powi(5) * ((h * c / (lm * k * t)).exp() - 1.0))
-    };
-    let rgb = spectrum_to_rgb(planck);
-    let y = rgb.luminance();
+/// `c` scaled to luminance 1 (black if it has none).
+fn unit_luminance(c: Rgb) -> Rgb {
+    let y = c.luminance();
     if y > 0.0 && y.is_finite() {
-        rgb / y
+        c / y
     } else {
         Rgb::ZERO
     }
 }
 
+/// Planck's law: spectral radiance at wavelength `l` nm of a blackbody at `kelvin`.
+fn planck(kelvin: f32) -> impl Fn(f64) -> f64 {
+    let t = kelvin as f64;
+    move |l: f64| {
+        let lm = l * 1e-9;
+        let (h, c, k) = (6.626_070_15e-34, 299_792_458.0, 1.380_649e-23);
+        2.0 * h * c * c / (lm.powi(5) * ((h * c / (lm * k * t)).exp() - 1.0))
+    }
+}
+
+/// Colour of a blackbody at `kelvin` as a reflectance-like value (the equal-energy spectrum
+/// white), normalised to luminance 1.
+pub fn blackbody(kelvin: f32) -> Rgb {
+    unit_luminance(spectrum_to_rgb(planck(kelvin)))
+}
+
+/// The colour a light's spectrum has in pbrt-v4's image: its CIE 1931 XYZ in linear sRGB
+/// with no white balance (so the equal-energy spectrum is pinkish and D65 white), normalised
+/// to luminance 1, as pbrt-v4 divides every light's spectrum by its photometric luminance
+/// (the light's scale or power sets its brightness). RGB and named spectra are taken as
+/// written.
+pub fn illuminant_to_rgb(s: &SpectrumParam) -> Result<Rgb, String> {
+    let xyz_rgb = |f: &dyn Fn(f64) -> f64| {
+        let c = spectrum_to_linear_srgb(f);
+        unit_luminance(Rgb::new(c[0] as f32, c[1] as f32, c[2] as f32))
+    };
+    match s {
+        SpectrumParam::Blackbody(t) if *t > 0.0 => Ok(xyz_rgb(&planck(*t))),
+        SpectrumParam::Sampled(p) if !p.is_empty() => Ok(xyz_rgb(&interpolated(p))),
+        other => to_rgb(other),
+    }
+}
+
 /// Piecewise-linear spectrum through (wavelength, value) pairs, constant beyond its ends.
 pub fn sampled(pairs: &[(f32, f32)]) -> Rgb {
+    spectrum_to_rgb(interpolated(pairs))
+}
+
+/// The piecewise-linear function through (wavelength, value) pairs, constant beyond its ends.
+fn interpolated(pairs: &[(f32, f32)]) -> impl Fn(f64) -> f64 {
     let mut p: Vec<(f64, f64)> = pairs.iter().map(|&(l, v)| (l as f64, v as f64)).collect();
     p.sort_by(|a, b| a.0.total_cmp(&b.0));
-    spectrum_to_rgb(|l| {
+    move |l: f64| {
         let i = p.partition_point(|q| q.0 < l);
         if i == 0 {
             p[0].1
@@ -64,7 +95,7 @@ pub fn sampled(pairs: &[(f32, f32)]) -> Rgb {
             };
             a.1 + t * (b.1 - a.1)
         }
-    })
+    }
 }
 
 /// Named spectra of pbrt-v4 as RGB: metal indices (eta, k) at the sRGB primaries and glass
@@ -168,6 +199,38 @@ mod tests {
         // Near the equal-energy white point a blackbody is nearly neutral.
         let e = blackbody(5455.0);
         assert!((e.r / e.b - 1.0).abs() < 0.15, "{e:?}");
+    }
+
+    /// Lights' spectra as pbrt-v4 renders them: a distant light on a diffuse plane of
+    /// reflectance 0.5 rendered by pbrt-v4 (its CPU build, 16x16 at 1024 spp, the image
+    /// means): an equal-energy light (0.1911, 0.1512, 0.1437) whatever its magnitude, a 2700 K
+    /// blackbody (0.3081, 0.1279, 0.0305), a 6500 K one at scale 2 (0.3321, 0.3131, 0.3290),
+    /// rgb (1, 1, 1) (0.1592, 0.1592, 0.1589): one luminance for all. The hues agree within
+    /// 2% (fenestra's observer is an analytic fit of the CIE 1931 tables pbrt-v4 uses).
+    #[test]
+    fn light_spectra_have_pbrt_v4s_colours_and_unit_luminance() {
+        let close = |c: Rgb, pbrt: [f32; 3]| {
+            let (c, p) = (c / c.g, Rgb::new(pbrt[0], pbrt[1], pbrt[2]) / pbrt[1]);
+            (c.r / p.r - 1.0).abs() < 0.025 && (c.b / p.b - 1.0).abs() < 0.025
+        };
+        for (s, pbrt) in [
+            (
+                SpectrumParam::Sampled(vec![(400.0, 1.0), (700.0, 1.0)]),
+                [0.1911, 0.1512, 0.1437],
+            ),
+            (
+                SpectrumParam::Sampled(vec![(400.0, 5.0), (700.0, 5.0)]),
+                [0.1911, 0.1512, 0.1437],
+            ),
+            (SpectrumParam::Blackbody(2700.0), [0.3081, 0.1279, 0.0305]),
+            (SpectrumParam::Blackbody(6500.0), [0.3321, 0.3131, 0.3290]),
+        ] {
+            let c = illuminant_to_rgb(&s).expect("rgb");
+            assert!(close(c, pbrt), "{s:?}: {c:?}, pbrt-v4 {pbrt:?}");
+            assert!((c.luminance() - 1.0).abs() < 1e-4, "{c:?}");
+        }
+        let rgb = Rgb::new(1.0, 2.0, 3.0);
+        assert_eq!(illuminant_to_rgb(&SpectrumParam::Rgb(rgb)), Ok(rgb));
     }
 
     #[test]

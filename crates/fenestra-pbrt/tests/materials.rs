@@ -485,3 +485,79 @@ fn impossible_light_and_material_values_are_refused_or_clamped_as_pbrt_does() {
         Material::Diffuse(material::Diffuse { reflectance }) if *reflectance == Rgb::new(1.0, 0.5, 1.0)
     )));
 }
+
+/// pbrt-v4 exposes the image by the film's iso / 100 times the shutter's seconds (measured with
+/// pbrt-v4 itself: iso 150 renders 1.5x, iso 400 with shutter 0..0.5 2x, shutter 0.2..0.7
+/// 0.5x the iso-100, 0..1 image): every emitter takes the factor, and a note says so.
+#[test]
+fn the_films_iso_and_the_shutter_expose_every_emitter() {
+    let scene = |film: &str, camera: &str| {
+        load(&format!(
+            r#"Film "rgb" "integer xresolution" 8 "integer yresolution" 8 {film}
+            Camera "perspective" "float fov" 45 {camera}
+            WorldBegin
+            LightSource "point" "point3 from" [0 0 1] "rgb I" [1 2 3]
+            LightSource "spot" "rgb I" [1 1 1] "point3 from" [0 0 5] "point3 to" [0 0 0]
+            LightSource "distant" "point3 from" [0 0 1] "point3 to" [0 0 0] "rgb L" [2 2 2]
+            LightSource "infinite" "rgb L" [0.1 0.2 0.3]
+            AttributeBegin
+              AreaLightSource "diffuse" "rgb L" [1 2 3]
+              Shape "disk" "float radius" 2
+            AttributeEnd"#
+        ))
+        .expect("load")
+    };
+    let emitters = |s: &pbrt::Loaded| -> Vec<Rgb> {
+        let lights = s.desc.lights.iter().map(|l| match l {
+            LightDesc::Point { intensity, .. } | LightDesc::Spot { intensity, .. } => *intensity,
+            LightDesc::Distant { irradiance, .. } => *irradiance,
+            LightDesc::Environment(EnvironmentDesc::Constant(l)) => *l,
+            other => panic!("{other:?}"),
+        });
+        let areas = s
+            .desc
+            .shapes
+            .iter()
+            .filter_map(|s| s.emission.map(|e| e.radiance));
+        lights.chain(areas).collect()
+    };
+    let plain = scene("", "");
+    assert!(plain.notes.is_empty());
+    for (film, camera, k) in [
+        (r#""float iso" 150"#, "", 1.5),
+        (
+            r#""float iso" 400"#,
+            r#""float shutteropen" 0 "float shutterclose" 0.5"#,
+            2.0,
+        ),
+        (
+            "",
+            r#""float shutteropen" 0.2 "float shutterclose" 0.7"#,
+            0.5,
+        ),
+        (r#""float iso" 100"#, r#""float shutterclose" 1"#, 1.0),
+    ] {
+        let s = scene(film, camera);
+        for (e, p) in emitters(&s).into_iter().zip(emitters(&plain)) {
+            let off = (e - p * k).to_array().map(f32::abs);
+            assert!(
+                off.iter().all(|&d| d < 1e-6),
+                "{film} {camera}: {e:?} {p:?}"
+            );
+        }
+        let noted = s
+            .notes
+            .iter()
+            .any(|n| n.what.contains(&format!("expose the image {k}x")));
+        assert_eq!(noted, k != 1.0, "{film} {camera}: {:?}", s.notes);
+    }
+    let Err(e) = load(r#"Film "rgb" "float iso" -3"#) else {
+        panic!("a negative iso loads")
+    };
+    assert!(e.contains("iso must be positive"), "{e}");
+    let s = load(r#"Film "rgb" "string sensor" "canon_eos_100d""#).expect("load");
+    assert!(s
+        .warnings
+        .iter()
+        .any(|w| w.what.contains("no sensor response curves")));
+}

@@ -3,7 +3,7 @@
 use crate::accel::{Backend, Hit, RayQuery, PACKET};
 use crate::camera::Camera;
 use crate::interaction::SurfaceInteraction;
-use crate::light::LightDesc;
+use crate::light::{EnvironmentDesc, LightDesc};
 use crate::material;
 use crate::material::Material;
 use crate::shape::{Shape, ShapeKind};
@@ -93,6 +93,28 @@ impl SceneDesc {
         self.portals
             .iter_mut()
             .for_each(|quad| quad.iter_mut().for_each(|p| *p *= s));
+        self
+    }
+
+    /// The same scene with every emitter `k` times as bright: the image a camera exposed `k`
+    /// times as long (or as sensitive) takes. Light transport is linear in the emitters, and
+    /// light sampling by power is unchanged by a common factor, so the render is the same
+    /// paths with `k` times their values.
+    pub fn exposed(mut self, k: f32) -> SceneDesc {
+        for e in self.shapes.iter_mut().filter_map(|s| s.emission.as_mut()) {
+            e.radiance *= k;
+        }
+        for light in &mut self.lights {
+            match light {
+                LightDesc::Point { intensity, .. } | LightDesc::Spot { intensity, .. } => {
+                    *intensity *= k
+                }
+                LightDesc::Distant { irradiance, .. } => *irradiance *= k,
+                LightDesc::Environment(EnvironmentDesc::Constant(radiance))
+                | LightDesc::Environment(EnvironmentDesc::Sun { radiance, .. }) => *radiance *= k,
+                LightDesc::Environment(EnvironmentDesc::Image { scale, .. }) => *scale *= k,
+            }
+        }
         self
     }
 }
