@@ -117,15 +117,19 @@ fn compare_reports_metrics_and_efficiency() {
     let e = noisy["efficiency"].as_f64().expect("eff");
     let expect = 1.0 / (noisy["mse"].as_f64().expect("mse") * noisy["time_s"].as_f64().expect("t"));
     assert!((e - expect).abs() <= 1e-9 * expect);
-    // Another seed: no warning. Another scene: refused.
+    // Another seed: no warning. Its error map goes beside it. Another scene: refused.
     assert!(render(&img, &["--seed", "5"]).status.success());
     let o = fenestra(&[
         "compare",
         "--ref",
         reference.to_str().expect("utf-8"),
         img.to_str().expect("utf-8"),
+        "--error-maps",
     ]);
     assert!(o.status.success() && o.stderr.is_empty(), "{o:?}");
+    let map = Image::read(&img.with_extension("error.png")).expect("map");
+    assert_eq!((map.width, map.height), (24, 16));
+    assert!(map.pixels.iter().any(|p| p.luminance() > 0.0));
     let cornell = tmp("cmp-cornell.exr");
     let c = fenestra(&[
         "render",

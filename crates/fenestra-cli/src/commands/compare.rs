@@ -5,6 +5,7 @@ use anyhow::{bail, Context, Result};
 use clap::Args;
 use fenestra_core::image::{read_exr_metadata, Image};
 use fenestra_core::stats::RenderStats;
+use fenestra_eval::colormap::write_error_map;
 use fenestra_eval::metrics;
 use serde_json::{json, Value};
 use std::collections::BTreeMap;
@@ -30,6 +31,11 @@ pub struct CompareArgs {
     /// averaged over blocks of that factor (a box filter): a reference rendered larger.
     #[arg(long)]
     downsample: bool,
+    /// Also write IMAGE.error.png beside each image: its per-pixel relative squared error
+    /// (luminance) against the reference, on bench reports' log scale (1e-4 black to 10 pale
+    /// yellow).
+    #[arg(long)]
+    error_maps: bool,
 }
 
 /// The reference at `image`'s size: itself, or with `--downsample` averaged over blocks
@@ -136,6 +142,9 @@ pub fn run(args: CompareArgs) -> Result<()> {
         let reference = reference_for(&reference, &img, path, &args)?;
         let m = metrics::compare_where(&img, &reference, mask.as_deref())
             .with_context(|| format!("comparing {}", path.display()))?;
+        if args.error_maps {
+            write_error_map(&img, &reference, &path.with_extension("error.png"))?;
+        }
         // The sidecar is optional: images from other renderers have none.
         let sidecar: Option<RenderStats> = std::fs::read_to_string(path.with_extension("json"))
             .ok()
