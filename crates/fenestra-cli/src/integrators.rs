@@ -33,7 +33,7 @@ pub struct IntegratorArgs {
 }
 
 /// The default integrator.
-const DEFAULT: &str = "af_hf";
+pub const DEFAULT: &str = "af_hf";
 
 /// Every option flag: (key, group, field index).
 fn flags() -> impl Iterator<Item = (String, &'static Group, usize)> {

@@ -8,8 +8,9 @@ use crate::progress::watched;
 use crate::scene::Scene;
 use crate::{backend_named, error};
 use fenestra_cli::commands::merge::film_file_of;
-use fenestra_cli::commands::render::{check_exr, parse_resolution, Job, JobSpec};
-use fenestra_cli::integrators::IntegratorArgs;
+use fenestra_cli::commands::render::{check_exr, parse_resolution, render_outputs, Job, JobSpec};
+use fenestra_cli::integrators::{IntegratorArgs, DEFAULT};
+use fenestra_cli::support::files::Files;
 use fenestra_core::stats::RenderStats;
 use fenestra_render::film_file::FilmHeader;
 use fenestra_render::merge::{merge as merge_parts, plan, Part};
@@ -23,6 +24,9 @@ use std::path::PathBuf;
 pub struct Render {
     film: Film,
     stats: RenderStats,
+    /// What it was rendered from (scene files, a portals file; a merge's parts): its files
+    /// never replace them.
+    inputs: Files,
     /// What its film-state file says of it, if it is a piece of a split render.
     piece: Option<FilmHeader>,
 }
@@ -61,6 +65,10 @@ impl Render {
     #[pyo3(signature = (path, exposure=None, variance=false))]
     fn write(&self, path: PathBuf, exposure: Option<f32>, variance: bool) -> PyResult<()> {
         check_exr(&path).map_err(error)?;
+        let mut files = self.inputs.clone();
+        render_outputs(&mut files, &path, variance, self.piece.is_some())
+            .check()
+            .map_err(error)?;
         output::write_render(
             &path,
             &self.film,
@@ -78,13 +86,13 @@ impl Render {
 /// from the caller's thread as the render goes on; Ctrl-C stops the render and keeps what it
 /// has (the statistics say "interrupted").
 #[pyfunction]
-#[pyo3(signature = (scene, integrator, options, *, spp=None, time=None, seed=0, threads=None,
+#[pyo3(signature = (scene, integrator=None, options="{}", *, spp=None, time=None, seed=0, threads=None,
     resolution=None, samples=None, crop=None, backend=None, progress=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn render(
     py: Python<'_>,
     scene: &Scene,
-    integrator: String,
+    integrator: Option<String>,
     options: &str,
     spp: Option<u32>,
     time: Option<f64>,
@@ -102,7 +110,7 @@ pub fn render(
         .transpose()
         .map_err(error)?;
     let integrator = IntegratorArgs {
-        integrator,
+        integrator: integrator.unwrap_or_else(|| DEFAULT.to_string()),
         params: params(options).map_err(error)?,
     };
     let spec = JobSpec {
@@ -122,6 +130,7 @@ pub fn render(
     .map_err(error)?;
     let samples = samples.map(|(a, b)| format!("{a}..{b}"));
     let crop = crop.map(|(x0, y0, x1, y1)| format!("{x0},{y0},{x1},{y1}"));
+    let inputs = std::mem::take(&mut job.inputs);
     let piece = job
         .cut(samples.as_deref(), crop.as_deref(), spp.is_some(), backend)
         .map_err(error)?;
@@ -136,6 +145,7 @@ pub fn render(
         }),
         film,
         stats,
+        inputs,
     })
 }
 /// The pieces of a split render (their .exr or .film files) merged into the render of them
@@ -144,9 +154,12 @@ pub fn render(
 #[pyo3(signature = (parts, total=None))]
 pub fn merge(parts: Vec<PathBuf>, total: Option<u32>) -> PyResult<Render> {
     let run = || -> anyhow::Result<Render> {
-        let parts = parts
+        let paths: Vec<PathBuf> = parts.iter().map(|p| film_file_of(p)).collect();
+        let mut inputs = Files::default();
+        inputs.inputs(&paths, "part");
+        let parts = paths
             .iter()
-            .map(|p| Part::open(&film_file_of(p)))
+            .map(|p| Part::open(p))
             .collect::<Result<Vec<_>, _>>()?;
         let plan = plan(&parts, total)?;
         let (film, stats) = merge_parts(&parts, &plan)?;
@@ -160,6 +173,7 @@ pub fn merge(parts: Vec<PathBuf>, total: Option<u32>) -> PyResult<Render> {
             film,
             stats,
             piece: Some(piece),
+            inputs,
         })
     };
     run().map_err(error)

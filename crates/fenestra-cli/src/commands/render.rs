@@ -189,7 +189,7 @@ pub struct Job {
     /// The hash of the scene's content that its images carry.
     scene_content: String,
     /// What the render reads: scene files, a portals file.
-    pub(crate) inputs: Files,
+    pub inputs: Files,
     pub(crate) width: u32,
     pub(crate) height: u32,
     integrator: Box<dyn Integrator>,

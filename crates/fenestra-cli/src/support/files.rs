@@ -17,7 +17,7 @@ pub fn create_output_folder(path: &Path) -> Result<()> {
 }
 
 /// A command's inputs and outputs, each with what it is for.
-#[derive(Default)]
+#[derive(Clone, Default)]
 pub struct Files {
     inputs: Vec<(PathBuf, String)>,
     outputs: Vec<(PathBuf, String)>,

@@ -71,7 +71,7 @@ def _plain(name, value):
 
 def render(
     scene,
-    integrator="af_hf",
+    integrator=None,
     *,
     spp=None,
     time=None,
@@ -85,7 +85,8 @@ def render(
     options=None,
     **keywords,
 ):
-    """Renders `scene` (a Scene, or what `load` takes) and returns an Image.
+    """Renders `scene` (a Scene, or what `load` takes) with `integrator` (default: the
+    command line's, af_hf) and returns an Image.
 
     spp: samples per pixel (default: the scene's; with time, a cap). time: seconds to
     render for, preparation included. seed: a pixel's samples depend only on it, the pixel

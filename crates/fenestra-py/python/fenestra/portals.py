@@ -9,6 +9,7 @@
 """
 
 import json
+import os
 
 import numpy as np
 
@@ -29,10 +30,18 @@ class Estimate:
         self.summary = summary
 
     def write(self, path):
-        """Writes portals.json, which `render(..., portals=path)` reads."""
-        with open(path, "w") as f:
-            json.dump(self.document, f, indent=2)
-            f.write("\n")
+        """Writes portals.json, which `render(..., portals=path)` reads (whole or not at all:
+        through a temporary file beside it)."""
+        path = os.fspath(path)
+        partial = f"{path}.{os.getpid()}.tmp"
+        try:
+            with open(partial, "w") as f:
+                json.dump(self.document, f, indent=2)
+                f.write("\n")
+            os.replace(partial, path)
+        finally:
+            if os.path.exists(partial):
+                os.remove(partial)
 
     def __len__(self):
         return len(self.portals)

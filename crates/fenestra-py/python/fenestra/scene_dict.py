@@ -187,10 +187,15 @@ def load_dict(scene, **scene_options):
         digest.update(path.name.encode())
         digest.update(path.read_bytes())
     final = _cache() / digest.hexdigest()[:16]
-    if final.exists():
+    if not final.exists():
+        try:
+            os.replace(work, final)
+        except OSError:
+            if not final.exists():
+                raise
+            # Another process stored the same scene meanwhile.
+    if work.exists():
         for path in work.iterdir():
             path.unlink()
         work.rmdir()
-    else:
-        os.replace(work, final)
     return load(final / "scene.pbrt", **scene_options)
