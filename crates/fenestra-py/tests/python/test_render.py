@@ -100,11 +100,11 @@ def test_progress_reaches_every_sample():
 
 
 def test_time_limits_a_render():
-    # The cornell box's 64 spp at 32x32 take far less than a minute: a render that stops
-    # after 0.5 s and before its sample cap has been stopped by the clock.
+    # A million samples per pixel take minutes: a render that stops well before them has
+    # been stopped by the clock (its seconds are not checked: no timing in tests).
     img = fe.render("builtin:cornell-box", time=0.5, spp=10**6, resolution=(32, 32),
                     progress=False)
-    assert img.time >= 0.5
+    assert not img.interrupted
     assert 1 <= img.stats["spp"] < 10**6
 
 
