@@ -131,6 +131,17 @@ impl Image {
     /// Reads an image as linear RGB: OpenEXR, Radiance HDR and PFM as stored, PNG, JPEG and
     /// TGA decoded from sRGB.
     pub fn read(path: &Path) -> Result<Image, ImageError> {
+        Self::read_encoded(path, true)
+    }
+
+    /// Reads an image of data (a normal map): every format's values as stored, 8-bit ones
+    /// in [0, 1] without sRGB decoding.
+    pub fn read_data(path: &Path) -> Result<Image, ImageError> {
+        Self::read_encoded(path, false)
+    }
+
+    /// Reads an image, 8-bit formats decoded from sRGB if `srgb`.
+    fn read_encoded(path: &Path, srgb: bool) -> Result<Image, ImageError> {
         let err = |reason: String| ImageError::Read {
             path: path.to_path_buf(),
             reason,
@@ -164,7 +175,13 @@ impl Image {
                 );
                 let rgb = decoded.to_rgb32f();
                 let (w, h) = rgb.dimensions();
-                let decode = |v: f32| if is_hdr { v } else { srgb_to_linear(v) };
+                let decode = |v: f32| {
+                    if is_hdr || !srgb {
+                        v
+                    } else {
+                        srgb_to_linear(v)
+                    }
+                };
                 let pixels = rgb
                     .pixels()
                     .map(|p| Rgb::new(decode(p[0]), decode(p[1]), decode(p[2])))

@@ -8,7 +8,7 @@ use crate::{Loc, PbrtError, Topic, Warning};
 use fenestra_core::image::Image;
 use fenestra_core::{Rgb, Vec3};
 use fenestra_scene::filter::PixelFilter;
-use fenestra_scene::material;
+use fenestra_scene::material::{self, Relief};
 use fenestra_scene::texture::ImageTexture;
 use fenestra_scene::transform::transformed;
 use fenestra_scene::{Camera, FieldOfView, LightDesc, Material, RenderDefaults, SceneDesc, Shape};
@@ -122,7 +122,11 @@ pub(super) struct Builder {
     pub textures: HashMap<String, Tex>,
     /// Float textures by name.
     pub float_textures: HashMap<String, FloatTex>,
-    pub(crate) images: HashMap<PathBuf, Arc<Image>>,
+    /// Images read, by path and whether 8-bit values were decoded from sRGB (colour) or
+    /// not (data: normal maps).
+    pub(crate) images: HashMap<(PathBuf, bool), Arc<Image>>,
+    /// The bump or normal map of each material that has one, by material index.
+    pub(crate) reliefs: HashMap<usize, Arc<Relief>>,
     objects: HashMap<String, Vec<Shape>>,
     /// The instance being defined (ObjectBegin .. ObjectEnd) and its shapes.
     pub object: Option<(String, Vec<Shape>)>,
@@ -163,6 +167,7 @@ impl Builder {
             textures: HashMap::new(),
             float_textures: HashMap::new(),
             images: HashMap::new(),
+            reliefs: HashMap::new(),
             objects: HashMap::new(),
             object: None,
             camera: None,
@@ -337,7 +342,9 @@ impl Builder {
             | "Option" | "Attribute" | "MakeNamedMedium" | "MediumInterface" => {
                 self.rendering(d)?
             }
-            "Material" | "MakeNamedMaterial" | "NamedMaterial" => self.material_directive(d)?,
+            "Material" | "MakeNamedMaterial" | "NamedMaterial" => {
+                self.material_directive(d, dir)?
+            }
             "ObjectBegin" | "ObjectEnd" | "ObjectInstance" => self.object(d)?,
             "Texture" => self.texture(d, dir)?,
             "LightSource" => self.light(d, dir)?,
@@ -389,9 +396,9 @@ impl Builder {
     }
 
     /// Material directives: the current material, named ones.
-    fn material_directive(&mut self, d: &Directive) -> Result<(), PbrtError> {
+    fn material_directive(&mut self, d: &Directive, dir: &Path) -> Result<(), PbrtError> {
         match d.name {
-            "Material" => self.gs.material = self.material(d.str(0), &d.params, &d.loc)?,
+            "Material" => self.gs.material = self.material(d.str(0), &d.params, &d.loc, dir)?,
             "MakeNamedMaterial" => {
                 let Some(ty) = d.params.string("type")? else {
                     return Err(PbrtError::at(
@@ -402,7 +409,7 @@ impl Builder {
                         ),
                     ));
                 };
-                let index = self.material(&ty, &d.params, &d.loc)?;
+                let index = self.material(&ty, &d.params, &d.loc, dir)?;
                 self.named_materials.insert(d.str(0).into(), index);
             }
             "NamedMaterial" => match self.named_materials.get(d.str(0)) {

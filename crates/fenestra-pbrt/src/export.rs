@@ -584,12 +584,14 @@ fn material(s: &mut String, i: usize, m: &Material) {
             k,
             alpha_x,
             alpha_y,
+            layers,
         }) => {
             let _ = write!(
                 s,
-                "\"string type\" \"coatedconductor\" \"float interface.eta\" [ {interface_eta} ] \"float interface.roughness\" [ {interface_alpha} ] \"rgb conductor.eta\" [ {} ] \"rgb conductor.k\" [ {} ] \"float conductor.uroughness\" [ {alpha_x} ] \"float conductor.vroughness\" [ {alpha_y} ] \"bool remaproughness\" false",
+                "\"string type\" \"coatedconductor\" \"float interface.eta\" [ {interface_eta} ] \"float interface.roughness\" [ {interface_alpha} ] \"rgb conductor.eta\" [ {} ] \"rgb conductor.k\" [ {} ] \"float conductor.uroughness\" [ {alpha_x} ] \"float conductor.vroughness\" [ {alpha_y} ] \"bool remaproughness\" false{}",
                 rgb(*eta),
-                rgb(*k)
+                rgb(*k),
+                layer_parameters(layers)
             );
         }
         Material::DiffuseTransmission(material::DiffuseTransmission {
@@ -620,6 +622,7 @@ fn material(s: &mut String, i: usize, m: &Material) {
             texture,
             eta,
             alpha,
+            layers,
         }) => {
             let reflectance = match texture {
                 Some(_) => format!("\"texture reflectance\" \"t{i}\""),
@@ -627,11 +630,24 @@ fn material(s: &mut String, i: usize, m: &Material) {
             };
             let _ = write!(
                 s,
-                "\"string type\" \"coateddiffuse\" {reflectance} \"float eta\" [ {eta} ] \"float roughness\" [ {alpha} ] \"bool remaproughness\" false"
+                "\"string type\" \"coateddiffuse\" {reflectance} \"float eta\" [ {eta} ] \"float roughness\" [ {alpha} ] \"bool remaproughness\" false{}",
+                layer_parameters(layers)
             );
         }
     }
     s.push('\n');
+}
+
+/// A coated material's slab as pbrt-v4's parameters (a leading space each).
+fn layer_parameters(l: &material::Layers) -> String {
+    format!(
+        " \"float thickness\" [ {} ] \"rgb albedo\" [ {} ] \"float g\" [ {} ] \"integer maxdepth\" [ {} ] \"integer nsamples\" [ {} ]",
+        l.thickness,
+        rgb(l.albedo),
+        l.g,
+        l.max_depth,
+        l.samples
+    )
 }
 
 fn inline_mesh(s: &mut String, m: &TriangleMesh) {

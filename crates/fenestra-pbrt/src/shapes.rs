@@ -120,6 +120,7 @@ impl Builder {
         let has_normals = matches!(&kind, ShapeKind::Mesh(m) if m.normals.is_some());
         let mut shape = Shape::new(kind, self.gs.material);
         shape.flip_normals = reverse && !has_normals;
+        shape.relief = self.reliefs.get(&self.gs.material).cloned();
         let mut shape = place(&shape, &self.gs.ctm, &d.loc)?;
         if let Some(area) = self.gs.area.clone() {
             if self.object.is_some() {

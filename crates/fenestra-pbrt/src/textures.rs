@@ -229,12 +229,23 @@ impl Builder {
 
     /// An image file, read once however many textures or lights use it.
     pub fn image(&mut self, path: &Path, loc: &Loc) -> Result<Arc<Image>, PbrtError> {
-        if let Some(img) = self.images.get(path) {
+        self.read_image(path, loc, true)
+    }
+
+    /// An image of data (a normal map): 8-bit values as stored, not decoded from sRGB.
+    pub fn data_image(&mut self, path: &Path, loc: &Loc) -> Result<Arc<Image>, PbrtError> {
+        self.read_image(path, loc, false)
+    }
+
+    fn read_image(&mut self, path: &Path, loc: &Loc, srgb: bool) -> Result<Arc<Image>, PbrtError> {
+        let key = (path.to_path_buf(), srgb);
+        if let Some(img) = self.images.get(&key) {
             return Ok(img.clone());
         }
-        let img = Arc::new(Image::read(path).map_err(|e| PbrtError::at(loc, e.to_string()))?);
+        let read = if srgb { Image::read } else { Image::read_data };
+        let img = Arc::new(read(path).map_err(|e| PbrtError::at(loc, e.to_string()))?);
         self.files.push(path.to_path_buf());
-        self.images.insert(path.to_path_buf(), img.clone());
+        self.images.insert(key, img.clone());
         Ok(img)
     }
 }

@@ -561,3 +561,86 @@ fn the_films_iso_and_the_shutter_expose_every_emitter() {
         .iter()
         .any(|w| w.what.contains("no sensor response curves")));
 }
+
+#[test]
+fn bump_and_normal_maps_and_the_layers_of_coated_materials() {
+    let dir = scratch("relief");
+    let mut height = fenestra_core::image::Image::new(2, 1);
+    height.set(0, 0, Rgb::splat(0.0));
+    height.set(1, 0, Rgb::splat(1.0));
+    height
+        .write_exr(&dir.join("h.exr"), &Default::default())
+        .expect("height");
+    // An 8-bit normal map: 128 is 0.502 as stored (pbrt-v4 reads normal maps linearly), not
+    // the 0.216 an sRGB decoding would give.
+    let mut normals = fenestra_core::image::Image::new(2, 2);
+    let stored = |byte: f32| fenestra_core::image::srgb_to_linear(byte / 255.0);
+    for (x, y) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+        normals.set(x, y, Rgb::new(stored(128.0), stored(128.0), 1.0));
+    }
+    normals
+        .write_png(&dir.join("n.png"), Some(0.0))
+        .expect("normals");
+    std::fs::write(
+        dir.join("s.pbrt"),
+        r#"WorldBegin
+        Texture "h" "float" "imagemap" "string filename" "h.exr" "float scale" 0.1
+        Material "diffuse" "texture displacement" "h"
+        Shape "sphere"
+        Material "conductor" "string normalmap" "n.png"
+        Shape "sphere"
+        Material "coateddiffuse" "float thickness" 0.2 "rgb albedo" [0.5 0.4 0.3] "float g" 0.3 "integer maxdepth" 20 "integer nsamples" 2
+        Shape "sphere""#,
+    )
+    .expect("scene");
+    let s = pbrt::load(&dir.join("s.pbrt"), true).expect("strict: nothing approximated");
+    let relief = |i: usize| s.desc.shapes[i].relief.as_deref();
+    let Some(material::Relief::Bump(bump)) = relief(0) else {
+        panic!("bump map")
+    };
+    assert!((bump.displacement.lookup(Vec2::new(0.75, 0.5)).r - 0.1).abs() < 1e-6);
+    let Some(material::Relief::Normals(map)) = relief(1) else {
+        panic!("normal map")
+    };
+    assert!((map.texture.lookup(Vec2::new(0.5, 0.5)).r - 128.0 / 255.0).abs() < 1e-6);
+    assert!(relief(2).is_none());
+    let Material::CoatedDiffuse(coated) = &s.desc.materials[2] else {
+        panic!("coated")
+    };
+    assert_eq!(
+        coated.layers,
+        material::Layers {
+            thickness: 0.2,
+            albedo: Rgb::new(0.5, 0.4, 0.3),
+            g: 0.3,
+            max_depth: 20,
+            samples: 2
+        }
+    );
+    let err = pbrt::load_bytes(
+        br#"WorldBegin
+        Material "diffuse" "texture displacement" "nowhere""#,
+        &dir.join("e.pbrt"),
+        true,
+    )
+    .err()
+    .expect("an unknown texture is an error");
+    assert!(
+        err.to_string().contains("e.pbrt:2") && err.to_string().contains("\"nowhere\""),
+        "{err}"
+    );
+    let err = pbrt::load_bytes(
+        br#"WorldBegin
+        Material "coateddiffuse" "float g" 1.5
+        Shape "sphere""#,
+        &dir.join("g.pbrt"),
+        true,
+    )
+    .err()
+    .expect("g outside (-1, 1) is an error");
+    assert!(
+        err.to_string().contains("g 1.5 must lie in (-1, 1)"),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -131,8 +131,8 @@ impl RenderScene {
                 texture: Some(texture),
                 ..
             }) => match &self.bsdfs[material] {
-                Bsdf::CoatedDiffuse(b) => Cow::Owned(Bsdf::CoatedDiffuse(
-                    b.with_reflectance(texture.lookup(si.uv)),
+                Bsdf::Layered(b) => Cow::Owned(Bsdf::Layered(
+                    b.with_base_reflectance(texture.lookup(si.uv)),
                 )),
                 other => Cow::Borrowed(other),
             },

@@ -94,9 +94,10 @@ impl SurfaceInteraction {
                 let p = *center + dir * *radius;
                 let offset = offset_distance(center.abs().max_element() + radius);
                 let phi = dir.y.atan2(dir.x);
+                // pbrt-v4's parametrisation: v = 1 at the pole along +z.
                 let uv = Vec2::new(
                     (phi * INV_2PI).rem_euclid(1.0),
-                    dir.z.clamp(-1.0, 1.0).acos() * INV_PI,
+                    1.0 - dir.z.clamp(-1.0, 1.0).acos() * INV_PI,
                 );
                 let dpdu = Vec3::new(-dir.y, dir.x, 0.0);
                 (p, dir, dir, dpdu, uv, offset)

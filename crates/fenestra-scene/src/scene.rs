@@ -344,7 +344,7 @@ impl Scene {
     }
 
     /// The surface point of `hit` found along `ray`, its shading normal tilted by its
-    /// material's normal map if it has one.
+    /// material's normal map or its shape's relief if it has one.
     pub fn interaction(&self, ray: &Ray, hit: &Hit) -> SurfaceInteraction {
         let shape = &self.shapes[hit.shape as usize];
         let mut si = SurfaceInteraction::from_hit(shape, ray, hit);
@@ -354,6 +354,9 @@ impl Scene {
             if let Some(map) = &m.normal_map {
                 map.apply(&mut si, mesh);
             }
+        }
+        if let Some(relief) = &shape.relief {
+            relief.apply(&mut si, shape);
         }
         si
     }

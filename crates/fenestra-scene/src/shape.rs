@@ -1,7 +1,9 @@
 //! Shapes and their exact ray intersection routines, shared by both ray-query backends.
 
 use crate::light::Emission;
+use crate::material::Relief;
 use fenestra_core::{Ray, Vec2, Vec3};
+use std::sync::Arc;
 
 /// An indexed triangle mesh in world space.
 #[derive(Clone, Debug, Default)]
@@ -154,6 +156,8 @@ pub struct Shape {
     pub flip_normals: bool,
     /// Its name, for what refers to it (animation tracks), if it has one.
     pub name: Option<String>,
+    /// Its material's bump or normal map, which tilts its shading normals.
+    pub relief: Option<Arc<Relief>>,
 }
 
 impl Shape {
@@ -165,6 +169,7 @@ impl Shape {
             emission: None,
             flip_normals: false,
             name: None,
+            relief: None,
         }
     }
     /// The shape named `name`.

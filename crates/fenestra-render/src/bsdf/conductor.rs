@@ -1,6 +1,7 @@
 //! Rough conductor: GGX microfacets with complex Fresnel, visible-normal sampling.
 
 use super::microfacet::Ggx;
+use super::scatter::Scatter;
 use super::{fresnel, reflect, BsdfSample};
 use fenestra_core::{Rgb, Vec2, Vec3};
 use fenestra_scene::material;
@@ -44,9 +45,20 @@ impl RoughConductor {
 
     /// Samples an incident direction for `wo`.
     pub fn sample(&self, wo: Vec3, u: Vec2) -> Option<BsdfSample> {
-        let h = self.ggx.sample_visible(wo, u);
-        let wi = reflect(wo, h);
+        let wi = reflect(wo, self.ggx.sample_visible(wo, u));
         BsdfSample::reflected(wi, |wi| self.eval(wo, wi), |wi| self.pdf(wo, wi))
+    }
+
+    /// Samples a reflected direction for `wo` through visible normals, with f and density.
+    pub(super) fn scatter(&self, wo: Vec3, u: Vec2) -> Option<Scatter> {
+        let wi = reflect(wo, self.ggx.sample_visible(wo, u));
+        let s = Scatter {
+            wi,
+            f: self.eval(wo, wi),
+            pdf: self.pdf(wo, wi),
+            specular: false,
+        };
+        (wi.z * wo.z > 0.0 && s.pdf > 0.0).then_some(s)
     }
 }
 

@@ -1,6 +1,7 @@
 //! Smooth dielectric interface: Fresnel-weighted choice between mirror reflection and
 //! refraction, total internal reflection included (seed 000 §2.4).
 
+use super::scatter::{Lobes, Mode, Scatter};
 use super::{fresnel, reflect_z, BsdfSample};
 use fenestra_core::{Rgb, Vec3};
 use fenestra_scene::material;
@@ -15,23 +16,38 @@ pub struct SmoothDielectric {
 impl SmoothDielectric {
     /// Samples an incident direction for `wo`.
     pub fn sample(&self, wo: Vec3, uc: f32) -> Option<BsdfSample> {
-        let f = fresnel::dielectric(wo.z, self.eta);
-        if uc < f {
-            return Some(BsdfSample {
-                wi: reflect_z(wo),
-                weight: Rgb::ONE,
-                pdf: f,
-                delta: true,
-            });
-        }
-        let (wi, etap) = fresnel::refract(wo, Vec3::Z, self.eta)?;
-        // Radiance is compressed by eta^2 when it enters a denser medium (non-symmetric
-        // scattering for camera paths, Veach 1997 §5.2).
+        let s = self.scatter(wo, uc, Mode::Radiance, Lobes::All)?;
         Some(BsdfSample {
-            wi,
-            weight: Rgb::splat(1.0 / (etap * etap)),
-            pdf: 1.0 - f,
+            wi: s.wi,
+            weight: s.weight(),
+            pdf: s.pdf,
             delta: true,
+        })
+    }
+
+    /// Samples one of `lobes` for `wo`: the mirror direction or the refracted one, in
+    /// proportion to their Fresnel shares.
+    pub(super) fn scatter(&self, wo: Vec3, uc: f32, mode: Mode, lobes: Lobes) -> Option<Scatter> {
+        let r = fresnel::dielectric(wo.z, self.eta);
+        let (pr, pt) = lobes.shares(r)?;
+        let (wi, f, pdf) = if uc < pr {
+            let wi = reflect_z(wo);
+            (wi, r / wi.z.abs(), pr)
+        } else {
+            let (wi, etap) = fresnel::refract(wo, Vec3::Z, self.eta)?;
+            // Radiance is compressed by eta^2 when it enters a denser medium (non-symmetric
+            // scattering for camera paths, Veach 1997 §5.2).
+            let scale = match mode {
+                Mode::Radiance => 1.0 / (etap * etap),
+                Mode::Importance => 1.0,
+            };
+            (wi, (1.0 - r) * scale / wi.z.abs(), pt)
+        };
+        (pdf > 0.0 && wi.z != 0.0).then_some(Scatter {
+            wi,
+            f: Rgb::splat(f),
+            pdf,
+            specular: true,
         })
     }
 }

@@ -2,23 +2,24 @@
 //! two-sided: they reflect on whichever side `wo` lies. `sample` returns the weight
 //! f * |cos| / pdf that a path's throughput is multiplied by.
 
-mod coated;
 mod conductor;
 mod dielectric;
 mod diffuse;
 pub mod fresnel;
+mod layered;
 mod metallic_roughness;
 pub(crate) mod microfacet;
 mod mirror;
 mod phong;
 mod rough_dielectric;
+mod scatter;
 mod specular_albedo;
 mod ward;
 
-pub use coated::{CoatedConductor, CoatedDiffuse};
 pub use conductor::RoughConductor;
 pub use dielectric::{SmoothDielectric, ThinDielectric};
 pub use diffuse::{Diffuse, DiffuseTransmission};
+pub use layered::Layered;
 pub use metallic_roughness::MetallicRoughness;
 pub use mirror::Mirror;
 pub use phong::Phong;
@@ -84,10 +85,9 @@ pub enum Bsdf {
     RoughDielectric(RoughDielectric),
     /// Lambertian reflection and transmission.
     DiffuseTransmission(DiffuseTransmission),
-    /// GGX dielectric coat over a Lambertian base.
-    CoatedDiffuse(CoatedDiffuse),
-    /// GGX dielectric coat over a GGX conductor.
-    CoatedConductor(CoatedConductor),
+    /// pbrt-v4's coated materials: a dielectric coat over a Lambertian or conductor base,
+    /// simulated by random walks.
+    Layered(Layered),
     /// glTF's metallic-roughness BRDF.
     MetallicRoughness(MetallicRoughness),
 }
@@ -121,8 +121,8 @@ impl Bsdf {
             Material::Phong(m) => Bsdf::Phong(m.into()),
             Material::Ward(m) => Bsdf::Ward(m.into()),
             Material::RoughConductor(m) => Bsdf::RoughConductor(m.into()),
-            Material::CoatedDiffuse(m) => Bsdf::CoatedDiffuse(m.into()),
-            Material::CoatedConductor(m) => Bsdf::CoatedConductor(m.into()),
+            Material::CoatedDiffuse(m) => Bsdf::Layered(m.into()),
+            Material::CoatedConductor(m) => Bsdf::Layered(m.into()),
             Material::MetallicRoughness(m) => Bsdf::MetallicRoughness(m.into()),
         }
     }
@@ -148,18 +148,21 @@ impl Bsdf {
     /// Whether the BSDF may depend on the direction of the surface's tangent (anisotropic
     /// lobes): the others look the same in any frame around the normal.
     pub fn needs_tangent(&self) -> bool {
-        matches!(
-            self,
-            Bsdf::Ward(_) | Bsdf::RoughConductor(_) | Bsdf::CoatedConductor(_)
-        )
+        match self {
+            Bsdf::Layered(b) => b.needs_tangent(),
+            _ => matches!(self, Bsdf::Ward(_) | Bsdf::RoughConductor(_)),
+        }
     }
 
     /// Whether every lobe is a Dirac delta (light sampling is pointless there).
     pub fn is_delta(&self) -> bool {
-        matches!(
-            self,
-            Bsdf::Mirror(_) | Bsdf::SmoothDielectric(_) | Bsdf::ThinDielectric(_)
-        )
+        match self {
+            Bsdf::Layered(b) => b.is_delta(),
+            _ => matches!(
+                self,
+                Bsdf::Mirror(_) | Bsdf::SmoothDielectric(_) | Bsdf::ThinDielectric(_)
+            ),
+        }
     }
 
     /// Whether the material transmits (otherwise it is opaque and two-sided).
@@ -188,8 +191,7 @@ impl Bsdf {
             Bsdf::Phong(b) => b.eval(wo, wi),
             Bsdf::Ward(b) => b.eval(wo, wi),
             Bsdf::RoughConductor(b) => b.eval(wo, wi),
-            Bsdf::CoatedDiffuse(b) => b.eval(wo, wi),
-            Bsdf::CoatedConductor(b) => b.eval(wo, wi),
+            Bsdf::Layered(b) => b.eval(wo, wi),
             Bsdf::MetallicRoughness(b) => b.eval(wo, wi),
             Bsdf::Mirror(_)
             | Bsdf::SmoothDielectric(_)
@@ -214,8 +216,7 @@ impl Bsdf {
             Bsdf::Phong(b) => b.pdf(wo, wi),
             Bsdf::Ward(b) => b.pdf(wo, wi),
             Bsdf::RoughConductor(b) => b.pdf(wo, wi),
-            Bsdf::CoatedDiffuse(b) => b.pdf(wo, wi),
-            Bsdf::CoatedConductor(b) => b.pdf(wo, wi),
+            Bsdf::Layered(b) => b.pdf(wo, wi),
             Bsdf::MetallicRoughness(b) => b.pdf(wo, wi),
             Bsdf::Mirror(_)
             | Bsdf::SmoothDielectric(_)
@@ -245,8 +246,7 @@ impl Bsdf {
             Bsdf::Phong(b) => b.sample(wo, uc, u),
             Bsdf::Ward(b) => b.sample(wo, uc, u),
             Bsdf::RoughConductor(b) => b.sample(wo, u),
-            Bsdf::CoatedDiffuse(b) => b.sample(wo, uc, u),
-            Bsdf::CoatedConductor(b) => b.sample(wo, uc, u),
+            Bsdf::Layered(b) => b.sample(wo, uc, u),
             Bsdf::MetallicRoughness(b) => b.sample(wo, uc, u),
             Bsdf::SmoothDielectric(_)
             | Bsdf::ThinDielectric(_)

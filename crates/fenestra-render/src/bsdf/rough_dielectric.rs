@@ -2,6 +2,7 @@
 //! through visible normals with Fresnel lobe selection.
 
 use super::microfacet::Ggx;
+use super::scatter::{Lobes, Mode, Scatter};
 use super::{fresnel, reflect, BsdfSample};
 use fenestra_core::{Rgb, Vec2, Vec3};
 use fenestra_scene::material;
@@ -50,65 +51,94 @@ impl RoughDielectric {
 
     /// f(wo, wi) in the local frame.
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> Rgb {
+        Rgb::splat(self.f(wo, wi, Mode::Radiance))
+    }
+
+    /// f(wo, wi) for light carrying `mode`: refraction divides radiance by the relative
+    /// index squared, not importance.
+    pub(super) fn f(&self, wo: Vec3, wi: Vec3, mode: Mode) -> f32 {
         let Some((wm, etap, reflection)) = half_vector(wo, wi, self.eta) else {
-            return Rgb::ZERO;
+            return 0.0;
         };
         let f = fresnel::dielectric(wo.dot(wm), self.eta);
         let dg = self.ggx.d(wm) * self.ggx.g(wo, wi);
         if reflection {
-            Rgb::splat(dg * f / (4.0 * wi.z * wo.z).abs())
+            dg * f / (4.0 * wi.z * wo.z).abs()
         } else {
             let denom = (wi.dot(wm) + wo.dot(wm) / etap).powi(2) * wi.z * wo.z;
             let ft = dg * (1.0 - f) * (wi.dot(wm) * wo.dot(wm) / denom).abs();
-            // Radiance transport: divide by etap^2 (see dielectric.rs).
-            Rgb::splat(ft / (etap * etap))
+            match mode {
+                Mode::Radiance => ft / (etap * etap),
+                Mode::Importance => ft,
+            }
         }
     }
 
     /// Solid-angle density with which `sample` gives `wi`.
     pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        self.pdf_of(wo, wi, Lobes::All)
+    }
+
+    /// The density of `wi` when sampling only `lobes`.
+    pub(super) fn pdf_of(&self, wo: Vec3, wi: Vec3, lobes: Lobes) -> f32 {
         let Some((wm, etap, reflection)) = half_vector(wo, wi, self.eta) else {
             return 0.0;
         };
-        let f = fresnel::dielectric(wo.dot(wm), self.eta);
+        let Some((pr, pt)) = lobes.shares(fresnel::dielectric(wo.dot(wm), self.eta)) else {
+            return 0.0;
+        };
         let pv = self.ggx.pdf_visible(wo, wm);
         if reflection {
-            pv / (4.0 * wo.dot(wm).abs()) * f
+            pv / (4.0 * wo.dot(wm).abs()) * pr
         } else {
             let dwm_dwi = wi.dot(wm).abs() / (wi.dot(wm) + wo.dot(wm) / etap).powi(2);
-            pv * dwm_dwi * (1.0 - f)
+            pv * dwm_dwi * pt
         }
     }
 
     /// Samples an incident direction for `wo`.
     pub fn sample(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<BsdfSample> {
+        let s = self.scatter(wo, uc, u, Mode::Radiance, Lobes::All)?;
+        Some(BsdfSample {
+            wi: s.wi,
+            weight: s.weight(),
+            pdf: s.pdf,
+            delta: false,
+        })
+    }
+
+    /// Samples one of `lobes` for `wo` through visible normals, the lobe chosen in proportion
+    /// to the microfacet's Fresnel reflectance.
+    pub(super) fn scatter(
+        &self,
+        wo: Vec3,
+        uc: f32,
+        u: Vec2,
+        mode: Mode,
+        lobes: Lobes,
+    ) -> Option<Scatter> {
         let wm = self.ggx.sample_visible(wo, u);
-        let f = fresnel::dielectric(wo.dot(wm), self.eta);
-        let wi = if uc < f {
+        let (pr, _) = lobes.shares(fresnel::dielectric(wo.dot(wm), self.eta))?;
+        let wi = if uc < pr {
             let wi = reflect(wo, wm);
             if wi.z * wo.z <= 0.0 {
                 return None;
             }
             wi
         } else {
-            // Refract about the microfacet normal, oriented to the side of wo.
             let (wi, _) = fresnel::refract(wo, wm, self.eta)?;
             if wi.z * wo.z >= 0.0 || wi.z == 0.0 {
                 return None;
             }
             wi
         };
-        let pdf = self.pdf(wo, wi);
-        if pdf <= 0.0 {
-            return None;
-        }
-        let weight = self.eval(wo, wi) * (wi.z.abs() / pdf);
-        weight.is_finite().then_some(BsdfSample {
+        let s = Scatter {
             wi,
-            weight,
-            pdf,
-            delta: false,
-        })
+            f: Rgb::splat(self.f(wo, wi, mode)),
+            pdf: self.pdf_of(wo, wi, lobes),
+            specular: false,
+        };
+        (s.pdf > 0.0 && s.weight().is_finite()).then_some(s)
     }
 }
 

@@ -14,10 +14,11 @@ mod mirror;
 mod mix;
 mod normal_map;
 mod phong;
+mod relief;
 mod ward;
 
 pub use alpha::{Alpha, AlphaMode};
-pub use coated::{CoatedConductor, CoatedDiffuse};
+pub use coated::{CoatedConductor, CoatedDiffuse, Layers};
 pub use conductor::RoughConductor;
 pub use dielectric::{Dielectric, RoughDielectric, ThinDielectric};
 pub use diffuse::{Diffuse, DiffuseTransmission, TexturedDiffuse};
@@ -26,6 +27,7 @@ pub use mirror::Mirror;
 pub use mix::Mix;
 pub use normal_map::NormalMap;
 pub use phong::Phong;
+pub use relief::{BumpMap, Relief};
 pub use ward::Ward;
 
 use crate::texture::ImageTexture;
