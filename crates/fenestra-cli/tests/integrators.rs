@@ -83,7 +83,7 @@ fn scene_files_export_render_and_report_what_they_cannot_represent() {
     let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::fast());
     std::io::Write::write_all(
         &mut gz,
-        b"WorldBegin\nLightSource \"infinite\"\nMaterial \"coateddiffuse\"\nShape \"sphere\"\n",
+        b"WorldBegin\nLightSource \"infinite\"\nMaterial \"coateddiffuse\" \"float roughness\" 0.1\nShape \"sphere\"\n",
     )
     .expect("gzip");
     std::fs::write(&coated, gz.finish().expect("gzip")).expect("write");
@@ -92,7 +92,7 @@ fn scene_files_export_render_and_report_what_they_cannot_represent() {
     assert!(o.status.success(), "{text}");
     assert!(
         text.contains("nothing replaced, 1 kind of input rendered fenestra's own way")
-            && text.contains("\nMaterials\n  own way   coated materials as analytic layers"),
+            && text.contains("\nMaterials\n  own way   rough coats of coated materials evaluated as their own sampling gives them"),
         "{text}"
     );
 

@@ -7,12 +7,13 @@ use fenestra_core::fs::{write_atomically, write_text_atomically};
 use fenestra_core::{Rgb, Vec3};
 use fenestra_scene::filter::{FilterShape, PixelFilter};
 use fenestra_scene::light::{EnvironmentDesc, LightDesc};
-use fenestra_scene::material;
+use fenestra_scene::material::{self, Relief};
 use fenestra_scene::{
     Camera, FieldOfView, ImageTexture, Material, SceneDesc, ShapeKind, TriangleMesh,
 };
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 mod metallic_roughness;
 
@@ -67,9 +68,10 @@ pub fn write(desc: &SceneDesc, path: &Path) -> Result<Exported, ExportError> {
     };
     e.header(desc);
     e.materials(desc)?;
+    let reliefs = e.reliefs(desc)?;
     let portal_written = e.lights(desc)?;
     e.portals(desc, portal_written);
-    e.shapes(desc)?;
+    e.shapes(desc, &reliefs)?;
     write_text_atomically(path, &e.s).map_err(|x| err(x.reason))?;
     e.files.insert(0, path.to_path_buf());
     Ok(Exported {
@@ -319,11 +321,83 @@ impl Export<'_> {
         }
     }
 
-    /// Every shape, with its material and emission.
-    fn shapes(&mut self, desc: &SceneDesc) -> Result<(), ExportError> {
+    /// A material of its own for each material and relief shapes share (pbrt-v4 gives bump
+    /// and normal maps to materials, fenestra to shapes): "m{i}-relief{k}", m{i}'s parameters
+    /// and the relief's, its image written as linear EXR. The shapes' material names, in
+    /// shape order.
+    fn reliefs(&mut self, desc: &SceneDesc) -> Result<Vec<String>, ExportError> {
+        let mut seen: Vec<(usize, &Arc<Relief>)> = Vec::new();
+        let mut names = Vec::with_capacity(desc.shapes.len());
+        for shape in &desc.shapes {
+            let Some(relief) = &shape.relief else {
+                names.push(format!("m{}", shape.material));
+                continue;
+            };
+            let key =
+                |(m, r): &(usize, &Arc<Relief>)| *m == shape.material && Arc::ptr_eq(r, relief);
+            let k = match seen.iter().position(key) {
+                Some(k) => k,
+                None => {
+                    seen.push((shape.material, relief));
+                    self.relief_material(seen.len() - 1, shape.material, relief, desc)?;
+                    seen.len() - 1
+                }
+            };
+            names.push(format!("m{}-relief{k}", shape.material));
+        }
+        Ok(names)
+    }
+
+    fn relief_material(
+        &mut self,
+        k: usize,
+        i: usize,
+        relief: &Relief,
+        desc: &SceneDesc,
+    ) -> Result<(), ExportError> {
+        let (image, parameter) = match relief {
+            Relief::Bump(b) => (
+                &b.displacement,
+                format!("\"texture displacement\" \"d{k}\""),
+            ),
+            Relief::Normals(n) => {
+                if n.scale != 1.0 {
+                    self.approximations.push(format!(
+                        "m{i}: a normal map's scale {} (pbrt-v4's normal maps have none; written unscaled)",
+                        n.scale
+                    ));
+                }
+                (&n.texture, String::new())
+            }
+        };
+        let file = self.data(format!("relief-{k}.exr"), &|tmp| {
+            image
+                .image
+                .write_exr(tmp, &Default::default())
+                .map_err(|e| e.to_string())
+        })?;
+        let parameter = match relief {
+            Relief::Bump(_) => {
+                let _ = writeln!(self.s,
+                    "Texture \"d{k}\" \"float\" \"imagemap\" \"string filename\" \"{file}\" \"float scale\" [ {} ] \"bool invert\" {} \"float uscale\" [ {} ] \"float vscale\" [ {} ] \"float udelta\" [ {} ] \"float vdelta\" [ {} ]",
+                    image.scale, image.invert, image.uscale, image.vscale, image.udelta, image.vdelta
+                );
+                parameter
+            }
+            Relief::Normals(_) => format!("\"string normalmap\" \"{file}\""),
+        };
+        let mut text = String::new();
+        material(&mut text, i, &desc.materials[i]);
+        let text = text.replacen(&format!("\"m{i}\""), &format!("\"m{i}-relief{k}\""), 1);
+        let _ = writeln!(self.s, "{} {parameter}", text.trim_end());
+        Ok(())
+    }
+
+    /// Every shape, with its material (`materials`: each shape's name for it) and emission.
+    fn shapes(&mut self, desc: &SceneDesc, materials: &[String]) -> Result<(), ExportError> {
         for (i, shape) in desc.shapes.iter().enumerate() {
             let _ = writeln!(self.s, "\nAttributeBegin");
-            let _ = writeln!(self.s, "  NamedMaterial \"m{}\"", shape.material);
+            let _ = writeln!(self.s, "  NamedMaterial \"{}\"", materials[i]);
             if let Some(e) = &shape.emission {
                 let _ = writeln!(
                     self.s,

@@ -169,3 +169,75 @@ fn same_shape(a: &Shape, b: &Shape, tol: f32) -> bool {
         && a.emission.map(|e| (e.radiance, e.two_sided))
             == b.emission.map(|e| (e.radiance, e.two_sided))
 }
+
+/// Bump and normal maps survive an export: each shape reads back with the same kind of
+/// relief, the same texels and the same texture parameters, on a material of its own.
+#[test]
+fn bump_and_normal_maps_round_trip() {
+    let dir = std::env::temp_dir().join(format!("fenestra-export-relief-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("dir");
+    let mut img = fenestra_core::image::Image::new(3, 2);
+    for (i, (x, y)) in [(0, 0), (1, 0), (2, 0), (0, 1), (1, 1), (2, 1)]
+        .into_iter()
+        .enumerate()
+    {
+        img.set(x, y, fenestra_core::Rgb::new(0.1 * i as f32, 0.5, 0.9));
+    }
+    img.write_exr(&dir.join("t.exr"), &Default::default())
+        .expect("texture");
+    std::fs::write(
+        dir.join("s.pbrt"),
+        r#"WorldBegin
+        Texture "h" "float" "imagemap" "string filename" "t.exr" "float scale" 0.2 "float uscale" 3
+        Material "diffuse" "texture displacement" "h"
+        Shape "sphere"
+        Shape "trianglemesh" "point3 P" [0 0 0 1 0 0 0 1 0] "point2 uv" [0 0 1 0 0 1] "integer indices" [0 1 2]
+        Material "conductor" "string normalmap" "t.exr"
+        Shape "trianglemesh" "point3 P" [0 0 1 1 0 1 0 1 1] "point2 uv" [0 0 1 0 0 1] "integer indices" [0 1 2]
+        Material "diffuse"
+        Shape "sphere""#,
+    )
+    .expect("scene");
+    let a = fenestra_pbrt::load(&dir.join("s.pbrt"), true)
+        .expect("read")
+        .desc;
+    let path = dir.join("out.pbrt");
+    fenestra_pbrt::export::write(&a, &path).expect("export");
+    let b = fenestra_pbrt::load(&path, true).expect("re-read").desc;
+    assert_eq!(a.shapes.len(), b.shapes.len());
+    let lookups = |r: &material::Relief| -> Vec<String> {
+        let t = match r {
+            material::Relief::Bump(b) => &b.displacement,
+            material::Relief::Normals(n) => &n.texture,
+        };
+        [
+            Vec2::new(0.1, 0.2),
+            Vec2::new(0.7, 0.9),
+            Vec2::new(0.45, 0.5),
+        ]
+        .iter()
+        .map(|&uv| format!("{:?}", t.lookup(uv)))
+        .collect()
+    };
+    for (i, (s, t)) in a.shapes.iter().zip(&b.shapes).enumerate() {
+        match (s.relief.as_deref(), t.relief.as_deref()) {
+            (None, None) => {}
+            (Some(r), Some(q)) => {
+                assert_eq!(
+                    std::mem::discriminant(r),
+                    std::mem::discriminant(q),
+                    "shape {i}"
+                );
+                assert_eq!(lookups(r), lookups(q), "shape {i}");
+            }
+            other => panic!("shape {i}: {other:?}"),
+        }
+        assert_eq!(
+            material_key(&a.materials[s.material]),
+            material_key(&b.materials[t.material]),
+            "shape {i}"
+        );
+    }
+    assert_eq!(a.shapes.iter().filter(|s| s.relief.is_some()).count(), 3);
+    let _ = std::fs::remove_dir_all(&dir);
+}
