@@ -570,7 +570,7 @@ fn feature_scenes_render_as_pbrt_v4_renders_them() {
         .filter(|p| p.extension().is_some_and(|x| x == "pbrt"))
         .collect();
     scenes.sort();
-    assert!(scenes.len() >= 7, "{scenes:?}");
+    assert!(scenes.len() >= 13, "{scenes:?}");
     let mut failures = Vec::new();
     for scene in &scenes {
         let reference = scene.with_extension("pbrt-v4.exr");

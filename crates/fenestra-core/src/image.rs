@@ -330,6 +330,20 @@ pub fn read_exr_metadata(path: &Path) -> Result<BTreeMap<String, String>, ImageE
     Ok(out)
 }
 
+/// The channel names of an OpenEXR file's first part, in the file's order (OpenEXR sorts
+/// them: "A", "B", "G", "R").
+pub fn read_exr_channel_names(path: &Path) -> Result<Vec<String>, ImageError> {
+    let meta = exr::meta::MetaData::read_from_file(path, false).map_err(|e| ImageError::Read {
+        path: path.to_path_buf(),
+        reason: e.to_string(),
+    })?;
+    Ok(meta
+        .headers
+        .first()
+        .map(|h| h.channels.list.iter().map(|c| c.name.to_string()).collect())
+        .unwrap_or_default())
+}
+
 fn extension(path: &Path) -> Option<String> {
     path.extension()
         .map(|e| e.to_string_lossy().to_ascii_lowercase())

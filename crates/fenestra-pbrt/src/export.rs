@@ -213,7 +213,7 @@ impl Export<'_> {
                     falloff_start,
                 } => {
                     let _ = writeln!(self.s,
-                        "LightSource \"spot\" \"point3 from\" [ {} ] \"point3 to\" [ {} ] \"rgb I\" [ {} ] \"float coneangle\" [ {} ] \"float conedelta\" [ {} ]",
+                        "LightSource \"spot\" \"point3 from\" [ {} ] \"point3 to\" [ {} ] \"rgb I\" [ {} ] \"float coneangle\" [ {} ] \"float conedeltaangle\" [ {} ]",
                         v3(*position),
                         v3(*position + *direction),
                         rgb(*intensity),

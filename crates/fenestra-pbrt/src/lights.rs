@@ -1,14 +1,16 @@
 //! pbrt-v4 light sources: point, spot, distant, infinite (constant, or an image: pbrt-v4's
 //! square equal-area octahedral maps are resampled to fenestra's latitude-longitude layout,
 //! and 2:1 images are read as latitude-longitude directly), and diffuse area lights.
-//! "power" and "illuminance" rescale the spectrum as pbrt-v4 does, with luminance standing in
-//! for pbrt's photometric normalisation.
+//! "power" and "illuminance" rescale the spectrum as pbrt-v4 does (`scaled`), including
+//! pbrt-v4's own conventions: an image map's illuminance is counted with half the solid angle
+//! of its pixels, and an emissive mesh's power is each triangle's.
 
 use crate::builder::{AreaSpec, Builder};
-use crate::equal_area::equal_area_to_latlong;
+use crate::equal_area::{equal_area_to_latlong, square_to_sphere};
 use crate::params::ParamList;
 use crate::parser::Directive;
 use crate::spectra;
+use fenestra_core::image::read_exr_channel_names;
 use crate::{Loc, PbrtError, Topic};
 use fenestra_core::image::Image;
 use fenestra_core::{Rgb, Vec3, PI};
@@ -31,7 +33,7 @@ impl Builder {
             "point" => {
                 let mut i = spectrum(p, "I", &d.loc)? * scale;
                 if let Some(power) = p.opt_float("power")? {
-                    i = normalised(i, power / (4.0 * PI), &d.loc)?;
+                    i = scaled(i, power / (4.0 * PI), &d.loc)?;
                 }
                 LightDesc::Point {
                     position: point(p.point3("from", Vec3::ZERO)?),
@@ -40,13 +42,24 @@ impl Builder {
             }
             "spot" => {
                 let cone = p.float("coneangle", 30.0)?;
-                let delta = p.float("conedelta", 5.0)?;
+                // pbrt-v4's name; fenestra's exports before 2026-11 wrote "conedelta".
+                let delta = match p.opt_float("conedelta")? {
+                    Some(delta) => {
+                        self.warn(
+                            Topic::Lights,
+                            "spot \"conedelta\" (pbrt-v4 names it \"conedeltaangle\"; read as that)",
+                            &d.loc,
+                        );
+                        delta
+                    }
+                    None => p.float("conedeltaangle", 5.0)?,
+                };
                 let mut i = spectrum(p, "I", &d.loc)? * scale;
                 if let Some(power) = p.opt_float("power")? {
                     let (cos_total, cos_start) =
                         (cone.to_radians().cos(), (cone - delta).to_radians().cos());
                     let k = 2.0 * PI * ((1.0 - cos_start) + (cos_start - cos_total) / 2.0);
-                    i = normalised(i, power / k, &d.loc)?;
+                    i = scaled(i, power / k, &d.loc)?;
                 }
                 let from = p.point3("from", Vec3::ZERO)?;
                 let to = p.point3("to", Vec3::Z)?;
@@ -61,7 +74,7 @@ impl Builder {
             "distant" => {
                 let mut l = spectrum(p, "L", &d.loc)? * scale;
                 if let Some(e) = p.opt_float("illuminance")? {
-                    l = normalised(l, e, &d.loc)?;
+                    l = scaled(l, e, &d.loc)?;
                 }
                 let from = p.point3("from", Vec3::ZERO)?;
                 let to = p.point3("to", Vec3::Z)?;
@@ -122,16 +135,27 @@ impl Builder {
             let mut l = spectrum(p, "L", &d.loc)? * scale;
             if let Some(e) = illuminance {
                 // A constant sky of luminance Y gives illuminance pi Y on a horizontal plane.
-                l = normalised(l, e / PI, &d.loc)?;
+                l = scaled(l, e / PI, &d.loc)?;
             }
             return Ok(LightDesc::Environment(EnvironmentDesc::Constant(l)));
         };
         let path = dir.join(&file);
         let img = self.image(&path, &d.loc)?;
+        // pbrt-v4's reference illuminance of the map (below), on the pixels it was given.
+        let reference = if img.width == img.height {
+            let order = if path.extension().is_some_and(|x| x.eq_ignore_ascii_case("exr")) {
+                read_exr_channel_names(&path).map_err(|e| PbrtError::at(&d.loc, e.to_string()))?
+            } else {
+                vec!["R".into(), "G".into(), "B".into()]
+            };
+            equal_area_reference_illuminance(&img, &order)
+        } else {
+            0.5 * upper_illuminance(&img)
+        };
         let latlong = if img.width == img.height {
             self.note(
                 Topic::Lights,
-                "equal-area environment map resampled to latitude-longitude (bilinear; detail finer than a texel softens)",
+                "equal-area environment map resampled to latitude-longitude (each texel the mean over its solid angle: power kept, detail finer than a texel softens)",
                 &d.loc,
             );
             Arc::new(equal_area_to_latlong(&img))
@@ -157,14 +181,13 @@ impl Builder {
         })?;
         let mut s = scale;
         if let Some(e) = illuminance {
-            let e_img = upper_illuminance(&latlong);
-            if !(e_img > 0.0) {
+            if !(reference > 0.0) {
                 return Err(PbrtError::at(
                     &d.loc,
                     "\"illuminance\" given for an image that is black above the horizon",
                 ));
             }
-            s *= e / e_img;
+            s *= e / reference;
         }
         Ok(LightDesc::Environment(EnvironmentDesc::Image {
             image: latlong,
@@ -210,11 +233,14 @@ fn spectrum(p: &ParamList, name: &str, _loc: &Loc) -> Result<Rgb, PbrtError> {
     }
 }
 
-/// `c` rescaled so that its luminance is `target`.
-fn normalised(c: Rgb, target: f32, loc: &Loc) -> Result<Rgb, PbrtError> {
-    let y = c.luminance();
-    if y > 0.0 && target.is_finite() && target >= 0.0 {
-        Ok(c * (target / y))
+/// The emission `c` times `k`, the factor "power" or "illuminance" asks for, as pbrt-v4 applies
+/// it: to the spectrum as given when it is RGB (pbrt-v4 normalises an RGB illuminant by its
+/// white, so an RGB light keeps its own luminance) and to a luminance-1 spectrum otherwise
+/// (blackbody and named or sampled spectra come from `spectra` with luminance 1, as pbrt-v4
+/// divides them by their photometric value); the light's "scale" stays.
+fn scaled(c: Rgb, k: f32, loc: &Loc) -> Result<Rgb, PbrtError> {
+    if c.luminance() > 0.0 && k.is_finite() && k >= 0.0 {
+        Ok(c * k)
     } else {
         Err(PbrtError::at(
             loc,
@@ -237,6 +263,40 @@ fn orthonormal(m: &DMat3) -> Option<DMat3> {
 /// Illuminance (luminance-weighted) a latitude-longitude map gives a surface facing +z,
 /// exact for the piecewise-constant map: a texel row between theta0 and theta1 contributes
 /// dphi * (sin^2 theta1 - sin^2 theta0) / 2 per unit radiance.
+/// The illuminance pbrt-v4 normalises an equal-area map's "illuminance" by: the sum over the
+/// pixels whose centre lies above the horizon of luminance times cos theta, each weighted
+/// 2pi / N, half the 4pi / N a pixel covers, so a map given illuminance E shines with about
+/// 2E. Its luminance weighs the file's first three channels in the file's `order` by the red,
+/// green and blue weights: an OpenEXR file lists "B", "G", "R" (after "A" when it has one,
+/// whose value is taken as 1), so blue is weighed as red (measured against pbrt-v4: the
+/// light-infinite-image scene, 3.7% apart otherwise). A latitude-longitude map, which
+/// pbrt-v4 does not read, gets half its true illuminance, the same convention.
+fn equal_area_reference_illuminance(img: &Image, order: &[String]) -> f32 {
+    const WEIGHTS: [f32; 3] = [0.2126, 0.7152, 0.0722];
+    let (mut rgb, mut alpha) = (Rgb::ZERO, 0.0);
+    for (name, w) in order.iter().zip(WEIGHTS) {
+        match name.as_str() {
+            "R" => rgb.r += w,
+            "G" => rgb.g += w,
+            "B" => rgb.b += w,
+            _ => alpha += w,
+        }
+    }
+    let n = img.width;
+    let mut e = 0.0f64;
+    for y in 0..n {
+        for x in 0..n {
+            let w = square_to_sphere((x as f64 + 0.5) / n as f64, (y as f64 + 0.5) / n as f64);
+            if w.z > 0.0 {
+                let c = img.get(x, y);
+                let lum = c.r * rgb.r + c.g * rgb.g + c.b * rgb.b + alpha;
+                e += f64::from(lum) * w.z;
+            }
+        }
+    }
+    (e * 2.0 * std::f64::consts::PI / (n * n) as f64) as f32
+}
+
 fn upper_illuminance(img: &Image) -> f32 {
     let (w, h) = (img.width, img.height);
     let dphi = 2.0 * std::f64::consts::PI / w as f64;

@@ -134,22 +134,30 @@ impl Builder {
                 if !(a > 0.0) {
                     return Err(PbrtError::at(&d.loc, "an area light shape has zero area"));
                 }
-                shape.emission = Some(match area.power {
-                    Some(power) => {
-                        let lum = area.radiance.luminance();
-                        if !(lum > 0.0) {
-                            return Err(PbrtError::at(
-                                &d.loc,
-                                "area light \"power\" needs a radiance with positive luminance",
-                            ));
-                        }
-                        Emission::from_power(area.radiance * (power / lum), a, area.two_sided)
-                    }
-                    None => Emission {
+                let Some(power) = area.power else {
+                    shape.emission = Some(Emission {
                         radiance: area.radiance,
                         two_sided: area.two_sided,
-                    },
-                });
+                    });
+                    return self.add_shape(shape, &d.loc);
+                };
+                if !(area.radiance.luminance() > 0.0) {
+                    return Err(PbrtError::at(
+                        &d.loc,
+                        "area light \"power\" needs a radiance with positive luminance",
+                    ));
+                }
+                // pbrt-v4 makes each triangle of a mesh a light of its own and gives each the
+                // whole power (its "power" is per shape, and a triangle is a shape there).
+                for (mut part, a) in per_triangle(shape) {
+                    part.emission = Some(Emission::from_power(
+                        area.radiance * power,
+                        a,
+                        area.two_sided,
+                    ));
+                    self.add_shape(part, &d.loc)?;
+                }
+                return Ok(());
             }
         }
         self.add_shape(shape, &d.loc)
@@ -315,4 +323,27 @@ fn bilinear_mesh(d: &Directive) -> Result<TriangleMesh, PbrtError> {
         mesh.append(&patch);
     }
     Ok(mesh)
+}
+
+/// The shapes pbrt-v4 makes emitters of, each with the area its power is spread over: a
+/// mesh's triangles (kept as one shape when they all have the same area, so that one radiance
+/// serves them all), any other shape as it is.
+fn per_triangle(shape: Shape) -> Vec<(Shape, f32)> {
+    let ShapeKind::Mesh(m) = &shape.kind else {
+        let a = shape.area();
+        return vec![(shape, a)];
+    };
+    let first = m.triangle_area(0);
+    if (1..m.indices.len()).all(|i| (m.triangle_area(i) - first).abs() <= 1e-4 * first) {
+        return vec![(shape, first)];
+    }
+    (0..m.indices.len())
+        .map(|i| {
+            let part = Shape {
+                kind: ShapeKind::Mesh(m.triangle_mesh(i)),
+                ..shape.clone()
+            };
+            (part, m.triangle_area(i))
+        })
+        .collect()
 }

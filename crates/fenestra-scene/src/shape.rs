@@ -58,6 +58,23 @@ impl TriangleMesh {
         0.5 * fenestra_core::ray::robust_length((b - a).cross(c - a))
     }
 
+    /// Triangle `i` alone, with its normals and uvs.
+    pub fn triangle_mesh(&self, i: usize) -> TriangleMesh {
+        let corners = self.indices[i].map(|v| v as usize);
+        TriangleMesh {
+            positions: corners.iter().map(|&v| self.positions[v]).collect(),
+            normals: self
+                .normals
+                .as_ref()
+                .map(|n| corners.iter().map(|&v| n[v]).collect()),
+            uvs: self
+                .uvs
+                .as_ref()
+                .map(|uv| corners.iter().map(|&v| uv[v]).collect()),
+            indices: vec![[0, 1, 2]],
+        }
+    }
+
     /// Appends another mesh (used to merge quads into one shape).
     pub fn append(&mut self, other: &TriangleMesh) {
         let base = self.positions.len() as u32;
