@@ -10,8 +10,8 @@ use crate::equal_area::{equal_area_to_latlong, square_to_sphere};
 use crate::params::ParamList;
 use crate::parser::Directive;
 use crate::spectra;
-use fenestra_core::image::read_exr_channel_names;
 use crate::{Loc, PbrtError, Topic};
+use fenestra_core::image::read_exr_channel_names;
 use fenestra_core::image::Image;
 use fenestra_core::{Rgb, Vec3, PI};
 use fenestra_scene::light::{EnvironmentDesc, LightDesc};
@@ -143,7 +143,10 @@ impl Builder {
         let img = self.image(&path, &d.loc)?;
         // pbrt-v4's reference illuminance of the map (below), on the pixels it was given.
         let reference = if img.width == img.height {
-            let order = if path.extension().is_some_and(|x| x.eq_ignore_ascii_case("exr")) {
+            let order = if path
+                .extension()
+                .is_some_and(|x| x.eq_ignore_ascii_case("exr"))
+            {
                 read_exr_channel_names(&path).map_err(|e| PbrtError::at(&d.loc, e.to_string()))?
             } else {
                 vec!["R".into(), "G".into(), "B".into()]

@@ -105,8 +105,14 @@ fn materials_lights_and_render_settings() {
     assert!(e.two_sided);
     // pbrt-v4 scales an RGB emission as given: radiance = L power / (2 pi area).
     let l = e.radiance * (std::f32::consts::PI * 2.0 * d.shapes[5].area() / 10.0);
-    assert!((l - Rgb::new(1.0, 2.0, 3.0)).max_component().abs() < 1e-4, "{l:?}");
-    assert!((Rgb::new(1.0, 2.0, 3.0) - l).max_component().abs() < 1e-4, "{l:?}");
+    assert!(
+        (l - Rgb::new(1.0, 2.0, 3.0)).max_component().abs() < 1e-4,
+        "{l:?}"
+    );
+    assert!(
+        (Rgb::new(1.0, 2.0, 3.0) - l).max_component().abs() < 1e-4,
+        "{l:?}"
+    );
 }
 
 #[test]
