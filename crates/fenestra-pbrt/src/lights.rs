@@ -158,7 +158,7 @@ impl Builder {
         let latlong = if img.width == img.height {
             self.note(
                 Topic::Lights,
-                "equal-area environment map resampled to latitude-longitude (each texel the mean over its solid angle: power kept, detail finer than a texel softens)",
+                "equal-area environment map resampled to latitude-longitude (bilinear; detail finer than a texel softens)",
                 &d.loc,
             );
             Arc::new(equal_area_to_latlong(&img))
