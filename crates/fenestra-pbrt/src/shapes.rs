@@ -327,7 +327,8 @@ fn bilinear_mesh(d: &Directive) -> Result<TriangleMesh, PbrtError> {
 
 /// The shapes pbrt-v4 makes emitters of, each with the area its power is spread over: a
 /// mesh's triangles (kept as one shape when they all have the same area, so that one radiance
-/// serves them all), any other shape as it is.
+/// serves them all; degenerate ones dropped), any other shape as it is. The mesh has a
+/// positive area (checked before).
 fn per_triangle(shape: Shape) -> Vec<(Shape, f32)> {
     let ShapeKind::Mesh(m) = &shape.kind else {
         let a = shape.area();
@@ -337,7 +338,9 @@ fn per_triangle(shape: Shape) -> Vec<(Shape, f32)> {
     if (1..m.indices.len()).all(|i| (m.triangle_area(i) - first).abs() <= 1e-4 * first) {
         return vec![(shape, first)];
     }
+    // Degenerate triangles emit nothing (their radiance would be infinite).
     (0..m.indices.len())
+        .filter(|&i| m.triangle_area(i) > 0.0)
         .map(|i| {
             let part = Shape {
                 kind: ShapeKind::Mesh(m.triangle_mesh(i)),

@@ -655,3 +655,36 @@ fn bump_and_normal_maps_and_the_layers_of_coated_materials() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// An area light's "power" is each triangle's, as pbrt-v4 makes every triangle of a mesh a
+/// light of its own: a quad of two equal triangles stays one emitter whose triangles each
+/// emit the power; a mesh of unequal triangles becomes one emitter per triangle, its
+/// degenerate triangles dropped.
+#[test]
+fn area_light_power_is_each_triangles() {
+    let s = load(
+        r#"WorldBegin
+        AttributeBegin
+        AreaLightSource "diffuse" "rgb L" [1 1 1] "float power" 10
+        Shape "trianglemesh" "point3 P" [0 0 0  2 0 0  2 1 0  0 1 0] "integer indices" [0 1 2  0 2 3]
+        Shape "trianglemesh" "point3 P" [0 0 1  1 0 1  0 1 1  3 0 1  1 0 1] "integer indices" [0 1 2  0 3 2  0 1 4]
+        AttributeEnd"#,
+    )
+    .expect("load");
+    let emitters: Vec<_> = s
+        .desc
+        .shapes
+        .iter()
+        .filter(|s| s.emission.is_some())
+        .collect();
+    assert_eq!(emitters.len(), 3, "one quad, two of the three triangles");
+    let each = |shape: &fenestra_scene::Shape, triangle_area: f32| {
+        let e = shape.emission.expect("emitter");
+        e.radiance.r * std::f32::consts::PI * triangle_area
+    };
+    assert!((each(emitters[0], 1.0) - 10.0).abs() < 1e-4);
+    for shape in &emitters[1..] {
+        let a = shape.area();
+        assert!(a > 0.0 && (each(shape, a) - 10.0).abs() < 1e-4, "{a}");
+    }
+}
