@@ -16,13 +16,10 @@ use crate::spectra;
 use crate::{Loc, PbrtError, Topic};
 use fenestra_core::Rgb;
 use fenestra_scene::material;
-use fenestra_scene::material::Relief;
+use fenestra_scene::material::{Relief, SMOOTH_ALPHA};
 use fenestra_scene::{ImageTexture, Material, RoughnessTexture};
 use std::path::Path;
 use std::sync::Arc;
-
-/// pbrt-v4 treats microfacet distributions with alpha below this as perfectly smooth.
-const SMOOTH_ALPHA: f32 = 1e-3;
 
 /// The note on rough coats, where fenestra's layered BSDF differs from pbrt-v4's by choice.
 const ROUGH_COATS: &str =

@@ -31,6 +31,11 @@ pub use relief::{BumpMap, Relief};
 pub use ward::Ward;
 
 use crate::texture::ImageTexture;
+
+/// The GGX roughness at or below which pbrt-v4 takes a microfacet distribution as perfectly
+/// smooth (its `EffectivelySmooth`): readers clamp smaller roughnesses to it, and BSDFs that
+/// treat smooth interfaces apart (the layered coats) test against it.
+pub const SMOOTH_ALPHA: f32 = 1e-3;
 use fenestra_core::sampler::hash_combine;
 use fenestra_core::{Rgb, Vec3};
 use std::sync::Arc;

@@ -3,8 +3,8 @@
 
 use super::super::scatter::{Lobes, Mode, Scatter};
 use super::super::{RoughDielectric, SmoothDielectric};
-use super::SMOOTH_ALPHA;
 use fenestra_core::{Vec2, Vec3};
+use fenestra_scene::material::SMOOTH_ALPHA;
 
 /// A coat of index `eta` over the slab (the slab is the -z side).
 #[derive(Clone, Debug)]

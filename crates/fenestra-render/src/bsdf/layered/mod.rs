@@ -29,11 +29,8 @@ use coat::Coat;
 use fenestra_core::mis::MisHeuristic;
 use fenestra_core::rng::Rng;
 use fenestra_core::{Rgb, Vec2, Vec3, INV_PI};
-use fenestra_scene::material::{self, Layers};
+use fenestra_scene::material::{self, Layers, SMOOTH_ALPHA};
 use phase::HenyeyGreenstein;
-
-/// pbrt-v4 treats microfacet distributions with alpha at or below this as perfectly smooth.
-const SMOOTH_ALPHA: f32 = 1e-3;
 
 /// The heuristic that joins a walk's bounces to the exit (pbrt-v4's).
 const POWER: MisHeuristic = MisHeuristic::Power { beta: 2.0 };
