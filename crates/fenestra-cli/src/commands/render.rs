@@ -2,7 +2,8 @@
 
 use crate::integrators::{self, IntegratorArgs};
 use crate::support::files::Files;
-use crate::support::{interrupt, pieces, progress::Bar, scene_arg};
+use crate::support::progress::{Bar, Lines};
+use crate::support::{interrupt, pieces, scene_arg};
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use fenestra_core::image::Image;
@@ -57,6 +58,11 @@ pub struct RenderOpts {
     /// No progress bar.
     #[arg(short, long)]
     pub(crate) quiet: bool,
+    /// Progress as lines `progress DONE TOTAL SECONDS` on stderr instead of a bar (TOTAL is
+    /// `-` when a time limit, not a sample count, ends the render), at most five a second:
+    /// for programs that run fenestra, such as the Blender add-on.
+    #[arg(long, conflicts_with = "quiet")]
+    pub(crate) progress_lines: bool,
     // Last: its option groups come under their own headings in --help.
     #[command(flatten)]
     integrator: IntegratorArgs,
@@ -428,12 +434,14 @@ impl RenderOpts {
         watch: Option<ProgressHook>,
     ) -> Result<(RenderStats, Film, Vec<WorkMap>)> {
         let cancel = interrupt::on_ctrl_c("writing the samples taken so far");
-        let bar = Bar::new(self.quiet || self.json);
+        let bar = Bar::new(self.quiet || self.json || self.progress_lines);
+        let lines = Lines::default();
+        let progress: &dyn Progress = if self.progress_lines { &lines } else { &bar };
         let done = job.run(
             self.threads,
             self.bvh.unwrap_or_default(),
             &cancel,
-            &bar,
+            progress,
             hook,
             watch,
         );

@@ -1,0 +1,187 @@
+"""The render engine "fenestra": F12 exports the scene, runs fenestra with the panel's
+settings and shows its snapshots in the Render window as the image refines; Esc stops
+fenestra as Ctrl-C does and keeps the image so far."""
+
+import os
+import shutil
+import tempfile
+import time
+
+import bpy
+import numpy as np
+
+from . import export, mainthread, preferences, run
+
+# Seconds between looks at fenestra's progress and snapshots.
+POLL_S = 0.05
+
+
+class FenestraRenderEngine(bpy.types.RenderEngine):
+    bl_idname = "FENESTRA"
+    bl_label = "fenestra"
+    bl_use_preview = False
+    bl_use_postprocess = True
+
+    def update_render_passes(self, scene=None, renderlayer=None):
+        self.register_pass(scene, renderlayer, "Combined", 4, "RGBA", "COLOR")
+        if scene and scene.fenestra.variance_pass:
+            self.register_pass(scene, renderlayer, "Variance", 3, "RGB", "COLOR")
+
+    def render(self, depsgraph):
+        scene = depsgraph.scene
+        keep = bpy.path.abspath(scene.fenestra.keep_files) if scene.fenestra.keep_files else ""
+        if keep:
+            os.makedirs(keep, exist_ok=True)
+        folder = keep or tempfile.mkdtemp(prefix="fenestra-")
+        try:
+            self._render(scene, depsgraph.view_layer, folder)
+        except Exception as e:
+            self.report({"ERROR"}, f"fenestra: {e}")
+        finally:
+            if not keep:
+                shutil.rmtree(folder, ignore_errors=True)
+
+    def _render(self, scene, view_layer, folder):
+        settings = scene.fenestra
+        binary = preferences.binary(bpy.context)
+        self.update_stats("", "fenestra: exporting the scene (glTF)")
+        exported = export.export(scene, view_layer, folder)
+        for note in exported.notes:
+            self.report({"WARNING"}, f"fenestra: {note}")
+        output = os.path.join(folder, "render.exr")
+        for stale in (output, self._interrupted(output), output[: -len(".exr")] + ".var.exr"):
+            if os.path.exists(stale):  # a kept folder's last render
+                os.remove(stale)
+        command = export.render_command(binary, exported, settings, output)
+        with open(os.path.join(folder, "command.txt"), "w") as f:
+            f.write(" ".join(command) + "\n")
+        fenestra = run.Fenestra(command, os.path.join(folder, "fenestra.log"))
+        if settings.variance_pass:
+            self.add_pass("Variance", 3, "RGB")
+        result = self.begin_result(0, 0, exported.width, exported.height)
+        shown, reported, stopping = 0.0, 0, False
+        try:
+            while fenestra.running():
+                time.sleep(POLL_S)
+                if not stopping and self.stop_requested():
+                    fenestra.stop()
+                    stopping = True
+                    self.update_stats("", "fenestra: stopping, keeping the image so far")
+                p = fenestra.snapshot()
+                for w in p.warnings[reported:]:
+                    self.report({"WARNING"}, f"fenestra: {w}")
+                reported = len(p.warnings)
+                if not stopping:
+                    f, left = run.fraction(p, settings.time_limit)
+                    self.update_progress(f)
+                    eta = f", {left:.0f} s left" if left is not None else ""
+                    self.update_stats("", f"fenestra {settings.integrator}: {100 * f:.0f}%{eta}")
+                shown = self._show_snapshot(result, output, shown)
+        except BaseException:
+            fenestra.kill()
+            raise
+        code, stdout, log = fenestra.wait()
+        p = fenestra.snapshot()
+        for w in p.warnings[reported:]:
+            self.report({"WARNING"}, f"fenestra: {w}")
+        final = self._final_image(output)
+        # Stopped by Esc, fenestra exits as after Ctrl-C (130) with the image so far written.
+        if final is None or (code != 0 and not stopping):
+            self.end_result(result)
+            detail = "\n".join(log[-5:]) or f"exit code {code}"
+            raise RuntimeError(f"fenestra failed: {detail}")
+        combined = result.layers[0].passes.find_by_name("Combined", "")
+        combined.rect = mainthread.call(read_pixels, final)
+        if settings.variance_pass:
+            variance = result.layers[0].passes.find_by_name("Variance", "")
+            var_path = final[: -len(".exr")] + ".var.exr"
+            variance.rect = mainthread.call(read_pixels, var_path)[:, :3]
+        self.end_result(result)
+        summary = stdout.strip().splitlines()
+        self.update_stats("", f"fenestra: {summary[0]}" if summary else "fenestra: done")
+        if settings.reference:
+            from . import report  # only for renders measured against a reference
+
+            path = report.write(
+                binary, self._report_folder(scene, folder), final,
+                bpy.path.abspath(settings.reference),
+            )
+            # The evaluated scene is a copy: the button reads the original's.
+            mainthread.call(setattr, scene.original.fenestra, "last_report", path)
+
+    @staticmethod
+    def _report_folder(scene, folder):
+        """Where a render's report goes: beside the kept files, else a folder that outlives
+        the render's temporary one."""
+        if scene.fenestra.keep_files:
+            return folder
+        return tempfile.mkdtemp(prefix="fenestra-report-")
+
+    def stop_requested(self):
+        """Whether the user pressed Esc (the one place that asks Blender)."""
+        return self.test_break()
+
+    def _show_snapshot(self, result, output, shown):
+        """Shows fenestra's latest snapshot if it is newer than `shown` (its mtime)."""
+        try:
+            mtime = os.stat(output).st_mtime
+        except FileNotFoundError:
+            return shown
+        if mtime <= shown:
+            return shown
+        combined = result.layers[0].passes.find_by_name("Combined", "")
+        combined.rect = mainthread.call(read_pixels, output)
+        self.update_result(result)
+        return mtime
+
+    @staticmethod
+    def _interrupted(output):
+        return output[: -len(".exr")] + ".interrupted.exr"
+
+    @staticmethod
+    def _final_image(output):
+        """fenestra's image: OUT.exr, or beside it when an interruption must not replace a
+        complete render there (OUT.interrupted.exr)."""
+        for path in (FenestraRenderEngine._interrupted(output), output):
+            if os.path.exists(path):
+                return path
+        return None
+
+
+def read_pixels(path):
+    """An image's float RGBA pixels, rows bottom up as render passes hold them (main
+    thread: it goes through bpy.data.images)."""
+    image = bpy.data.images.load(path, check_existing=False)
+    try:
+        w, h = image.size
+        pixels = np.empty(w * h * 4, dtype=np.float32)
+        image.pixels.foreach_get(pixels)
+        return pixels.reshape(-1, 4)
+    finally:
+        bpy.data.images.remove(image)
+
+
+def compatible_panels():
+    """Cycles' panels that describe what fenestra reads too (camera, lights, world, materials)."""
+    wanted = (
+        "DATA_PT_lens", "DATA_PT_camera", "DATA_PT_camera_dof", "DATA_PT_light",
+        "DATA_PT_EEVEE_light", "DATA_PT_area", "DATA_PT_spot", "WORLD_PT_context_world",
+        "EEVEE_MATERIAL_PT_surface", "MATERIAL_PT_preview", "RENDER_PT_format",
+        "RENDER_PT_dimensions", "RENDER_PT_color_management",
+    )
+    for name in wanted:
+        panel = getattr(bpy.types, name, None)
+        if panel is not None and hasattr(panel, "COMPAT_ENGINES"):
+            yield panel
+
+
+def register():
+    bpy.utils.register_class(FenestraRenderEngine)
+    for panel in compatible_panels():
+        panel.COMPAT_ENGINES.add(FenestraRenderEngine.bl_idname)
+
+
+def unregister():
+    for panel in compatible_panels():
+        panel.COMPAT_ENGINES.discard(FenestraRenderEngine.bl_idname)
+    bpy.utils.unregister_class(FenestraRenderEngine)

@@ -1,0 +1,110 @@
+"""The render settings a scene keeps for fenestra (Render Properties panel), and the flags
+of `fenestra render` they become."""
+
+import bpy
+
+INTEGRATORS = [
+    ("af_hf", "Path tracing", "af_hf: path tracing with next-event estimation and MIS"),
+    ("lp_hf", "Light portals", "lp_hf: path tracing that samples the light through portals"),
+    ("ias", "Adaptive many-light", "ias: iterative adaptive sampling for many lights"),
+    ("hf", "Plain path tracing", "hf: BSDF sampling only (a reference)"),
+]
+
+PORTALS = [
+    ("auto", "Automatic", "Estimate the portals from the scene (cached between renders)"),
+    ("scene", "Scene", "The scene's Cycles portal lights"),
+]
+
+SELECTIONS = [
+    ("power", "Power", "Pick a light by its emitted power"),
+    ("bvh", "Light tree", "A light BVH that weighs lights by power, distance and orientation"),
+    ("learned", "Learned", "Learn which lights and parts of the sky each region sees"),
+    ("uniform", "Uniform", "Pick every light with the same probability"),
+    ("all", "All", "Sample every light (scenes with a few lights)"),
+]
+
+
+class FenestraRenderSettings(bpy.types.PropertyGroup):
+    integrator: bpy.props.EnumProperty(name="Integrator", items=INTEGRATORS, default="lp_hf")
+    samples: bpy.props.IntProperty(
+        name="Samples", description="Samples per pixel", default=64, min=1, soft_max=16384
+    )
+    time_limit: bpy.props.FloatProperty(
+        name="Time Limit",
+        description="Render for this many seconds (0: until the samples are taken; with both, "
+        "whichever comes first)",
+        default=0.0,
+        min=0.0,
+        unit="TIME_ABSOLUTE",
+    )
+    max_depth: bpy.props.IntProperty(
+        name="Path Length",
+        description="Longest path in segments from the camera (2 = direct light only)",
+        default=8,
+        min=2,
+        max=1024,
+    )
+    portals: bpy.props.EnumProperty(name="Portals", items=PORTALS, default="auto")
+    light_selection: bpy.props.EnumProperty(
+        name="Light Selection", items=SELECTIONS, default="power"
+    )
+    seed: bpy.props.IntProperty(name="Seed", default=0, min=0)
+    threads: bpy.props.IntProperty(
+        name="Threads", description="Worker threads (0: all cores)", default=0, min=0
+    )
+    snapshot_every: bpy.props.FloatProperty(
+        name="Refresh",
+        description="Show the image so far at most this often (seconds)",
+        default=1.0,
+        min=0.1,
+        unit="TIME_ABSOLUTE",
+    )
+    variance_pass: bpy.props.BoolProperty(
+        name="Variance Pass",
+        description="Add a Variance pass: the per-pixel variance of the mean",
+        default=False,
+    )
+    reference: bpy.props.StringProperty(
+        name="Reference",
+        description="A reference image (EXR of the same size): fenestra then measures the "
+        "render's error after every pass and writes an HTML report",
+        subtype="FILE_PATH",
+        default="",
+    )
+    keep_files: bpy.props.StringProperty(
+        name="Keep Files",
+        description="A folder to keep the exported scene, fenestra's images and its log in "
+        "(empty: a temporary folder, removed after the render)",
+        subtype="DIR_PATH",
+        default="",
+    )
+    last_report: bpy.props.StringProperty(
+        name="Last Report", description="The HTML report of the last render", default=""
+    )
+
+
+def render_flags(settings):
+    """The `fenestra render` flags the settings stand for (without scene, camera and world)."""
+    flags = ["--integrator", settings.integrator, "--spp", str(settings.samples)]
+    if settings.time_limit > 0:
+        flags += ["--time", f"{settings.time_limit:g}"]
+    flags += ["--seed", str(settings.seed)]
+    if settings.threads > 0:
+        flags += ["--threads", str(settings.threads)]
+    if settings.integrator != "ias":
+        flags += ["--max-depth", str(settings.max_depth)]
+    if settings.integrator in ("af_hf", "lp_hf"):
+        flags += ["--light-selection", settings.light_selection]
+    if settings.variance_pass:
+        flags.append("--variance")
+    return flags
+
+
+def register():
+    bpy.utils.register_class(FenestraRenderSettings)
+    bpy.types.Scene.fenestra = bpy.props.PointerProperty(type=FenestraRenderSettings)
+
+
+def unregister():
+    del bpy.types.Scene.fenestra
+    bpy.utils.unregister_class(FenestraRenderSettings)

@@ -1,0 +1,68 @@
+"""The fenestra panels in Render Properties."""
+
+import bpy
+
+
+class FenestraPanel:
+    bl_space_type = "PROPERTIES"
+    bl_region_type = "WINDOW"
+    bl_context = "render"
+    COMPAT_ENGINES = {"FENESTRA"}
+
+    @classmethod
+    def poll(cls, context):
+        return context.engine in cls.COMPAT_ENGINES
+
+
+class RENDER_PT_fenestra_sampling(FenestraPanel, bpy.types.Panel):
+    bl_label = "fenestra"
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        s = context.scene.fenestra
+        layout.prop(s, "integrator")
+        col = layout.column(align=True)
+        col.prop(s, "samples")
+        col.prop(s, "time_limit")
+        if s.integrator != "ias":
+            layout.prop(s, "max_depth")
+        if s.integrator in ("af_hf", "lp_hf"):
+            layout.prop(s, "light_selection")
+        if s.integrator == "lp_hf":
+            row = layout.row()
+            row.prop(s, "portals")
+            layout.operator("fenestra.estimate_portals", icon="LIGHT_AREA")
+        layout.prop(s, "seed")
+        layout.prop(s, "threads")
+
+
+class RENDER_PT_fenestra_output(FenestraPanel, bpy.types.Panel):
+    bl_label = "Output and Measurement"
+    bl_parent_id = "RENDER_PT_fenestra_sampling"
+    bl_options = {"DEFAULT_CLOSED"}
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        s = context.scene.fenestra
+        layout.prop(s, "snapshot_every")
+        layout.prop(s, "variance_pass")
+        layout.prop(s, "reference")
+        row = layout.row()
+        row.enabled = bool(s.last_report)
+        row.operator("fenestra.open_report", icon="URL")
+        layout.prop(s, "keep_files")
+
+
+classes = (RENDER_PT_fenestra_sampling, RENDER_PT_fenestra_output)
+
+
+def register():
+    for c in classes:
+        bpy.utils.register_class(c)
+
+
+def unregister():
+    for c in reversed(classes):
+        bpy.utils.unregister_class(c)

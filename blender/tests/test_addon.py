@@ -1,0 +1,231 @@
+"""The Blender add-on end to end: renders through the engine equal the CLI's render of the
+exported scene bit for bit, Esc keeps the image so far, the portal operator finds the window,
+and the world arrives where Cycles puts it."""
+
+import math
+import shlex
+import subprocess
+import time
+
+import bpy
+import numpy as np
+import OpenEXR
+import pytest
+
+import room
+from fenestra import engine as fenestra_engine
+
+
+def exr(path):
+    """An EXR's RGB, top row first."""
+    channels = OpenEXR.File(str(path)).channels()
+    data = next(iter(channels.values())).pixels
+    return np.asarray(data, dtype=np.float32)[..., :3]
+
+
+def render(scene, path):
+    """F12 as a script does it: the engine renders, Blender writes the result to `path`."""
+    scene.render.filepath = str(path)
+    scene.render.image_settings.file_format = "OPEN_EXR"
+    scene.render.image_settings.color_depth = "32"
+    bpy.ops.render.render(write_still=True)
+    return exr(path)
+
+
+def kept_command(folder):
+    return shlex.split((folder / "command.txt").read_text())
+
+
+def test_the_engine_renders_what_the_cli_renders_of_the_exported_scene(workdir, fenestra_bin):
+    scene = room.build(samples=8)
+    scene.fenestra.integrator = "lp_hf"
+    scene.fenestra.keep_files = str(workdir / "kept")
+    shown = render(scene, workdir / "blender.exr")
+    command = kept_command(workdir / "kept")
+    assert command[1:3] == ["render", str(workdir / "kept" / "scene.glb")]
+    # The same render by hand: the kept scene and flags, without the add-on's watching.
+    cli = command[:4] + [str(workdir / "cli.exr")] + command[5:]
+    cli.remove("--progress-lines")
+    i = cli.index("--snapshot-every")
+    del cli[i : i + 2]
+    subprocess.run(cli, check=True, capture_output=True)
+    by_hand = exr(workdir / "cli.exr")
+    assert shown.shape == (72, 96, 3)
+    assert shown.mean() > 0.05, "the room renders dark: the sky or lamp did not arrive"
+    assert np.array_equal(shown, by_hand), "Blender's render result differs from the CLI's image"
+    assert np.array_equal(exr(workdir / "kept" / "render.exr"), by_hand)
+    # What the world and panel said became flags.
+    assert "--sky" in command and "--portals" in command and "auto" in command
+    assert command[command.index("--spp") + 1] == "8"
+
+
+def test_escape_stops_fenestra_and_keeps_the_image_so_far(workdir, monkeypatch):
+    scene = room.build(samples=1_000_000)
+    scene.fenestra.integrator = "af_hf"
+    scene.fenestra.time_limit = 60.0
+    scene.fenestra.keep_files = str(workdir / "kept")
+    start = time.monotonic()
+    monkeypatch.setattr(
+        fenestra_engine.FenestraRenderEngine,
+        "stop_requested",
+        lambda self: time.monotonic() > start + 1.0,
+    )
+    shown = render(scene, workdir / "blender.exr")
+    took = time.monotonic() - start
+    assert took < 5.0, f"the render went on {took:.1f} s after Esc at 1 s"
+    log = (workdir / "kept" / "fenestra.log").read_text()
+    assert "interrupted" in log
+    assert shown.mean() > 0.05, "the image so far was not kept"
+    assert np.array_equal(shown, exr(workdir / "kept" / "render.exr"))
+
+
+def test_estimate_portals_adds_a_portal_light_over_the_window(fenestra_bin):
+    scene = room.build()
+    assert bpy.ops.fenestra.estimate_portals() == {"FINISHED"}
+    lights = list(bpy.data.collections["fenestra portals"].objects)
+    assert len(lights) == 1, [o.name for o in lights]
+    light = lights[0]
+    assert light.data.type == "AREA" and light.data.cycles.is_portal
+    (x0, x1), (z0, z1), y = room.WINDOW["x"], room.WINDOW["z"], room.WINDOW["y"]
+    c = light.matrix_world.translation
+    assert x0 < c.x < x1 and z0 < c.z < z1 and abs(c.y - y) < 0.2, tuple(c)
+    sizes = sorted([light.data.size, light.data.size_y])
+    assert sizes == pytest.approx(sorted([x1 - x0, z1 - z0]), abs=0.1)
+    # It emits (-Z) into the room, towards the camera's side of the wall.
+    facing = -light.matrix_world.to_3x3().col[2]
+    assert facing.y < -0.9, tuple(facing)
+    # And a render with Portals: Scene reads it back as a portals.json of the same window.
+    scene.fenestra.integrator = "lp_hf"
+    scene.fenestra.portals = "scene"
+    scene.fenestra.samples = 1
+    assert render(scene, bpy.app.tempdir + "portals.exr").mean() > 0
+
+
+def _look(scene, direction):
+    """Points the camera from the origin along `direction` (Blender frame), Z up."""
+    cam = scene.camera
+    cam.location = (0, 0, 0)
+    cam.rotation_euler = (math.pi / 2, 0, math.atan2(direction[1], direction[0]) - math.pi / 2)
+
+
+def _empty_world_scene(width=64, height=32):
+    bpy.ops.wm.read_homefile(use_empty=True)
+    scene = bpy.context.scene
+    cam = bpy.data.objects.new("camera", bpy.data.cameras.new("camera"))
+    cam.data.angle = math.radians(90)
+    scene.collection.objects.link(cam)
+    scene.camera = cam
+    # glTF needs a mesh: a small floor far below.
+    mesh = bpy.data.meshes.new("floor")
+    mesh.from_pydata([(-1, -1, -50), (1, -1, -50), (1, 1, -50), (-1, 1, -50)], [], [(0, 1, 2, 3)])
+    scene.collection.objects.link(bpy.data.objects.new("floor", mesh))
+    scene.render.resolution_x, scene.render.resolution_y = width, height
+    scene.render.resolution_percentage = 100
+    scene.world = bpy.data.worlds.new("world")
+    return scene
+
+
+def _world(scene, texture):
+    nodes, links = scene.world.node_tree.nodes, scene.world.node_tree.links
+    nodes.clear()
+    out, bg = nodes.new("ShaderNodeOutputWorld"), nodes.new("ShaderNodeBackground")
+    tex = nodes.new(texture)
+    links.new(tex.outputs[0], bg.inputs[0])
+    links.new(bg.outputs[0], out.inputs[0])
+    return tex
+
+
+def _both(scene, workdir, name):
+    """The scene rendered by Cycles and by fenestra (through the engine)."""
+    scene.render.engine = "CYCLES"
+    scene.cycles.samples = 16
+    scene.cycles.use_denoising = False
+    cycles = render(scene, workdir / f"{name}-cycles.exr")
+    scene.render.engine = "FENESTRA"
+    scene.fenestra.integrator = "af_hf"
+    scene.fenestra.samples = 16
+    return cycles, render(scene, workdir / f"{name}-fenestra.exr")
+
+
+def _centroid(img, channel):
+    """The column and row centre of what is mostly `channel` (0 red, 2 blue)."""
+    others = [c for c in range(3) if c != channel]
+    mask = img[..., channel] > 4 * img[..., others].max(-1) + 0.5
+    assert mask.any(), "nothing of that colour in view"
+    rows, cols = np.nonzero(mask)
+    return cols.mean(), rows.mean()
+
+
+def test_an_hdri_stands_where_cycles_shows_it(workdir):
+    scene = _empty_world_scene()
+    # A lat-long image with a red patch at u = 0.25 and a blue one at u = 0.375 (both on the
+    # horizon): Cycles shows red towards +Y and blue between +X and +Y, right of red.
+    w, h = 256, 128
+    px = np.full((h, w, 4), 0.02, dtype=np.float32)
+    px[..., 3] = 1
+    px[h // 2 - 4 : h // 2 + 4, 60:68, :3] = (20, 0, 0)
+    px[h // 2 - 4 : h // 2 + 4, 92:100, :3] = (0, 0, 20)
+    image = bpy.data.images.new("hdri", w, h, float_buffer=True)
+    image.pixels.foreach_set(px.ravel())  # rows bottom up: the patches sit on the horizon
+    image.filepath_raw = str(workdir / "hdri.exr")
+    image.file_format = "OPEN_EXR"
+    image.save()
+    tex = _world(scene, "ShaderNodeTexEnvironment")
+    tex.image = bpy.data.images.load(str(workdir / "hdri.exr"))
+    for turn in (0.0, 30.0):
+        nodes, links = scene.world.node_tree.nodes, scene.world.node_tree.links
+        coords, mapping = nodes.new("ShaderNodeTexCoord"), nodes.new("ShaderNodeMapping")
+        mapping.inputs["Rotation"].default_value[2] = math.radians(turn)
+        links.new(coords.outputs["Generated"], mapping.inputs["Vector"])
+        links.new(mapping.outputs[0], tex.inputs["Vector"])
+        _look(scene, (math.cos(math.radians(75 - turn)), math.sin(math.radians(75 - turn)), 0))
+        cycles, ours = _both(scene, workdir, f"hdri-{turn:g}")
+        for colour in (0, 2):
+            assert _centroid(ours, colour) == pytest.approx(_centroid(cycles, colour), abs=1.5), (
+                f"turn {turn}: colour {colour} not where Cycles puts it"
+            )
+
+
+def test_the_sun_stands_where_cycles_puts_it(workdir):
+    scene = _empty_world_scene()
+    sky = _world(scene, "ShaderNodeTexSky")
+    sky.sky_type = "MULTIPLE_SCATTERING"
+    sky.sun_elevation = math.radians(12)
+    sky.sun_rotation = math.radians(60)
+    sky.sun_size = math.radians(6)  # a sun Cycles' 16 samples find in a few pixels
+    # The sun clockwise from +Y by 60 degrees; the camera looks 20 degrees to its left.
+    azimuth = math.radians(90 - 60 + 20)
+    _look(scene, (math.cos(azimuth), math.sin(azimuth), 0.2))
+    cycles, ours = _both(scene, workdir, "sun")
+    brightest = [np.unravel_index(np.argmax(img.sum(-1)), img.shape[:2]) for img in (cycles, ours)]
+    assert brightest[0][1] > 32, "Cycles' sun is not right of the middle: the camera setup is off"
+    assert abs(brightest[0][0] - brightest[1][0]) <= 2 and abs(brightest[0][1] - brightest[1][1]) <= 2, brightest
+
+
+def test_a_variance_pass_and_a_report_against_a_reference(workdir, fenestra_bin):
+    scene = room.build(samples=4, size=(48, 36))
+    scene.fenestra.integrator = "af_hf"
+    scene.fenestra.keep_files = str(workdir / "ref")
+    scene.fenestra.samples = 64
+    render(scene, workdir / "reference.exr")
+    scene.fenestra.samples = 4
+    scene.fenestra.variance_pass = True
+    scene.fenestra.reference = str(workdir / "ref" / "render.exr")
+    scene.fenestra.keep_files = str(workdir / "kept")
+    scene.render.filepath = str(workdir / "layers.exr")
+    settings = scene.render.image_settings
+    if hasattr(settings, "media_type"):  # Blender 5
+        settings.media_type = "MULTI_LAYER_IMAGE"
+    settings.file_format = "OPEN_EXR_MULTILAYER"
+    scene.render.image_settings.color_depth = "32"
+    bpy.ops.render.render(write_still=True)
+    parts = {p.name(): p for p in OpenEXR.File(str(workdir / "layers.exr")).parts}
+    assert "ViewLayer.Variance" in parts, list(parts)
+    shown = next(iter(parts["ViewLayer.Variance"].channels.values())).pixels
+    ours = exr(workdir / "kept" / "render.var.exr")
+    assert ours.mean() > 0
+    assert np.array_equal(np.asarray(shown)[..., :3], ours), "the Variance pass differs from fenestra's"
+    report = scene.fenestra.last_report
+    assert report.endswith("report.html")
+    page = open(report).read()
+    assert "rel_mse" in page and "<svg" in page and "render.error.png" in page
