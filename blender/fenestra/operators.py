@@ -75,14 +75,6 @@ class FENESTRA_OT_open_report(bpy.types.Operator):
         return {"FINISHED"}
 
 
-classes = (FENESTRA_OT_estimate_portals, FENESTRA_OT_open_report)
-
-
-def register():
-    for c in classes:
-        bpy.utils.register_class(c)
-
-
-def unregister():
-    for c in reversed(classes):
-        bpy.utils.unregister_class(c)
+register, unregister = bpy.utils.register_classes_factory(
+    (FENESTRA_OT_estimate_portals, FENESTRA_OT_open_report)
+)

@@ -55,14 +55,6 @@ class RENDER_PT_fenestra_output(FenestraPanel, bpy.types.Panel):
         layout.prop(s, "keep_files")
 
 
-classes = (RENDER_PT_fenestra_sampling, RENDER_PT_fenestra_output)
-
-
-def register():
-    for c in classes:
-        bpy.utils.register_class(c)
-
-
-def unregister():
-    for c in reversed(classes):
-        bpy.utils.unregister_class(c)
+register, unregister = bpy.utils.register_classes_factory(
+    (RENDER_PT_fenestra_sampling, RENDER_PT_fenestra_output)
+)

@@ -58,10 +58,9 @@ def sun_direction(sky):
         d = np.array(sky.sun_direction, dtype=float)
         return d / np.linalg.norm(d)
     el, rot = sky.sun_elevation, sky.sun_rotation
-    # Measured with Cycles' panoramic camera in Blender 5.0: rotation 0 puts the sun at +Y,
-    # 90 degrees at +X (clockwise seen from above); Blender 4's Nishita sky turns the other way.
-    east = math.sin(rot) if bpy.app.version >= (5, 0, 0) else -math.sin(rot)
-    return np.array([east * math.cos(el), math.cos(rot) * math.cos(el), math.sin(el)])
+    # Measured with Cycles in Blender 4.2 (Nishita) and 5.0 (Single/Multiple Scattering):
+    # rotation 0 puts the sun at +Y, 90 degrees at +X (clockwise seen from above).
+    return np.array([math.sin(rot) * math.cos(el), math.cos(rot) * math.cos(el), math.sin(el)])
 
 
 def sun_flag(direction):

@@ -9,8 +9,15 @@ import bmesh
 from mathutils import Matrix
 
 
+def use_nodes(datablock):
+    """Blender 4 needs node trees switched on (Blender 5 always has them)."""
+    if bpy.app.version < (5, 0, 0):
+        datablock.use_nodes = True
+    return datablock
+
+
 def _material(name, color, metallic=0.0, roughness=0.5, transmission=0.0):
-    m = bpy.data.materials.new(name)
+    m = use_nodes(bpy.data.materials.new(name))
     bsdf = m.node_tree.nodes.get("Principled BSDF")
     bsdf.inputs["Base Color"].default_value = (*color, 1.0)
     bsdf.inputs["Metallic"].default_value = metallic
@@ -78,7 +85,7 @@ def build(sun_elevation=35.0, sun_rotation=20.0, samples=16, size=(96, 72)):
     lamp_obj.location = (0, -0.5, 2.3)
     scene.collection.objects.link(lamp_obj)
 
-    world = bpy.data.worlds.new("sky")
+    world = use_nodes(bpy.data.worlds.new("sky"))
     scene.world = world
     nodes = world.node_tree.nodes
     nodes.clear()
