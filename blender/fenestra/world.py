@@ -123,11 +123,16 @@ def world_flags(world, folder):
     if texture.type == "TEX_SKY":
         flags = ["--sky", "--sun", sun_flag(sun_direction(texture))]
         if texture.sky_type in ("PREETHAM", "HOSEK_WILKIE"):
-            flags += ["--sky-turbidity", f"{texture.turbidity:g}"]
+            # Cycles draws these skies without a sun disk: the sun only shapes the sky.
+            flags += ["--sky-turbidity", f"{texture.turbidity:g}", "--sun-strength", "0"]
         else:
+            sun = texture.sun_intensity if texture.sun_disc else 0.0
+            if sun != 1.0:
+                flags += ["--sun-strength", f"{sun:g}"]
             notes.append(
                 f"Sky Texture {texture.sky_type.lower()}: rendered as fenestra's Hosek-Wilkie "
-                "sky (turbidity 3) with the same sun; air, aerosol and ozone densities not read"
+                "sky (turbidity 3) and SPECTRL2 sun in the same direction; air, aerosol and "
+                "ozone densities and the sun's size are not read"
             )
         if texture.sky_type == "HOSEK_WILKIE":
             flags += ["--sky-albedo", f"{texture.ground_albedo:g}"]

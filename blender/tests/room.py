@@ -1,6 +1,7 @@
 """The add-on tests' scene, built with bpy: a 4 x 4 x 2.6 m room with a window opening in
-one wall, under a Sky Texture with its sun; a ceiling lamp (point light), a glossy metal
-block, a glass sphere and a white floor; a camera looking at the window wall."""
+one wall, under a Sky Texture with its sun outside the window; a ceiling lamp (point
+light), a glossy metal block, a glass sphere and a white floor; a camera looking at the
+window wall."""
 
 import math
 
@@ -92,9 +93,9 @@ def build(sun_elevation=35.0, sun_rotation=20.0, samples=16, size=(96, 72)):
     out = nodes.new("ShaderNodeOutputWorld")
     bg = nodes.new("ShaderNodeBackground")
     sky = nodes.new("ShaderNodeTexSky")
-    sky.sky_type = "HOSEK_WILKIE"
-    el, rot = math.radians(sun_elevation), math.radians(sun_rotation)
-    sky.sun_direction = (math.sin(rot) * math.cos(el), math.cos(rot) * math.cos(el), math.sin(el))
+    sky.sky_type = "MULTIPLE_SCATTERING" if bpy.app.version >= (5, 0, 0) else "NISHITA"
+    sky.sun_elevation = math.radians(sun_elevation)
+    sky.sun_rotation = math.radians(sun_rotation)
     world.node_tree.links.new(sky.outputs[0], bg.inputs[0])
     world.node_tree.links.new(bg.outputs[0], out.inputs[0])
 

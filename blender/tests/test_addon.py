@@ -234,3 +234,35 @@ def test_a_variance_pass_and_a_report_against_a_reference(workdir, fenestra_bin)
     assert report.endswith("report.html")
     page = open(report).read()
     assert "rel_mse" in page and "<svg" in page and "render.error.png" in page
+
+
+def test_world_flags_for_each_kind_of_world(workdir):
+    from fenestra import world
+
+    scene = _empty_world_scene()
+    sky = _world(scene, "ShaderNodeTexSky")
+    sky.sky_type = "HOSEK_WILKIE"
+    sky.sun_direction = (0.0, -1.0, 1.0)  # south-ish, 45 degrees up
+    sky.turbidity = 4.5
+    flags, _ = world.world_flags(scene.world, str(workdir))
+    assert flags[flags.index("--sun") + 1] == "45.0000,90.0000"
+    assert flags[flags.index("--sun-strength") + 1] == "0", "Cycles' Hosek-Wilkie sky has no sun disk"
+    assert flags[flags.index("--sky-turbidity") + 1] == "4.5"
+
+    nodes = scene.world.node_tree.nodes
+    nodes.remove(sky)
+    background = next(n for n in nodes if n.type == "BACKGROUND")
+    background.inputs["Color"].default_value = (0.2, 0.4, 0.8, 1.0)
+    background.inputs["Strength"].default_value = 2.0
+    flags, _ = world.world_flags(scene.world, str(workdir))
+    pfm = flags[flags.index("--environment") + 1]
+    with open(pfm, "rb") as f:
+        assert f.readline() == b"PF\n"
+        f.readline(), f.readline()
+        rgb = np.frombuffer(f.read(), dtype="<f4").reshape(-1, 3)
+    assert np.allclose(rgb, (0.4, 0.8, 1.6))
+
+    noise = nodes.new("ShaderNodeTexNoise")
+    scene.world.node_tree.links.new(noise.outputs["Color"], background.inputs["Color"])
+    with pytest.raises(world.WorldError, match="Noise Texture"):
+        world.world_flags(scene.world, str(workdir))

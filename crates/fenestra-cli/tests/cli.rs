@@ -205,6 +205,10 @@ fn bad_input_gets_a_clear_error() {
             "--sky: turbidity must lie in [1, 10]",
         ),
         (
+            &["--sky", "--sun-strength", "-1"][..],
+            "--sun-strength must be 0 or more, got -1",
+        ),
+        (
             &[
                 "--sky",
                 "--sun-time",

@@ -65,7 +65,8 @@ fn pair(p: Option<(f64, f64)>) -> Option<String> {
 /// render` does with the same flags (the keywords are its scene flags).
 #[pyfunction]
 #[pyo3(signature = (source, *, strict=false, environment=None, sky=false, sky_turbidity=None,
-    sky_albedo=None, sun=None, sun_time=None, location=None, environment_rotation=None,
+    sky_albedo=None, sun=None, sun_time=None, location=None, sun_strength=None,
+    environment_rotation=None,
     environment_strength=None, environment_up=None, camera=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn load(
@@ -79,6 +80,7 @@ pub fn load(
     sun: Option<(f64, f64)>,
     sun_time: Option<String>,
     location: Option<(f64, f64)>,
+    sun_strength: Option<f32>,
     environment_rotation: Option<f32>,
     environment_strength: Option<f32>,
     environment_up: Option<String>,
@@ -89,6 +91,7 @@ pub fn load(
         ("sky_albedo", sky_albedo.is_some()),
         ("sun", sun.is_some()),
         ("sun_time", sun_time.is_some()),
+        ("sun_strength", sun_strength.is_some()),
     ];
     if let Some((word, _)) = needs_sky.iter().find(|(_, given)| *given && !sky) {
         return Err(error(anyhow::anyhow!(
@@ -119,6 +122,7 @@ pub fn load(
         sun: pair(sun),
         sun_time,
         location: pair(location),
+        sun_strength,
         environment_rotation,
         environment_strength,
         environment_up,

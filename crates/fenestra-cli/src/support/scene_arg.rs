@@ -7,6 +7,7 @@ use fenestra_core::image::Image;
 use fenestra_core::Vec3;
 use fenestra_pbrt as pbrt;
 use fenestra_scene::environment::EnvironmentMap;
+use fenestra_scene::light::{EnvironmentDesc, LightDesc};
 use fenestra_scene::sky::solar_position::{sun_position, Moment};
 use fenestra_scene::sky::Sky;
 use fenestra_scene::{mesh, SceneDesc};
@@ -65,6 +66,16 @@ pub struct SceneOptions {
         allow_hyphen_values = true
     )]
     pub location: Option<String>,
+    /// Multiply --sky's sun (its disk's radiance) by this, on top of --environment-strength;
+    /// 0 leaves the sky without its sun (as Blender's Hosek-Wilkie and Preetham skies are)
+    /// [default: 1].
+    #[arg(
+        long,
+        value_name = "X",
+        requires = "sky",
+        allow_negative_numbers = true
+    )]
+    pub sun_strength: Option<f32>,
     /// Turn --environment or --sky about the up axis by this many degrees
     /// (counter-clockwise seen from above) [default: 0].
     #[arg(long, value_name = "DEGREES", allow_negative_numbers = true)]
@@ -94,6 +105,7 @@ impl Default for SceneOptions {
             sun: None,
             sun_time: None,
             location: None,
+            sun_strength: None,
             environment_rotation: None,
             environment_strength: None,
             environment_up: None,
@@ -278,8 +290,20 @@ fn with_sky(desc: SceneDesc, opts: &SceneOptions) -> Result<(SceneDesc, Sky)> {
         azimuth_deg,
     };
     let up = up_axis(&desc, opts)?;
-    let desc = (desc.with_sky(&sky, up, opts.rotation_deg(), opts.strength()))
+    let mut desc = (desc.with_sky(&sky, up, opts.rotation_deg(), opts.strength()))
         .map_err(|problem| anyhow::anyhow!("--sky: {problem}"))?;
+    if let Some(k) = opts.sun_strength {
+        if !(k.is_finite() && k >= 0.0) {
+            bail!("--sun-strength must be 0 or more, got {k}");
+        }
+        desc.lights.retain_mut(|light| match light {
+            LightDesc::Environment(EnvironmentDesc::Sun { radiance, .. }) => {
+                *radiance *= k;
+                k > 0.0
+            }
+            _ => true,
+        });
+    }
     Ok((desc, sky))
 }
 
@@ -313,4 +337,39 @@ fn axis_of(name: &str) -> Option<Vec3> {
         _ => return None,
     };
     Some(v * sign)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The sun's radiance in `builtin:box-hole` under `--sky` with `--sun-strength k`.
+    fn sun_radiance(k: Option<f32>) -> Option<fenestra_core::Rgb> {
+        let opts = SceneOptions {
+            sky: true,
+            sun_strength: k,
+            ..SceneOptions::default()
+        };
+        let loaded = load_quietly("builtin:box-hole", &opts).expect("the scene under a sky");
+        let mut suns = loaded.desc.lights.iter().filter_map(|l| match l {
+            LightDesc::Environment(EnvironmentDesc::Sun { radiance, .. }) => Some(*radiance),
+            _ => None,
+        });
+        let sun = suns.next();
+        assert!(suns.next().is_none(), "one sun at most");
+        sun
+    }
+
+    #[test]
+    fn sun_strength_scales_the_sun_and_zero_takes_it_away() {
+        let one = sun_radiance(None).expect("--sky has a sun");
+        assert_eq!(sun_radiance(Some(1.0)), Some(one));
+        let two = sun_radiance(Some(2.0)).expect("a sun");
+        let off = (two - one * 2.0).map(f32::abs).max_component();
+        assert!(
+            off <= 1e-6 * one.max_component(),
+            "{two:?} is not twice {one:?}"
+        );
+        assert_eq!(sun_radiance(Some(0.0)), None);
+    }
 }

@@ -48,7 +48,7 @@ def load(source, **scene_options):
 
     Keywords are `fenestra render`'s scene flags: strict, environment (an image file),
     sky=True with sky_turbidity, sky_albedo, sun=(elevation, azimuth) or sun_time and
-    location=(latitude, longitude); environment_rotation, environment_strength,
+    location=(latitude, longitude), sun_strength; environment_rotation, environment_strength,
     environment_up ("z", "-y", ...), camera (a glTF camera's name or index).
     """
     if "environment" in scene_options and scene_options["environment"] is not None:
