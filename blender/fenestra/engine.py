@@ -45,7 +45,7 @@ class FenestraRenderEngine(bpy.types.RenderEngine):
         settings = scene.fenestra
         binary = preferences.binary(bpy.context)
         self.update_stats("", "fenestra: exporting the scene (glTF)")
-        exported = export.export(scene, view_layer, folder)
+        exported = export.export(scene, view_layer, folder, give_up=self.test_break)
         for note in exported.notes:
             self.report({"WARNING"}, f"fenestra: {note}")
         output = os.path.join(folder, "render.exr")
@@ -76,7 +76,8 @@ class FenestraRenderEngine(bpy.types.RenderEngine):
                     self.update_progress(f)
                     eta = f", {left:.0f} s left" if left is not None else ""
                     self.update_stats("", f"fenestra {settings.integrator}: {100 * f:.0f}%{eta}")
-                shown = self._show_snapshot(result, output, shown)
+                if not stopping:
+                    shown = self._show_snapshot(result, output, shown)
         except BaseException:
             fenestra.kill()
             raise
@@ -90,12 +91,19 @@ class FenestraRenderEngine(bpy.types.RenderEngine):
             self.end_result(result)
             detail = "\n".join(log[-5:]) or f"exit code {code}"
             raise RuntimeError(f"fenestra failed: {detail}")
-        combined = result.layers[0].passes.find_by_name("Combined", "")
-        combined.rect = mainthread.call(read_pixels, final)
-        if settings.variance_pass:
-            variance = result.layers[0].passes.find_by_name("Variance", "")
-            var_path = final[: -len(".exr")] + ".var.exr"
-            variance.rect = mainthread.call(read_pixels, var_path)[:, :3]
+        # Quitting Blender stops the render and then waits for it on the main thread, which
+        # loads no image: after a few seconds the image is left on disk.
+        give_up = mainthread.deadline(5.0)
+        try:
+            combined = result.layers[0].passes.find_by_name("Combined", "")
+            combined.rect = mainthread.call(read_pixels, final, give_up=give_up)
+            if settings.variance_pass:
+                variance = result.layers[0].passes.find_by_name("Variance", "")
+                var_path = final[: -len(".exr")] + ".var.exr"
+                variance.rect = mainthread.call(read_pixels, var_path, give_up=give_up)[:, :3]
+        except mainthread.Abandoned:
+            self.end_result(result)
+            return
         self.end_result(result)
         summary = stdout.strip().splitlines()
         self.update_stats("", f"fenestra: {summary[0]}" if summary else "fenestra: done")
@@ -107,7 +115,10 @@ class FenestraRenderEngine(bpy.types.RenderEngine):
                 bpy.path.abspath(settings.reference),
             )
             # The evaluated scene is a copy: the button reads the original's.
-            mainthread.call(setattr, scene.original.fenestra, "last_report", path)
+            mainthread.call(
+                setattr, scene.original.fenestra, "last_report", path,
+                give_up=mainthread.deadline(5.0),
+            )
 
     @staticmethod
     def _report_folder(scene, folder):
@@ -129,8 +140,11 @@ class FenestraRenderEngine(bpy.types.RenderEngine):
             return shown
         if mtime <= shown:
             return shown
-        combined = result.layers[0].passes.find_by_name("Combined", "")
-        combined.rect = mainthread.call(read_pixels, output)
+        try:
+            pixels = mainthread.call(read_pixels, output, give_up=self.test_break)
+        except mainthread.Abandoned:
+            return shown
+        result.layers[0].passes.find_by_name("Combined", "").rect = pixels
         self.update_result(result)
         return mtime
 

@@ -107,33 +107,37 @@ def _export_glb(scene, view_layer, path):
     override = {"scene": scene, "view_layer": view_layer}
     if window is not None:
         override["window"] = window
+    options = dict(
+        filepath=path,
+        export_format="GLB",
+        use_active_scene=True,
+        use_renderable=True,
+        export_apply=True,
+        export_cameras=True,
+        export_lights=True,
+        export_yup=True,
+        export_animations=False,
+        export_extras=False,
+        # Blender 3.6+: lights in physical units (W -> lm at 683 lm/W), as fenestra reads them.
+        export_import_convert_lighting_mode="SPEC",
+    )
+    known = bpy.ops.export_scene.gltf.get_rna_type().properties.keys()
     with bpy.context.temp_override(**override):
-        result = bpy.ops.export_scene.gltf(
-            filepath=path,
-            export_format="GLB",
-            use_active_scene=True,
-            use_renderable=True,
-            export_apply=True,
-            export_cameras=True,
-            export_lights=True,
-            export_yup=True,
-            export_animations=False,
-            export_extras=False,
-            export_import_convert_lighting_mode="SPEC",
-        )
+        result = bpy.ops.export_scene.gltf(**{k: v for k, v in options.items() if k in known})
     if "FINISHED" not in result:
         raise RuntimeError(f"Blender's glTF exporter did not finish ({result})")
 
 
-def export(scene, view_layer, folder, portal_flags=True):
+def export(scene, view_layer, folder, portal_flags=True, give_up=None):
     """Exports `scene` into `folder` for a render: the flags of its camera and world, and
-    with `portal_flags` those of its portals as the settings ask."""
+    with `portal_flags` those of its portals as the settings ask. `give_up` ends the wait
+    for the main thread (see mainthread.call)."""
     if scene.camera is None:
         raise RuntimeError("the scene has no active camera")
     if scene.camera.data.type != "PERSP":
         raise RuntimeError(f"the active camera is {scene.camera.data.type.lower()}; fenestra renders perspective cameras")
     glb = os.path.join(folder, "scene.glb")
-    mainthread.call(_export_glb, scene, view_layer, glb)
+    mainthread.call(_export_glb, scene, view_layer, glb, give_up=give_up)
     width, height = resolution(scene)
     world_flags, notes = world.world_flags(scene.world, folder)
     notes += _material_notes(scene) + _light_notes(scene)

@@ -23,7 +23,8 @@ def _material(name, color, metallic=0.0, roughness=0.5, transmission=0.0):
     bsdf.inputs["Base Color"].default_value = (*color, 1.0)
     bsdf.inputs["Metallic"].default_value = metallic
     bsdf.inputs["Roughness"].default_value = roughness
-    bsdf.inputs["Transmission Weight"].default_value = transmission
+    # "Transmission" before Blender 4.0.
+    bsdf.inputs.get("Transmission Weight", bsdf.inputs.get("Transmission")).default_value = transmission
     return m
 
 

@@ -266,3 +266,26 @@ def test_world_flags_for_each_kind_of_world(workdir):
     scene.world.node_tree.links.new(noise.outputs["Color"], background.inputs["Color"])
     with pytest.raises(world.WorldError, match="Noise Texture"):
         world.world_flags(scene.world, str(workdir))
+
+
+def test_work_for_a_busy_main_thread_is_given_up():
+    # F12 renders in a worker thread and hands image loads to the main thread; when Blender
+    # quits mid-render its main thread waits for the render and runs no timers (as here, in
+    # a background process): the render must give up on the load, and the load never run.
+    import threading
+
+    from fenestra import mainthread
+
+    ran, outcome = [], []
+
+    def render_thread():
+        try:
+            mainthread.call(ran.append, 1, give_up=mainthread.deadline(0.3))
+        except mainthread.Abandoned as e:
+            outcome.append(e)
+
+    worker = threading.Thread(target=render_thread)
+    worker.start()
+    worker.join(5.0)
+    assert not worker.is_alive(), "the render thread waited for the main thread for good"
+    assert outcome and not ran
