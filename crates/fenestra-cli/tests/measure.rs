@@ -439,6 +439,28 @@ fn btf_lpca_and_prt_commands_work_end_to_end() {
     );
 }
 
+/// Where [`judged`] writes fenestra's render of `scene` with `seed`.
+fn judged_image(scene: &Path, seed: u32) -> PathBuf {
+    let name = scene.file_stem().and_then(|s| s.to_str()).expect("utf-8");
+    let parent = scene
+        .parent()
+        .and_then(|p| p.file_name())
+        .and_then(|s| s.to_str());
+    tmp(&format!("{}-{name}-{seed}.exr", parent.unwrap_or("")))
+}
+
+/// An image's mean red, green and blue.
+fn channel_means(path: &Path) -> [f64; 3] {
+    let image = Image::read(path).expect("an image");
+    let mut sum = [0.0f64; 3];
+    for p in &image.pixels {
+        for (s, c) in sum.iter_mut().zip([p.r, p.g, p.b]) {
+            *s += f64::from(c);
+        }
+    }
+    sum.map(|s| s / image.pixels.len() as f64)
+}
+
 /// fenestra's render of a pbrt-v4 scene against a reference image: (mean, reference mean,
 /// relative mean error, 8x8 region error), from `fenestra compare`. No warning may be
 /// printed but those `allowed` contains.
@@ -449,11 +471,7 @@ fn judged(
     allowed: &[&str],
 ) -> (f64, f64, f64, f64) {
     let name = scene.file_stem().and_then(|s| s.to_str()).expect("utf-8");
-    let parent = scene
-        .parent()
-        .and_then(|p| p.file_name())
-        .and_then(|s| s.to_str());
-    let out = tmp(&format!("{}-{name}-{seed}.exr", parent.unwrap_or("")));
+    let out = judged_image(scene, seed);
     let o = fenestra(&[
         "render",
         scene.to_str().expect("utf-8"),
@@ -570,20 +588,32 @@ fn feature_scenes_render_as_pbrt_v4_renders_them() {
         .filter(|p| p.extension().is_some_and(|x| x == "pbrt"))
         .collect();
     scenes.sort();
-    assert!(scenes.len() >= 13, "{scenes:?}");
+    assert!(scenes.len() >= 14, "{scenes:?}");
     let mut failures = Vec::new();
     for scene in &scenes {
         let reference = scene.with_extension("pbrt-v4.exr");
         let (mean, reference_mean, mean_error, region_error) =
             judged(scene, &reference, ("64x48", 1024, 0), &[]);
+        // Each channel too, to 2.5%: a colour transform (the film's white balance) can keep
+        // the luminance and move the colours (a Planckian white off by 7e-4 in xy moved the
+        // balanced red by 3.3%); gold's blue, spectral in pbrt-v4 and RGB here, is 2.1% off.
+        let (ours, theirs) = (
+            channel_means(&judged_image(scene, 0)),
+            channel_means(&reference),
+        );
+        let channel_error = (0..3)
+            .map(|c| (ours[c] / theirs[c] - 1.0).abs())
+            .fold(0.0, f64::max);
         let line = format!(
-            "{}: mean {mean:.4} vs pbrt-v4 {reference_mean:.4} ({:+.2}%), region error {:.2}%",
+            "{}: mean {mean:.4} vs pbrt-v4 {reference_mean:.4} ({:+.2}%), region error {:.2}%, \
+             worst channel mean {:.2}% off",
             scene.display(),
             100.0 * (mean / reference_mean - 1.0),
-            100.0 * region_error
+            100.0 * region_error,
+            100.0 * channel_error
         );
         println!("{line}");
-        if mean_error > 0.01 || region_error > 0.03 {
+        if mean_error > 0.01 || region_error > 0.03 || channel_error > 0.025 {
             failures.push(line);
         }
     }

@@ -18,6 +18,7 @@ pub mod spectrum;
 pub mod stats;
 pub mod trig;
 pub mod warp;
+pub mod white_balance;
 
 pub use frame::Frame;
 pub use glam::{Mat4, UVec2, Vec2, Vec3};

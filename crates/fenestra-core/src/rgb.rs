@@ -27,6 +27,11 @@ impl Rgb {
     pub const fn splat(v: f32) -> Self {
         Rgb { r: v, g: v, b: v }
     }
+    /// The colour `m` makes of this one (a colour space's or a film's linear map).
+    pub fn transformed(self, m: glam::Mat3) -> Self {
+        let v = m * glam::Vec3::new(self.r, self.g, self.b);
+        Rgb::new(v.x, v.y, v.z)
+    }
     /// Whether every channel is zero.
     pub fn is_black(self) -> bool {
         self.r == 0.0 && self.g == 0.0 && self.b == 0.0

@@ -133,6 +133,8 @@ pub(super) struct Builder {
     pub(crate) camera: Option<CameraSpec>,
     /// The PixelFilter, if the scene names one (pbrt-v4's default is a gaussian).
     pub(crate) filter: Option<PixelFilter>,
+    /// The film's white balance (Film "whitebalance" of the CIE 1931 sensor), in kelvin.
+    pub(crate) white_balance: Option<f32>,
     pub(crate) defaults: RenderDefaults,
     /// The film's sensitivity (Film "iso") and the camera's shutter time (shutterclose -
     /// shutteropen): pbrt-v4 exposes the image by iso / 100 x seconds, with where it was set.
@@ -172,6 +174,7 @@ impl Builder {
             object: None,
             camera: None,
             filter: None,
+            white_balance: None,
             iso: (100.0, None),
             shutter: (1.0, None),
             defaults: RenderDefaults {
@@ -544,6 +547,7 @@ impl Builder {
             })?,
         };
         camera.filter = self.filter.unwrap_or_else(PixelFilter::pbrt_default);
+        camera.white_balance = self.white_balance;
         let mut shapes = self.shapes;
         let mut materials = self.materials;
         // Drop pbrt's default material when no shape and no mix uses it.

@@ -118,9 +118,13 @@ impl Export<'_> {
             desc.name,
             env!("CARGO_PKG_VERSION")
         );
+        let balance = match desc.camera.white_balance {
+            Some(k) => format!(" \"float whitebalance\" [ {k} ]"),
+            None => String::new(),
+        };
         let _ = writeln!(
             self.s,
-            "Film \"rgb\" \"integer xresolution\" [ {} ] \"integer yresolution\" [ {} ]",
+            "Film \"rgb\" \"integer xresolution\" [ {} ] \"integer yresolution\" [ {} ]{balance}",
             d.width, d.height
         );
         let _ = writeln!(

@@ -28,20 +28,21 @@ impl Builder {
                 }
                 self.iso = (iso, Some(d.loc.clone()));
                 let sensor = p.string("sensor")?.unwrap_or_else(|| "cie1931".into());
+                let balance = p.float("whitebalance", 0.0)?;
+                if !(balance.is_finite() && balance >= 0.0) {
+                    return Err(PbrtError::at(
+                        &d.loc,
+                        format!("whitebalance must be a colour temperature in kelvin (0: none), found {balance}"),
+                    ));
+                }
                 if sensor != "cie1931" {
                     self.warn(
                         Topic::Camera,
-                        format!("sensor \"{sensor}\" (rendered with the CIE 1931 observer: no sensor response curves, no white balance)"),
+                        format!("sensor \"{sensor}\" (rendered with the CIE 1931 observer and no white balance: a camera's spectral response needs a spectral renderer)"),
                         &d.loc,
                     );
-                }
-                let balance = p.float("whitebalance", 0.0)?;
-                if balance != 0.0 && sensor == "cie1931" {
-                    self.warn(
-                        Topic::Camera,
-                        format!("whitebalance {balance} (not applied)"),
-                        &d.loc,
-                    );
+                } else if balance > 0.0 {
+                    self.white_balance = Some(balance);
                 }
                 self.defaults.width = positive(p.int("xresolution", 1280)?, "xresolution", &d.loc)?;
                 self.defaults.height = positive(p.int("yresolution", 720)?, "yresolution", &d.loc)?;

@@ -12,7 +12,9 @@ fn pbrt_export_round_trips() {
     let dir = std::env::temp_dir().join(format!("fenestra-export-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("dir");
     for (name, _) in fenestra_builtin::SCENES {
-        let a = fenestra_builtin::load(name).expect(name);
+        let mut a = fenestra_builtin::load(name).expect(name);
+        // A film white balance, which no built-in scene has, goes along too.
+        a.camera.white_balance = Some(4200.0);
         let path = dir.join(format!("{name}.pbrt"));
         fenestra_pbrt::export::write(&a, &path).expect("export");
         let b = fenestra_pbrt::load(&path, true).expect("re-read").desc;
@@ -63,6 +65,7 @@ fn pbrt_export_round_trips() {
         }
         // The pixel filter too (pbrt-v4's default differs from fenestra's).
         assert_eq!(a.camera.filter, b.camera.filter, "{name}: pixel filter");
+        assert_eq!(a.camera.white_balance, b.camera.white_balance, "{name}");
     }
     let _ = std::fs::remove_dir_all(&dir);
 }

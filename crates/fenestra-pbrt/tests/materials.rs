@@ -566,11 +566,32 @@ fn the_films_iso_and_the_shutter_expose_every_emitter() {
         panic!("a negative iso loads")
     };
     assert!(e.contains("iso must be positive"), "{e}");
-    let s = load(r#"Film "rgb" "string sensor" "canon_eos_100d""#).expect("load");
-    assert!(s
-        .warnings
-        .iter()
-        .any(|w| w.what.contains("no sensor response curves")));
+    let s = load(r#"Film "rgb" "string sensor" "canon_eos_100d" "float whitebalance" 5000"#)
+        .expect("load");
+    assert!(s.warnings.iter().any(|w| w
+        .what
+        .contains("a camera's spectral response needs a spectral renderer")));
+    assert_eq!(
+        s.desc.camera.white_balance, None,
+        "a named sensor's balance is not applied"
+    );
+}
+
+#[test]
+fn the_films_white_balance_goes_to_the_camera() {
+    let s = load(r#"Film "rgb" "float whitebalance" 3500"#).expect("load");
+    assert_eq!(s.desc.camera.white_balance, Some(3500.0));
+    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+    let s = load(r#"Film "rgb" "float whitebalance" 0"#).expect("load");
+    assert_eq!(s.desc.camera.white_balance, None, "0 is pbrt-v4's none");
+    let Err(e) = load(r#"Film "rgb" "float whitebalance" -10"#) else {
+        panic!("a negative white balance loads")
+    };
+    assert!(
+        e.contains("whitebalance must be a colour temperature"),
+        "{e}"
+    );
+    assert!(e.contains(".pbrt:"), "the error names file:line: {e}");
 }
 
 #[test]

@@ -1,7 +1,9 @@
 //! Perspective pinhole camera.
 
 use crate::filter::PixelFilter;
+use fenestra_core::white_balance;
 use fenestra_core::{Ray, Vec2, Vec3};
+use glam::Mat3;
 
 /// How the field of view is given.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -28,6 +30,10 @@ pub struct Camera {
     /// The pixel filter camera samples are drawn from (a uniform point of the pixel unless
     /// the scene says otherwise).
     pub filter: PixelFilter,
+    /// The film's white balance (pbrt-v4's Film "whitebalance"): the colour temperature in
+    /// kelvin of the illuminant whose white the image shows as white; None leaves the
+    /// colours as rendered.
+    pub white_balance: Option<f32>,
 }
 
 /// A camera that cannot be built.
@@ -108,7 +114,13 @@ impl Camera {
             fov,
             screen_window,
             filter: PixelFilter::default(),
+            white_balance: None,
         })
+    }
+
+    /// What the film does to every sample's linear sRGB: its white balance, if it has one.
+    pub fn sensor_response(&self) -> Option<Mat3> {
+        self.white_balance.map(white_balance::srgb_white_balance)
     }
 
     /// Unit viewing direction.

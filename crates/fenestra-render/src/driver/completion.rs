@@ -13,6 +13,7 @@ use crate::film::Film;
 use crate::render_scene::RenderScene;
 use crate::settings::RenderSettings;
 use fenestra_core::stats::{RayCounters, RenderStats};
+use glam::{DVec3, Mat3};
 use rayon::prelude::*;
 use std::sync::Mutex;
 
@@ -106,6 +107,7 @@ pub fn render_to_completion<E: CompletionEstimator>(
     control.progress.start(Some(blocks.count() as u64));
     // Finished blocks go into the film at once, for whoever watches the render.
     let shared = Mutex::new(&mut *film);
+    let response = scene.scene.camera.sensor_response();
     let mut rendered: Vec<(u32, Option<Rendered<E::Block>>)> = estimator
         .order(blocks.count() as u32)
         .into_par_iter()
@@ -124,7 +126,11 @@ pub fn render_to_completion<E: CompletionEstimator>(
             let mut film = shared.lock().unwrap_or_else(|e| e.into_inner());
             for px in &pixels {
                 if let Some(i) = window.index((px.x, px.y)) {
-                    film.pixels[i].set_estimate(px.mean, px.variance);
+                    let (mean, variance) = match response {
+                        Some(m) => responded(m, px.mean, px.variance),
+                        None => (px.mean, px.variance),
+                    };
+                    film.pixels[i].set_estimate(mean, variance);
                 }
             }
             if let Some(watch) = control.on_progress {
@@ -166,3 +172,34 @@ pub fn render_to_completion<E: CompletionEstimator>(
 
 /// A rendered block (its pixels already in the film): what it tells, and the rays it traced.
 type Rendered<T> = (T, RayCounters);
+
+/// A pixel's estimate seen through the film's sensor response `m` (its white balance): the
+/// mean transformed, the variance of the mean as if its channels' errors were independent
+/// (an estimate keeps no covariance).
+fn responded(m: Mat3, mean: [f64; 3], variance: [f64; 3]) -> ([f64; 3], [f64; 3]) {
+    let m = m.as_dmat3().transpose(); // rows
+    let (mean, variance) = (DVec3::from(mean), DVec3::from(variance));
+    let squared = |row: DVec3| row * row;
+    let rows = [m.x_axis, m.y_axis, m.z_axis];
+    (
+        rows.map(|r| r.dot(mean)),
+        rows.map(|r| squared(r).dot(variance)),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_estimate_seen_through_a_response_transforms_mean_and_variance() {
+        let m = Mat3::from_cols_array(&[1.0, 0.5, 0.0, -0.25, 2.0, 0.0, 0.0, 0.0, 3.0]); // columns
+        let (mean, variance) = responded(m, [1.0, 2.0, 3.0], [0.1, 0.2, 0.3]);
+        // Rows of m: (1, -0.25, 0), (0.5, 2, 0), (0, 0, 3).
+        assert_eq!(mean, [0.5, 4.5, 9.0]);
+        let expected = [0.1 + 0.0625 * 0.2, 0.25 * 0.1 + 4.0 * 0.2, 9.0 * 0.3];
+        for (v, e) in variance.iter().zip(expected) {
+            assert!((v - e).abs() < 1e-12, "{variance:?} vs {expected:?}");
+        }
+    }
+}

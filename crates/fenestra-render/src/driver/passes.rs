@@ -339,10 +339,13 @@ impl Pass<'_> {
         let mut values = out.into_iter();
         let mut counts = counts.into_iter();
         let rows = view.rows.into_iter().flatten().filter(|_| self.keeps);
+        let response = scene.scene.camera.sensor_response();
         for (pixels, taken) in rows {
             for (pixel, taken) in pixels.iter_mut().zip(taken.iter_mut()) {
                 let n = counts.next().unwrap_or(0);
                 for l in values.by_ref().take(n as usize) {
+                    // The film's sensor sees each sample, as pbrt-v4's does.
+                    let l = response.map_or(l, |m| l.transformed(m));
                     if Pixel::accepts(l) {
                         pixel.add(l);
                     } else {
