@@ -3,6 +3,7 @@ settings and shows its snapshots in the Render window as the image refines; Esc 
 fenestra as Ctrl-C does and keeps the image so far."""
 
 import os
+import shlex
 import shutil
 import tempfile
 import time
@@ -54,57 +55,30 @@ class FenestraRenderEngine(bpy.types.RenderEngine):
                 os.remove(stale)
         command = export.render_command(binary, exported, settings, output)
         with open(os.path.join(folder, "command.txt"), "w") as f:
-            f.write(" ".join(command) + "\n")
+            f.write(shlex.join(command) + "\n")
         fenestra = run.Fenestra(command, os.path.join(folder, "fenestra.log"))
         if settings.variance_pass:
             self.add_pass("Variance", 3, "RGB")
         result = self.begin_result(0, 0, exported.width, exported.height)
-        shown, reported, stopping = 0.0, 0, False
         try:
-            while fenestra.running():
-                time.sleep(POLL_S)
-                if not stopping and self.stop_requested():
-                    fenestra.stop()
-                    stopping = True
-                    self.update_stats("", "fenestra: stopping, keeping the image so far")
-                p = fenestra.snapshot()
-                for w in p.warnings[reported:]:
-                    self.report({"WARNING"}, f"fenestra: {w}")
-                reported = len(p.warnings)
-                if not stopping:
-                    f, left = run.fraction(p, settings.time_limit)
-                    self.update_progress(f)
-                    eta = f", {left:.0f} s left" if left is not None else ""
-                    self.update_stats("", f"fenestra {settings.integrator}: {100 * f:.0f}%{eta}")
-                if not stopping:
-                    shown = self._show_snapshot(result, output, shown)
+            stopped, reported = self._watch(
+                fenestra, result, output, settings.integrator, settings.time_limit
+            )
         except BaseException:
             fenestra.kill()
             raise
         code, stdout, log = fenestra.wait()
-        p = fenestra.snapshot()
-        for w in p.warnings[reported:]:
-            self.report({"WARNING"}, f"fenestra: {w}")
+        self._report_warnings(fenestra, reported)
         final = self._final_image(output)
         # Stopped by Esc, fenestra exits as after Ctrl-C (130) with the image so far written.
-        if final is None or (code != 0 and not stopping):
+        if final is None or (code != 0 and not stopped):
             self.end_result(result)
             detail = "\n".join(log[-5:]) or f"exit code {code}"
             raise RuntimeError(f"fenestra failed: {detail}")
-        # Quitting Blender stops the render and then waits for it on the main thread, which
-        # loads no image: after a few seconds the image is left on disk.
-        give_up = mainthread.deadline(5.0)
-        try:
-            combined = result.layers[0].passes.find_by_name("Combined", "")
-            combined.rect = mainthread.call(read_pixels, final, give_up=give_up)
-            if settings.variance_pass:
-                variance = result.layers[0].passes.find_by_name("Variance", "")
-                var_path = final[: -len(".exr")] + ".var.exr"
-                variance.rect = mainthread.call(read_pixels, var_path, give_up=give_up)[:, :3]
-        except mainthread.Abandoned:
-            self.end_result(result)
-            return
+        loaded = self._load_final(result, final, settings.variance_pass)
         self.end_result(result)
+        if not loaded:
+            return
         summary = stdout.strip().splitlines()
         self.update_stats("", f"fenestra: {summary[0]}" if summary else "fenestra: done")
         if settings.reference:
@@ -127,6 +101,48 @@ class FenestraRenderEngine(bpy.types.RenderEngine):
         if scene.fenestra.keep_files:
             return folder
         return tempfile.mkdtemp(prefix="fenestra-report-")
+
+    def _watch(self, fenestra, result, output, integrator, time_limit):
+        """Follows fenestra until it exits: progress and ETA, warnings, snapshots into the
+        render result; Esc stops it. Returns whether it was stopped and the warnings shown."""
+        shown, reported, stopped = 0.0, 0, False
+        while fenestra.running():
+            time.sleep(POLL_S)
+            if not stopped and self.stop_requested():
+                fenestra.stop()
+                stopped = True
+                self.update_stats("", "fenestra: stopping, keeping the image so far")
+            reported = self._report_warnings(fenestra, reported)
+            if not stopped:
+                f, left = run.fraction(fenestra.snapshot(), time_limit)
+                self.update_progress(f)
+                eta = f", {left:.0f} s left" if left is not None else ""
+                self.update_stats("", f"fenestra {integrator}: {100 * f:.0f}%{eta}")
+                shown = self._show_snapshot(result, output, shown)
+        return stopped, reported
+
+    def _report_warnings(self, fenestra, reported):
+        """Reports fenestra's warnings after the first `reported`; how many there are."""
+        warnings = fenestra.snapshot().warnings
+        for w in warnings[reported:]:
+            self.report({"WARNING"}, f"fenestra: {w}")
+        return len(warnings)
+
+    def _load_final(self, result, final, variance_pass):
+        """fenestra's final image (and variance) into the render result; False if Blender
+        is quitting: it stops the render and then waits for it on the main thread, which
+        then loads no image (after a few seconds the image is left on disk)."""
+        give_up = mainthread.deadline(5.0)
+        try:
+            pixels = mainthread.call(read_pixels, final, give_up=give_up)
+            result.layers[0].passes.find_by_name("Combined", "").rect = pixels
+            if variance_pass:
+                var_path = final[: -len(".exr")] + ".var.exr"
+                variance = mainthread.call(read_pixels, var_path, give_up=give_up)
+                result.layers[0].passes.find_by_name("Variance", "").rect = variance[:, :3]
+        except mainthread.Abandoned:
+            return False
+        return True
 
     def stop_requested(self):
         """Whether the user pressed Esc (the one place that asks Blender)."""
