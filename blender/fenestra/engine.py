@@ -85,12 +85,17 @@ class FenestraRenderEngine(bpy.types.RenderEngine):
             from . import report  # only for renders measured against a reference
 
             path = report.write(
-                binary, self._report_folder(scene, folder), final,
+                binary,
+                self._report_folder(scene, folder),
+                final,
                 bpy.path.abspath(settings.reference),
             )
             # The evaluated scene is a copy: the button reads the original's.
             mainthread.call(
-                setattr, scene.original.fenestra, "last_report", path,
+                setattr,
+                scene.original.fenestra,
+                "last_report",
+                path,
                 give_up=mainthread.deadline(5.0),
             )
 
@@ -194,10 +199,19 @@ def read_pixels(path):
 def compatible_panels():
     """Cycles' panels that describe what fenestra reads too (camera, lights, world, materials)."""
     wanted = (
-        "DATA_PT_lens", "DATA_PT_camera", "DATA_PT_camera_dof", "DATA_PT_light",
-        "DATA_PT_EEVEE_light", "DATA_PT_area", "DATA_PT_spot", "WORLD_PT_context_world",
-        "EEVEE_MATERIAL_PT_surface", "MATERIAL_PT_preview", "RENDER_PT_format",
-        "RENDER_PT_dimensions", "RENDER_PT_color_management",
+        "DATA_PT_lens",
+        "DATA_PT_camera",
+        "DATA_PT_camera_dof",
+        "DATA_PT_light",
+        "DATA_PT_EEVEE_light",
+        "DATA_PT_area",
+        "DATA_PT_spot",
+        "WORLD_PT_context_world",
+        "EEVEE_MATERIAL_PT_surface",
+        "MATERIAL_PT_preview",
+        "RENDER_PT_format",
+        "RENDER_PT_dimensions",
+        "RENDER_PT_color_management",
     )
     for name in wanted:
         panel = getattr(bpy.types, name, None)

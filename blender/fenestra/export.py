@@ -79,8 +79,16 @@ def _material_notes(scene):
             if m is None or m.name in seen:
                 continue
             seen.add(m.name)
-            out = next((n for n in m.node_tree.nodes if n.type == "OUTPUT_MATERIAL"), None) if m.node_tree else None
-            src = out.inputs["Surface"].links[0].from_node if out and out.inputs["Surface"].is_linked else None
+            out = (
+                next((n for n in m.node_tree.nodes if n.type == "OUTPUT_MATERIAL"), None)
+                if m.node_tree
+                else None
+            )
+            src = (
+                out.inputs["Surface"].links[0].from_node
+                if out and out.inputs["Surface"].is_linked
+                else None
+            )
             if src is not None and src.type not in ("BSDF_PRINCIPLED", "EMISSION"):
                 notes.append(
                     f"material {m.name}: its surface is a {src.bl_label} node, which glTF cannot "
@@ -92,7 +100,12 @@ def _material_notes(scene):
 def _light_notes(scene):
     notes = []
     for obj in scene.objects:
-        if obj.type == "LIGHT" and not obj.hide_render and obj.data.type == "AREA" and not portals.is_portal(obj):
+        if (
+            obj.type == "LIGHT"
+            and not obj.hide_render
+            and obj.data.type == "AREA"
+            and not portals.is_portal(obj)
+        ):
             notes.append(
                 f"area light {obj.name} is not carried over (glTF has no area lights): "
                 "use an emissive mesh instead"
@@ -103,7 +116,11 @@ def _light_notes(scene):
 def _export_glb(scene, view_layer, path):
     """Blender's glTF exporter on `scene` (main thread only: in F12's worker thread its
     context is missing)."""
-    window = bpy.context.window_manager.windows[0] if bpy.context.window_manager and bpy.context.window_manager.windows else None
+    window = (
+        bpy.context.window_manager.windows[0]
+        if bpy.context.window_manager and bpy.context.window_manager.windows
+        else None
+    )
     override = {"scene": scene, "view_layer": view_layer}
     if window is not None:
         override["window"] = window
@@ -135,7 +152,9 @@ def export(scene, view_layer, folder, portal_flags=True, give_up=None):
     if scene.camera is None:
         raise RuntimeError("the scene has no active camera")
     if scene.camera.data.type != "PERSP":
-        raise RuntimeError(f"the active camera is {scene.camera.data.type.lower()}; fenestra renders perspective cameras")
+        raise RuntimeError(
+            f"the active camera is {scene.camera.data.type.lower()}; fenestra renders perspective cameras"
+        )
     glb = os.path.join(folder, "scene.glb")
     mainthread.call(_export_glb, scene, view_layer, glb, give_up=give_up)
     width, height = resolution(scene)
@@ -150,7 +169,9 @@ def export(scene, view_layer, folder, portal_flags=True, give_up=None):
         if settings.portals == "scene":
             portal_file = os.path.join(folder, "portals.json")
             if portals.write_scene_portals(scene.objects, portal_file) == 0:
-                raise RuntimeError("Portals is set to Scene but the scene has no Cycles portal light")
+                raise RuntimeError(
+                    "Portals is set to Scene but the scene has no Cycles portal light"
+                )
             exported.portal_flags = ["--portals", portal_file]
         else:
             exported.portal_flags = ["--portals", "auto"]
@@ -160,10 +181,15 @@ def export(scene, view_layer, folder, portal_flags=True, give_up=None):
 def render_command(binary, exported, settings, output):
     """The `fenestra render` command line for an export, writing `output`."""
     return [
-        binary, "render", exported.glb, "-o", output,
+        binary,
+        "render",
+        exported.glb,
+        "-o",
+        output,
         *exported.scene_flags,
         *properties.render_flags(settings),
         *(["--reference", bpy.path.abspath(settings.reference)] if settings.reference else []),
-        "--snapshot-every", f"{settings.snapshot_every:g}",
+        "--snapshot-every",
+        f"{settings.snapshot_every:g}",
         "--progress-lines",
     ]

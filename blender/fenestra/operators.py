@@ -30,7 +30,9 @@ class FENESTRA_OT_estimate_portals(bpy.types.Operator):
             self.report({"ERROR"}, f"fenestra: {e}")
             return {"CANCELLED"}
         if not added:
-            self.report({"WARNING"}, "fenestra found no portal: light does not come in through openings")
+            self.report(
+                {"WARNING"}, "fenestra found no portal: light does not come in through openings"
+            )
         else:
             self.report({"INFO"}, f"fenestra: added {len(added)} portal lights")
         return {"FINISHED"}
@@ -42,8 +44,19 @@ def estimate(binary, scene, view_layer, folder):
     exported = export.export(scene, view_layer, folder, portal_flags=False)
     out = os.path.join(folder, "estimated-portals.json")
     subprocess.run(
-        [binary, "portals", exported.glb, "-o", out, "-q", *exported.camera_flags, *exported.world_flags],
-        check=True, capture_output=True, text=True,
+        [
+            binary,
+            "portals",
+            exported.glb,
+            "-o",
+            out,
+            "-q",
+            *exported.camera_flags,
+            *exported.world_flags,
+        ],
+        check=True,
+        capture_output=True,
+        text=True,
     )
     with open(out) as f:
         records = json.load(f)["portals"]

@@ -38,7 +38,9 @@ def write(binary, folder, image, reference):
     os.makedirs(folder, exist_ok=True)
     out = subprocess.run(
         [binary, "compare", "--ref", reference, image, "--json", "--error-maps"],
-        check=True, capture_output=True, text=True,
+        check=True,
+        capture_output=True,
+        text=True,
     )
     figures = json.loads(out.stdout)[0]
     stem = image[: -len(".exr")]

@@ -70,7 +70,7 @@ class Fenestra:
                     p.total = 0 if parts[2] == "-" else int(parts[2])
                     p.seconds = float(parts[3])
                 elif line.startswith("warning: "):
-                    self.progress.warnings.append(line[len("warning: "):])
+                    self.progress.warnings.append(line[len("warning: ") :])
                 else:
                     self.progress.log.append(line)
 

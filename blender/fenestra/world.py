@@ -119,7 +119,10 @@ def world_flags(world, folder):
         notes.append("the world's Strength is driven by nodes: its value field is used")
     texture, _ = _linked_from(background.inputs["Color"])
     if texture is None:
-        return _constant(tuple(background.inputs["Color"].default_value)[:3], strength, folder), notes
+        return (
+            _constant(tuple(background.inputs["Color"].default_value)[:3], strength, folder),
+            notes,
+        )
     if texture.type == "TEX_SKY":
         flags = ["--sky", "--sun", sun_flag(sun_direction(texture))]
         if texture.sky_type in ("PREETHAM", "HOSEK_WILKIE"):
@@ -143,12 +146,17 @@ def world_flags(world, folder):
         if texture.image is None:
             raise WorldError("the world's Environment Texture has no image")
         if texture.projection != "EQUIRECTANGULAR":
-            raise WorldError("the world's Environment Texture is a mirror ball; fenestra reads equirectangular")
+            raise WorldError(
+                "the world's Environment Texture is a mirror ball; fenestra reads equirectangular"
+            )
         turn = math.degrees(_mapping_turn(texture))
         flags = [
-            "--environment", _hdri_for_fenestra(texture.image, folder),
-            "--environment-rotation", f"{(-180.0 - turn) % 360.0:.6f}",
-            "--environment-up", "y",
+            "--environment",
+            _hdri_for_fenestra(texture.image, folder),
+            "--environment-rotation",
+            f"{(-180.0 - turn) % 360.0:.6f}",
+            "--environment-up",
+            "y",
         ]
         if strength != 1.0:
             flags += ["--environment-strength", f"{strength:g}"]

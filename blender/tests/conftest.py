@@ -24,8 +24,9 @@ import bpy  # noqa: E402  (after the user folder is set)
 def _install_addon():
     folder = pathlib.Path(tempfile.mkdtemp(prefix="fenestra-addon-zip-"))
     zip_path = folder / "fenestra-blender.zip"
-    subprocess.run([str(REPO / "scripts/blender-addon-zip"), str(zip_path)], check=True,
-                   capture_output=True)
+    subprocess.run(
+        [str(REPO / "scripts/blender-addon-zip"), str(zip_path)], check=True, capture_output=True
+    )
     bpy.ops.preferences.addon_install(filepath=str(zip_path), overwrite=True)
     bpy.ops.preferences.addon_enable(module="fenestra")
 

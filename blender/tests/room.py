@@ -24,7 +24,9 @@ def _material(name, color, metallic=0.0, roughness=0.5, transmission=0.0):
     bsdf.inputs["Metallic"].default_value = metallic
     bsdf.inputs["Roughness"].default_value = roughness
     # "Transmission" before Blender 4.0.
-    bsdf.inputs.get("Transmission Weight", bsdf.inputs.get("Transmission")).default_value = transmission
+    bsdf.inputs.get("Transmission Weight", bsdf.inputs.get("Transmission")).default_value = (
+        transmission
+    )
     return m
 
 

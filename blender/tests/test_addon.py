@@ -181,9 +181,9 @@ def test_an_hdri_stands_where_cycles_shows_it(workdir):
         _look(scene, (math.cos(math.radians(75 - turn)), math.sin(math.radians(75 - turn)), 0))
         cycles, ours = _both(scene, workdir, f"hdri-{turn:g}")
         for colour in (0, 2):
-            assert _centroid(ours, colour) == pytest.approx(_centroid(cycles, colour), abs=1.5), (
-                f"turn {turn}: colour {colour} not where Cycles puts it"
-            )
+            assert _centroid(ours, colour) == pytest.approx(
+                _centroid(cycles, colour), abs=1.5
+            ), f"turn {turn}: colour {colour} not where Cycles puts it"
 
 
 def test_the_sun_stands_where_cycles_puts_it(workdir):
@@ -199,7 +199,9 @@ def test_the_sun_stands_where_cycles_puts_it(workdir):
     cycles, ours = _both(scene, workdir, "sun")
     brightest = [np.unravel_index(np.argmax(img.sum(-1)), img.shape[:2]) for img in (cycles, ours)]
     assert brightest[0][1] > 32, "Cycles' sun is not right of the middle: the camera setup is off"
-    assert abs(brightest[0][0] - brightest[1][0]) <= 2 and abs(brightest[0][1] - brightest[1][1]) <= 2, brightest
+    assert (
+        abs(brightest[0][0] - brightest[1][0]) <= 2 and abs(brightest[0][1] - brightest[1][1]) <= 2
+    ), brightest
 
 
 def test_a_variance_pass_and_a_report_against_a_reference(workdir, fenestra_bin):
@@ -221,7 +223,8 @@ def test_a_variance_pass_and_a_report_against_a_reference(workdir, fenestra_bin)
     bpy.ops.render.render(write_still=True)
     # Blender 5 writes a part per pass, Blender 4 one part with "ViewLayer.Variance.R" etc.
     channels = {
-        name: c for part in OpenEXR.File(str(workdir / "layers.exr")).parts
+        name: c
+        for part in OpenEXR.File(str(workdir / "layers.exr")).parts
         for name, c in part.channels.items()
     }
     variance = [name for name in channels if name.startswith("ViewLayer.Variance")]
@@ -229,7 +232,9 @@ def test_a_variance_pass_and_a_report_against_a_reference(workdir, fenestra_bin)
     shown = channels[variance[0]].pixels
     ours = exr(workdir / "kept" / "render.var.exr")
     assert ours.mean() > 0
-    assert np.array_equal(np.asarray(shown)[..., :3], ours), "the Variance pass differs from fenestra's"
+    assert np.array_equal(
+        np.asarray(shown)[..., :3], ours
+    ), "the Variance pass differs from fenestra's"
     report = scene.fenestra.last_report
     assert report.endswith("report.html")
     page = open(report).read()
@@ -246,7 +251,9 @@ def test_world_flags_for_each_kind_of_world(workdir):
     sky.turbidity = 4.5
     flags, _ = world.world_flags(scene.world, str(workdir))
     assert flags[flags.index("--sun") + 1] == "45.0000,90.0000"
-    assert flags[flags.index("--sun-strength") + 1] == "0", "Cycles' Hosek-Wilkie sky has no sun disk"
+    assert (
+        flags[flags.index("--sun-strength") + 1] == "0"
+    ), "Cycles' Hosek-Wilkie sky has no sun disk"
     assert flags[flags.index("--sky-turbidity") + 1] == "4.5"
 
     nodes = scene.world.node_tree.nodes

@@ -1,6 +1,7 @@
 """Screenshots of the add-on at work (run by scripts/blender-screenshots in Blender's
 window under Xvfb): F12 as a user presses it, the windows captured 3, 15 and 45 s later;
 then a second F12 and Blender quit 5 s into it, to show nothing is left running."""
+
 import sys
 import time
 
