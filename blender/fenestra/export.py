@@ -9,7 +9,7 @@ from dataclasses import dataclass, field
 
 import bpy
 
-from . import mainthread, portals, properties, world
+from . import area_lights, mainthread, portals, properties, world
 
 
 @dataclass
@@ -97,22 +97,6 @@ def _material_notes(scene):
     return notes
 
 
-def _light_notes(scene):
-    notes = []
-    for obj in scene.objects:
-        if (
-            obj.type == "LIGHT"
-            and not obj.hide_render
-            and obj.data.type == "AREA"
-            and not portals.is_portal(obj)
-        ):
-            notes.append(
-                f"area light {obj.name} is not carried over (glTF has no area lights): "
-                "use an emissive mesh instead"
-            )
-    return notes
-
-
 def _export_glb(scene, view_layer, path):
     """Blender's glTF exporter on `scene` (main thread only: in F12's worker thread its
     context is missing)."""
@@ -159,7 +143,7 @@ def export(scene, view_layer, folder, portal_flags=True, give_up=None):
     mainthread.call(_export_glb, scene, view_layer, glb, give_up=give_up)
     width, height = resolution(scene)
     world_flags, notes = world.world_flags(scene.world, folder)
-    notes += _material_notes(scene) + _light_notes(scene)
+    notes += _material_notes(scene) + area_lights.append_to_glb(glb, scene.objects)
     cam = scene.camera.data
     if cam.shift_x or cam.shift_y:
         notes.append("the camera's shift is not carried over (glTF has no lens shift)")

@@ -296,3 +296,48 @@ def test_work_for_a_busy_main_thread_is_given_up():
     worker.join(5.0)
     assert not worker.is_alive(), "the render thread waited for the main thread for good"
     assert outcome and not ran
+
+
+def test_area_lights_light_a_floor_as_cycles_lights_it(workdir):
+    # glTF has no area lights: the add-on adds each as an emitting polygon (colour x power /
+    # (pi x area), facing the light's -Z). A rough grey floor under a warm rectangle and a
+    # disk, direct light only (the lights' units, not the materials'), the lights out of
+    # view (Cycles hides lights from camera rays by default, fenestra's polygons are seen):
+    # each channel's mean as Cycles renders it, within 2%.
+    bpy.ops.wm.read_homefile(use_empty=True)
+    scene = bpy.context.scene
+    floor = bpy.data.meshes.new("floor")
+    floor.from_pydata([(-5, -5, 0), (5, -5, 0), (5, 5, 0), (-5, 5, 0)], [], [(0, 1, 2, 3)])
+    grey = room.use_nodes(bpy.data.materials.new("grey"))
+    bsdf = grey.node_tree.nodes["Principled BSDF"]
+    bsdf.inputs["Base Color"].default_value = (0.5, 0.5, 0.5, 1.0)
+    bsdf.inputs["Roughness"].default_value = 1.0
+    floor.materials.append(grey)
+    scene.collection.objects.link(bpy.data.objects.new("floor", floor))
+    for name, shape, location, energy, colour in (
+        ("panel", "RECTANGLE", (0.0, 0.4, 1.0), 100.0, (1.0, 0.8, 0.5)),
+        ("round", "DISK", (0.0, -0.6, 0.8), 40.0, (0.6, 0.8, 1.0)),
+    ):
+        light = bpy.data.lights.new(name, "AREA")
+        light.shape, light.size, light.energy, light.color = shape, 0.5, energy, colour
+        if shape == "RECTANGLE":
+            light.size_y = 0.25
+        obj = bpy.data.objects.new(name, light)
+        obj.location = location  # emitting down (-Z), as a new area light does
+        scene.collection.objects.link(obj)
+    camera = bpy.data.objects.new("camera", bpy.data.cameras.new("camera"))
+    camera.location, camera.data.lens = (1.2, 0.0, 3.0), 50  # looks down beside the lights
+    scene.collection.objects.link(camera)
+    scene.camera = camera
+    scene.render.resolution_x = scene.render.resolution_y = 32
+    scene.render.resolution_percentage = 100
+    scene.render.engine = "CYCLES"
+    scene.cycles.samples, scene.cycles.max_bounces, scene.cycles.use_denoising = 512, 0, False
+    cycles = render(scene, workdir / "area-cycles.exr")
+    scene.render.engine = "FENESTRA"
+    scene.fenestra.integrator, scene.fenestra.samples, scene.fenestra.max_depth = "af_hf", 512, 2
+    ours = render(scene, workdir / "area-fenestra.exr")
+    assert cycles.max() < 50, "a light is in view: the test's setup is off"
+    assert cycles.mean() > 0.05, "Cycles sees no light: the test's setup is off"
+    ratio = ours.mean(axis=(0, 1)) / cycles.mean(axis=(0, 1))
+    assert np.all(np.abs(ratio - 1) < 0.02), f"fenestra/Cycles per channel: {ratio}"
