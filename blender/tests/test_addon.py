@@ -393,3 +393,35 @@ def test_principled_dielectrics_reflect_as_in_cycles(workdir, base, roughness):
     _add_light(scene, "AREA", (0.0, 0.4, 1.0), 100.0, (1.0, 1.0, 1.0), size=0.5)
     ratio = _fenestra_over_cycles(scene, workdir, f"principled-{base}-{roughness}")
     assert np.all(np.abs(ratio - 1) < 0.02), f"fenestra/Cycles per channel: {ratio}"
+
+
+def test_the_zip_installs_as_a_blender_4_2_extension_too(tmp_path):
+    # Blender 4.2+ installs add-ons as extensions (the zip's blender_manifest.toml), under
+    # a dotted module name: in a process of its own, so as not to register fenestra twice.
+    import os
+    import sys
+
+    zip_path = tmp_path / "fenestra.zip"
+    subprocess.run(
+        [str(conftest_repo() / "scripts/blender-addon-zip"), str(zip_path)],
+        check=True,
+        capture_output=True,
+    )
+    script = f"""
+import bpy
+result = bpy.ops.extensions.package_install_files(
+    filepath={str(zip_path)!r}, repo="user_default", enable_on_install=True)
+assert result == {{"FINISHED"}}, result
+assert "bl_ext.user_default.fenestra" in bpy.context.preferences.addons.keys()
+bpy.context.scene.render.engine = "FENESTRA"
+print("installed as an extension")
+"""
+    env = dict(os.environ, BLENDER_USER_RESOURCES=str(tmp_path / "user"))
+    out = subprocess.run([sys.executable, "-c", script], env=env, capture_output=True, text=True)
+    assert "installed as an extension" in out.stdout, out.stdout + out.stderr
+
+
+def conftest_repo():
+    import conftest
+
+    return conftest.REPO
