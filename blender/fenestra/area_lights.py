@@ -120,7 +120,12 @@ def _add_mesh(doc, blob, points, indices, name, colour, strength):
         }
     )
     accessors.append(
-        {"bufferView": view(indices), "componentType": 5125, "count": len(indices), "type": "SCALAR"}
+        {
+            "bufferView": view(indices),
+            "componentType": 5125,
+            "count": len(indices),
+            "type": "SCALAR",
+        }
     )
     materials = doc.setdefault("materials", [])
     materials.append(

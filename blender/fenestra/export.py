@@ -9,7 +9,7 @@ from dataclasses import dataclass, field
 
 import bpy
 
-from . import area_lights, mainthread, portals, properties, world
+from . import area_lights, mainthread, materials, portals, properties, world
 
 
 @dataclass
@@ -68,35 +68,6 @@ def _camera_flag(glb, camera):
     return ["--camera", name]
 
 
-def _material_notes(scene):
-    """What glTF cannot say of the renderable objects' materials."""
-    notes, seen = [], set()
-    for obj in scene.objects:
-        if obj.hide_render or obj.type not in ("MESH", "CURVE", "SURFACE", "META", "FONT"):
-            continue
-        for slot in obj.material_slots:
-            m = slot.material
-            if m is None or m.name in seen:
-                continue
-            seen.add(m.name)
-            out = (
-                next((n for n in m.node_tree.nodes if n.type == "OUTPUT_MATERIAL"), None)
-                if m.node_tree
-                else None
-            )
-            src = (
-                out.inputs["Surface"].links[0].from_node
-                if out and out.inputs["Surface"].is_linked
-                else None
-            )
-            if src is not None and src.type not in ("BSDF_PRINCIPLED", "EMISSION"):
-                notes.append(
-                    f"material {m.name}: its surface is a {src.bl_label} node, which glTF cannot "
-                    "express (exported as Blender's glTF exporter approximates it)"
-                )
-    return notes
-
-
 def _export_glb(scene, view_layer, path):
     """Blender's glTF exporter on `scene` (main thread only: in F12's worker thread its
     context is missing)."""
@@ -143,7 +114,7 @@ def export(scene, view_layer, folder, portal_flags=True, give_up=None):
     mainthread.call(_export_glb, scene, view_layer, glb, give_up=give_up)
     width, height = resolution(scene)
     world_flags, notes = world.world_flags(scene.world, folder)
-    notes += _material_notes(scene) + area_lights.append_to_glb(glb, scene.objects)
+    notes += materials.notes(scene) + area_lights.append_to_glb(glb, scene.objects)
     cam = scene.camera.data
     if cam.shift_x or cam.shift_y:
         notes.append("the camera's shift is not carried over (glTF has no lens shift)")

@@ -425,3 +425,32 @@ def conftest_repo():
     import conftest
 
     return conftest.REPO
+
+
+def test_what_gltf_cannot_carry_of_a_material_is_said():
+    from fenestra import materials
+
+    scene = room.build()
+    white = bpy.data.materials["white wall"]
+    nodes, links = white.node_tree.nodes, white.node_tree.links
+    principled = nodes["Principled BSDF"]
+    noise = nodes.new("ShaderNodeTexNoise")
+    links.new(noise.outputs["Color"], principled.inputs["Base Color"])
+    output = next(n for n in nodes if n.type == "OUTPUT_MATERIAL")
+    displacement = nodes.new("ShaderNodeDisplacement")
+    links.new(displacement.outputs[0], output.inputs["Displacement"])
+    glass = bpy.data.materials["glass"]
+    image = glass.node_tree.nodes.new("ShaderNodeTexImage")
+    image.image = bpy.data.images.new("paint", 4, 4)
+    glass.node_tree.links.new(
+        image.outputs["Color"], glass.node_tree.nodes["Principled BSDF"].inputs["Base Color"]
+    )
+    metal = bpy.data.materials["glossy metal"]
+    diffuse = metal.node_tree.nodes.new("ShaderNodeBsdfDiffuse")
+    metal_out = next(n for n in metal.node_tree.nodes if n.type == "OUTPUT_MATERIAL")
+    metal.node_tree.links.new(diffuse.outputs[0], metal_out.inputs["Surface"])
+    said = materials.notes(scene)
+    assert any("white wall: its Base Color comes through Noise Texture" in n for n in said), said
+    assert any("white wall: its displacement is not carried" in n for n in said), said
+    assert any("glossy metal: its surface is a Diffuse BSDF node" in n for n in said), said
+    assert not any(n.startswith("material glass") for n in said), "an image texture is carried"
