@@ -3,13 +3,11 @@ each becomes a one-sided square, rectangle, disk or ellipse (a 32-gon) where the
 facing its -Z, emitting the radiance Cycles gives it: its colour times its power over pi
 times its area. They are appended to the .glb the exporter wrote."""
 
-import json
 import math
-import struct
 
 import numpy as np
 
-from . import portals
+from . import glb, portals
 
 # Sides of the polygon standing for a disk or an ellipse.
 ROUND_SIDES = 32
@@ -58,14 +56,8 @@ def append_to_glb(path, objects):
     lights = [o for o in objects if carried(o)]
     if not lights:
         return []
-    with open(path, "rb") as f:
-        data = f.read()
-    magic, version, _ = struct.unpack_from("<III", data, 0)
-    json_len, _ = struct.unpack_from("<II", data, 12)
-    doc = json.loads(data[20 : 20 + json_len])
-    at = 20 + json_len
-    bin_len, _ = struct.unpack_from("<II", data, at) if at < len(data) else (0, 0)
-    blob = bytearray(data[at + 8 : at + 8 + bin_len])
+    version, doc, blob = glb.read(path)
+    blob = bytearray(blob)
     notes = []
     for obj in lights:
         points, area = polygon(obj)
@@ -91,7 +83,7 @@ def append_to_glb(path, objects):
         doc["buffers"][0]["byteLength"] = len(blob)
     else:
         doc["buffers"] = [{"byteLength": len(blob)}]
-    _write_glb(path, version, doc, blob)
+    glb.write(path, version, doc, blob)
     return notes
 
 
@@ -149,14 +141,3 @@ def _add_mesh(doc, blob, points, indices, name, colour, strength):
         }
     )
     return len(doc["meshes"]) - 1
-
-
-def _write_glb(path, version, doc, blob):
-    text = json.dumps(doc, separators=(",", ":")).encode()
-    text += b" " * (-len(text) % 4)
-    blob = bytes(blob) + b"\0" * (-len(blob) % 4)
-    total = 12 + 8 + len(text) + 8 + len(blob)
-    with open(path, "wb") as f:
-        f.write(struct.pack("<III", 0x46546C67, version, total))
-        f.write(struct.pack("<II", len(text), 0x4E4F534A) + text)
-        f.write(struct.pack("<II", len(blob), 0x004E4942) + blob)

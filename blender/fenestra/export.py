@@ -2,14 +2,12 @@
 exporter (modifiers applied, instances kept as shared meshes), plus the command line that
 carries what glTF cannot hold (world, portals, resolution, camera)."""
 
-import json
 import os
-import struct
 from dataclasses import dataclass, field
 
 import bpy
 
-from . import area_lights, mainthread, materials, portals, properties, world
+from . import area_lights, glb, mainthread, materials, portals, properties, world
 
 
 @dataclass
@@ -40,19 +38,9 @@ def resolution(scene):
     )
 
 
-def _glb_json(path):
-    """The JSON chunk of a .glb file."""
-    with open(path, "rb") as f:
-        header = f.read(12)
-        if header[:4] != b"glTF":
-            raise RuntimeError(f"{path} is not a binary glTF file")
-        length, kind = struct.unpack("<II", f.read(8))
-        return json.loads(f.read(length))
-
-
-def _camera_flag(glb, camera):
+def _camera_flag(path, camera):
     """`--camera NAME` picking the active camera in the exported file."""
-    doc = _glb_json(glb)
+    doc = glb.read(path)[1]
     cams = doc.get("cameras", [])
     nodes = [n for n in doc.get("nodes", []) if "camera" in n]
     mine = [n for n in nodes if n.get("name") == camera.name]
@@ -110,15 +98,17 @@ def export(scene, view_layer, folder, portal_flags=True, give_up=None):
         raise RuntimeError(
             f"the active camera is {scene.camera.data.type.lower()}; fenestra renders perspective cameras"
         )
-    glb = os.path.join(folder, "scene.glb")
-    mainthread.call(_export_glb, scene, view_layer, glb, give_up=give_up)
+    scene_file = os.path.join(folder, "scene.glb")
+    mainthread.call(_export_glb, scene, view_layer, scene_file, give_up=give_up)
     width, height = resolution(scene)
     world_flags, notes = world.world_flags(scene.world, folder)
-    notes += materials.notes(scene) + area_lights.append_to_glb(glb, scene.objects)
+    notes += materials.notes(scene) + area_lights.append_to_glb(scene_file, scene.objects)
     cam = scene.camera.data
     if cam.shift_x or cam.shift_y:
         notes.append("the camera's shift is not carried over (glTF has no lens shift)")
-    exported = Export(glb, width, height, _camera_flag(glb, scene.camera), world_flags, notes=notes)
+    exported = Export(
+        scene_file, width, height, _camera_flag(scene_file, scene.camera), world_flags, notes=notes
+    )
     settings = scene.fenestra
     if portal_flags and settings.integrator == "lp_hf":
         if settings.portals == "scene":
