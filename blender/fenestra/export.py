@@ -101,7 +101,8 @@ def export(scene, view_layer, folder, portal_flags=True, give_up=None):
     scene_file = os.path.join(folder, "scene.glb")
     mainthread.call(_export_glb, scene, view_layer, scene_file, give_up=give_up)
     width, height = resolution(scene)
-    world_flags, notes = world.world_flags(scene.world, folder)
+    # On the main thread too: an environment image's pixels may have to be loaded.
+    world_flags, notes = mainthread.call(world.world_flags, scene.world, folder, give_up=give_up)
     notes += materials.notes(scene) + area_lights.append_to_glb(scene_file, scene.objects)
     cam = scene.camera.data
     if cam.shift_x or cam.shift_y:
