@@ -50,9 +50,12 @@ class FenestraRenderEngine(bpy.types.RenderEngine):
         for note in exported.notes:
             self.report({"WARNING"}, f"fenestra: {note}")
         output = os.path.join(folder, "render.exr")
-        for stale in (output, self._interrupted(output), output[: -len(".exr")] + ".var.exr"):
-            if os.path.exists(stale):  # a kept folder's last render
-                os.remove(stale)
+        # A kept folder's last render goes: its sidecar saying "complete" would send this
+        # render's snapshots beside it (fenestra never overwrites a complete render with a
+        # partial one), where the Render window does not look.
+        for name in os.listdir(folder):
+            if name.startswith("render."):
+                os.remove(os.path.join(folder, name))
         command = export.render_command(binary, exported, settings, output)
         with open(os.path.join(folder, "command.txt"), "w") as f:
             f.write(shlex.join(command) + "\n")

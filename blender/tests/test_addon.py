@@ -454,3 +454,26 @@ def test_what_gltf_cannot_carry_of_a_material_is_said():
     assert any("white wall: its displacement is not carried" in n for n in said), said
     assert any("glossy metal: its surface is a Diffuse BSDF node" in n for n in said), said
     assert not any(n.startswith("material glass") for n in said), "an image texture is carried"
+
+
+def test_a_kept_folder_shows_the_new_renders_snapshots(workdir, monkeypatch):
+    # A kept folder holds the last complete render; fenestra never overwrites a complete
+    # render with a partial one, so unless the engine clears the folder the new render's
+    # snapshots go beside it and the Render window shows nothing until the end.
+    scene = room.build(samples=4)
+    scene.fenestra.integrator = "af_hf"
+    scene.fenestra.keep_files = str(workdir / "kept")
+    render(scene, workdir / "first.exr")
+    scene.fenestra.samples, scene.fenestra.time_limit = 1_000_000, 3.0
+    shown = []
+    show = fenestra_engine.FenestraRenderEngine._show_snapshot
+
+    def counting(self, result, output, last):
+        new = show(self, result, output, last)
+        if new != last:
+            shown.append(new)
+        return new
+
+    monkeypatch.setattr(fenestra_engine.FenestraRenderEngine, "_show_snapshot", counting)
+    render(scene, workdir / "second.exr")
+    assert len(shown) >= 2, f"{len(shown)} images shown during a 3 s render refreshed every 0.2 s"

@@ -40,7 +40,7 @@ pub struct Estimate {
 }
 
 /// A linear RGB image.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, PartialEq)]
 pub struct Image {
     /// Width in pixels.
     pub width: usize,
@@ -48,6 +48,25 @@ pub struct Image {
     pub height: usize,
     /// Row-major, top row first.
     pub pixels: Vec<Rgb>,
+}
+
+/// Its size and a fingerprint of its pixels: a texture's millions of pixels printed one by
+/// one made keying a scene by its `Debug` form take seconds.
+impl std::fmt::Debug for Image {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let values = self
+            .pixels
+            .iter()
+            .flat_map(|p| [p.r, p.g, p.b].map(f32::to_bits));
+        f.debug_struct("Image")
+            .field("width", &self.width)
+            .field("height", &self.height)
+            .field(
+                "pixels",
+                &format_args!("{:016x}", crate::hash::fingerprint(values)),
+            )
+            .finish()
+    }
 }
 
 impl Image {

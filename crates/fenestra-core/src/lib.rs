@@ -6,6 +6,7 @@
 pub mod distribution;
 pub mod frame;
 pub mod fs;
+pub mod hash;
 pub mod image;
 pub mod mis;
 pub mod name;

@@ -1,36 +1,7 @@
-//! A stable 64-bit content hash (FNV-1a) that can digest `Debug` output as a stream, so a
-//! scene of millions of triangles is keyed without building one huge string.
+//! Keys of values by their `Debug` form, digested as a stream (large arrays print
+//! fingerprints: `fenestra_core::hash`).
 
-/// FNV-1a over bytes.
-#[derive(Clone, Copy, Debug)]
-pub struct Fnv64(u64);
-
-impl Default for Fnv64 {
-    fn default() -> Self {
-        Fnv64(0xcbf2_9ce4_8422_2325)
-    }
-}
-
-impl Fnv64 {
-    /// Digests `bytes`.
-    pub fn update(&mut self, bytes: &[u8]) {
-        for &b in bytes {
-            self.0 ^= b as u64;
-            self.0 = self.0.wrapping_mul(0x0000_0100_0000_01b3);
-        }
-    }
-    /// The hash so far.
-    pub fn finish(&self) -> u64 {
-        self.0
-    }
-}
-
-impl std::fmt::Write for Fnv64 {
-    fn write_str(&mut self, s: &str) -> std::fmt::Result {
-        self.update(s.as_bytes());
-        Ok(())
-    }
-}
+pub use fenestra_core::hash::Fnv64;
 
 /// Hash of a value's `Debug` form.
 pub fn debug_hash(value: &impl std::fmt::Debug) -> u64 {

@@ -2,11 +2,12 @@
 
 use crate::light::Emission;
 use crate::material::Relief;
+use fenestra_core::hash::fingerprint;
 use fenestra_core::{Ray, Vec2, Vec3};
 use std::sync::Arc;
 
 /// An indexed triangle mesh in world space.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Default)]
 pub struct TriangleMesh {
     /// Vertex positions.
     pub positions: Vec<Vec3>,
@@ -16,6 +17,29 @@ pub struct TriangleMesh {
     pub uvs: Option<Vec<Vec2>>,
     /// Vertex indices of each triangle.
     pub indices: Vec<[u32; 3]>,
+}
+
+/// Its sizes and fingerprints of its arrays (printed in full, a large mesh made keying a
+/// scene by its `Debug` form take seconds).
+impl std::fmt::Debug for TriangleMesh {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let indices = fingerprint(self.indices.iter().flatten().copied());
+        f.debug_struct("TriangleMesh")
+            .field("positions", &summary(&self.positions))
+            .field("normals", &self.normals.as_deref().map(summary))
+            .field("uvs", &self.uvs.as_deref().map(summary))
+            .field(
+                "indices",
+                &format!("{} ({indices:016x})", self.indices.len()),
+            )
+            .finish()
+    }
+}
+
+/// An array of vectors as its length and a fingerprint of its floats.
+fn summary<T: Copy + Into<[f32; N]>, const N: usize>(v: &[T]) -> String {
+    let words = v.iter().flat_map(|&p| p.into().map(f32::to_bits));
+    format!("{} ({:016x})", v.len(), fingerprint(words))
 }
 
 impl TriangleMesh {
@@ -361,6 +385,18 @@ pub fn intersect_disk(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_mesh_prints_its_sizes_and_fingerprints_that_any_change_changes() {
+        let mut mesh = TriangleMesh::quad(Vec3::ZERO, Vec3::X, Vec3::Y);
+        let before = format!("{mesh:?}");
+        assert!(before.contains("positions: \"4 (") && before.contains("indices: \"2 ("));
+        mesh.positions[3].z = 1e-7;
+        let moved = format!("{mesh:?}");
+        assert_ne!(moved, before);
+        mesh.indices[1].swap(1, 2);
+        assert_ne!(format!("{mesh:?}"), moved);
+    }
 
     #[test]
     fn sphere_hits_from_outside_and_inside() {
