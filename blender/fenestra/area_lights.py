@@ -59,8 +59,12 @@ def append_to_glb(path, objects):
     version, doc, blob = glb.read(path)
     blob = bytearray(blob)
     notes = []
+    added = 0
     for obj in lights:
         points, area = polygon(obj)
+        if not (area > 0 and obj.data.energy > 0):
+            notes.append(f"area light {obj.name} emits nothing (zero size or power): left out")
+            continue
         gltf_points = np.array([portals.to_gltf(p) for p in points], dtype=np.float32)
         n = len(gltf_points)
         indices = np.array([(0, k, k + 1) for k in range(1, n - 1)], dtype=np.uint32).ravel()
@@ -69,6 +73,7 @@ def append_to_glb(path, objects):
         mesh = _add_mesh(doc, blob, gltf_points, indices, obj.name, L / strength, strength)
         doc.setdefault("nodes", []).append({"name": f"{obj.name} (area light)", "mesh": mesh})
         doc["scenes"][doc.get("scene", 0)].setdefault("nodes", []).append(len(doc["nodes"]) - 1)
+        added += 1
         if obj.data.spread < math.pi - 1e-4:
             notes.append(
                 f"area light {obj.name}: its spread ({math.degrees(obj.data.spread):.0f} "
@@ -76,6 +81,8 @@ def append_to_glb(path, objects):
             )
         if obj.data.use_nodes:
             notes.append(f"area light {obj.name}: its node setup is not read (colour x power)")
+    if not added:
+        return notes
     used = doc.setdefault("extensionsUsed", [])
     if "KHR_materials_emissive_strength" not in used:
         used.append("KHR_materials_emissive_strength")

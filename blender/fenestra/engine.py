@@ -30,7 +30,7 @@ class FenestraRenderEngine(bpy.types.RenderEngine):
 
     def render(self, depsgraph):
         scene = depsgraph.scene
-        keep = bpy.path.abspath(scene.fenestra.keep_files) if scene.fenestra.keep_files else ""
+        keep = kept_folder(scene)
         if keep:
             os.makedirs(keep, exist_ok=True)
         folder = keep or tempfile.mkdtemp(prefix="fenestra-")
@@ -50,9 +50,10 @@ class FenestraRenderEngine(bpy.types.RenderEngine):
         for note in exported.notes:
             self.report({"WARNING"}, f"fenestra: {note}")
         output = os.path.join(folder, "render.exr")
-        # A kept folder's last render goes: its sidecar saying "complete" would send this
-        # render's snapshots beside it (fenestra never overwrites a complete render with a
-        # partial one), where the Render window does not look.
+        # A kept folder's last render goes (the folder is the add-on's own): its sidecar
+        # saying "complete" would send this render's snapshots beside it (fenestra never
+        # overwrites a complete render with a partial one), where the Render window does
+        # not look.
         for name in os.listdir(folder):
             if name.startswith("render."):
                 os.remove(os.path.join(folder, name))
@@ -184,6 +185,16 @@ class FenestraRenderEngine(bpy.types.RenderEngine):
             if os.path.exists(path):
                 return path
         return None
+
+
+def kept_folder(scene):
+    """Where Keep Files keeps a scene's render: a folder of the add-on's own inside the one
+    chosen ("fenestra-SCENE"), which it may clear: the user's own files beside it are never
+    touched. None without Keep Files."""
+    keep = scene.fenestra.keep_files
+    if not keep:
+        return None
+    return os.path.join(bpy.path.abspath(keep), f"fenestra-{bpy.path.clean_name(scene.name)}")
 
 
 def read_pixels(path):

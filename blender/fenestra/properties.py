@@ -73,8 +73,9 @@ class FenestraRenderSettings(bpy.types.PropertyGroup):
     )
     keep_files: bpy.props.StringProperty(
         name="Keep Files",
-        description="A folder to keep the exported scene, fenestra's images and its log in "
-        "(empty: a temporary folder, removed after the render)",
+        description="A folder to keep the exported scene, fenestra's images and its log in, "
+        "in a folder fenestra-SCENE of the add-on's own (empty: a temporary folder, removed "
+        "after the render)",
         subtype="DIR_PATH",
         default="",
     )

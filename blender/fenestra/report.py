@@ -4,6 +4,7 @@ after every pass, from the render's sidecar) and the pictures, as one HTML page.
 
 import html
 import json
+import math
 import os
 import shutil
 import subprocess
@@ -14,12 +15,15 @@ def _curve_svg(points, width=480, height=260):
     pts = [(p["time_s"], p["rel_mse"]) for p in points if p["time_s"] > 0 and p["rel_mse"] > 0]
     if len(pts) < 2:
         return "<p>Too few passes for a convergence curve.</p>"
-    import math
-
     xs, ys = [math.log10(t) for t, _ in pts], [math.log10(e) for _, e in pts]
     x0, x1, y0, y1 = min(xs), max(xs), min(ys), max(ys)
-    sx = lambda x: 50 + (width - 60) * (x - x0) / ((x1 - x0) or 1)  # noqa: E731
-    sy = lambda y: height - 40 - (height - 60) * (y - y0) / ((y1 - y0) or 1)  # noqa: E731
+
+    def sx(x):
+        return 50 + (width - 60) * (x - x0) / ((x1 - x0) or 1)
+
+    def sy(y):
+        return height - 40 - (height - 60) * (y - y0) / ((y1 - y0) or 1)
+
     path = " ".join(f"{sx(x):.1f},{sy(y):.1f}" for x, y in zip(xs, ys))
     return (
         f'<svg width="{width}" height="{height}" xmlns="http://www.w3.org/2000/svg" font-size="11">'

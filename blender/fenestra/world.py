@@ -95,6 +95,8 @@ def _hdri_for_fenestra(image, folder):
     """The image as fenestra reads environments (EXR/HDR/PFM), mirrored left to right: a PFM
     in `folder` written from Blender's float pixels (any format Blender reads)."""
     w, h = image.size
+    if w == 0:
+        raise WorldError(f"environment image {image.name} could not be loaded ({image.filepath})")
     if w != 2 * h:
         raise WorldError(
             f"environment image {image.name} is {w}x{h}; fenestra needs a 2:1 lat-long image"

@@ -3,6 +3,7 @@ exported scene bit for bit, Esc keeps the image so far, the portal operator find
 and the world arrives where Cycles puts it."""
 
 import math
+import pathlib
 import shlex
 import subprocess
 import time
@@ -32,6 +33,11 @@ def render(scene, path):
     return exr(path)
 
 
+def kept(scene):
+    """The folder Keep Files keeps `scene`'s render in."""
+    return pathlib.Path(fenestra_engine.kept_folder(scene))
+
+
 def kept_command(folder):
     return shlex.split((folder / "command.txt").read_text())
 
@@ -41,8 +47,8 @@ def test_the_engine_renders_what_the_cli_renders_of_the_exported_scene(workdir, 
     scene.fenestra.integrator = "lp_hf"
     scene.fenestra.keep_files = str(workdir / "kept")
     shown = render(scene, workdir / "blender.exr")
-    command = kept_command(workdir / "kept")
-    assert command[1:3] == ["render", str(workdir / "kept" / "scene.glb")]
+    command = kept_command(kept(scene))
+    assert command[1:3] == ["render", str(kept(scene) / "scene.glb")]
     # The same render by hand: the kept scene and flags, without the add-on's watching.
     cli = command[:4] + [str(workdir / "cli.exr")] + command[5:]
     cli.remove("--progress-lines")
@@ -53,7 +59,7 @@ def test_the_engine_renders_what_the_cli_renders_of_the_exported_scene(workdir, 
     assert shown.shape == (72, 96, 3)
     assert shown.mean() > 0.05, "the room renders dark: the sky or lamp did not arrive"
     assert np.array_equal(shown, by_hand), "Blender's render result differs from the CLI's image"
-    assert np.array_equal(exr(workdir / "kept" / "render.exr"), by_hand)
+    assert np.array_equal(exr(kept(scene) / "render.exr"), by_hand)
     # What the world and panel said became flags.
     assert "--sky" in command and "--portals" in command and "auto" in command
     assert command[command.index("--spp") + 1] == "8"
@@ -73,10 +79,10 @@ def test_escape_stops_fenestra_and_keeps_the_image_so_far(workdir, monkeypatch):
     shown = render(scene, workdir / "blender.exr")
     took = time.monotonic() - start
     assert took < 5.0, f"the render went on {took:.1f} s after Esc at 1 s"
-    log = (workdir / "kept" / "fenestra.log").read_text()
+    log = (kept(scene) / "fenestra.log").read_text()
     assert "interrupted" in log
     assert shown.mean() > 0.05, "the image so far was not kept"
-    assert np.array_equal(shown, exr(workdir / "kept" / "render.exr"))
+    assert np.array_equal(shown, exr(kept(scene) / "render.exr"))
 
 
 def test_estimate_portals_adds_a_portal_light_over_the_window(fenestra_bin):
@@ -212,7 +218,7 @@ def test_a_variance_pass_and_a_report_against_a_reference(workdir, fenestra_bin)
     render(scene, workdir / "reference.exr")
     scene.fenestra.samples = 4
     scene.fenestra.variance_pass = True
-    scene.fenestra.reference = str(workdir / "ref" / "render.exr")
+    scene.fenestra.reference = str(kept(scene) / "render.exr")
     scene.fenestra.keep_files = str(workdir / "kept")
     scene.render.filepath = str(workdir / "layers.exr")
     settings = scene.render.image_settings
@@ -230,7 +236,7 @@ def test_a_variance_pass_and_a_report_against_a_reference(workdir, fenestra_bin)
     variance = [name for name in channels if name.startswith("ViewLayer.Variance")]
     assert variance, list(channels)
     shown = channels[variance[0]].pixels
-    ours = exr(workdir / "kept" / "render.var.exr")
+    ours = exr(kept(scene) / "render.var.exr")
     assert ours.mean() > 0
     assert np.array_equal(
         np.asarray(shown)[..., :3], ours
@@ -463,6 +469,9 @@ def test_a_kept_folder_shows_the_new_renders_snapshots(workdir, monkeypatch):
     scene = room.build(samples=4)
     scene.fenestra.integrator = "af_hf"
     scene.fenestra.keep_files = str(workdir / "kept")
+    # The user's own files in the chosen folder are not the add-on's to clear.
+    (workdir / "kept").mkdir()
+    (workdir / "kept" / "render.png").write_bytes(b"the user's")
     render(scene, workdir / "first.exr")
     scene.fenestra.samples, scene.fenestra.time_limit = 1_000_000, 3.0
     shown = []
@@ -477,3 +486,20 @@ def test_a_kept_folder_shows_the_new_renders_snapshots(workdir, monkeypatch):
     monkeypatch.setattr(fenestra_engine.FenestraRenderEngine, "_show_snapshot", counting)
     render(scene, workdir / "second.exr")
     assert len(shown) >= 2, f"{len(shown)} images shown during a 3 s render refreshed every 0.2 s"
+    assert (workdir / "kept" / "render.png").read_bytes() == b"the user's"
+
+
+def test_an_area_light_that_emits_nothing_is_left_out_and_said(workdir):
+    from fenestra import area_lights
+
+    scene = room.build(samples=1)
+    scene.fenestra.keep_files = str(workdir / "kept")
+    render(scene, workdir / "one.exr")
+    glb_file = kept(scene) / "scene.glb"
+    before = glb_file.read_bytes()
+    light = bpy.data.lights.new("dark", "AREA")
+    light.energy = 0.0
+    scene.collection.objects.link(bpy.data.objects.new("dark", light))
+    notes = area_lights.append_to_glb(str(glb_file), scene.objects)
+    assert any("area light dark emits nothing" in n for n in notes), notes
+    assert glb_file.read_bytes() == before
