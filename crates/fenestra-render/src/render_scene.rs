@@ -6,6 +6,7 @@ use crate::light::Lights;
 use fenestra_core::{Ray, Rgb};
 use fenestra_scene::material;
 use fenestra_scene::{Material, Scene, SurfaceInteraction};
+use glam::Mat3;
 use std::borrow::Cow;
 
 /// Panes a ray passes before it counts as blocked.
@@ -24,6 +25,8 @@ pub struct RenderScene {
     /// Whether any surface emits: without it a ray looking for emission needs only to know
     /// whether it leaves the scene.
     surface_lights: bool,
+    /// What the film does to every sample (the camera's white balance), made once.
+    sensor_response: Option<Mat3>,
 }
 
 impl RenderScene {
@@ -42,13 +45,21 @@ impl RenderScene {
         let lights = Lights::new(&scene);
         let thin_glass = bsdfs.iter().any(|b| matches!(b, Bsdf::ThinDielectric(_)));
         let surface_lights = lights.first_area_light.iter().any(Option::is_some);
+        let sensor_response = scene.camera.sensor_response();
         RenderScene {
             scene,
             bsdfs,
             lights,
             thin_glass,
             surface_lights,
+            sensor_response,
         }
+    }
+
+    /// What the film does to every sample's linear sRGB (the camera's white balance), if
+    /// anything.
+    pub fn sensor_response(&self) -> Option<Mat3> {
+        self.sensor_response
     }
 
     /// Whether any material is thin glass (visibility then follows rays through panes).

@@ -107,7 +107,7 @@ pub fn render_to_completion<E: CompletionEstimator>(
     control.progress.start(Some(blocks.count() as u64));
     // Finished blocks go into the film at once, for whoever watches the render.
     let shared = Mutex::new(&mut *film);
-    let response = scene.scene.camera.sensor_response();
+    let response = scene.sensor_response();
     let mut rendered: Vec<(u32, Option<Rendered<E::Block>>)> = estimator
         .order(blocks.count() as u32)
         .into_par_iter()

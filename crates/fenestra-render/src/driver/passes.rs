@@ -339,7 +339,7 @@ impl Pass<'_> {
         let mut values = out.into_iter();
         let mut counts = counts.into_iter();
         let rows = view.rows.into_iter().flatten().filter(|_| self.keeps);
-        let response = scene.scene.camera.sensor_response();
+        let response = scene.sensor_response();
         for (pixels, taken) in rows {
             for (pixel, taken) in pixels.iter_mut().zip(taken.iter_mut()) {
                 let n = counts.next().unwrap_or(0);
