@@ -136,8 +136,8 @@ def world_flags(world, folder):
                 flags += ["--sun-strength", f"{sun:g}"]
             notes.append(
                 f"Sky Texture {texture.sky_type.lower()}: rendered as fenestra's Hosek-Wilkie "
-                "sky (turbidity 3) and SPECTRL2 sun in the same direction; air, aerosol and "
-                "ozone densities and the sun's size are not read"
+                "sky (fenestra's default turbidity) and SPECTRL2 sun in the same direction; air, "
+                "aerosol and ozone densities and the sun's size are not read"
             )
         if texture.sky_type == "HOSEK_WILKIE":
             flags += ["--sky-albedo", f"{texture.ground_albedo:g}"]

@@ -74,6 +74,41 @@ fn time_budget_renders_whole_passes() {
     );
 }
 
+/// `--progress-lines`: lines `progress DONE TOTAL SECONDS` on stderr, what the Blender
+/// add-on reads: with a sample count the total is the samples to take, with a time limit "-".
+#[test]
+fn progress_lines_count_the_samples_towards_their_total() {
+    let out = tmp("progress.exr");
+    let lines = |extra: &[&str]| {
+        let mut args = vec!["render", "builtin:box-hole", "--resolution", "32x32"];
+        args.extend(extra);
+        args.extend(["--progress-lines", "-o", out.to_str().expect("utf-8")]);
+        let o = fenestra(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let err = String::from_utf8_lossy(&o.stderr).into_owned();
+        err.lines()
+            .filter_map(|l| l.strip_prefix("progress "))
+            .map(|l| l.split(' ').map(str::to_string).collect::<Vec<_>>())
+            .collect::<Vec<_>>()
+    };
+    let counted = lines(&["--spp", "64"]);
+    assert!(!counted.is_empty(), "no progress line");
+    let total = 32 * 32 * 64;
+    for l in &counted {
+        assert_eq!(l.len(), 3, "{l:?}");
+        let done: u64 = l[0].parse().expect("a count");
+        assert_eq!(l[1], total.to_string(), "{l:?}");
+        assert!(done <= total, "{l:?}");
+        assert!(l[2].parse::<f64>().expect("seconds") >= 0.0);
+    }
+    let timed = lines(&["--time", "0.5"]);
+    assert!(timed.iter().all(|l| l[1] == "-"), "{timed:?}");
+    assert!(
+        timed.len() >= 2,
+        "at most 5 a second, and at the start: {timed:?}"
+    );
+}
+
 #[test]
 fn snapshots_leave_the_final_image_as_it_is() {
     let (plain, watched) = (tmp("plain.exr"), tmp("watched.exr"));
