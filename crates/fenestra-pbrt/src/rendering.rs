@@ -6,6 +6,27 @@ use crate::builder::{positive, Builder};
 use crate::parser::Directive;
 use crate::{PbrtError, Topic};
 
+/// The camera sensors whose spectral curves pbrt-v4 carries (its `sensor` names).
+const SENSORS: [&str; 17] = [
+    "canon_eos_100d",
+    "canon_eos_1dx_mkii",
+    "canon_eos_200d",
+    "canon_eos_200d_mkii",
+    "canon_eos_5d",
+    "canon_eos_5d_mkii",
+    "canon_eos_5d_mkiii",
+    "canon_eos_5d_mkiv",
+    "canon_eos_5ds",
+    "canon_eos_m",
+    "hasselblad_l1d_20c",
+    "nikon_d810",
+    "nikon_d850",
+    "sony_ilce_6400",
+    "sony_ilce_7m3",
+    "sony_ilce_7rm3",
+    "sony_ilce_9",
+];
+
 impl Builder {
     /// A directive that sets up the render.
     pub(crate) fn rendering(&mut self, d: &Directive) -> Result<(), PbrtError> {
@@ -36,9 +57,21 @@ impl Builder {
                     ));
                 }
                 if sensor != "cie1931" {
+                    if !SENSORS.contains(&sensor.as_str()) {
+                        return Err(PbrtError::at(
+                            &d.loc,
+                            format!(
+                                "unknown sensor \"{sensor}\" (pbrt-v4 knows cie1931, {})",
+                                SENSORS.join(", ")
+                            ),
+                        ));
+                    }
+                    // pbrt-v4 balances a camera's sensor for 6500 K unless told otherwise.
+                    let balance = if balance > 0.0 { balance } else { 6500.0 };
+                    self.white_balance = Some(balance);
                     self.warn(
                         Topic::Camera,
-                        format!("sensor \"{sensor}\" (rendered with the CIE 1931 observer and no white balance: a camera's spectral response needs a spectral renderer)"),
+                        format!("sensor \"{sensor}\" (rendered with the CIE 1931 observer, white-balanced for {balance} K as pbrt-v4 balances the sensor; the camera's own colour response needs a spectral renderer: up to 8% per channel, docs/scenes.md)"),
                         &d.loc,
                     );
                 } else if balance > 0.0 {

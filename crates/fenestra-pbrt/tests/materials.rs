@@ -566,15 +566,26 @@ fn the_films_iso_and_the_shutter_expose_every_emitter() {
         panic!("a negative iso loads")
     };
     assert!(e.contains("iso must be positive"), "{e}");
-    let s = load(r#"Film "rgb" "string sensor" "canon_eos_100d" "float whitebalance" 5000"#)
+    // A named sensor is balanced as pbrt-v4 balances it: at its whitebalance, or 6500 K.
+    for (film, balance) in [(r#""float whitebalance" 5000"#, 5000.0), ("", 6500.0)] {
+        let s = load(&format!(
+            r#"Film "rgb" "string sensor" "canon_eos_100d" {film}"#
+        ))
         .expect("load");
-    assert!(s.warnings.iter().any(|w| w
-        .what
-        .contains("a camera's spectral response needs a spectral renderer")));
-    assert_eq!(
-        s.desc.camera.white_balance, None,
-        "a named sensor's balance is not applied"
-    );
+        assert!(
+            s.warnings.iter().any(|w| w
+                .what
+                .contains("the camera's own colour response needs a spectral renderer")),
+            "{:?}",
+            s.warnings
+        );
+        assert_eq!(s.desc.camera.white_balance, Some(balance), "{film}");
+    }
+    let Err(e) = load(r#"Film "rgb" "string sensor" "leica_m3""#) else {
+        panic!("an unknown sensor loads")
+    };
+    assert!(e.contains("unknown sensor \"leica_m3\""), "{e}");
+    assert!(e.contains(".pbrt:"), "the error names file:line: {e}");
 }
 
 #[test]
