@@ -3,6 +3,7 @@
 //! small seeded random stream, and the render statistics every tool reads.
 #![warn(missing_docs)]
 
+mod cie1931;
 pub mod distribution;
 pub mod frame;
 pub mod fs;

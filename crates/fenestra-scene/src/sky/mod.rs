@@ -234,7 +234,7 @@ mod tests {
     fn the_suns_illuminance_is_spectrl2s_and_near_the_sky_models() {
         // Direct normal illuminance (lux) of SPECTRL2 (pvlib 0.16.1's `spectrl2` with our
         // aerosol beta, its Earth-Sun distance factor divided out, the CIE 1931 tables of
-        // colour-science; our observer is Wyman et al.'s fit of those tables), and of the
+        // colour-science, which are our observer's), and of the
         // Hosek-Wilkie sun (Mitsuba 3.9.1's `sunsky`, its disk integrated).
         for (t, el, spectrl2, hosek_wilkie) in [
             (3.0, 45.0, 95_597.0, 91_449.0),
