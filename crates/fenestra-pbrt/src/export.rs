@@ -435,10 +435,26 @@ impl Export<'_> {
                     }
                 }
                 ShapeKind::Sphere { center, radius } => {
-                    if shape.flip_normals {
+                    // A mirroring turn flips the sphere in pbrt-v4 as it did when read.
+                    let mirrored = shape.orientation.is_some_and(|o| o.determinant() < 0.0);
+                    if shape.flip_normals != mirrored {
                         self.s.push_str("  ReverseOrientation\n");
                     }
-                    let _ = writeln!(self.s, "  Translate {}", v3(*center));
+                    match shape.orientation {
+                        Some(o) => {
+                            let m = glam::Mat4::from_cols(
+                                o.x_axis.extend(0.0),
+                                o.y_axis.extend(0.0),
+                                o.z_axis.extend(0.0),
+                                center.extend(1.0),
+                            );
+                            let _ =
+                                writeln!(self.s, "  Transform [ {} ]", join(&m.to_cols_array()));
+                        }
+                        None => {
+                            let _ = writeln!(self.s, "  Translate {}", v3(*center));
+                        }
+                    }
                     let _ = writeln!(self.s, "  Shape \"sphere\" \"float radius\" [ {radius} ]");
                 }
                 ShapeKind::Disk {

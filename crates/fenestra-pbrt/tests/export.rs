@@ -131,7 +131,8 @@ fn round_numbers(s: &str) -> String {
     out
 }
 
-/// Shapes compared for the round-trip test: kind, material, emission and orientation.
+/// Shapes compared for the round-trip test: kind, material, emission, orientation and a
+/// sphere's turn.
 fn same_shape(a: &Shape, b: &Shape, tol: f32) -> bool {
     let close = |x: Vec3, y: Vec3| (x - y).length() <= tol * (1.0 + x.length());
     let geometry = match (&a.kind, &b.kind) {
@@ -166,11 +167,48 @@ fn same_shape(a: &Shape, b: &Shape, tol: f32) -> bool {
         ) => close(*center, *c2) && close(*normal, *n2) && (radius - r2).abs() <= tol * radius,
         _ => false,
     };
+    let turn = match (a.orientation, b.orientation) {
+        (None, None) => true,
+        (Some(x), Some(y)) => x.abs_diff_eq(y, tol),
+        _ => false,
+    };
     geometry
+        && turn
         && a.material == b.material
         && a.flip_normals == b.flip_normals
         && a.emission.map(|e| (e.radiance, e.two_sided))
             == b.emission.map(|e| (e.radiance, e.two_sided))
+}
+
+/// Turned spheres keep their turn (their uv's object space) and their side through an
+/// export, a mirroring turn too.
+#[test]
+fn turned_spheres_round_trip() {
+    let dir = std::env::temp_dir().join(format!("fenestra-export-turned-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("dir");
+    std::fs::write(
+        dir.join("s.pbrt"),
+        r#"WorldBegin
+        AttributeBegin Translate 1 2 3 Rotate 90 0 1 0 Rotate 30 1 0 0 Shape "sphere" AttributeEnd
+        AttributeBegin Scale -2 2 2 Rotate 45 0 0 1 Shape "sphere" AttributeEnd
+        AttributeBegin ReverseOrientation Rotate 10 1 1 0 Shape "sphere" "float radius" 0.5 AttributeEnd"#,
+    )
+    .expect("scene");
+    let a = fenestra_pbrt::load(&dir.join("s.pbrt"), true)
+        .expect("read")
+        .desc;
+    assert!(a.shapes.iter().all(|s| s.orientation.is_some()));
+    assert!(
+        a.shapes[1].flip_normals,
+        "the mirrored sphere is turned inside out"
+    );
+    let path = dir.join("out.pbrt");
+    fenestra_pbrt::export::write(&a, &path).expect("export");
+    let b = fenestra_pbrt::load(&path, true).expect("re-read").desc;
+    assert_eq!(a.shapes.len(), b.shapes.len());
+    for (s, t) in a.shapes.iter().zip(&b.shapes) {
+        assert!(same_shape(s, t, 1e-5), "{s:?}\n{t:?}");
+    }
 }
 
 /// Bump and normal maps survive an export: each shape reads back with the same kind of

@@ -93,13 +93,16 @@ impl SurfaceInteraction {
                 let dir = robust_normalize(ray.at(hit.t) - *center);
                 let p = *center + dir * *radius;
                 let offset = offset_distance(center.abs().max_element() + radius);
-                let phi = dir.y.atan2(dir.x);
-                // pbrt-v4's parametrisation: v = 1 at the pole along +z.
+                // pbrt-v4's parametrisation, in the sphere's object space: v = 1 at the pole
+                // along its +z.
+                let local = shape.orientation.map_or(dir, |o| o.transpose() * dir);
+                let phi = local.y.atan2(local.x);
                 let uv = Vec2::new(
                     (phi * INV_2PI).rem_euclid(1.0),
-                    1.0 - dir.z.clamp(-1.0, 1.0).acos() * INV_PI,
+                    1.0 - local.z.clamp(-1.0, 1.0).acos() * INV_PI,
                 );
-                let dpdu = Vec3::new(-dir.y, dir.x, 0.0);
+                let dpdu = Vec3::new(-local.y, local.x, 0.0);
+                let dpdu = shape.orientation.map_or(dpdu, |o| o * dpdu);
                 (p, dir, dir, dpdu, uv, offset)
             }
             ShapeKind::Disk {

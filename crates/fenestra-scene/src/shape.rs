@@ -199,6 +199,10 @@ pub struct Shape {
     pub name: Option<String>,
     /// Its material's bump or normal map, which tilts its shading normals.
     pub relief: Option<Arc<Relief>>,
+    /// A sphere's turn: the rotation (orthogonal, world from object) of the object space its
+    /// uv parametrisation lives in, as pbrt-v4 parametrises a sphere in its own space (u
+    /// about the object's z axis, v from pole to pole); `None` is the world's axes.
+    pub orientation: Option<glam::Mat3>,
 }
 
 impl Shape {
@@ -211,6 +215,7 @@ impl Shape {
             flip_normals: false,
             name: None,
             relief: None,
+            orientation: None,
         }
     }
     /// The shape named `name`.

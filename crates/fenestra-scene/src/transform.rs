@@ -45,10 +45,17 @@ pub fn transformed(shape: &Shape, m: &DMat4) -> Result<Shape, SingularTransform>
                 out.flip_normals = !out.flip_normals;
             }
             match (quadric, scale) {
-                (ShapeKind::Sphere { center, radius }, Some(s)) => ShapeKind::Sphere {
-                    center: pt(*center),
-                    radius: radius * s as f32,
-                },
+                (ShapeKind::Sphere { center, radius }, Some(s)) => {
+                    // The sphere's uv turns with it (spheres are parametrised in object space).
+                    let turn = (linear / s).as_mat3();
+                    let turn = shape.orientation.map_or(turn, |o| turn * o);
+                    out.orientation =
+                        (!turn.abs_diff_eq(glam::Mat3::IDENTITY, 1e-6)).then_some(turn);
+                    ShapeKind::Sphere {
+                        center: pt(*center),
+                        radius: radius * s as f32,
+                    }
+                }
                 (
                     ShapeKind::Disk {
                         center,

@@ -28,6 +28,10 @@ fn heights(w: usize, h: usize, f: impl Fn(usize, usize) -> f32) -> Arc<Relief> {
 fn scene(kind: ShapeKind, relief: Option<Arc<Relief>>) -> Scene {
     let mut shape = Shape::new(kind, 0);
     shape.relief = relief;
+    scene_of(shape)
+}
+
+fn scene_of(shape: Shape) -> Scene {
     let desc = SceneDesc {
         name: "bumped".into(),
         shapes: vec![shape],
@@ -95,4 +99,58 @@ fn a_sphere_keeps_its_normal_under_a_constant_height_and_pbrt_v4_uvs() {
     let plain = scene(ball, None);
     let top = hit(&plain, Vec3::new(0.01, 0.0, 3.0), Vec3::new(0.01, 0.0, 0.0));
     assert!(top.uv.y > 0.99, "v at the +z pole: {}", top.uv.y);
+}
+
+/// pbrt-v4 parametrises a sphere in its object space: a turned sphere's uv, and so its bump,
+/// turn with it (they stayed in the world's axes before, which put textures and bumps on
+/// turned spheres elsewhere: regions of a bumped sphere 15% off pbrt-v4's render).
+#[test]
+fn a_turned_spheres_uv_and_bump_turn_with_it() {
+    let ball = Shape::new(
+        ShapeKind::Sphere {
+            center: Vec3::ZERO,
+            radius: 1.0,
+        },
+        0,
+    );
+    // 90 degrees about y (as pbrt-v4's Rotate 90 0 1 0): the object's +z pole to world +x.
+    let turn = glam::DMat4::from_rotation_y(std::f64::consts::FRAC_PI_2);
+    let turned = fenestra_scene::transform::transformed(&ball, &turn).expect("turns");
+    let relief = heights(16, 8, |x, y| {
+        0.02 * x as f32 + 0.05 * (y as f32 * 0.7).sin()
+    });
+    let lone = |shape: &Shape| {
+        let mut shape = shape.clone();
+        shape.relief = Some(relief.clone());
+        scene_of(shape)
+    };
+    let (plain, turned_scene) = (lone(&ball), lone(&turned));
+    let at_pole = hit(
+        &turned_scene,
+        Vec3::new(3.0, 0.01, 0.0),
+        Vec3::new(0.0, 0.01, 0.0),
+    );
+    assert!(
+        at_pole.uv.y > 0.99,
+        "v at the turned +z pole: {}",
+        at_pole.uv.y
+    );
+    let r = turn.as_mat4();
+    for p in [
+        Vec3::new(0.3, -0.5, 0.6),
+        Vec3::new(-0.7, 0.2, 0.1),
+        Vec3::new(0.1, 0.8, -0.4),
+    ] {
+        let p = p.normalize();
+        let a = hit(&plain, p * 3.0, p);
+        let q = r.transform_vector3(p);
+        let b = hit(&turned_scene, q * 3.0, q);
+        assert!((a.uv - b.uv).length() < 1e-4, "{} vs {}", a.uv, b.uv);
+        let expected = r.transform_vector3(a.ns);
+        assert!((b.ns - expected).length() < 1e-4, "{} vs {expected}", b.ns);
+        assert!(
+            (a.ns - a.ng).length() > 1e-3,
+            "the bump tilts the normal at {p}"
+        );
+    }
 }

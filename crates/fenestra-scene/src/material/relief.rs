@@ -80,8 +80,10 @@ impl Derivatives {
         match &shape.kind {
             ShapeKind::Mesh(m) => Self::on_mesh(si, m),
             ShapeKind::Sphere { center, radius } => {
-                // u = phi / 2pi, v = 1 - theta / pi (pbrt-v4's full sphere).
-                let p = si.p - *center;
+                // u = phi / 2pi, v = 1 - theta / pi (pbrt-v4's full sphere), in the sphere's
+                // object space, turned back to the world's.
+                let turn = shape.orientation.unwrap_or(glam::Mat3::IDENTITY);
+                let p = turn.transpose() * (si.p - *center);
                 let (r, z) = (*radius, p.z);
                 let rxy = (p.x * p.x + p.y * p.y).sqrt();
                 let (cos_phi, sin_phi) = if rxy > 0.0 {
@@ -90,8 +92,8 @@ impl Derivatives {
                     (1.0, 0.0)
                 };
                 let sin_theta = (rxy / r).min(1.0);
-                let dpdu = Vec3::new(-p.y, p.x, 0.0) * (2.0 * PI);
-                let dpdv = Vec3::new(z * cos_phi, z * sin_phi, -r * sin_theta) * -PI;
+                let dpdu = turn * (Vec3::new(-p.y, p.x, 0.0) * (2.0 * PI));
+                let dpdv = turn * (Vec3::new(z * cos_phi, z * sin_phi, -r * sin_theta) * -PI);
                 Some(Derivatives {
                     dpdu,
                     dpdv,
