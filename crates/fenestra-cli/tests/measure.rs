@@ -481,6 +481,7 @@ fn judged(
         &spp.to_string(),
         "--seed",
         &seed.to_string(),
+        "--variance",
         "-q",
         "-o",
         out.to_str().expect("utf-8"),
@@ -576,11 +577,36 @@ fn real_scenes_match_their_reference_renders() {
 }
 
 /// The one-feature scenes (tests/scenes/features, written by scripts/feature-scenes: one
-/// coated material, bump map or normal map each on a sphere and a floor) against pbrt-v4's
-/// renders of them (64x48, 16384 spp): image mean within 1% and 8x8 region error within 3%,
-/// issue 47's bar, at 1024 spp (where noise alone gives region errors of about 1%).
+/// material, relief, texture, light or film setting each on a sphere and a floor) against
+/// pbrt-v4's renders of them (64x48, 16384 spp in 8 seeded renders, whose spread gives the
+/// reference's variance), at 1024 spp: each must be within noise of pbrt-v4, by z-tests of
+/// the image's channel means and of 8x8-pixel regions (significance 1e-4 each, Sidak-corrected;
+/// differences under 0.05% of a value aside), unless its difference is a documented choice
+/// (`CHOSEN`, or not yet traced), which is held to issue 47's bar instead: image mean within
+/// 1%, 8x8 region error within 3%, each channel's mean within 2.5% (a colour transform can
+/// keep the luminance and move the colours); a named camera sensor to its measured size.
 #[test]
 fn feature_scenes_render_as_pbrt_v4_renders_them() {
+    // Differences that are choices, measured in docs/scenes.md ("One feature at a time"), and
+    // one not yet traced, each held to a bar: image mean, 8x8 region error, worst channel mean.
+    const BAR: [f64; 3] = [0.01, 0.03, 0.025];
+    const CHOSEN: [(&str, &str, [f64; 3]); 9] = [
+        ("texture-sphere", "colours: spectra against RGB", BAR),
+        ("coated-diffuse-smooth", "colours: spectra against RGB", BAR),
+        ("film-whitebalance", "colours: spectra against RGB", BAR),
+        ("coated-diffuse-rough", "pbrt-v4's coat", BAR),
+        ("coated-scattering", "pbrt-v4's coat", BAR),
+        ("coated-conductor", "pbrt-v4's coat, colours", BAR),
+        ("normal-map-floor", "normals turned away", BAR),
+        ("bump-sphere", "not traced", BAR),
+        // Measured +4.2%, 5.7% and 7.5%.
+        (
+            "film-sensor",
+            "a camera's colour response",
+            [0.05, 0.065, 0.085],
+        ),
+    ];
+    const FLOOR: f32 = 5e-4;
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/scenes/features");
     let mut scenes: Vec<PathBuf> = std::fs::read_dir(&dir)
         .expect("features")
@@ -588,36 +614,97 @@ fn feature_scenes_render_as_pbrt_v4_renders_them() {
         .filter(|p| p.extension().is_some_and(|x| x == "pbrt"))
         .collect();
     scenes.sort();
-    assert!(scenes.len() >= 14, "{scenes:?}");
+    assert!(scenes.len() >= 15, "{scenes:?}");
     let mut failures = Vec::new();
     for scene in &scenes {
+        let name = scene.file_stem().and_then(|s| s.to_str()).expect("utf-8");
         let reference = scene.with_extension("pbrt-v4.exr");
         let (mean, reference_mean, mean_error, region_error) =
-            judged(scene, &reference, ("64x48", 1024, 0), &[]);
-        // Each channel too, to 2.5%: a colour transform (the film's white balance) can keep
-        // the luminance and move the colours (a Planckian white off by 7e-4 in xy moved the
-        // balanced red by 3.3%); gold's blue, spectral in pbrt-v4 and RGB here, is 2.1% off.
-        let (ours, theirs) = (
-            channel_means(&judged_image(scene, 0)),
-            channel_means(&reference),
+            judged(scene, &reference, ("64x48", 1024, 0), &["sensor"]);
+        let ours = judged_image(scene, 0);
+        let read = |p: &Path| Image::read(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+        let (image, variance) = (read(&ours), read(&ours.with_extension("var.exr")));
+        let (theirs, their_variance) = (
+            read(&reference),
+            read(&scene.with_extension("pbrt-v4.var.exr")),
         );
+        let (a, b) = (channel_means(&ours), channel_means(&reference));
         let channel_error = (0..3)
-            .map(|c| (ours[c] / theirs[c] - 1.0).abs())
+            .map(|c| (a[c] / b[c] - 1.0).abs())
             .fold(0.0, f64::max);
+        // Differences under 0.05% of a value are not tested: pbrt-v4's round trip of an RGB
+        // colour through its spectra moves a plain sky seen directly by 0.03%, where both
+        // images are all but noiseless. The floor is a standard error added to the
+        // reference's: to a region's mean through each pixel's variance (64 pixels a region).
+        let floored = {
+            let mut v = their_variance.clone();
+            for (v, r) in v.pixels.iter_mut().zip(&theirs.pixels) {
+                *v = *v + *r * *r * (FLOOR * FLOOR * 64.0);
+            }
+            v
+        };
+        let whole = whole_image_z(&image, &variance, &theirs, &their_variance, FLOOR.into());
+        let regions = fenestra_eval::z_test(&image, &variance, &theirs, Some(&floored), 1e-4, 8)
+            .expect("sizes");
+        let chosen = CHOSEN.iter().find(|c| c.0 == name);
         let line = format!(
-            "{}: mean {mean:.4} vs pbrt-v4 {reference_mean:.4} ({:+.2}%), region error {:.2}%, \
-             worst channel mean {:.2}% off",
-            scene.display(),
+            "{name}: mean {mean:.4} vs pbrt-v4 {reference_mean:.4} ({:+.2}%), region error \
+             {:.2}%, worst channel mean {:.2}% off; channel means' z {:.2} {:.2} {:.2}, \
+             smallest region p {:.1e} ({} of {} regions fail){}",
             100.0 * (mean / reference_mean - 1.0),
             100.0 * region_error,
-            100.0 * channel_error
+            100.0 * channel_error,
+            whole[0],
+            whole[1],
+            whole[2],
+            regions.min_p,
+            regions.failing,
+            regions.tests,
+            chosen.map_or(String::new(), |c| format!(" [a choice: {}]", c.1)),
         );
         println!("{line}");
-        if mean_error > 0.01 || region_error > 0.03 || channel_error > 0.025 {
+        let failed = match chosen {
+            Some(&(_, _, [mean_bar, region_bar, channel_bar])) => {
+                mean_error > mean_bar || region_error > region_bar || channel_error > channel_bar
+            }
+            // Sidak over three channels at 1e-4: |z| beyond 4.06.
+            None => whole.iter().any(|z| z.abs() > 4.06) || !regions.passed,
+        };
+        if failed {
             failures.push(line);
         }
     }
     assert!(failures.is_empty(), "{failures:#?}");
+}
+
+/// Each channel's image-mean difference over its standard error, from both images'
+/// per-pixel variances of their means and a floor, a fraction of the reference's mean.
+fn whole_image_z(
+    image: &Image,
+    variance: &Image,
+    reference: &Image,
+    ref_variance: &Image,
+    floor: f64,
+) -> [f64; 3] {
+    let sums = |im: &Image| {
+        im.pixels.iter().fold([0.0f64; 3], |mut s, p| {
+            for (s, v) in s.iter_mut().zip(p.to_array()) {
+                *s += f64::from(v);
+            }
+            s
+        })
+    };
+    let (x, v, r, rv) = (
+        sums(image),
+        sums(variance),
+        sums(reference),
+        sums(ref_variance),
+    );
+    let n = image.pixels.len() as f64;
+    std::array::from_fn(|c| {
+        let (mean, ref_mean) = (x[c] / n, r[c] / n);
+        (mean - ref_mean) / ((v[c] + rv[c]) / (n * n) + (floor * ref_mean).powi(2)).sqrt()
+    })
 }
 
 #[test]
