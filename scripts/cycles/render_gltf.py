@@ -11,6 +11,9 @@ to single-scattering GGX (fenestra's metal is single-scattering). For equal-time
 (scripts/interiors-vs-cycles): TIME_LIMIT=S renders for S seconds instead of SPP samples;
 PORTALS=portals.json adds fenestra's estimated portals as Cycles portal lights (rectangles);
 GUIDING=1 turns on Cycles' path guiding (OpenPGL, surfaces); SEED=N seeds its samples.
+SUN=sun.json adds the sun `fenestra scene export --sky` describes as a Sun lamp (its direction,
+irradiance and angular diameter); ENV.exr is then that export's sky turned into Blender's
+equirectangular convention (scripts/interiors-vs-cycles does it).
 """
 import bpy, sys
 scene_file, camera, env_file, width, height, spp, out = sys.argv[sys.argv.index('--')+1:]
@@ -41,10 +44,21 @@ w = bpy.data.worlds.new('sky'); sc.world = w; w.use_nodes = True
 nt = w.node_tree; bg = nt.nodes['Background']
 env = nt.nodes.new('ShaderNodeTexEnvironment'); env.image = bpy.data.images.load(env_file)
 nt.links.new(env.outputs['Color'], bg.inputs['Color']); bg.inputs['Strength'].default_value = 1.0
+from mathutils import Matrix, Vector
+to_blender = lambda v: Vector((v[0], -v[2], v[1]))   # glTF's y-up axes as the importer turns them
+if os.environ.get('SUN'):
+    import math
+    sun = json.load(open(os.environ['SUN']))['sun']
+    e = sun['irradiance']; k = max(e)
+    light = bpy.data.lights.new('sun', 'SUN')
+    light.energy = k; light.color = [c / k for c in e]; light.angle = math.radians(sun['angle_deg'])
+    obj = bpy.data.objects.new('sun', light)
+    # A Sun lamp shines along its -Z: its +Z points at the sun.
+    obj.rotation_euler = to_blender(sun['direction']).to_track_quat('Z', 'Y').to_euler()
+    sc.collection.objects.link(obj)
+    print('sun from', os.environ['SUN'], 'irradiance', e)
 portals = os.environ.get('PORTALS')
 if portals:
-    from mathutils import Matrix, Vector
-    to_blender = lambda v: Vector((v[0], -v[2], v[1]))   # glTF's y-up axes as the importer turns them
     for k, rec in enumerate(json.load(open(portals))['portals']):
         if rec.get('kind') != 'quad':
             continue

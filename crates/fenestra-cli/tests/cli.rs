@@ -51,6 +51,74 @@ fn one_and_two_threads_write_identical_images() {
     assert_eq!(png(&a), png(&b));
 }
 
+/// `scene export --sky` hands the sky to renderers that read equirectangular maps: its
+/// sky.exr, given as --environment, renders bit for bit as --sky without its sun, and
+/// sun.json places the sun where --sun puts it, with the disk's irradiance.
+#[test]
+fn scene_export_writes_the_sky_for_other_renderers() {
+    let dir = tmp("sky-export");
+    std::fs::create_dir_all(&dir).expect("dir");
+    let sky = ["--sky", "--sun", "30,120", "--environment-up", "z"];
+    let mut args = vec!["scene", "export", "builtin:box-hole-sky", "-o"];
+    let pbrt = dir.join("b.pbrt");
+    args.push(pbrt.to_str().expect("utf-8"));
+    args.extend_from_slice(&sky);
+    let o = fenestra(&args);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let data = dir.join("b-data");
+    let render = |out: &Path, extra: &[&str]| {
+        let mut args = vec![
+            "render",
+            "builtin:box-hole-sky",
+            "--resolution",
+            "16x12",
+            "--spp",
+            "4",
+        ];
+        args.extend_from_slice(extra);
+        args.extend_from_slice(&["-q", "-o", out.to_str().expect("utf-8")]);
+        let o = fenestra(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        Image::read(out).expect("image")
+    };
+    let map = data.join("sky.exr");
+    let without_sun = render(
+        &dir.join("a.exr"),
+        &[&sky[..], &["--sun-strength", "0"]].concat(),
+    );
+    let from_map = render(
+        &dir.join("b.exr"),
+        &[
+            "--environment",
+            map.to_str().expect("utf-8"),
+            "--environment-up",
+            "z",
+        ],
+    );
+    assert_eq!(without_sun, from_map);
+    let sun: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(data.join("sun.json")).expect("sun.json"))
+            .expect("json");
+    let d: Vec<f64> = (0..3)
+        .map(|i| sun["sun"]["direction"][i].as_f64().expect("direction"))
+        .collect();
+    // 30 degrees up; azimuth 120 clockwise from north (phi = 0, +x) seen from above.
+    let (el, az) = (30f64.to_radians(), 120f64.to_radians());
+    let expected = [el.cos() * az.cos(), -el.cos() * az.sin(), el.sin()];
+    for (a, b) in d.iter().zip(expected) {
+        assert!((a - b).abs() < 1e-5, "{d:?} against {expected:?}");
+    }
+    let (l, e) = (&sun["sun"]["radiance"], &sun["sun"]["irradiance"]);
+    let half = (sun["sun"]["angle_deg"].as_f64().expect("angle") / 2.0).to_radians();
+    assert!((half.to_degrees() - 0.2666).abs() < 1e-3, "{sun}");
+    for c in 0..3 {
+        let (l, e) = (l[c].as_f64().expect("l"), e[c].as_f64().expect("e"));
+        assert!(
+            e > 0.0 && (e / (l * std::f64::consts::PI * half.sin().powi(2)) - 1.0).abs() < 1e-5
+        );
+    }
+}
+
 #[test]
 fn time_budget_renders_whole_passes() {
     let out = tmp("timed.exr");

@@ -8,7 +8,7 @@ use fenestra_pbrt as pbrt;
 use fenestra_scene::light::{EnvironmentDesc, LightDesc};
 use fenestra_scene::sky::{sky_irradiance, sun, Sky};
 use fenestra_scene::{SceneDesc, ShapeKind};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 #[derive(Args)]
 pub struct SceneArgs {
@@ -36,6 +36,10 @@ enum SceneCommand {
         scene: String,
     },
     /// Write a scene as a pbrt-v4 file (large meshes and images go to a folder beside it).
+    /// With --sky, the folder also holds the sky for renderers that read equirectangular
+    /// maps (Blender's Cycles): sky.exr, the map `--environment sky.exr` (with the same
+    /// --environment-up, -rotation and -strength) renders as --sky without its sun, and
+    /// sun.json, the sun's direction in the scene, irradiance and angular diameter.
     Export {
         /// builtin:NAME, a pbrt-v4 file, or an OBJ/PLY mesh.
         scene: String,
@@ -74,12 +78,48 @@ pub fn run(args: SceneArgs) -> Result<()> {
             for f in written.files {
                 println!("wrote {}", f.display());
             }
+            if let Some((sky, _)) = &loaded.sky {
+                for f in write_sky(sky, &loaded.desc, &pbrt::export::data_folder(&output))? {
+                    println!("wrote {}", f.display());
+                }
+            }
             for a in written.approximations {
                 eprintln!("approximated: {a}");
             }
             Ok(())
         }
     }
+}
+
+/// --sky's map (`Sky::map`, lat-long in the sky's own frame) and its sun as `desc` holds it
+/// (placed, and scaled by --sun-strength and --environment-strength), into `folder`.
+fn write_sky(sky: &Sky, desc: &SceneDesc, folder: &Path) -> Result<Vec<PathBuf>> {
+    let sun = desc.lights.iter().find_map(|l| match l {
+        LightDesc::Environment(EnvironmentDesc::Sun {
+            direction,
+            radiance,
+            half_angle,
+        }) => Some((direction, radiance, half_angle)),
+        _ => None,
+    });
+    let map = folder.join("sky.exr");
+    sky.map().write_exr(&map, &Default::default())?;
+    let json = folder.join("sun.json");
+    let sun = sun.map(|(direction, radiance, half_angle)| {
+        // A uniform disk of angular radius a: irradiance at normal incidence L pi sin^2 a.
+        let irradiance = *radiance * (std::f32::consts::PI * half_angle.sin().powi(2));
+        serde_json::json!({
+            "direction": direction.to_array(),
+            "radiance": radiance.to_array(),
+            "irradiance": irradiance.to_array(),
+            "angle_deg": 2.0 * half_angle.to_degrees(),
+            "elevation_deg": sky.elevation_deg,
+            "azimuth_deg": sky.azimuth_deg,
+        })
+    });
+    let text = serde_json::to_string_pretty(&serde_json::json!({ "sun": sun }))?;
+    fenestra_core::fs::write_atomically(&json, |tmp| std::fs::write(tmp, &text))?;
+    Ok(vec![map, json])
 }
 
 fn info(scene: &str, options: SceneOptions, json: bool) -> Result<()> {
