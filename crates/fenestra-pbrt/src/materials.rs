@@ -90,7 +90,8 @@ impl Builder {
                 })
             }
             "conductor" => {
-                let (eta, k) = conductor_optics(p, "")?;
+                let textured = self.conductor_texture(p, loc)?;
+                let (eta, k) = conductor_optics(p, "", textured)?;
                 let map = self.roughness_texture(p)?;
                 // With a texture, its means stand for it where one value is needed (quietly).
                 let (au, av) = self.prefixed_alphas(p, "", loc, map.is_none())?;
@@ -111,7 +112,7 @@ impl Builder {
                 }
             }
             "coatedconductor" => {
-                let (eta, k) = conductor_optics(p, "conductor.")?;
+                let (eta, k) = conductor_optics(p, "conductor.", None)?;
                 let (au, av) = self.prefixed_alphas(p, "conductor.", loc, true)?;
                 let (iu, iv) = self.prefixed_alphas(p, "interface.", loc, true)?;
                 if (iu * iv).sqrt() > SMOOTH_ALPHA {
@@ -323,6 +324,29 @@ impl Builder {
         Ok(Reflectance::Value(r.map(|c| c.min(1.0))))
     }
 
+    /// A conductor's "reflectance" given as a texture (as fenestra's exports of glTF metals
+    /// write it): its mean colour, warned, since fenestra's conductor takes one complex index.
+    fn conductor_texture(&mut self, p: &ParamList, loc: &Loc) -> Result<Option<Rgb>, PbrtError> {
+        if p.type_of("reflectance") != Some("texture") {
+            return Ok(None);
+        }
+        Ok(Some(match self.reflectance(p, loc)? {
+            Reflectance::Texture(Tex::Image(t)) => {
+                let mean = t.average();
+                self.warn(
+                    Topic::Materials,
+                    format!(
+                        "conductor reflectance texture {} (its mean colour is used)",
+                        t.path.display()
+                    ),
+                    loc,
+                );
+                mean
+            }
+            Reflectance::Texture(Tex::Rgb(c)) | Reflectance::Value(c) => c,
+        }))
+    }
+
     /// A float parameter, which pbrt-v4 also lets name a float texture: fenestra's materials
     /// take constants, so a texture gives its average (warned), one it cannot read nothing.
     pub(super) fn float_or_texture(
@@ -434,18 +458,28 @@ impl Builder {
 }
 
 /// A conductor's complex index from `prefix`eta and `prefix`k (copper by default), or from
-/// "reflectance" as pbrt-v4 reads it: eta = 1 and k = 2 sqrt(r) / sqrt(1 - r) reproduce r at
-/// normal incidence.
-fn conductor_optics(p: &ParamList, prefix: &str) -> Result<(Rgb, Rgb), PbrtError> {
+/// "reflectance" (a value, or `textured`'s colour) as pbrt-v4 reads it: eta = 1 and
+/// k = 2 sqrt(r) / sqrt(1 - r) reproduce r at normal incidence.
+fn conductor_optics(
+    p: &ParamList,
+    prefix: &str,
+    textured: Option<Rgb>,
+) -> Result<(Rgb, Rgb), PbrtError> {
     let rgb = |name: &str, default: &str| -> Result<Rgb, PbrtError> {
         match p.spectrum(&format!("{prefix}{name}"))? {
             Some((s, l)) => spectra::to_rgb(&s).map_err(|e| PbrtError::at(&l, e)),
             None => Ok(spectra::named(default).unwrap_or(Rgb::ONE)),
         }
     };
-    Ok(match p.spectrum("reflectance")? {
-        Some((s, l)) => {
-            let r = spectra::to_rgb(&s).map_err(|e| PbrtError::at(&l, e))?;
+    let reflectance = match textured {
+        Some(r) => Some(r),
+        None => match p.spectrum("reflectance")? {
+            Some((s, l)) => Some(spectra::to_rgb(&s).map_err(|e| PbrtError::at(&l, e))?),
+            None => None,
+        },
+    };
+    Ok(match reflectance {
+        Some(r) => {
             let k = r.map(|v| {
                 let v = v.clamp(0.0, 0.9999);
                 2.0 * v.sqrt() / (1.0 - v).sqrt()

@@ -720,3 +720,41 @@ fn area_light_power_is_each_triangles() {
         assert!(a > 0.0 && (each(shape, a) - 10.0).abs() < 1e-4, "{a}");
     }
 }
+
+/// A conductor's reflectance given as a texture (pbrt-v4 takes one; fenestra's exports of
+/// textured glTF metals write one, which fenestra itself refused to read back): the image's
+/// mean colour, warned.
+#[test]
+fn a_conductors_reflectance_texture_gives_its_mean_colour() {
+    let dir = scratch("conductor-texture");
+    let mut img = fenestra_core::image::Image::new(2, 1);
+    img.set(0, 0, Rgb::new(0.2, 0.4, 0.6));
+    img.set(1, 0, Rgb::new(0.6, 0.4, 0.2));
+    img.write_exr(&dir.join("metal.exr"), &Default::default())
+        .expect("exr");
+    std::fs::write(
+        dir.join("s.pbrt"),
+        r#"WorldBegin
+        Texture "m" "spectrum" "imagemap" "string filename" "metal.exr"
+        Material "conductor" "texture reflectance" "m" "float roughness" 0.3
+        Shape "sphere"
+        Material "conductor" "rgb reflectance" [0.4 0.4 0.4] "float roughness" 0.3
+        Shape "sphere""#,
+    )
+    .expect("scene");
+    let s = pbrt::load(&dir.join("s.pbrt"), false).expect("lenient");
+    let optics = |m: &Material| match *m {
+        Material::RoughConductor(material::RoughConductor { eta, k, .. }) => (eta, k),
+        ref other => panic!("rough conductor expected, found {other:?}"),
+    };
+    let (textured, plain) = (optics(&s.desc.materials[0]), optics(&s.desc.materials[1]));
+    assert!(
+        (textured.1 - plain.1).max_component().abs() < 1e-5,
+        "{textured:?} {plain:?}"
+    );
+    assert_eq!(textured.0, Rgb::ONE);
+    assert!(s
+        .warnings
+        .iter()
+        .any(|w| w.to_string().contains("its mean colour is used")));
+}
