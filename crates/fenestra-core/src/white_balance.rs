@@ -3,7 +3,7 @@
 //! radiator below 4000 K) is adapted to the image's white, sRGB's D65, by von Kries scaling
 //! of Bradford's cone responses.
 
-use crate::spectrum::xyz_to_linear_srgb;
+use crate::spectrum::{cie_xyz, xyz_to_linear_srgb};
 use glam::{DMat3, DVec3, Mat3};
 
 /// The white of sRGB, CIE D65's chromaticity.
@@ -33,26 +33,21 @@ pub fn daylight_xy(cct: f64) -> [f64; 2] {
     [x, -3.0 * x * x + 2.870 * x - 0.275]
 }
 
-/// A Planckian radiator's chromaticity at `kelvin`: Kim et al.'s cubic approximation of the
-/// Planckian locus (US patent 7,024,034), within about 2e-4 of the CIE 1931 integral from
-/// 1667 to 25000 K and extrapolated below. (Fenestra's analytic observer, integrated against
-/// Planck's law, is 7e-4 off at 3500 K: enough to tint a white-balanced red by 3%.)
+/// A Planckian radiator's chromaticity at `kelvin`: Planck's law integrated against the CIE
+/// 1931 tables at 1 nm, as pbrt-v4 takes the white of a blackbody. (Kim et al.'s cubic fit of
+/// the locus, used before, is within 2e-4 of it: enough to leave a balanced red 0.6% off.)
 pub fn planckian_xy(kelvin: f64) -> [f64; 2] {
-    let (t, t2, t3) = (kelvin, kelvin * kelvin, kelvin * kelvin * kelvin);
-    let x = if kelvin <= 4000.0 {
-        -0.2661239e9 / t3 - 0.2343589e6 / t2 + 0.8776956e3 / t + 0.179910
-    } else {
-        -3.0258469e9 / t3 + 2.1070379e6 / t2 + 0.2226347e3 / t + 0.240390
-    };
-    let (x2, x3) = (x * x, x * x * x);
-    let y = if kelvin <= 2222.0 {
-        -1.1063814 * x3 - 1.34811020 * x2 + 2.18555832 * x - 0.20219683
-    } else if kelvin <= 4000.0 {
-        -0.9549476 * x3 - 1.37418593 * x2 + 2.09137015 * x - 0.16748867
-    } else {
-        3.0817580 * x3 - 5.87338670 * x2 + 3.75112997 * x - 0.37001483
-    };
-    [x, y]
+    let (h, c, k) = (6.626_070_15e-34, 299_792_458.0, 1.380_649e-23);
+    let mut xyz = [0.0f64; 3];
+    for i in 0..=470 {
+        let l = (360 + i) as f64 * 1e-9;
+        let radiance = 1.0 / (l.powi(5) * ((h * c / (l * k * kelvin)).exp() - 1.0));
+        for (s, b) in xyz.iter_mut().zip(cie_xyz(360.0 + i as f64)) {
+            *s += b * radiance;
+        }
+    }
+    let sum = xyz[0] + xyz[1] + xyz[2];
+    [xyz[0] / sum, xyz[1] / sum]
 }
 
 /// The white of the illuminant pbrt-v4 takes for a film's `whitebalance` temperature: the
@@ -110,10 +105,10 @@ mod tests {
         // CIE 15's D50 and D65 (nominal 5000 and 6500 K) and illuminant A (2856 K).
         assert!(close(illuminant_white(6500.0), [0.31272, 0.32903], 2e-4));
         assert!(close(illuminant_white(5000.0), [0.34567, 0.35851], 2e-4));
-        // Illuminant A: 2856 K on the scale of c2 = 1.435e-2, 2848 K on today's.
-        assert!(close(planckian_xy(2848.0), [0.44757, 0.40745], 3e-4));
+        // Illuminant A: a Planckian radiator at 2856 K (CIE 15:2004, c2 = 1.4388e-2).
+        assert!(close(planckian_xy(2856.0), [0.44757, 0.40745], 1e-4));
         // The locus' tabulated point (a CIE 1931 integral) at 3500 K.
-        assert!(close(planckian_xy(3500.0), [0.40532, 0.39066], 3e-4));
+        assert!(close(planckian_xy(3500.0), [0.40532, 0.39066], 1e-4));
         // Both sides of 4000 K meet (within the daylight locus' offset from Planck's).
         assert!(close(
             illuminant_white(3995.0),
