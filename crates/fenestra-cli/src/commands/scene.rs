@@ -91,23 +91,34 @@ pub fn run(args: SceneArgs) -> Result<()> {
     }
 }
 
-/// --sky's map (`Sky::map`, lat-long in the sky's own frame) and its sun as `desc` holds it
+/// --sky's map as `desc` holds it (lat-long in the sky's own frame, unscaled) and its sun
 /// (placed, and scaled by --sun-strength and --environment-strength), into `folder`.
 fn write_sky(sky: &Sky, desc: &SceneDesc, folder: &Path) -> Result<Vec<PathBuf>> {
-    let sun = desc.lights.iter().find_map(|l| match l {
-        LightDesc::Environment(EnvironmentDesc::Sun {
+    let environment = |l: &LightDesc| match l {
+        LightDesc::Environment(e) => Some(e.clone()),
+        _ => None,
+    };
+    let lights = || desc.lights.iter().filter_map(environment);
+    let Some(image) = lights().find_map(|e| match e {
+        EnvironmentDesc::Image { image, .. } => Some(image),
+        _ => None,
+    }) else {
+        bail!("--sky left no sky map in the scene");
+    };
+    let sun = lights().find_map(|e| match e {
+        EnvironmentDesc::Sun {
             direction,
             radiance,
             half_angle,
-        }) => Some((direction, radiance, half_angle)),
+        } => Some((direction, radiance, half_angle)),
         _ => None,
     });
     let map = folder.join("sky.exr");
-    sky.map().write_exr(&map, &Default::default())?;
+    image.write_exr(&map, &Default::default())?;
     let json = folder.join("sun.json");
     let sun = sun.map(|(direction, radiance, half_angle)| {
         // A uniform disk of angular radius a: irradiance at normal incidence L pi sin^2 a.
-        let irradiance = *radiance * (std::f32::consts::PI * half_angle.sin().powi(2));
+        let irradiance = radiance * (std::f32::consts::PI * half_angle.sin().powi(2));
         serde_json::json!({
             "direction": direction.to_array(),
             "radiance": radiance.to_array(),
