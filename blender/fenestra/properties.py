@@ -16,7 +16,18 @@ PORTALS = [
 ]
 
 SELECTIONS = [
+    (
+        "auto",
+        "Automatic",
+        "Sample the sky and the sun at every vertex where a pilot measures it pays, else pick a "
+        "light by its emitted power",
+    ),
     ("power", "Power", "Pick a light by its emitted power"),
+    (
+        "split",
+        "Sky and sun split",
+        "Sample each light at infinity at every vertex, one other by power",
+    ),
     ("bvh", "Light tree", "A light BVH that weighs lights by power, distance and orientation"),
     ("learned", "Learned", "Learn which lights and parts of the sky each region sees"),
     ("uniform", "Uniform", "Pick every light with the same probability"),
@@ -46,7 +57,7 @@ class FenestraRenderSettings(bpy.types.PropertyGroup):
     )
     portals: bpy.props.EnumProperty(name="Portals", items=PORTALS, default="auto")
     light_selection: bpy.props.EnumProperty(
-        name="Light Selection", items=SELECTIONS, default="power"
+        name="Light Selection", items=SELECTIONS, default="auto"
     )
     seed: bpy.props.IntProperty(name="Seed", default=0, min=0)
     threads: bpy.props.IntProperty(

@@ -447,7 +447,7 @@ fn bad_input_gets_a_clear_error() {
     // An option of another integrator is refused, not ignored.
     assert_clear_error(
         &["render", "builtin:box-hole", "--sdrc-a", "0.3", "-o", o],
-        "--sdrc-a: sdrc.a is not read by af_hf with light.selection power (it reads path, light)",
+        "--sdrc-a: sdrc.a is not read by af_hf with light.selection auto (it reads path, light)",
     );
     assert_clear_error(
         &[

@@ -3,12 +3,9 @@
 //! the camera stands in (Bitterli's classroom has a ground plane of +-110 m): photons spread over
 //! them almost all land outside the room and find none of its windows.
 
-use fenestra_core::{warp, Ray, Sampler, Vec2, Vec3};
+use fenestra_core::Vec3;
 use fenestra_scene::{Scene, SurfaceInteraction};
 
-/// Rays traced from the camera to find its surroundings: a grid over the image and as many
-/// directions over the sphere (the room behind the camera holds windows too).
-const GRID: u32 = 48;
 /// Hits farther from the camera than this many times the median hit distance are views out
 /// (through a window, past the end of an open scene) and do not bound the surroundings.
 const FAR: f32 = 4.0;
@@ -33,27 +30,8 @@ pub struct Surroundings {
 /// The camera's surroundings in `scene`.
 pub fn camera_surroundings(scene: &Scene) -> Surroundings {
     let camera = &scene.camera;
-    let (w, h) = (scene.defaults.width.max(1), scene.defaults.height.max(1));
-    let mut sampler = Sampler::new(0, 0x4149_4d00, 0);
-    let image = (0..GRID * GRID).map(|k| {
-        let cell = Vec2::new((k % GRID) as f32 + 0.5, (k / GRID) as f32 + 0.5) / GRID as f32;
-        camera.generate_ray(cell * Vec2::new(w as f32, h as f32), w, h)
-    });
-    let around: Vec<Ray> = (0..GRID * GRID)
-        .map(|_| {
-            Ray::new(
-                camera.position,
-                warp::square_to_uniform_sphere(sampler.next_2d()),
-            )
-        })
-        .collect();
-    let hits: Vec<SurfaceInteraction> = image
-        .chain(around)
-        .filter_map(|ray| {
-            let hit = scene.intersect(&ray, f32::INFINITY)?;
-            Some(scene.interaction(&ray, &hit))
-        })
-        .collect();
+    let (mut hits, around) = fenestra_scene::view::camera_hits(scene);
+    hits.extend(around);
     let whole = scene.bounding_sphere();
     if hits.len() < MIN_HITS {
         return Surroundings {

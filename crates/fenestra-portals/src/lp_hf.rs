@@ -86,13 +86,17 @@ pub fn lp_hf(
     lights: LightNextEvent,
 ) -> Result<PathTracer<PortalNextEvent>, OptionError> {
     options.check()?;
-    if options.light_mix > 0.0 && lights.takes_several() {
-        return Err(OptionError::new(
-            "portal.light_mix",
-            "draws one light at a time: not with a light sampler whose estimates take several \
-             (light.selection all, bvh.split)",
-        ));
-    }
+    let lights = if options.light_mix > 0.0 {
+        lights.one_at_a_time().ok_or_else(|| {
+            OptionError::new(
+                "portal.light_mix",
+                "draws one light at a time: not with a light sampler whose estimates take \
+                 several (light.selection all or split, bvh.split)",
+            )
+        })?
+    } else {
+        lights
+    };
     Ok(PathTracer::new(
         "lp_hf",
         PortalNextEvent {
@@ -526,6 +530,7 @@ impl NextEvent for PortalNextEvent {
     }
 
     fn report(&self, stats: &mut RenderStats) {
+        self.lights.report(stats);
         stats
             .extra
             .insert("portals".into(), self.portals.portals().len() as f64);

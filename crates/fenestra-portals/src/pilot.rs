@@ -10,12 +10,11 @@
 use crate::aim::Surroundings;
 use crate::portal::PickWeights;
 use crate::portal::Portals;
-use fenestra_core::{Ray, Sampler, Vec3};
-use fenestra_render::light::{LightContext, LightHit, LightSampler};
+use fenestra_core::Sampler;
+use fenestra_render::light::probe::{DiffuseProbe, Moments};
+use fenestra_render::light::LightSampler;
 use fenestra_render::sample_context::SampleContext;
 use fenestra_render::RenderScene;
-use fenestra_scene::SurfaceInteraction;
-use std::f32::consts::FRAC_1_PI;
 
 /// Samples of each estimator at each point.
 const SAMPLES: u32 = 8;
@@ -69,13 +68,14 @@ pub fn measure(
     compact_share: Option<f32>,
 ) -> Verdict {
     // Rays per path vertex: the BSDF's, and a light sample's shadow ray or a portal's probe
-    // ray, or both.
+    // ray, or both (light sampling alone: the BSDF's and one shadow ray per light picked,
+    // measured).
     let (one, two) = (2.0, 3.0);
     if !scene.lights.has_compact {
         let m = moments(scene, portals, lights, surroundings, Plan::Both);
         return Verdict {
             portals: m.portals * one,
-            lights: m.lights * one,
+            lights: m.lights * m.light_rays,
             compact_share: None,
         };
     }
@@ -89,7 +89,7 @@ pub fn measure(
         );
         return Verdict {
             portals: m.portals * one,
-            lights: m.lights * one,
+            lights: m.lights * m.light_rays,
             compact_share: Some(c),
         };
     }
@@ -118,7 +118,7 @@ pub fn measure(
     };
     Verdict {
         portals: portals_cost,
-        lights: both.lights * one,
+        lights: both.lights * both.light_rays,
         compact_share,
     }
 }
@@ -131,6 +131,8 @@ const MIN_SHARE: f32 = 0.05;
 struct Measured {
     portals: f64,
     lights: f64,
+    /// Rays per vertex of light sampling alone.
+    light_rays: f64,
     second_compact: f64,
     second_portals: f64,
 }
@@ -149,6 +151,7 @@ fn moments(
     let mut m = Measured {
         portals: 0.0,
         lights: 0.0,
+        light_rays: 0.0,
         second_compact: 0.0,
         second_portals: 0.0,
     };
@@ -156,39 +159,30 @@ fn moments(
         Plan::Both => (1.0, 1.0),
         Plan::OneOf { compact } => (compact, 1.0 - compact),
     };
+    let (mut rays, mut estimates) = (0.0, 0.0);
     for (k, si) in points.iter().enumerate().step_by(step) {
-        // The side the camera sees.
-        let to_camera = camera - si.p;
-        let n = if si.ng.dot(to_camera) < 0.0 {
-            -si.ng
-        } else {
-            si.ng
-        };
+        let probe = DiffuseProbe::facing(scene, si, camera, &context);
         let at = Point {
-            scene,
-            si,
-            ctx: LightContext {
-                p: si.p,
-                n,
-                sample: &context,
-            },
+            weights: portals.pick_weights(si.p, Some(probe.ctx.n)),
+            probe,
             lights,
             portals,
-            weights: portals.pick_weights(si.p, Some(n)),
         };
         let mut sampler = Sampler::new(0, 0x5049_4c54, k as u32);
         let (mut lp, mut af) = (Moments::default(), Moments::default());
         for _ in 0..SAMPLES {
             let (by_bsdf_portals, by_bsdf_lights) =
                 at.bsdf_sample((compact, through), &mut sampler);
-            let all = at.light_sample(false, 1.0, &mut sampler);
+            let (all, picked) = at.light_sample(false, 1.0, &mut sampler);
+            rays += 1.0 + picked as f64;
+            estimates += 1.0;
             let (c, p) = match plan {
                 Plan::Both => (
-                    at.light_sample(true, 1.0, &mut sampler),
+                    at.light_sample(true, 1.0, &mut sampler).0,
                     at.portal_sample(1.0, &mut sampler),
                 ),
                 Plan::OneOf { compact } if sampler.next_1d() < compact => {
-                    (at.light_sample(true, compact, &mut sampler), 0.0)
+                    (at.light_sample(true, compact, &mut sampler).0, 0.0)
                 }
                 Plan::OneOf { .. } => (0.0, at.portal_sample(through, &mut sampler)),
             };
@@ -200,65 +194,29 @@ fn moments(
         m.portals += lp.variance();
         m.lights += af.variance();
     }
+    m.light_rays = if estimates > 0.0 {
+        rays / estimates
+    } else {
+        2.0
+    };
     m
 }
 
 /// A point the camera sees, as a white diffuse surface facing it, and the samplers at it.
 /// Each estimator combines its samples with a cosine-weighted (BSDF) sample by the balance
-/// heuristic, as the path tracers do; the values are luminance times cosine over density
-/// (irradiance estimates).
+/// heuristic, as the path tracers do.
 struct Point<'a> {
-    scene: &'a RenderScene,
-    si: &'a SurfaceInteraction,
-    ctx: LightContext<'a>,
+    probe: DiffuseProbe<'a>,
     lights: &'a dyn LightSampler,
     portals: &'a Portals,
     weights: PickWeights,
 }
 
 impl Point<'_> {
-    /// Density of the cosine-weighted direction `wi`.
-    fn bsdf_pdf(&self, wi: Vec3) -> f64 {
-        (wi.dot(self.ctx.n).max(0.0) * FRAC_1_PI) as f64
-    }
-
-    /// The light sampler's density of `wi` towards light `index` met at `hit`.
-    fn light_pdf(&self, index: usize, wi: Vec3, hit: LightHit) -> f64 {
-        let scene = self.scene;
-        (self.lights).pdf_li(&scene.scene, &scene.lights, &self.ctx, index, wi, hit) as f64
-    }
-
-    /// A light sample by the light sampler (only compact lights count with `compact_only`),
-    /// taken with probability `share`.
-    fn light_sample(&self, compact_only: bool, share: f32, sampler: &mut Sampler) -> f64 {
-        let (u_pick, u) = (sampler.next_1d(), sampler.next_2d());
-        let Some(pick) = self.lights.sample(&self.ctx, u_pick) else {
-            return 0.0;
-        };
-        let scene = self.scene;
-        if compact_only && !scene.lights.lights[pick.0].is_compact() {
-            return 0.0;
-        }
-        let Some(ls) = (self.lights).sample_li(&scene.scene, &scene.lights, &self.ctx, pick, u)
-        else {
-            return 0.0;
-        };
-        let cos = ls.wi.dot(self.ctx.n);
-        let p = share as f64 * ls.pdf as f64;
-        if cos <= 0.0 || !(p > 0.0) {
-            return 0.0;
-        }
-        let origin = self.si.spawn(ls.wi);
-        let tmax = ls
-            .point
-            .map_or(f32::INFINITY, |q| (q - origin).length() * (1.0 - 1e-4));
-        let tr = self.scene.transmittance(Ray::new(origin, ls.wi), tmax);
-        let le = (tr * ls.li).luminance() as f64 * cos as f64;
-        if ls.delta {
-            le / p
-        } else {
-            le / (p + self.bsdf_pdf(ls.wi))
-        }
+    /// A next-event estimate by the light sampler (only compact lights count with
+    /// `compact_only`), taken with probability `share`, and how many lights it picked.
+    fn light_sample(&self, compact_only: bool, share: f32, sampler: &mut Sampler) -> (f64, usize) {
+        (self.probe).light_estimate(self.lights, compact_only, share, sampler)
     }
 
     /// A direction through the portals, finding what lies beyond thin glass (the sun left to
@@ -268,108 +226,36 @@ impl Point<'_> {
         let Some(ps) = self.portals.sample(&self.weights, u_pick, u) else {
             return 0.0;
         };
-        let cos = ps.wi.dot(self.ctx.n);
+        let cos = ps.wi.dot(self.probe.ctx.n);
         if cos <= 0.0 || !(ps.pdf > 0.0) {
             return 0.0;
         }
-        let found = self.found(ps.wi);
+        let found = self.probe.found(ps.wi);
         let le: f64 = found.iter().filter(|f| !f.compact).map(|f| f.le).sum();
-        le * cos as f64 / (share as f64 * ps.pdf as f64 + self.bsdf_pdf(ps.wi))
+        le * cos as f64 / (share as f64 * ps.pdf as f64 + self.probe.bsdf_pdf(ps.wi))
     }
 
     /// A cosine-weighted direction: its balance-weighted value against the portals' mixture
     /// (portals for what they carry, light sampling for compact lights, taken with the
     /// probabilities `shares`) and against light sampling alone.
     fn bsdf_sample(&self, (compact, through): (f32, f32), sampler: &mut Sampler) -> (f64, f64) {
-        let local = fenestra_core::warp::square_to_cosine_hemisphere(sampler.next_2d());
-        let wi = fenestra_core::Frame::from_normal(self.ctx.n).to_world(local);
-        let (pdf, cos) = (self.bsdf_pdf(wi), wi.dot(self.ctx.n) as f64);
+        let probe = &self.probe;
+        let wi = probe.cosine_direction(sampler);
+        let (pdf, cos) = (probe.bsdf_pdf(wi), wi.dot(probe.ctx.n) as f64);
         if !(pdf > 0.0) {
             return (0.0, 0.0);
         }
         let portal_pdf = through as f64 * self.portals.pdf(&self.weights, wi) as f64;
-        let (mut with_portals, mut with_lights) = (0.0, 0.0);
-        for f in self.found(wi) {
-            let light_pdf = self.light_pdf(f.light, wi, f.hit());
-            with_lights += f.le * cos / (pdf + light_pdf);
+        let found = probe.found(wi);
+        let mut with_portals = 0.0;
+        for f in &found {
             let strategy = if f.compact {
-                compact as f64 * light_pdf
+                compact as f64 * probe.light_pdf(self.lights, f.light, wi, f.hit())
             } else {
                 portal_pdf
             };
             with_portals += f.le * cos / (pdf + strategy);
         }
-        (with_portals, with_lights)
-    }
-
-    /// The lights a ray from the point along `wi` meets beyond thin glass.
-    fn found(&self, wi: Vec3) -> Vec<Found> {
-        let ray = Ray::new(self.si.spawn(wi), wi);
-        let (tr, surface) = self.scene.through_glass(ray, f32::INFINITY);
-        let lights = &self.scene.lights;
-        match surface {
-            Some(s) => lights
-                .surface_emission(&s, wi)
-                .map(|(light, le)| Found {
-                    light,
-                    le: (tr * le).luminance() as f64,
-                    compact: false,
-                    surface: Some(s),
-                })
-                .into_iter()
-                .collect(),
-            None => lights
-                .environments
-                .iter()
-                .map(|&e| Found {
-                    light: e,
-                    le: (tr * lights.lights[e].le(LightHit::Escaped, wi)).luminance() as f64,
-                    compact: lights.lights[e].is_compact(),
-                    surface: None,
-                })
-                .collect(),
-        }
-    }
-}
-
-/// A light a ray met (on a surface, or escaping) and the luminance it brings.
-struct Found {
-    light: usize,
-    le: f64,
-    compact: bool,
-    surface: Option<SurfaceInteraction>,
-}
-
-impl Found {
-    fn hit(&self) -> LightHit<'_> {
-        match &self.surface {
-            Some(si) => LightHit::Surface(si),
-            None => LightHit::Escaped,
-        }
-    }
-}
-
-/// Running sums for a sample variance.
-#[derive(Default)]
-struct Moments {
-    n: f64,
-    sum: f64,
-    sum2: f64,
-}
-
-impl Moments {
-    fn add(&mut self, x: f64) {
-        self.n += 1.0;
-        self.sum += x;
-        self.sum2 += x * x;
-    }
-
-    /// The variance of one sample (unbiased).
-    fn variance(&self) -> f64 {
-        if self.n < 2.0 {
-            return 0.0;
-        }
-        let mean = self.sum / self.n;
-        ((self.sum2 - self.n * mean * mean) / (self.n - 1.0)).max(0.0)
+        (with_portals, probe.bsdf_estimate(self.lights, wi, &found))
     }
 }

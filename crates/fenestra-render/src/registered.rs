@@ -5,12 +5,15 @@ use crate::integrator::{hf, LightNextEvent, PathConfig, PathTracer};
 use crate::light::{LightOptions, LightSelection};
 use crate::registry::{Group, Registry};
 
-/// Registers this crate's integrators (hf, af_hf) and light samplers (power, uniform, all).
+/// Registers this crate's integrators (hf, af_hf) and light samplers (auto, power, uniform,
+/// all, split).
 pub fn register(registry: &mut Registry) {
     for selection in [
+        LightSelection::Auto,
         LightSelection::Power,
         LightSelection::Uniform,
         LightSelection::All,
+        LightSelection::Split,
     ] {
         let about = match selection {
             LightSelection::Power => "in proportion to emitted power",
@@ -18,6 +21,14 @@ pub fn register(registry: &mut Registry) {
             LightSelection::All => {
                 "a sample of every light in each estimate (beyond 8 lights, of one light in each \
                  of 8 groups of about equal power)"
+            }
+            LightSelection::Split => {
+                "a sample of each light at infinity (sky, sun, distant light) in each estimate, \
+                 and one of the other lights by power"
+            }
+            LightSelection::Auto => {
+                "the default: split where a pilot at the points the camera sees measures it \
+                 more efficient, else power"
             }
         };
         registry.light_sampler(selection.as_str(), about, vec![], false, move |_| {

@@ -19,6 +19,7 @@ pub mod shape;
 pub mod sky;
 pub mod texture;
 pub mod transform;
+pub mod view;
 
 pub use accel::{Backend, Hit, RayQuery, PACKET};
 pub use camera::{Camera, CameraError, FieldOfView};

@@ -51,7 +51,7 @@ fn every_option_has_a_flag_and_choices_are_checked_by_the_parser() {
     let e = parse(&["--light-selection", "brightest"]).expect_err("an unknown sampler");
     assert!(
         e.to_string()
-            .contains("possible values: power, uniform, all, bvh, learned"),
+            .contains("possible values: auto, power, uniform, all, split, bvh, learned"),
         "{e}"
     );
     let e = parse(&["--ias-combine", "mean"]).expect_err("an unknown choice");
@@ -149,7 +149,7 @@ fn a_pbrt_integrator_directive_sets_options_under_the_command_line() {
     assert_eq!(selection(&uniform, "af_hf", &power), "power");
     assert_eq!(
         selection(&scene("Integrator \"path\""), "af_hf", &Params::new()),
-        "power"
+        "auto"
     );
     let bvh = scene("Integrator \"volpath\" \"string lightsampler\" \"exhaustive\"");
     assert_eq!(selection(&bvh, "sdrc", &Params::new()), "bvh");

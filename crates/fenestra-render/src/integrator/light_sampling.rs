@@ -10,6 +10,7 @@ use crate::path_sample::PathSample;
 use crate::render_scene::RenderScene;
 use crate::sample_context::SampleContext;
 use fenestra_core::mis::MisHeuristic;
+use fenestra_core::stats::RenderStats;
 use fenestra_core::{Ray, Rgb, Vec2, Vec3};
 
 /// Builds a light sampler for a scene.
@@ -42,11 +43,12 @@ impl LightSampler for Unprepared {
 impl LightNextEvent {
     /// Light sampling by `selection` (the sampler is built by `prepare`).
     pub fn new(selection: LightSelection) -> Self {
-        let next_event = Self::with_sampler(selection.as_str(), move |scene| {
-            selection.build(&scene.scene, &scene.lights)
-        });
+        let next_event =
+            Self::with_sampler(selection.as_str(), move |scene| selection.build(scene));
         match selection {
-            LightSelection::All => next_event.taking_several(),
+            LightSelection::All | LightSelection::Split | LightSelection::Auto => {
+                next_event.taking_several()
+            }
             _ => next_event,
         }
     }
@@ -78,6 +80,18 @@ impl LightNextEvent {
     /// Whether an estimate may take several lights.
     pub fn takes_several(&self) -> bool {
         self.several
+    }
+
+    /// This light sampling for a strategy that draws one light at a time (a one-pick
+    /// mixture): the default selection, which may split, becomes power selection, which its
+    /// pilot would otherwise weigh against splitting; `None` for a sampler whose estimates
+    /// take several lights by choice.
+    pub fn one_at_a_time(self) -> Option<Self> {
+        if self.name == LightSelection::Auto.as_str() {
+            Some(Self::new(LightSelection::Power))
+        } else {
+            (!self.several).then_some(self)
+        }
     }
 
     /// As [`LightNextEvent::with_sampler`], for a sampler that learns from the render's
@@ -222,8 +236,15 @@ impl NextEvent for LightNextEvent {
         serde_json::json!({ "light_selection": self.name })
     }
 
-    fn prepare(&mut self, scene: &RenderScene, _: &RenderControl) -> Result<(), IntegratorError> {
+    fn prepare(
+        &mut self,
+        scene: &RenderScene,
+        control: &RenderControl,
+    ) -> Result<(), IntegratorError> {
         self.sampler = (self.build)(scene);
+        if let Some((what, _)) = self.sampler.choice() {
+            control.progress.note(&what);
+        }
         Ok(())
     }
 
@@ -240,6 +261,12 @@ impl NextEvent for LightNextEvent {
     ) -> Rgb {
         self.sample_light(scene, s, false, mis, sample, &mut out.shadows);
         Rgb::ZERO
+    }
+
+    fn report(&self, stats: &mut RenderStats) {
+        if let Some((_, gain)) = self.sampler.choice() {
+            stats.extra.insert("light_split_gain".into(), gain);
+        }
     }
 
     fn learning(&self) -> bool {

@@ -1,21 +1,24 @@
 //! Samplable lights built from the scene's light descriptions and emissive shapes.
 
 mod area;
+mod auto;
 mod distant;
 mod environment;
 pub mod learning;
 mod point;
+pub mod probe;
 pub mod sampler;
 mod spot;
 
 pub use area::AreaLight;
+pub use auto::{AutoLightSampler, SPLIT_MARGIN};
 pub use distant::DistantLight;
 pub use environment::Environment;
 pub use learning::{LightRecord, LightRecords};
 pub use point::PointLight;
 pub use sampler::{
-    AllLightSampler, LightContext, LightOptions, LightSampler, LightSelection, Picks,
-    PowerLightSampler, UniformLightSampler, MAX_PICKS,
+    LightContext, LightOptions, LightSampler, LightSelection, Picks, PowerLightSampler,
+    SplitLightSampler, UniformLightSampler, MAX_PICKS,
 };
 pub use spot::SpotLight;
 

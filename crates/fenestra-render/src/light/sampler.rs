@@ -3,6 +3,7 @@
 //! the shading point's pixel, block and pass through [`LightContext`].
 
 use super::{LightHit, LightRecords, LightSample, Lights};
+use crate::render_scene::RenderScene;
 use crate::sample_context::SampleContext;
 use fenestra_core::distribution::Distribution1D;
 use fenestra_core::{Vec2, Vec3};
@@ -78,6 +79,13 @@ pub trait LightSampler: Send + Sync {
     /// Learns from the light samples of a pass it asked for, every block's in block order;
     /// what it learns applies from the next pass on.
     fn learn(&self, _blocks: &[LightRecords]) {}
+
+    /// What a sampler that chooses its strategy when built chose, for the log, and the
+    /// measured efficiency of splitting the lights at infinity over one pick by power (see
+    /// [`super::AutoLightSampler`]); `None` for the samplers that choose nothing.
+    fn choice(&self) -> Option<(String, f64)> {
+        None
+    }
 }
 
 /// Most lights one next-event estimate picks.
@@ -117,6 +125,10 @@ crate::choices! {
         /// Every light in each estimate (split into [`MAX_PICKS`] groups of about equal power
         /// when there are more).
         All = "all",
+        /// Each light at infinity in every estimate, one of the other lights by power.
+        Split = "split",
+        /// Split where a pilot measures that it pays, else power ([`super::AutoLightSampler`]).
+        Auto = "auto",
     }
 }
 
@@ -125,7 +137,7 @@ crate::options! {
     pub struct LightOptions in "light", flags "light" {
         /// How next-event estimation picks a light: the name of a registered light sampler
         /// (`fenestra list` shows them).
-        pub selection: String = LightSelection::Power.as_str().to_string(),
+        pub selection: String = LightSelection::Auto.as_str().to_string(),
     }
 }
 
@@ -133,11 +145,15 @@ impl crate::options::Validate for LightOptions {}
 
 impl LightSelection {
     /// The sampler for `lights` of `scene`.
-    pub fn build(self, scene: &Scene, lights: &Lights) -> Box<dyn LightSampler> {
+    pub fn build(self, scene: &RenderScene) -> Box<dyn LightSampler> {
+        let lights = &scene.lights;
+        let scene_ = &scene.scene;
         match self {
             LightSelection::Uniform => Box::new(UniformLightSampler::new(lights)),
-            LightSelection::Power => Box::new(PowerLightSampler::new(scene, lights)),
-            LightSelection::All => Box::new(AllLightSampler::new(scene, lights)),
+            LightSelection::Power => Box::new(PowerLightSampler::new(scene_, lights)),
+            LightSelection::All => Box::new(SplitLightSampler::all(scene_, lights)),
+            LightSelection::Split => Box::new(SplitLightSampler::at_infinity(scene_, lights)),
+            LightSelection::Auto => Box::new(super::AutoLightSampler::new(scene)),
         }
     }
 }
@@ -201,38 +217,87 @@ impl LightSampler for PowerLightSampler {
     }
 }
 
-/// Every light in each next-event estimate, as pbrt's "uniform sample all lights" direct
-/// lighting: a light sample per light, each with probability 1, where a scene has at most
-/// [`MAX_PICKS`] lights (a few spots and a sky, a sun and a sky). More lights are split, in
-/// index order, into [`MAX_PICKS`] groups of about equal power; an estimate takes one light
-/// of each group, in proportion to its power within the group.
-pub struct AllLightSampler {
-    /// Per group: its first light and the power distribution over its lights.
-    groups: Vec<(usize, Distribution1D)>,
-    /// Per light: its group.
-    group_of: Vec<usize>,
+/// Lights split into groups, each next-event estimate taking one light of every group (in
+/// proportion to its power within the group): splitting, where a single pick would multiply a
+/// light's estimate by one over its probability of being picked.
+pub struct SplitLightSampler {
+    /// Per group: its lights and the power distribution over them.
+    groups: Vec<(Vec<usize>, Distribution1D)>,
+    /// Per light: its group and its place in the group.
+    place: Vec<(usize, usize)>,
 }
 
-impl AllLightSampler {
-    /// A sampler over `lights` of `scene`.
-    pub fn new(scene: &Scene, lights: &Lights) -> Self {
+impl SplitLightSampler {
+    /// Every light in each estimate, as pbrt's "uniform sample all lights" direct lighting:
+    /// a light sample per light, each with probability 1, where a scene has at most
+    /// [`MAX_PICKS`] lights (a few spots and a sky, a sun and a sky). More lights are split,
+    /// in index order, into [`MAX_PICKS`] groups of about equal power.
+    pub fn all(scene: &Scene, lights: &Lights) -> Self {
         let powers: Vec<f32> = lights.lights.iter().map(|l| l.power(scene)).collect();
-        Self::from_powers(&powers)
+        Self::all_of(&powers)
     }
 
-    /// A sampler over lights of these powers.
-    fn from_powers(powers: &[f32]) -> Self {
-        let ends = group_ends(powers, MAX_PICKS);
-        let mut groups = Vec::with_capacity(ends.len());
-        let mut group_of = vec![0; powers.len()];
+    fn all_of(powers: &[f32]) -> Self {
         let mut start = 0;
-        for (g, &end) in ends.iter().enumerate() {
-            group_of[start..end].fill(g);
-            // A group of dark lights is sampled uniformly (Distribution1D's rule for zero sums).
-            groups.push((start, Distribution1D::new(&powers[start..end])));
-            start = end;
+        let groups = group_ends(powers, MAX_PICKS)
+            .into_iter()
+            .map(|end| {
+                let group = (start..end).collect();
+                start = end;
+                group
+            })
+            .collect();
+        Self::from_groups(powers, groups)
+    }
+
+    /// Each light at infinity (a sky or environment map, the sun, a distant light) in every
+    /// estimate, and one of the other lights by power: on a room lit by a sky and a sun, a
+    /// single pick leaves the sunlit patches' direct light a coin toss between the two (at
+    /// most [`MAX_PICKS`] - 1 lights at infinity take their own sample; any more, and those
+    /// that emit nothing, join the others).
+    pub fn at_infinity(scene: &Scene, lights: &Lights) -> Self {
+        let powers: Vec<f32> = lights.lights.iter().map(|l| l.power(scene)).collect();
+        let infinite: Vec<bool> = lights.lights.iter().map(|l| l.at_infinity()).collect();
+        Self::at_infinity_of(&powers, &infinite)
+    }
+
+    fn at_infinity_of(powers: &[f32], infinite: &[bool]) -> Self {
+        let mut groups: Vec<Vec<usize>> = (0..powers.len())
+            .filter(|&i| infinite[i] && powers[i] > 0.0)
+            .take(MAX_PICKS - 1)
+            .map(|i| vec![i])
+            .collect();
+        let taken: Vec<usize> = groups.iter().flatten().copied().collect();
+        let rest: Vec<usize> = (0..powers.len()).filter(|i| !taken.contains(i)).collect();
+        if !rest.is_empty() {
+            groups.push(rest);
         }
-        AllLightSampler { groups, group_of }
+        Self::from_groups(powers, groups)
+    }
+
+    /// A sampler over lights of these powers, split into `groups` (disjoint, non-empty,
+    /// covering every light).
+    fn from_groups(powers: &[f32], groups: Vec<Vec<usize>>) -> Self {
+        let mut place = vec![(0, 0); powers.len()];
+        let groups = groups
+            .into_iter()
+            .enumerate()
+            .map(|(g, lights)| {
+                for (k, &i) in lights.iter().enumerate() {
+                    place[i] = (g, k);
+                }
+                // A group of dark lights is sampled uniformly (Distribution1D's rule for zero
+                // sums).
+                let group_powers: Vec<f32> = lights.iter().map(|&i| powers[i]).collect();
+                (lights, Distribution1D::new(&group_powers))
+            })
+            .collect();
+        SplitLightSampler { groups, place }
+    }
+
+    /// How many lights an estimate takes.
+    pub fn picks(&self) -> usize {
+        self.groups.len()
     }
 }
 
@@ -259,29 +324,28 @@ fn group_ends(powers: &[f32], count: usize) -> Vec<usize> {
     ends
 }
 
-impl LightSampler for AllLightSampler {
+impl LightSampler for SplitLightSampler {
     /// One pick alone: a group uniformly, then a light of it by power (with its probability
     /// of that; `pmf` gives the splitting estimate's, so one-pick mixtures refuse this sampler).
     fn sample(&self, _: &LightContext, u: f32) -> Option<(usize, f32)> {
         let n = self.groups.len();
         let g = ((u * n as f32) as usize).min(n.checked_sub(1)?);
-        let (start, d) = &self.groups[g];
+        let (lights, d) = &self.groups[g];
         let (i, pmf, _) = d.sample_discrete(u * n as f32 - g as f32);
-        (pmf > 0.0).then_some((start + i, pmf / n as f32))
+        (pmf > 0.0).then_some((lights[i], pmf / n as f32))
     }
 
     fn pmf(&self, _: &LightContext, light: usize) -> f32 {
-        self.group_of.get(light).map_or(0.0, |&g| {
-            let (start, d) = &self.groups[g];
-            d.discrete_pmf(light - start)
-        })
+        self.place
+            .get(light)
+            .map_or(0.0, |&(g, k)| self.groups[g].1.discrete_pmf(k))
     }
 
     fn sample_all(&self, _: &LightContext, u: f32, picks: &mut Picks) {
-        for (start, d) in &self.groups {
+        for (lights, d) in &self.groups {
             let (i, pmf, _) = d.sample_discrete(u);
             if pmf > 0.0 {
-                picks.push((start + i, pmf));
+                picks.push((lights[i], pmf));
             }
         }
     }
@@ -302,7 +366,7 @@ mod tests {
         };
         for n in [5, 30] {
             let powers: Vec<f32> = (0..n).map(|_| rng.next_f32() + 0.01).collect();
-            let all = AllLightSampler::from_powers(&powers);
+            let all = SplitLightSampler::all_of(&powers);
             // u on a fine stratified grid: each light's share of the picks is its probability.
             let draws = 100_000;
             let (mut one, mut split) = (vec![0.0f64; n], vec![0.0f64; n]);
@@ -331,6 +395,47 @@ mod tests {
                 );
             }
         }
+    }
+
+    #[test]
+    fn each_light_at_infinity_is_picked_in_every_estimate_and_one_other_by_power() {
+        let sample = SampleContext::SINGLE;
+        let ctx = LightContext {
+            p: Vec3::ZERO,
+            n: Vec3::Z,
+            sample: &sample,
+        };
+        // A sky, two lamps, a sun, a dark distant light, a third lamp.
+        let powers = [50.0, 1.0, 3.0, 200.0, 0.0, 4.0];
+        let infinite = [true, false, false, true, true, false];
+        let split = SplitLightSampler::at_infinity_of(&powers, &infinite);
+        assert_eq!(split.picks(), 3);
+        // The lamps and the dark light share one pick, by power (1 + 3 + 0 + 4).
+        let expected = |i: usize| match i {
+            0 | 3 => 1.0,
+            _ => powers[i] / 8.0,
+        };
+        let draws = 80_000;
+        let mut counts = [0.0f64; 6];
+        for k in 0..draws {
+            let u = (k as f32 + 0.5) / draws as f32;
+            let mut picks = Picks::default();
+            split.sample_all(&ctx, u, &mut picks);
+            for &(i, p) in picks.as_slice() {
+                assert_eq!(p, split.pmf(&ctx, i), "light {i}");
+                counts[i] += 1.0 / draws as f64;
+            }
+        }
+        for i in 0..6 {
+            assert!((split.pmf(&ctx, i) - expected(i)).abs() < 1e-6, "light {i}");
+            assert!(
+                (counts[i] - expected(i) as f64).abs() < 1e-3,
+                "light {i}: {counts:?}"
+            );
+        }
+        // No light at infinity: one light by power, as power selection.
+        let lamps_only = SplitLightSampler::at_infinity_of(&powers, &[false; 6]);
+        assert_eq!(lamps_only.picks(), 1);
     }
 
     #[test]
