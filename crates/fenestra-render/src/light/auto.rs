@@ -1,13 +1,14 @@
 //! The default light selection (beyond the seeds): one light per next-event estimate by
 //! power, or each light at infinity sampled at every vertex ([`SplitLightSampler::at_infinity`])
 //! where a pilot measures that it pays. On a room lit by a sky and a sun a single pick leaves
-//! the sunlit patches' direct light a coin toss between the two: splitting them halved the
-//! variance per sample on the sunlit glTF rooms (docs/interiors.md), but where the sun's
-//! variance is the bounce light rather than the toss, its extra shadow ray per vertex costs
-//! more than it gains (Bitterli's classroom). Before rendering, at the points the camera
-//! sees, both estimators of the direct light (on a white diffuse surface, with a cosine
-//! sample weighted by MIS) are sampled side by side: their variances summed over the points,
-//! times the rays each spends per path vertex, say which to use.
+//! the sunlit patches' direct light a coin toss between the two: splitting them cut the
+//! variance per sample 2-2.6x on the sunlit glTF rooms (docs/interiors.md), but where the
+//! sun's noise is its bounce light found by BSDF sampling rather than the toss, the extra
+//! light sample per vertex costs more than it gains (Bitterli's classroom). Before rendering,
+//! at the points the camera sees, both samplers estimate the light a white diffuse surface
+//! there reflects (its direct light and one bounce's, each light sample weighted against a
+//! cosine sample by MIS), side by side: their variances summed over the points, times the
+//! rays each spends, say which to use.
 
 use super::probe::{DiffuseProbe, Moments};
 use super::{
@@ -24,8 +25,8 @@ use fenestra_scene::Scene;
 /// density (on pbrt-v4's coated materials a random walk: on Bitterli's classroom split's
 /// samples cost 1.75x power's where its rays are 1.3x), and it sees the direct light and one
 /// bounce, where a path's longer tail shares more of the noise: its gains ran 1.3-2x those
-/// measured at equal time (docs/interiors.md: 1.17 where splitting lost, 0.77x; 2.3 and 3.1
-/// where it won, 2.7x and 1.6x).
+/// measured at equal time (docs/interiors.md: 1.17 where splitting lost, 0.77x; 2.3, 3.1 and
+/// 4.8 where it won, 2.6x, 1.6x and 2.0x).
 pub const SPLIT_MARGIN: f64 = 1.5;
 /// Samples of each estimator at each point.
 const SAMPLES: u32 = 8;
