@@ -144,16 +144,15 @@ crate::options! {
 impl crate::options::Validate for LightOptions {}
 
 impl LightSelection {
-    /// The sampler for `lights` of `scene`.
-    pub fn build(self, scene: &RenderScene) -> Box<dyn LightSampler> {
-        let lights = &scene.lights;
-        let scene_ = &scene.scene;
+    /// The sampler for the lights of `render_scene`.
+    pub fn build(self, render_scene: &RenderScene) -> Box<dyn LightSampler> {
+        let (scene, lights) = (&render_scene.scene, &render_scene.lights);
         match self {
             LightSelection::Uniform => Box::new(UniformLightSampler::new(lights)),
-            LightSelection::Power => Box::new(PowerLightSampler::new(scene_, lights)),
-            LightSelection::All => Box::new(SplitLightSampler::all(scene_, lights)),
-            LightSelection::Split => Box::new(SplitLightSampler::at_infinity(scene_, lights)),
-            LightSelection::Auto => Box::new(super::AutoLightSampler::new(scene)),
+            LightSelection::Power => Box::new(PowerLightSampler::new(scene, lights)),
+            LightSelection::All => Box::new(SplitLightSampler::all(scene, lights)),
+            LightSelection::Split => Box::new(SplitLightSampler::at_infinity(scene, lights)),
+            LightSelection::Auto => Box::new(super::AutoLightSampler::new(render_scene)),
         }
     }
 }
