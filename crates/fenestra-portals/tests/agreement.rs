@@ -189,6 +189,26 @@ fn lp_hf_refuses_a_scene_without_portals_and_a_bad_mixture() {
         panic!("a mixture of 1.5 was accepted");
     };
     assert!(e.to_string().contains("must lie in [0, 1], got 1.5"), "{e}");
+    // A mixture draws one light at a time: the default selection, which may split, becomes
+    // power selection; a sampler that splits by choice is refused.
+    let mix = PortalOptions {
+        light_mix: 0.5,
+        ..Default::default()
+    };
+    let with = |selection| {
+        lp_hf(
+            PathOptions::default(),
+            mix,
+            PortalSource::Scene,
+            LightNextEvent::new(selection),
+        )
+    };
+    let mixed = with(LightSelection::Auto).expect("the default");
+    assert_eq!(mixed.settings()["light_selection"], "power");
+    let Err(e) = with(LightSelection::Split) else {
+        panic!("a splitting sampler was accepted in a mixture");
+    };
+    assert!(e.to_string().contains("draws one light at a time"), "{e}");
 }
 
 /// Under `--sky`'s sky and sun (75 degrees up: its patch lands on the floor), lp_hf leaves the

@@ -26,6 +26,8 @@ pub struct LightNextEvent {
     learning: bool,
     /// Whether an estimate may take several lights (known before it is built).
     several: bool,
+    /// The fixed selection it samples by, if it is one.
+    selection: Option<LightSelection>,
 }
 
 /// The light sampler before preparation: it picks nothing.
@@ -43,8 +45,10 @@ impl LightSampler for Unprepared {
 impl LightNextEvent {
     /// Light sampling by `selection` (the sampler is built by `prepare`).
     pub fn new(selection: LightSelection) -> Self {
-        let next_event =
-            Self::with_sampler(selection.as_str(), move |scene| selection.build(scene));
+        let next_event = LightNextEvent {
+            selection: Some(selection),
+            ..Self::with_sampler(selection.as_str(), move |scene| selection.build(scene))
+        };
         match selection {
             LightSelection::All | LightSelection::Split | LightSelection::Auto => {
                 next_event.taking_several()
@@ -65,6 +69,7 @@ impl LightNextEvent {
             sampler: Box::new(Unprepared),
             learning: false,
             several: false,
+            selection: None,
         }
     }
 
@@ -87,7 +92,7 @@ impl LightNextEvent {
     /// pilot would otherwise weigh against splitting; `None` for a sampler whose estimates
     /// take several lights by choice.
     pub fn one_at_a_time(self) -> Option<Self> {
-        if self.name == LightSelection::Auto.as_str() {
+        if self.selection == Some(LightSelection::Auto) {
             Some(Self::new(LightSelection::Power))
         } else {
             (!self.several).then_some(self)
