@@ -329,6 +329,7 @@ fn with_bsdf<'a>(s: &Shading<'a>, bsdf: &'a Bsdf) -> Shading<'a> {
         frame: s.frame,
         wo: s.wo,
         wo_local: s.wo_local,
+        sides: s.sides,
         sample: s.sample,
     }
 }

@@ -22,7 +22,8 @@ use fenestra_render::driver::{
 };
 use fenestra_render::film::Window;
 use fenestra_render::integrator::{
-    Integrator, IntegratorError, LightNextEvent, PathOptions, PathTracer, Shading, Split, WorkMap,
+    Integrator, IntegratorError, LightNextEvent, PathOptions, PathTracer, Shading, Sides, Split,
+    WorkMap,
 };
 use fenestra_render::light::LightRecords;
 use fenestra_render::options::{OptionError, Options};
@@ -183,7 +184,7 @@ impl Sdrc {
                                 seed,
                                 phase: PLACEMENT,
                             };
-                            place_at(scene, &ctx, seed, &mut gather, &mut rays);
+                            place_at(scene, &ctx, seed, self.path.sides, &mut gather, &mut rays);
                         }
                     }
                     control.progress.advance(pixels);
@@ -206,6 +207,7 @@ fn place_at(
     scene: &RenderScene,
     ctx: &SampleContext,
     seed: u64,
+    sides: Sides,
     gather: &mut CacheGather,
     rays: &mut RayCounters,
 ) {
@@ -224,6 +226,7 @@ fn place_at(
         frame,
         wo,
         wo_local: frame.to_local(wo),
+        sides,
         sample: ctx,
     };
     if let Some(served) = gather.served(&shading, 1) {

@@ -582,25 +582,21 @@ fn real_scenes_match_their_reference_renders() {
 /// reference's variance), at 1024 spp: each must be within noise of pbrt-v4, by z-tests of
 /// the image's channel means and of 8x8-pixel regions (significance 1e-4 each, Sidak-corrected;
 /// differences under 0.05% of a value aside), unless its difference is a documented choice
-/// (`CHOSEN`, or not yet traced), which is held to issue 47's bar instead: image mean within
+/// (`CHOSEN`), which is held to issue 47's bar instead: image mean within
 /// 1%, 8x8 region error within 3%, each channel's mean within 2.5% (a colour transform can
 /// keep the luminance and move the colours); a named camera sensor to its measured size.
 #[test]
 fn feature_scenes_render_as_pbrt_v4_renders_them() {
-    // Differences that are choices, measured in docs/scenes.md ("One feature at a time"), and
-    // one not yet traced, each held to a bar: image mean, 8x8 region error, worst channel mean.
+    // Differences that are choices, measured in docs/scenes.md ("One feature at a time"), each
+    // held to a bar: image mean, 8x8 region error, worst channel mean.
     const BAR: [f64; 3] = [0.01, 0.03, 0.025];
-    const CHOSEN: [(&str, &str, [f64; 3]); 10] = [
+    const CHOSEN: [(&str, &str, [f64; 3]); 7] = [
         ("texture-sphere", "colours: spectra against RGB", BAR),
         ("coated-diffuse-smooth", "colours: spectra against RGB", BAR),
         ("film-whitebalance", "colours: spectra against RGB", BAR),
         ("coated-diffuse-rough", "pbrt-v4's coat", BAR),
         ("coated-scattering", "pbrt-v4's coat", BAR),
         ("coated-conductor", "pbrt-v4's coat, colours", BAR),
-        ("normal-map-floor", "normals turned away", BAR),
-        ("bump-sphere", "not traced", BAR),
-        // -0.2%, within noise until the default light selection split its sky off.
-        ("bump-floor", "not traced", BAR),
         // Measured +4.1%, 5.6% and 7.4%.
         (
             "film-sensor",

@@ -65,7 +65,8 @@ pub fn register(registry: &mut Registry) {
             vec![Group::of::<IasOptions>(), Group::of::<PathConfig>()],
             |b| {
                 direct_light_only(b)?;
-                Ok(Box::new(Ias::new(b.options()?)?))
+                let sides = b.options::<PathConfig>()?.sides;
+                Ok(Box::new(Ias::new(b.options()?)?.with_sides(sides)))
             },
         )
         .integrator(
@@ -83,16 +84,22 @@ pub fn register(registry: &mut Registry) {
                     )
                     .into());
                 }
-                Ok(Box::new(Ias::new(b.options::<IasOptions>()?.reference())?))
+                let sides = b.options::<PathConfig>()?.sides;
+                let reference = b.options::<IasOptions>()?.reference();
+                Ok(Box::new(Ias::new(reference)?.with_sides(sides)))
             },
         );
 }
 
 /// ias renders direct light: of the path options it takes only a path length of 2 (as bench
-/// suites and scripts give every integrator one), and refuses the others by name.
+/// suites and scripts give every integrator one) and which normals decide a surface's sides,
+/// and refuses the others by name.
 fn direct_light_only(b: &Build) -> Result<(), OptionError> {
     for (field, _) in b.params.group(PathConfig::GROUP) {
         let key = format!("{}.{field}", PathConfig::GROUP);
+        if field == "sides" {
+            continue;
+        }
         if field != "max_depth" {
             return Err(OptionError::new(
                 key,

@@ -182,7 +182,9 @@ impl Builder {
                 height: 720,
                 spp: 16,
                 max_depth: 6,
-                options: Vec::new(),
+                // pbrt-v4's path tracers let a path go on through a surface where its shading
+                // normal says so and its geometric one does not (docs/scenes.md).
+                options: vec![("path.sides".into(), "shading".into())],
             },
             warnings: Tally::default(),
             notes: Tally::default(),

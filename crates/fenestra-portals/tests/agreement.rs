@@ -32,7 +32,7 @@ fn path(mis: MisHeuristic, depth: u32) -> PathOptions {
     PathOptions {
         max_depth: depth,
         mis,
-        rr_depth: 3,
+        ..PathOptions::default()
     }
 }
 

@@ -17,7 +17,7 @@ fn options(mis: MisHeuristic, depth: u32) -> PathOptions {
     PathOptions {
         max_depth: depth,
         mis,
-        rr_depth: 3,
+        ..PathOptions::default()
     }
 }
 

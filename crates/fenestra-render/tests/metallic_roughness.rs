@@ -160,7 +160,7 @@ fn render_box(
     let options = PathOptions {
         max_depth: depth,
         mis,
-        rr_depth: 3,
+        ..PathOptions::default()
     };
     let mut integrator = common::integrator(name, options);
     common::render(

@@ -19,7 +19,7 @@ fn render(name: &str, mis: MisHeuristic, depth: u32, spp: u32, seed: u64) -> (Im
     let options = PathOptions {
         max_depth: depth,
         mis,
-        rr_depth: 3,
+        ..PathOptions::default()
     };
     let (film, _) = common::render(
         builtin::load("box-hole").expect("builtin"),

@@ -36,6 +36,21 @@ impl SurfaceInteraction {
         offset_origin(self.p, self.ng, w, self.offset)
     }
 
+    /// A shadow ray leaving the point towards `w` and its length: to just short of `target`
+    /// (a point on a light) when there is one, aimed at it from the moved origin (as pbrt-v4's
+    /// `SpawnRayTo`), since a ray parallel to `w` from there passes beside it and, leaving
+    /// at a grazing angle, meets the light's own surface short of it; without end otherwise.
+    pub fn shadow_ray(&self, w: Vec3, target: Option<Vec3>) -> (Ray, f32) {
+        let origin = self.spawn(w);
+        let to = target.map(|q| q - origin);
+        match to.map(|d| (d, d.length())) {
+            Some((d, length)) if length > 0.0 => {
+                (Ray::new(origin, d / length), length * (1.0 - 1e-4))
+            }
+            _ => (Ray::new(origin, w), f32::INFINITY),
+        }
+    }
+
     /// The shading frame: `ns` as +z, `dpdu` as the first tangent.
     pub fn shading_frame(&self) -> Frame {
         Frame::from_normal_tangent(self.ns, self.dpdu)

@@ -131,7 +131,10 @@ fn a_pbrt_integrator_directive_sets_options_under_the_command_line() {
     let uniform = scene("Integrator \"path\" \"string lightsampler\" \"uniform\"");
     assert_eq!(
         uniform.defaults.options,
-        [("light.selection".into(), "uniform".into())]
+        [
+            ("path.sides".into(), "shading".into()),
+            ("light.selection".into(), "uniform".into())
+        ]
     );
     assert_eq!(selection(&uniform, "af_hf", &Params::new()), "uniform");
     // Exports say it again.

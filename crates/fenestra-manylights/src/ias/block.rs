@@ -6,6 +6,7 @@
 use super::options::IasOptions;
 use crate::forest::Forest;
 use crate::sky::SkyRegion;
+use fenestra_render::integrator::Sides;
 use fenestra_render::RenderScene;
 
 /// A cluster outside the forest: a light at infinity taken whole, or a region of an
@@ -19,6 +20,8 @@ pub(super) enum Far {
 /// Everything a block's render reads.
 pub(super) struct BlockRender<'a> {
     pub(super) options: &'a IasOptions,
+    /// Which normals decide a surface's sides.
+    pub(super) sides: Sides,
     pub(super) forest: &'a Forest,
     /// The clusters outside the forest, numbered after its nodes.
     pub(super) far: &'a [Far],

@@ -23,6 +23,7 @@ use fenestra_core::mis::MisHeuristic;
 use fenestra_core::stats::RayCounters;
 use fenestra_core::{Ray, Rgb, Sampler, Vec3};
 use fenestra_render::bsdf::{reflect_z, Bsdf, BsdfSample};
+use fenestra_render::integrator::Sides;
 use fenestra_render::light::LightHit;
 use fenestra_scene::SurfaceInteraction;
 
@@ -78,6 +79,7 @@ fn sample_direction(
     si: &SurfaceInteraction,
     bsdf: &Bsdf,
     (wo, n): (Vec3, Vec3),
+    sides: Sides,
     sampler: &mut Sampler,
 ) -> Option<(BsdfSample, Vec3)> {
     let frame = si.shading_frame();
@@ -85,7 +87,9 @@ fn sample_direction(
     let (uc, u) = (sampler.next_1d(), sampler.next_2d());
     let bs = bsdf.sample(wo, uc, u)?;
     let wi = frame.to_world(bs.wi);
-    let leaks = !bsdf.is_transmissive() && (wi.dot(n) > 0.0) != (bs.wi.z * wo.z > 0.0);
+    let leaks = sides == Sides::Both
+        && !bsdf.is_transmissive()
+        && (wi.dot(n) > 0.0) != (bs.wi.z * wo.z > 0.0);
     (!leaks).then_some((bs, wi))
 }
 
@@ -115,7 +119,8 @@ impl BlockRender<'_> {
         sampler: &mut Sampler,
         rays: &mut RayCounters,
     ) -> Rgb {
-        let Some((bs, wi)) = sample_direction(&at.si, &at.bsdf, (at.wo, q.n), sampler) else {
+        let Some((bs, wi)) = sample_direction(&at.si, &at.bsdf, (at.wo, q.n), self.sides, sampler)
+        else {
             return Rgb::ZERO;
         };
         let found = self.light_along(&at.si, wi, rays, |source| {
@@ -137,7 +142,7 @@ impl BlockRender<'_> {
         sampler: &mut Sampler,
         rays: &mut RayCounters,
     ) -> Rgb {
-        match sample_direction(si, bsdf, (wo, n), sampler) {
+        match sample_direction(si, bsdf, (wo, n), self.sides, sampler) {
             Some((bs, wi)) => bs.weight * self.light_along(si, wi, rays, |_| 1.0),
             None => Rgb::ZERO,
         }
@@ -302,6 +307,7 @@ mod tests {
         let forest = ias.forest.as_ref().expect("prepared");
         let block = BlockRender {
             options: &ias.options,
+            sides: ias.sides,
             forest,
             far: &ias.far,
             scene: &scene,

@@ -6,7 +6,8 @@ use super::block::{BlockRender, Far};
 use super::bsdf_samples;
 use super::point::{Point, Shade};
 use fenestra_core::stats::RayCounters;
-use fenestra_core::{Ray, Rgb, Sampler, Vec3};
+use fenestra_core::{Rgb, Sampler, Vec3};
+use fenestra_render::integrator::Sides;
 use fenestra_render::light::{LightHit, LightSample};
 
 impl BlockRender<'_> {
@@ -110,20 +111,19 @@ impl BlockRender<'_> {
         let frame = at.si.shading_frame();
         let (wo, wi) = (frame.to_local(at.wo), frame.to_local(s.wi));
         // Shading normals must not leak light through the surface.
-        if !at.bsdf.is_transmissive() && (s.wi.dot(q.n) > 0.0) != (wi.z * wo.z > 0.0) {
+        if self.sides == Sides::Both
+            && !at.bsdf.is_transmissive()
+            && (s.wi.dot(q.n) > 0.0) != (wi.z * wo.z > 0.0)
+        {
             return eval;
         }
         let unoccluded = at.bsdf.eval(wo, wi) * wi.z.abs() * s.li / s.pdf;
         if unoccluded.is_black() || !unoccluded.is_finite() {
             return eval;
         }
-        let origin = at.si.spawn(s.wi);
-        let tmax = match s.point {
-            Some(y) => (y - origin).length() * (1.0 - 1e-4),
-            None => f32::INFINITY,
-        };
+        let (ray, tmax) = at.si.shadow_ray(s.wi, s.point);
         rays.shadow += 1;
-        let seen = unoccluded * scene.transmittance(Ray::new(origin, s.wi), tmax);
+        let seen = unoccluded * scene.transmittance(ray, tmax);
         eval.visible = !seen.is_black();
         eval.contribution = f64::from(seen.luminance());
         eval.wi = s.wi;

@@ -44,7 +44,7 @@ use fenestra_render::control::RenderControl;
 use fenestra_render::driver::{
     render_to_completion, BlockTask, CompletionEstimator, PixelEstimate, BLOCK_SIZE,
 };
-use fenestra_render::integrator::{Integrator, IntegratorError, Split, WorkMap};
+use fenestra_render::integrator::{Integrator, IntegratorError, Sides, Split, WorkMap};
 use fenestra_render::options::Options;
 use fenestra_render::{Film, RenderScene, RenderSettings};
 use passes::BlockWork;
@@ -53,6 +53,8 @@ use std::sync::Mutex;
 /// The `ias` integrator.
 pub struct Ias {
     options: IasOptions,
+    /// Which normals decide a surface's sides (`path.sides`).
+    sides: Sides,
     forest: Option<Forest>,
     /// The clusters outside the forest, numbered after its nodes.
     far: Vec<Far>,
@@ -66,10 +68,16 @@ impl Ias {
         options.check()?;
         Ok(Ias {
             options,
+            sides: Sides::Both,
             forest: None,
             far: Vec::new(),
             maps: Mutex::new(Vec::new()),
         })
+    }
+
+    /// The same, deciding a surface's sides by `sides` (both normals by default).
+    pub fn with_sides(self, sides: Sides) -> Self {
+        Ias { sides, ..self }
     }
 
     /// A block's render with `forest` for a `width` x `height` image with `seed`.
@@ -82,6 +90,7 @@ impl Ias {
     ) -> BlockRender<'a> {
         BlockRender {
             options: &self.options,
+            sides: self.sides,
             forest,
             far: &self.far,
             scene,

@@ -11,7 +11,7 @@ use crate::render_scene::RenderScene;
 use crate::sample_context::SampleContext;
 use fenestra_core::mis::MisHeuristic;
 use fenestra_core::stats::RenderStats;
-use fenestra_core::{Ray, Rgb, Vec2, Vec3};
+use fenestra_core::{Rgb, Vec2, Vec3};
 
 /// Builds a light sampler for a scene.
 type BuildSampler = dyn Fn(&RenderScene) -> Box<dyn LightSampler> + Send + Sync;
@@ -195,10 +195,7 @@ impl LightNextEvent {
         let ctx = s.light_context();
         let ls = (self.sampler).sample_li(&scene.scene, &scene.lights, &ctx, (index, pick), u)?;
         let (wi_local, f) = s.bsdf_toward(ls.wi)?;
-        let origin = s.si.spawn(ls.wi);
-        let tmax = ls
-            .point
-            .map_or(f32::INFINITY, |q| (q - origin).length() * (1.0 - 1e-4));
+        let (ray, tmax) = s.si.shadow_ray(ls.wi, ls.point);
         let light_pdf = share * ls.pdf;
         let weight = if ls.delta {
             1.0
@@ -213,7 +210,7 @@ impl LightNextEvent {
             weight: (f * ls.li).luminance() * wi_local.z.abs() / light_pdf,
         });
         Some(ShadowRay {
-            ray: Ray::new(origin, ls.wi),
+            ray,
             tmax,
             value: f * ls.li * (wi_local.z.abs() * weight / light_pdf),
             record,

@@ -5,7 +5,7 @@
 
 use crate::bsdf::Bsdf;
 use crate::control::RenderControl;
-use crate::integrator::{Beyond, IntegratorError, LightRays};
+use crate::integrator::{Beyond, IntegratorError, LightRays, Sides};
 use crate::light::{LightContext, LightHit, LightRecords};
 use crate::path_sample::PathSample;
 use crate::render_scene::RenderScene;
@@ -28,6 +28,8 @@ pub struct Shading<'a> {
     pub wo: Vec3,
     /// `wo` in the shading frame.
     pub wo_local: Vec3,
+    /// Which normals decide the surface's sides.
+    pub sides: Sides,
     /// The sample being taken.
     pub sample: &'a SampleContext,
 }
@@ -43,10 +45,12 @@ impl Shading<'_> {
     }
 
     /// Whether `wi` and `wo` lie on the sides of the geometric surface that the shading
-    /// frame claims (`wi_local_z`: `wi`'s local z): guards against light leaks through
-    /// shading normals.
+    /// frame claims (`wi_local_z`: `wi`'s local z), which guards against light leaks through
+    /// shading normals; always, where the shading normal alone decides.
     pub fn sides_agree(&self, wi: Vec3, wi_local_z: f32) -> bool {
-        (wi.dot(self.si.ng) * self.wo.dot(self.si.ng) > 0.0) == (wi_local_z * self.wo_local.z > 0.0)
+        self.sides == Sides::Shading
+            || (wi.dot(self.si.ng) * self.wo.dot(self.si.ng) > 0.0)
+                == (wi_local_z * self.wo_local.z > 0.0)
     }
 
     /// The BSDF for light arriving from `wi` (world): the local direction and f, or `None`

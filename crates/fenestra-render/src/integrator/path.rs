@@ -129,6 +129,7 @@ impl<N: NextEvent> Integrator for PathTracer<N> {
             "max_depth": self.options.max_depth,
             "mis": self.options.mis,
             "rr_depth": self.options.rr_depth,
+            "sides": self.options.sides,
         });
         if let (Some(all), serde_json::Value::Object(own)) =
             (s.as_object_mut(), self.next_event.settings())
@@ -403,6 +404,7 @@ impl<N: NextEvent> PathTracer<N> {
             frame,
             wo,
             wo_local: frame.to_local(wo),
+            sides: self.options.sides,
             sample: ctx,
         };
         let vertex = if bsdf.is_delta() {

@@ -15,6 +15,19 @@ crate::choices! {
     }
 }
 
+crate::choices! {
+    /// Which normals decide the side of a surface a direction lies on, where the shading
+    /// normal (interpolated, bump- or normal-mapped) and the geometric one disagree.
+    pub enum Sides {
+        /// Both must agree, or the path ends there: no light leaks through a surface by its
+        /// shading normals (Veach 1997, §5.3), at the cost of the light such paths carry.
+        Both = "both",
+        /// The shading normal alone: a path goes on through the surface, as pbrt-v4's path
+        /// tracers do (the default of pbrt-v4 scenes).
+        Shading = "shading",
+    }
+}
+
 crate::options! {
     /// Path tracing (hf, af_hf, lp_hf, sdrc, shrc).
     pub struct PathConfig in "path", flags "" {
@@ -27,6 +40,10 @@ crate::options! {
         pub beta: f32 = 2.0,
         /// Path length from which Russian roulette may end paths.
         pub rr_depth: u32 = 3,
+        /// Which normals decide a surface's sides where the shading and geometric normals
+        /// disagree: both (a path ends there; no light leaks through shading normals) or the
+        /// shading normal alone (pbrt-v4's; the default of pbrt-v4 scenes).
+        pub sides: Sides = Sides::Both,
     }
 }
 
@@ -53,6 +70,7 @@ impl PathConfig {
                 Mis::Power => MisHeuristic::Power { beta: self.beta },
             },
             rr_depth: self.rr_depth,
+            sides: self.sides,
         }
     }
 }
@@ -66,6 +84,8 @@ pub struct PathOptions {
     pub mis: MisHeuristic,
     /// Path length from which Russian roulette may end a path.
     pub rr_depth: u32,
+    /// Which normals decide a surface's sides where they disagree.
+    pub sides: Sides,
 }
 
 /// [`PathConfig`]'s defaults with the default scene's path length.

@@ -83,11 +83,8 @@ impl<'a> DiffuseProbe<'a> {
             if cos <= 0.0 || !(p > 0.0) {
                 continue;
             }
-            let origin = self.si.spawn(ls.wi);
-            let tmax = ls
-                .point
-                .map_or(f32::INFINITY, |q| (q - origin).length() * (1.0 - 1e-4));
-            let tr = scene.transmittance(Ray::new(origin, ls.wi), tmax);
+            let (ray, tmax) = self.si.shadow_ray(ls.wi, ls.point);
+            let tr = scene.transmittance(ray, tmax);
             let le = (tr * ls.li).luminance() as f64 * cos as f64;
             sum += if ls.delta {
                 le / p
