@@ -1,17 +1,20 @@
 //! Whether portals pay (beyond seed 000): lp_hf must never be worse than af_hf. Before
-//! rendering, at the points the camera sees, both next-event estimators of the direct light
-//! (cosine-weighted, as on a diffuse surface) are sampled side by side: af_hf's (a light
-//! picked by the light sampler, a point on it) and lp_hf's (a direction through the portals
-//! finding the sky or an emitter beyond, plus the light sampler's compact lights). Their
-//! variances summed over the points, times the rays each spends per path vertex, say which
-//! is more efficient. On Bitterli's classroom the portals lowered the variance per sample but
-//! cost 1.6x the rays (the sun keeps its own shadow ray): 0.7x af_hf's efficiency.
+//! rendering, at the points the camera sees, both next-event estimators (cosine-weighted, as
+//! on a diffuse surface) are sampled side by side: af_hf's (a light picked by the light
+//! sampler, a point on it) and lp_hf's (a direction through the portals finding the sky or an
+//! emitter beyond, plus the light sampler's compact lights), of the direct light there and of
+//! the direct light of the surface a cosine sample finds, reflected at [`ALBEDO`] (as the
+//! default light selection's pilot measures: on a sunlit room the noise is mostly the sun's
+//! bounce, which portals do not sample). Their variances summed over the points, times the
+//! rays each spends per path vertex, say which is more efficient. On Bitterli's classroom the
+//! portals lowered the variance per sample but cost 1.6x the rays (the sun keeps its own
+//! shadow ray): 0.7x af_hf's efficiency.
 
 use crate::aim::Surroundings;
 use crate::portal::PickWeights;
 use crate::portal::Portals;
 use fenestra_core::Sampler;
-use fenestra_render::light::probe::{DiffuseProbe, Moments};
+use fenestra_render::light::probe::{DiffuseProbe, Moments, ALBEDO};
 use fenestra_render::light::LightSampler;
 use fenestra_render::sample_context::SampleContext;
 use fenestra_render::RenderScene;
@@ -155,41 +158,29 @@ fn moments(
         second_compact: 0.0,
         second_portals: 0.0,
     };
-    let (compact, through) = match plan {
-        Plan::Both => (1.0, 1.0),
-        Plan::OneOf { compact } => (compact, 1.0 - compact),
-    };
     let (mut rays, mut estimates) = (0.0, 0.0);
     for (k, si) in points.iter().enumerate().step_by(step) {
-        let probe = DiffuseProbe::facing(scene, si, camera, &context);
-        let at = Point {
-            weights: portals.pick_weights(si.p, Some(probe.ctx.n)),
-            probe,
+        let at = Point::new(
+            DiffuseProbe::facing(scene, si, camera, &context),
             lights,
             portals,
-        };
+        );
         let mut sampler = Sampler::new(0, 0x5049_4c54, k as u32);
         let (mut lp, mut af) = (Moments::default(), Moments::default());
         for _ in 0..SAMPLES {
-            let (by_bsdf_portals, by_bsdf_lights) =
-                at.bsdf_sample((compact, through), &mut sampler);
-            let (all, picked) = at.light_sample(false, 1.0, &mut sampler);
-            rays += 1.0 + picked as f64;
-            estimates += 1.0;
-            let (c, p) = match plan {
-                Plan::Both => (
-                    at.light_sample(true, 1.0, &mut sampler).0,
-                    at.portal_sample(1.0, &mut sampler),
-                ),
-                Plan::OneOf { compact } if sampler.next_1d() < compact => {
-                    (at.light_sample(true, compact, &mut sampler).0, 0.0)
-                }
-                Plan::OneOf { .. } => (0.0, at.portal_sample(through, &mut sampler)),
-            };
-            m.second_compact += c * c;
-            m.second_portals += p * p;
-            lp.add(c + p + by_bsdf_portals);
-            af.add(all + by_bsdf_lights);
+            let mut e = at.estimates(plan, &mut sampler);
+            let wi = at.probe.cosine_direction(&mut sampler);
+            if let (_, Some((y, tr))) = at.probe.look(wi) {
+                let probe = DiffuseProbe::facing(scene, &y, si.p, &context);
+                let bounce = Point::new(probe, lights, portals).estimates(plan, &mut sampler);
+                e.add_reflected(&bounce, ALBEDO * tr);
+            }
+            rays += e.light_rays;
+            estimates += e.vertices;
+            m.second_compact += e.compact * e.compact;
+            m.second_portals += e.portals * e.portals;
+            lp.add(e.with_portals);
+            af.add(e.with_lights);
         }
         m.portals += lp.variance();
         m.lights += af.variance();
@@ -212,7 +203,72 @@ struct Point<'a> {
     weights: PickWeights,
 }
 
-impl Point<'_> {
+/// Both estimators' values at a point, or summed over a path's points.
+struct Estimates {
+    /// lp_hf's: its compact lights' and portals' samples and the BSDF sample.
+    with_portals: f64,
+    /// af_hf's: its light sample and the BSDF sample.
+    with_lights: f64,
+    /// The compact lights' part of `with_portals`.
+    compact: f64,
+    /// The portals' part of `with_portals`.
+    portals: f64,
+    /// Rays af_hf spent (the BSDF's, and a shadow ray per light picked), and at how many
+    /// vertices.
+    light_rays: f64,
+    vertices: f64,
+}
+
+impl Estimates {
+    /// Adds the estimates at the next vertex, whose light reaches this one times `k`.
+    fn add_reflected(&mut self, next: &Estimates, k: f64) {
+        self.with_portals += k * next.with_portals;
+        self.with_lights += k * next.with_lights;
+        self.compact += k * next.compact;
+        self.portals += k * next.portals;
+        self.light_rays += next.light_rays;
+        self.vertices += next.vertices;
+    }
+}
+
+impl<'a> Point<'a> {
+    fn new(probe: DiffuseProbe<'a>, lights: &'a dyn LightSampler, portals: &'a Portals) -> Self {
+        Point {
+            weights: portals.pick_weights(probe.si.p, Some(probe.ctx.n)),
+            probe,
+            lights,
+            portals,
+        }
+    }
+
+    /// One sample of each estimator at the point, lp_hf's taken by `plan`.
+    fn estimates(&self, plan: Plan, sampler: &mut Sampler) -> Estimates {
+        let (compact, through) = match plan {
+            Plan::Both => (1.0, 1.0),
+            Plan::OneOf { compact } => (compact, 1.0 - compact),
+        };
+        let (by_bsdf_portals, by_bsdf_lights) = self.bsdf_sample((compact, through), sampler);
+        let (all, picked) = self.light_sample(false, 1.0, sampler);
+        let (c, p) = match plan {
+            Plan::Both => (
+                self.light_sample(true, 1.0, sampler).0,
+                self.portal_sample(1.0, sampler),
+            ),
+            Plan::OneOf { compact } if sampler.next_1d() < compact => {
+                (self.light_sample(true, compact, sampler).0, 0.0)
+            }
+            Plan::OneOf { .. } => (0.0, self.portal_sample(through, sampler)),
+        };
+        Estimates {
+            with_portals: c + p + by_bsdf_portals,
+            with_lights: all + by_bsdf_lights,
+            compact: c,
+            portals: p,
+            light_rays: 1.0 + picked as f64,
+            vertices: 1.0,
+        }
+    }
+
     /// A next-event estimate by the light sampler (only compact lights count with
     /// `compact_only`), taken with probability `share`, and how many lights it picked.
     fn light_sample(&self, compact_only: bool, share: f32, sampler: &mut Sampler) -> (f64, usize) {

@@ -246,3 +246,35 @@ fn openings_are_open_and_enclosed_free_squares_are_not() {
     assert!(opening.open_fraction(&hanging) > 0.99);
     assert!(opening.enclosed_fraction(&hanging) < MIN_ENCLOSED);
 }
+
+#[test]
+fn the_pilot_keeps_a_portal_over_the_hole_and_refuses_one_on_a_wall() {
+    // box-hole's light comes through its ceiling hole alone: a portal over it samples the sky
+    // far better than light sampling, and one of the same size on a side wall (wall beyond,
+    // nothing comes through) only spends rays. The pilot measures the direct light and one
+    // bounce's at the points the camera sees.
+    use fenestra_portals::pilot::measure;
+    use fenestra_render::light::PowerLightSampler;
+    let desc = builtin::load("box-hole").expect("builtin");
+    let hole = desc.portals.clone();
+    let scene = RenderScene::new(Scene::build(desc, Backend::Obvhs).expect("scene"));
+    let lights = PowerLightSampler::new(&scene.scene, &scene.lights);
+    let surroundings = camera_surroundings(&scene.scene);
+    let gain = |quads: &[[Vec3; 4]]| {
+        let portals = fenestra_portals::Portals::from_quads(quads);
+        measure(&scene, &portals, &lights, &surroundings, None).gain()
+    };
+    let over_hole = gain(&hole);
+    // The hole's quad turned onto the wall at x = +0.5 (the box is the unit cube about the
+    // origin), facing into the box.
+    let (lo, hi) = (-0.125, 0.125);
+    let wall = [[
+        Vec3::new(0.5, lo, lo),
+        Vec3::new(0.5, hi, lo),
+        Vec3::new(0.5, hi, hi),
+        Vec3::new(0.5, lo, hi),
+    ]];
+    let on_wall = gain(&wall);
+    assert!(over_hole > 2.0, "over the hole: {over_hole:.2}x");
+    assert!(on_wall < 1.0, "on a wall: {on_wall:.2}x");
+}

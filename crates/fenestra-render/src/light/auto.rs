@@ -10,7 +10,7 @@
 //! cosine sample by MIS), side by side: their variances summed over the points, times the
 //! rays each spends, say which to use.
 
-use super::probe::{DiffuseProbe, Moments};
+use super::probe::{DiffuseProbe, Moments, ALBEDO};
 use super::{
     LightContext, LightHit, LightSample, LightSampler, Lights, Picks, PowerLightSampler,
     SplitLightSampler,
@@ -65,9 +65,6 @@ impl AutoLightSampler {
         }
     }
 }
-
-/// Reflectance of the surfaces the pilot's paths bounce off: a middling interior's.
-const ALBEDO: f64 = 0.5;
 
 /// How many times as efficient `split` is as `power` at `points`: the variance of a two-vertex
 /// estimate of the light reflected at each point (its direct light, and the direct light of

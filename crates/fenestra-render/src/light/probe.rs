@@ -9,6 +9,9 @@ use fenestra_core::{warp, Frame, Ray, Sampler, Vec3};
 use fenestra_scene::SurfaceInteraction;
 use std::f32::consts::FRAC_1_PI;
 
+/// Reflectance of the surfaces the pilots' paths bounce off: a middling interior's.
+pub const ALBEDO: f64 = 0.5;
+
 /// A point the camera sees, as a white diffuse surface facing it.
 pub struct DiffuseProbe<'a> {
     /// The scene.
