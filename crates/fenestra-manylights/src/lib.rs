@@ -52,10 +52,7 @@ pub fn register(registry: &mut Registry) {
             vec![Group::of::<LearnedOptions>()],
             true,
             |b| {
-                let options = b.options::<LearnedOptions>()?;
-                Ok(LightNextEvent::with_learning_sampler(options.name(), move |s| {
-                    Box::new(LearnedLights::new(&s.scene, &s.lights, options))
-                }))
+                Ok(learned::light_sampling(b.options::<LearnedOptions>()?))
             },
         )
         .integrator(

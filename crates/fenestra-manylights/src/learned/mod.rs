@@ -37,8 +37,9 @@ use crate::bvh::LightBvh;
 use crate::sky::SkyMap;
 use fenestra_core::distribution::Distribution1D;
 use fenestra_core::{Vec2, Vec3};
+use fenestra_render::integrator::LightNextEvent;
 use fenestra_render::light::{
-    Light, LightContext, LightHit, LightRecords, LightSample, LightSampler, Lights,
+    Light, LightContext, LightHit, LightRecords, LightSample, LightSampler, Lights, SplitSuns,
 };
 use fenestra_scene::Scene;
 use rayon::prelude::*;
@@ -254,6 +255,23 @@ struct Sky {
     first: u32,
     /// Its regions.
     map: SkyMap,
+}
+
+/// Light sampling by the learned sampler with `options` (its suns split apart if asked).
+pub fn light_sampling(options: LearnedOptions) -> LightNextEvent {
+    let next_event = LightNextEvent::with_learning_sampler(options.name(), move |s| {
+        let learned = Box::new(LearnedLights::new(&s.scene, &s.lights, options));
+        if options.split_suns {
+            Box::new(SplitSuns::new(learned, &s.lights))
+        } else {
+            learned
+        }
+    });
+    if options.split_suns {
+        next_event.taking_several()
+    } else {
+        next_event
+    }
 }
 
 /// The learned light sampler.

@@ -43,6 +43,11 @@ fenestra_render::options! {
         /// windows too, and draws directions there (0: the environment is one group, sampled
         /// by its own density).
         pub sky_regions: usize = SKY_REGIONS,
+        /// Take each sun (a compact light at infinity: a sun's disk, a distant light) in every
+        /// estimate, apart from the learned pick, which then stands for the other lights (the
+        /// sky's regions, the lamps): a sunlit patch's direct sun is then no coin toss against
+        /// the sky, for a second shadow ray per vertex.
+        pub split_suns: bool = false,
     }
 }
 
@@ -50,8 +55,14 @@ impl LearnedOptions {
     /// The sampler's name with its settings, as the integrator's settings record it.
     pub fn name(&self) -> String {
         format!(
-            "learned(mix {}, cell records {}, groups {}, passes {}, base {:?}, sky regions {})",
-            self.mix, self.cell_records, self.groups, self.passes, self.base, self.sky_regions
+            "learned(mix {}, cell records {}, groups {}, passes {}, base {:?}, sky regions {}{})",
+            self.mix,
+            self.cell_records,
+            self.groups,
+            self.passes,
+            self.base,
+            self.sky_regions,
+            if self.split_suns { ", suns split" } else { "" }
         )
     }
 }

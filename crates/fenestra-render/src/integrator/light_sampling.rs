@@ -121,6 +121,16 @@ impl LightNextEvent {
         self.sampler.as_ref()
     }
 
+    /// Replaces the prepared light sampler by what `f` makes of it (a strategy that takes some
+    /// lights its own way wraps it).
+    pub fn replace_sampler(
+        &mut self,
+        f: impl FnOnce(Box<dyn LightSampler>) -> Box<dyn LightSampler>,
+    ) {
+        let sampler = std::mem::replace(&mut self.sampler, Box::new(Unprepared));
+        self.sampler = f(sampler);
+    }
+
     /// One light sample at `s` for the path sample `sample`, weighted by MIS against the
     /// BSDF: its shadow rays (one per light picked) go to `shadows`, each with its record if
     /// the sample's records keep this sample's.

@@ -71,6 +71,15 @@ impl LightRecords {
         self.on
     }
 
+    /// The records that `keep` keeps, in their order.
+    pub fn retained(&self, keep: impl Fn(&LightRecord) -> bool) -> LightRecords {
+        LightRecords {
+            rate: self.rate,
+            on: self.on,
+            records: self.records.iter().copied().filter(|r| keep(r)).collect(),
+        }
+    }
+
     /// Keeps `record` (callers ask [`LightRecords::on`] when they build it, which may be
     /// before its shadow ray is tested and other samples have started).
     pub fn push(&mut self, record: LightRecord) {

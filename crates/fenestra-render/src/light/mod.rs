@@ -18,7 +18,7 @@ pub use learning::{LightRecord, LightRecords};
 pub use point::PointLight;
 pub use sampler::{
     LightContext, LightOptions, LightSampler, LightSelection, Picks, PowerLightSampler,
-    SplitLightSampler, UniformLightSampler, MAX_PICKS,
+    SplitLightSampler, SplitSuns, UniformLightSampler, MAX_PICKS,
 };
 pub use spot::SpotLight;
 

@@ -350,6 +350,122 @@ impl LightSampler for SplitLightSampler {
     }
 }
 
+/// The suns (compact lights at infinity: a sun's disk, a distant light) each taken in every
+/// estimate, and `inner`'s picks standing for the other lights: where `inner` picks a sun the
+/// pick is dropped, so the other lights keep `inner`'s probabilities and their estimate stays
+/// unbiased. For a learned sampler, which then learns only what its own picks find
+/// (the sky's regions, the lamps), while a sunlit patch's direct sun is no coin toss.
+pub struct SplitSuns {
+    inner: Box<dyn LightSampler>,
+    /// Per light: whether it is a sun.
+    suns: Vec<bool>,
+}
+
+impl SplitSuns {
+    /// `inner` over `lights`, with the suns taken apart.
+    pub fn new(inner: Box<dyn LightSampler>, lights: &Lights) -> Self {
+        let suns = lights
+            .lights
+            .iter()
+            .map(|l| l.at_infinity() && l.is_compact())
+            .collect();
+        SplitSuns { inner, suns }
+    }
+
+    /// The sampler of the other lights.
+    pub fn inner(&self) -> &dyn LightSampler {
+        self.inner.as_ref()
+    }
+
+    /// The sampler of the other lights, unwrapped.
+    pub fn into_inner(self) -> Box<dyn LightSampler> {
+        self.inner
+    }
+
+    fn is_sun(&self, light: usize) -> bool {
+        self.suns.get(light).copied().unwrap_or(false)
+    }
+}
+
+impl LightSampler for SplitSuns {
+    /// One pick alone (`inner`'s, a sun among them; `pmf` gives the splitting estimate's, so
+    /// one-pick mixtures refuse this sampler).
+    fn sample(&self, ctx: &LightContext, u: f32) -> Option<(usize, f32)> {
+        self.inner.sample(ctx, u)
+    }
+
+    fn pmf(&self, ctx: &LightContext, light: usize) -> f32 {
+        if self.is_sun(light) {
+            1.0
+        } else {
+            self.inner.pmf(ctx, light)
+        }
+    }
+
+    fn sample_li(
+        &self,
+        scene: &Scene,
+        lights: &Lights,
+        ctx: &LightContext,
+        (light, pick): (usize, f32),
+        u: Vec2,
+    ) -> Option<LightSample> {
+        if self.is_sun(light) {
+            Some(
+                lights.lights[light]
+                    .sample_li(scene, ctx.p, u)?
+                    .picked(pick),
+            )
+        } else {
+            self.inner.sample_li(scene, lights, ctx, (light, pick), u)
+        }
+    }
+
+    fn pdf_li(
+        &self,
+        scene: &Scene,
+        lights: &Lights,
+        ctx: &LightContext,
+        light: usize,
+        wi: Vec3,
+        hit: LightHit,
+    ) -> f32 {
+        if self.is_sun(light) {
+            lights.lights[light].pdf_li(scene, ctx.p, wi, hit)
+        } else {
+            self.inner.pdf_li(scene, lights, ctx, light, wi, hit)
+        }
+    }
+
+    fn sample_all(&self, ctx: &LightContext, u: f32, picks: &mut Picks) {
+        for (light, _) in self.suns.iter().enumerate().filter(|s| *s.1) {
+            picks.push((light, 1.0));
+        }
+        let mut inner = Picks::default();
+        self.inner.sample_all(ctx, u, &mut inner);
+        for &pick in inner.as_slice().iter().filter(|p| !self.is_sun(p.0)) {
+            picks.push(pick);
+        }
+    }
+
+    fn learns(&self, pass: u32) -> bool {
+        self.inner.learns(pass)
+    }
+
+    /// `inner` learns from its own picks' samples: the suns' are left out.
+    fn learn(&self, blocks: &[LightRecords]) {
+        let own: Vec<LightRecords> = blocks
+            .iter()
+            .map(|b| b.retained(|r| !self.is_sun(r.light as usize)))
+            .collect();
+        self.inner.learn(&own);
+    }
+
+    fn choice(&self) -> Option<(String, f64)> {
+        self.inner.choice()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -414,27 +530,105 @@ mod tests {
             0 | 3 => 1.0,
             _ => powers[i] / 8.0,
         };
-        let draws = 80_000;
-        let mut counts = [0.0f64; 6];
-        for k in 0..draws {
-            let u = (k as f32 + 0.5) / draws as f32;
-            let mut picks = Picks::default();
-            split.sample_all(&ctx, u, &mut picks);
-            for &(i, p) in picks.as_slice() {
-                assert_eq!(p, split.pmf(&ctx, i), "light {i}");
-                counts[i] += 1.0 / draws as f64;
-            }
-        }
-        for i in 0..6 {
-            assert!((split.pmf(&ctx, i) - expected(i)).abs() < 1e-6, "light {i}");
-            assert!(
-                (counts[i] - expected(i) as f64).abs() < 1e-3,
-                "light {i}: {counts:?}"
-            );
-        }
+        let expected: Vec<f32> = (0..6).map(expected).collect();
+        assert_picks_follow(&split, &ctx, &expected, |_| {});
         // No light at infinity: one light by power, as power selection.
         let lamps_only = SplitLightSampler::at_infinity_of(&powers, &[false; 6]);
         assert_eq!(lamps_only.picks(), 1);
+    }
+
+    /// Each light's share of `sampler`'s estimates over a fine stratified grid of u is its
+    /// `expected` probability, which `pmf` claims, as does every pick; `each` checks each
+    /// estimate's picks.
+    fn assert_picks_follow(
+        sampler: &dyn LightSampler,
+        ctx: &LightContext,
+        expected: &[f32],
+        each: impl Fn(&Picks),
+    ) {
+        let draws = 80_000;
+        let mut counts = vec![0.0f64; expected.len()];
+        for k in 0..draws {
+            let u = (k as f32 + 0.5) / draws as f32;
+            let mut picks = Picks::default();
+            sampler.sample_all(ctx, u, &mut picks);
+            each(&picks);
+            for &(i, p) in picks.as_slice() {
+                assert_eq!(p, sampler.pmf(ctx, i), "light {i}");
+                counts[i] += 1.0 / draws as f64;
+            }
+        }
+        for (i, &e) in expected.iter().enumerate() {
+            assert!((sampler.pmf(ctx, i) - e).abs() < 1e-6, "light {i}");
+            assert!((counts[i] - e as f64).abs() < 1e-3, "light {i}: {counts:?}");
+        }
+    }
+
+    /// A sampler that picks by power over every light and keeps the lights it learned from.
+    struct Spy {
+        power: PowerLightSampler,
+        learned: std::sync::Arc<std::sync::Mutex<Vec<u32>>>,
+    }
+
+    impl LightSampler for Spy {
+        fn sample(&self, ctx: &LightContext, u: f32) -> Option<(usize, f32)> {
+            self.power.sample(ctx, u)
+        }
+        fn pmf(&self, ctx: &LightContext, light: usize) -> f32 {
+            self.power.pmf(ctx, light)
+        }
+        fn learn(&self, blocks: &[LightRecords]) {
+            let mut learned = self.learned.lock().expect("spy");
+            learned.extend(
+                blocks
+                    .iter()
+                    .flat_map(|b| b.records.iter().map(|r| r.light)),
+            );
+        }
+    }
+
+    #[test]
+    fn the_suns_are_taken_in_every_estimate_and_the_inner_pick_stands_for_the_rest() {
+        let sample = SampleContext::SINGLE;
+        let ctx = LightContext {
+            p: Vec3::ZERO,
+            n: Vec3::Z,
+            sample: &sample,
+        };
+        // A sky, a lamp, a sun, a second lamp: the inner sampler picks among all four by power.
+        let powers = [50.0, 10.0, 200.0, 40.0];
+        let learned = std::sync::Arc::default();
+        let split = SplitSuns {
+            inner: Box::new(Spy {
+                power: PowerLightSampler {
+                    distribution: Some(Distribution1D::new(&powers)),
+                },
+                learned: std::sync::Arc::clone(&learned),
+            }),
+            suns: vec![false, false, true, false],
+        };
+        // The sun always; the others as often as the inner sampler picks them (its picks of
+        // the sun dropped), each pick with the probability `pmf` claims.
+        let total: f32 = powers.iter().sum();
+        let expected: Vec<f32> = (0..4)
+            .map(|i| if i == 2 { 1.0 } else { powers[i] / total })
+            .collect();
+        assert_picks_follow(&split, &ctx, &expected, |picks| {
+            assert_eq!(picks.as_slice()[0], (2, 1.0), "the sun comes first, always");
+        });
+        // The inner sampler learns from its own picks' samples, not from the sun's.
+        let mut block = LightRecords::new(1.0);
+        for light in [0, 2, 1, 2, 3] {
+            block.push(super::super::LightRecord {
+                p: Vec3::ZERO,
+                n: Vec3::Z,
+                light,
+                wi: Vec3::Z,
+                weight: 1.0,
+            });
+        }
+        split.learn(&[block]);
+        assert_eq!(*learned.lock().expect("spy"), vec![0, 1, 3]);
     }
 
     #[test]
