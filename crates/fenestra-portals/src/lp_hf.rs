@@ -22,7 +22,7 @@ use fenestra_render::integrator::{
     Beyond, Found, LightNextEvent, LightRays, NextEvent, PathOptions, PathTracer, ProbeRay,
     Scattered, Shading,
 };
-use fenestra_render::light::{LightContext, LightHit, LightRecords};
+use fenestra_render::light::{LightContext, LightHit, LightRecords, SplitSuns};
 use fenestra_render::options::{OptionError, Options, Validate};
 use fenestra_render::path_sample::PathSample;
 use fenestra_render::sample_context::SampleContext;
@@ -341,15 +341,26 @@ impl NextEvent for PortalNextEvent {
             return Err(PortalError::NoPortals.into());
         }
         let portals = portals.with_strategy(self.options.sampling, self.options.choice);
-        if !self.options.keep {
+        // Beside the portals, which carry the sky, the suns take a light sample at every
+        // vertex: the other lights' picks, when the sampler splits, cost no ray there.
+        let mut verdict = None;
+        let (keep, share) = (self.options.keep, self.options.compact_share);
+        self.lights.replace_sampler(|lights| {
+            let suns = SplitSuns::new(lights, &scene.lights);
+            if keep {
+                return Box::new(suns);
+            }
             let surroundings = camera_surroundings(&scene.scene);
-            let verdict = measure(
-                scene,
-                &portals,
-                self.lights.sampler(),
-                &surroundings,
-                self.options.compact_share,
-            );
+            let measured = measure(scene, &portals, (suns.inner(), &suns), &surroundings, share);
+            let pays = measured.gain() >= 1.0;
+            verdict = Some(measured);
+            if pays {
+                Box::new(suns)
+            } else {
+                suns.into_inner()
+            }
+        });
+        if let Some(verdict) = verdict {
             self.gain = Some(verdict.gain());
             self.compact_share = verdict.compact_share;
             if verdict.gain() < 1.0 {

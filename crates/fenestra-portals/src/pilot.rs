@@ -59,23 +59,24 @@ enum Plan {
     OneOf { compact: f32 },
 }
 
-/// Measures the estimators at the camera's `surroundings` in `scene`: light sampling alone,
-/// and the portals with the compact lights sampled at every vertex or (chosen per vertex with
-/// `compact_share`, else the probability that minimises the variance measured) one or the
-/// other.
+/// Measures the estimators at the camera's `surroundings` in `scene`: light sampling alone
+/// (by `lights`), and the portals with the compact lights (sampled by `compact`) at every
+/// vertex or (chosen per vertex with `compact_share`, else the probability that minimises the
+/// variance measured) one or the other.
 pub fn measure(
     scene: &RenderScene,
     portals: &Portals,
-    lights: &dyn LightSampler,
+    (lights, compact): (&dyn LightSampler, &dyn LightSampler),
     surroundings: &Surroundings,
     compact_share: Option<f32>,
 ) -> Verdict {
+    let samplers = Samplers { lights, compact };
     // Rays per path vertex: the BSDF's, and a light sample's shadow ray or a portal's probe
     // ray, or both (light sampling alone: the BSDF's and one shadow ray per light picked,
     // measured).
     let (one, two) = (2.0, 3.0);
     if !scene.lights.has_compact {
-        let m = moments(scene, portals, lights, surroundings, Plan::Both);
+        let m = moments(scene, portals, samplers, surroundings, Plan::Both);
         return Verdict {
             portals: m.portals * one,
             lights: m.lights * m.light_rays,
@@ -86,7 +87,7 @@ pub fn measure(
         let m = moments(
             scene,
             portals,
-            lights,
+            samplers,
             surroundings,
             Plan::OneOf { compact: c },
         );
@@ -96,7 +97,7 @@ pub fn measure(
             compact_share: Some(c),
         };
     }
-    let both = moments(scene, portals, lights, surroundings, Plan::Both);
+    let both = moments(scene, portals, samplers, surroundings, Plan::Both);
     // A sum of two estimators taken one at a time with probabilities c and 1 - c has the
     // variance M_c / c + M_p / (1 - c) - mean^2, least at c = sqrt(M_c) / (sqrt(M_c) +
     // sqrt(M_p)).
@@ -110,7 +111,7 @@ pub fn measure(
     let one_of = moments(
         scene,
         portals,
-        lights,
+        samplers,
         surroundings,
         Plan::OneOf { compact: c },
     );
@@ -140,10 +141,18 @@ struct Measured {
     second_portals: f64,
 }
 
+/// The light samplers of the two estimators: light sampling alone, and the compact lights'
+/// beside the portals.
+#[derive(Clone, Copy)]
+struct Samplers<'a> {
+    lights: &'a dyn LightSampler,
+    compact: &'a dyn LightSampler,
+}
+
 fn moments(
     scene: &RenderScene,
     portals: &Portals,
-    lights: &dyn LightSampler,
+    samplers: Samplers,
     surroundings: &Surroundings,
     plan: Plan,
 ) -> Measured {
@@ -162,7 +171,7 @@ fn moments(
     for (k, si) in points.iter().enumerate().step_by(step) {
         let at = Point::new(
             DiffuseProbe::facing(scene, si, camera, &context),
-            lights,
+            samplers,
             portals,
         );
         let mut sampler = Sampler::new(0, 0x5049_4c54, k as u32);
@@ -172,7 +181,7 @@ fn moments(
             let wi = at.probe.cosine_direction(&mut sampler);
             if let (_, Some((y, tr))) = at.probe.look(wi) {
                 let probe = DiffuseProbe::facing(scene, &y, si.p, &context);
-                let bounce = Point::new(probe, lights, portals).estimates(plan, &mut sampler);
+                let bounce = Point::new(probe, samplers, portals).estimates(plan, &mut sampler);
                 e.add_reflected(&bounce, ALBEDO * tr);
             }
             rays += e.light_rays;
@@ -198,7 +207,7 @@ fn moments(
 /// heuristic, as the path tracers do.
 struct Point<'a> {
     probe: DiffuseProbe<'a>,
-    lights: &'a dyn LightSampler,
+    samplers: Samplers<'a>,
     portals: &'a Portals,
     weights: PickWeights,
 }
@@ -232,11 +241,11 @@ impl Estimates {
 }
 
 impl<'a> Point<'a> {
-    fn new(probe: DiffuseProbe<'a>, lights: &'a dyn LightSampler, portals: &'a Portals) -> Self {
+    fn new(probe: DiffuseProbe<'a>, samplers: Samplers<'a>, portals: &'a Portals) -> Self {
         Point {
             weights: portals.pick_weights(probe.si.p, Some(probe.ctx.n)),
             probe,
-            lights,
+            samplers,
             portals,
         }
     }
@@ -269,10 +278,16 @@ impl<'a> Point<'a> {
         }
     }
 
-    /// A next-event estimate by the light sampler (only compact lights count with
-    /// `compact_only`), taken with probability `share`, and how many lights it picked.
+    /// A next-event estimate by the light sampler (with `compact_only`, by the compact
+    /// lights' sampler, only compact lights counting), taken with probability `share`, and how
+    /// many lights it picked.
     fn light_sample(&self, compact_only: bool, share: f32, sampler: &mut Sampler) -> (f64, usize) {
-        (self.probe).light_estimate(self.lights, compact_only, share, sampler)
+        let lights = if compact_only {
+            self.samplers.compact
+        } else {
+            self.samplers.lights
+        };
+        (self.probe).light_estimate(lights, compact_only, share, sampler)
     }
 
     /// A direction through the portals, finding what lies beyond thin glass (the sun left to
@@ -306,12 +321,15 @@ impl<'a> Point<'a> {
         let mut with_portals = 0.0;
         for f in &found {
             let strategy = if f.compact {
-                compact as f64 * probe.light_pdf(self.lights, f.light, wi, f.hit())
+                compact as f64 * probe.light_pdf(self.samplers.compact, f.light, wi, f.hit())
             } else {
                 portal_pdf
             };
             with_portals += f.le * cos / (pdf + strategy);
         }
-        (with_portals, probe.bsdf_estimate(self.lights, wi, &found))
+        (
+            with_portals,
+            probe.bsdf_estimate(self.samplers.lights, wi, &found),
+        )
     }
 }

@@ -262,7 +262,7 @@ fn the_pilot_keeps_a_portal_over_the_hole_and_refuses_one_on_a_wall() {
     let surroundings = camera_surroundings(&scene.scene);
     let gain = |quads: &[[Vec3; 4]]| {
         let portals = fenestra_portals::Portals::from_quads(quads);
-        measure(&scene, &portals, &lights, &surroundings, None).gain()
+        measure(&scene, &portals, (&lights, &lights), &surroundings, None).gain()
     };
     let over_hole = gain(&hole);
     // The hole's quad turned onto the wall at x = +0.5 (the box is the unit cube about the
