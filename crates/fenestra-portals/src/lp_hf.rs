@@ -363,10 +363,14 @@ impl NextEvent for PortalNextEvent {
         if let Some(verdict) = verdict {
             self.gain = Some(verdict.gain());
             self.compact_share = verdict.compact_share;
+            let rays = format!(
+                "{:.2} rays per vertex with the portals, {:.2} without",
+                verdict.portal_rays, verdict.light_rays
+            );
             if verdict.gain() < 1.0 {
                 control.progress.note(&format!(
                     "portals: light sampling alone measured {:.2}x as efficient at the points \
-                     the camera sees; lp_hf samples the lights alone, as af_hf does \
+                     the camera sees ({rays}); lp_hf samples the lights alone, as af_hf does \
                      (--portal-keep keeps the portals)",
                     1.0 / verdict.gain()
                 ));
@@ -381,7 +385,7 @@ impl NextEvent for PortalNextEvent {
             };
             control.progress.note(&format!(
                 "portals: measured {:.2}x as efficient as light sampling alone at the points \
-                 the camera sees{how}",
+                 the camera sees ({rays}){how}",
                 verdict.gain()
             ));
         }

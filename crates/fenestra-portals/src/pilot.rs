@@ -6,12 +6,11 @@
 //! the direct light of the surface a cosine sample finds, reflected at [`ALBEDO`] (as the
 //! default light selection's pilot measures: on a sunlit room the noise is mostly the sun's
 //! bounce, which portals do not sample). Their variances summed over the points, times the
-//! rays each spends per path vertex, say which is more efficient. lp_hf's compact lights are
-//! measured with the sampler it renders them with beside portals (each sun at every vertex);
-//! with the sun a coin toss beside them, Bitterli's classroom measured its portals at 0.88x,
-//! with the sun at every vertex 1.50x (rendered: 1.30x af_hf's efficiency). The portal side's
-//! rays are counted as one shadow ray for the compact lights: a scene with a sun and Dirac
-//! lamps besides spends up to two there, which the count leaves out.
+//! rays each spends per path vertex (counted: the BSDF's, a shadow ray per light picked, a
+//! portal's probe ray), say which is more efficient. lp_hf's compact lights are measured with
+//! the sampler it renders them with beside portals (each sun at every vertex); with the sun a
+//! coin toss beside them, Bitterli's classroom measured its portals at 0.88x, with the sun at
+//! every vertex 1.50x (rendered: 1.30x af_hf's efficiency).
 
 use crate::aim::Surroundings;
 use crate::portal::PickWeights;
@@ -38,6 +37,10 @@ pub struct Verdict {
     /// The probability that a vertex samples the compact lights instead of the portals, or
     /// `None` for both at every vertex, whichever measured the more efficient.
     pub compact_share: Option<f32>,
+    /// Rays per path vertex of the portals' estimator (taken with `compact_share`).
+    pub portal_rays: f64,
+    /// Rays per path vertex of light sampling alone.
+    pub light_rays: f64,
 }
 
 impl Verdict {
@@ -74,17 +77,9 @@ pub fn measure(
     compact_share: Option<f32>,
 ) -> Verdict {
     let samplers = Samplers { lights, compact };
-    // Rays per path vertex: the BSDF's, and a light sample's shadow ray or a portal's probe
-    // ray, or both (light sampling alone: the BSDF's and one shadow ray per light picked,
-    // measured).
-    let (one, two) = (2.0, 3.0);
     if !scene.lights.has_compact {
         let m = moments(scene, portals, samplers, surroundings, Plan::Both);
-        return Verdict {
-            portals: m.portals * one,
-            lights: m.lights * m.light_rays,
-            compact_share: None,
-        };
+        return m.verdict(None);
     }
     if let Some(c) = compact_share {
         let m = moments(
@@ -94,11 +89,7 @@ pub fn measure(
             surroundings,
             Plan::OneOf { compact: c },
         );
-        return Verdict {
-            portals: m.portals * one,
-            lights: m.lights * m.light_rays,
-            compact_share: Some(c),
-        };
+        return m.verdict(Some(c));
     }
     let both = moments(scene, portals, samplers, surroundings, Plan::Both);
     // A sum of two estimators taken one at a time with probabilities c and 1 - c has the
@@ -118,15 +109,10 @@ pub fn measure(
         surroundings,
         Plan::OneOf { compact: c },
     );
-    let (portals_cost, compact_share) = if one_of.portals * one < both.portals * two {
-        (one_of.portals * one, Some(c))
+    if one_of.portals * one_of.rays.portals < both.portals * both.rays.portals {
+        one_of.verdict(Some(c))
     } else {
-        (both.portals * two, None)
-    };
-    Verdict {
-        portals: portals_cost,
-        lights: both.lights * both.light_rays,
-        compact_share,
+        both.verdict(None)
     }
 }
 
@@ -138,10 +124,22 @@ const MIN_SHARE: f32 = 0.05;
 struct Measured {
     portals: f64,
     lights: f64,
-    /// Rays per vertex of light sampling alone.
-    light_rays: f64,
+    /// Rays per vertex of each estimator.
+    rays: Rays,
     second_compact: f64,
     second_portals: f64,
+}
+
+impl Measured {
+    fn verdict(&self, compact_share: Option<f32>) -> Verdict {
+        Verdict {
+            portals: self.portals * self.rays.portals,
+            lights: self.lights * self.rays.lights,
+            compact_share,
+            portal_rays: self.rays.portals,
+            light_rays: self.rays.lights,
+        }
+    }
 }
 
 /// The light samplers of the two estimators: light sampling alone, and the compact lights'
@@ -166,11 +164,11 @@ fn moments(
     let mut m = Measured {
         portals: 0.0,
         lights: 0.0,
-        light_rays: 0.0,
+        rays: Rays::default(),
         second_compact: 0.0,
         second_portals: 0.0,
     };
-    let (mut rays, mut estimates) = (0.0, 0.0);
+    let (mut rays, mut estimates) = (Rays::default(), 0.0);
     for (k, si) in points.iter().enumerate().step_by(step) {
         let at = Point::new(
             DiffuseProbe::facing(scene, si, camera, &context),
@@ -187,7 +185,7 @@ fn moments(
                 let bounce = Point::new(probe, samplers, portals).estimates(plan, &mut sampler);
                 e.add_reflected(&bounce, ALBEDO * tr);
             }
-            rays += e.light_rays;
+            rays.add(e.rays);
             estimates += e.vertices;
             m.second_compact += e.compact * e.compact;
             m.second_portals += e.portals * e.portals;
@@ -197,12 +195,33 @@ fn moments(
         m.portals += lp.variance();
         m.lights += af.variance();
     }
-    m.light_rays = if estimates > 0.0 {
-        rays / estimates
+    m.rays = if estimates > 0.0 {
+        Rays {
+            portals: rays.portals / estimates,
+            lights: rays.lights / estimates,
+        }
     } else {
-        2.0
+        Rays {
+            portals: 2.0,
+            lights: 2.0,
+        }
     };
     m
+}
+
+/// Rays spent by each estimator: the BSDF's, a shadow ray per light picked (per compact light
+/// beside the portals), a portal sample's probe ray.
+#[derive(Clone, Copy, Default)]
+struct Rays {
+    portals: f64,
+    lights: f64,
+}
+
+impl Rays {
+    fn add(&mut self, other: Rays) {
+        self.portals += other.portals;
+        self.lights += other.lights;
+    }
 }
 
 /// A point the camera sees, as a white diffuse surface facing it, and the samplers at it.
@@ -225,9 +244,8 @@ struct Estimates {
     compact: f64,
     /// The portals' part of `with_portals`.
     portals: f64,
-    /// Rays af_hf spent (the BSDF's, and a shadow ray per light picked), and at how many
-    /// vertices.
-    light_rays: f64,
+    /// Rays each estimator spent, and at how many vertices.
+    rays: Rays,
     vertices: f64,
 }
 
@@ -238,7 +256,7 @@ impl Estimates {
         self.with_lights += k * next.with_lights;
         self.compact += k * next.compact;
         self.portals += k * next.portals;
-        self.light_rays += next.light_rays;
+        self.rays.add(next.rays);
         self.vertices += next.vertices;
     }
 }
@@ -261,29 +279,34 @@ impl<'a> Point<'a> {
         };
         let (by_bsdf_portals, by_bsdf_lights) = self.bsdf_sample((compact, through), sampler);
         let (all, picked) = self.light_sample(false, 1.0, sampler);
-        let (c, p) = match plan {
+        // (value, shadow rays) of the compact lights' sample and of the portals'.
+        let ((c, shadow), p) = match plan {
             Plan::Both => (
-                self.light_sample(true, 1.0, sampler).0,
-                self.portal_sample(1.0, sampler),
+                self.light_sample(true, 1.0, sampler),
+                (self.portal_sample(1.0, sampler), 1),
             ),
             Plan::OneOf { compact } if sampler.next_1d() < compact => {
-                (self.light_sample(true, compact, sampler).0, 0.0)
+                (self.light_sample(true, compact, sampler), (0.0, 0))
             }
-            Plan::OneOf { .. } => (0.0, self.portal_sample(through, sampler)),
+            Plan::OneOf { .. } => ((0.0, 0), (self.portal_sample(through, sampler), 1)),
         };
+        let (p, probe) = p;
         Estimates {
             with_portals: c + p + by_bsdf_portals,
             with_lights: all + by_bsdf_lights,
             compact: c,
             portals: p,
-            light_rays: 1.0 + picked as f64,
+            rays: Rays {
+                portals: (1 + shadow + probe) as f64,
+                lights: (1 + picked) as f64,
+            },
             vertices: 1.0,
         }
     }
 
     /// A next-event estimate by the light sampler (with `compact_only`, by the compact
-    /// lights' sampler, only compact lights counting), taken with probability `share`, and how
-    /// many lights it picked.
+    /// lights' sampler, only compact lights counting), taken with probability `share`, and the
+    /// shadow rays it cost.
     fn light_sample(&self, compact_only: bool, share: f32, sampler: &mut Sampler) -> (f64, usize) {
         let lights = if compact_only {
             self.samplers.compact

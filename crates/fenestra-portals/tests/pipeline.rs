@@ -278,3 +278,41 @@ fn the_pilot_keeps_a_portal_over_the_hole_and_refuses_one_on_a_wall() {
     assert!(over_hole > 2.0, "over the hole: {over_hole:.2}x");
     assert!(on_wall < 1.0, "on a wall: {on_wall:.2}x");
 }
+
+#[test]
+fn the_pilot_counts_the_rays_each_estimator_spends() {
+    // The sky-lit box with a sun and a lamp inside: beside the portals the compact lights'
+    // sampler takes the sun at every vertex and its inner (uniform) pick stands for the rest,
+    // a pick of the sky or the sun dropped, so it spends 1 + 1/3 shadow rays; a vertex
+    // taking it or a portal's probe ray with probability 1/2 each spends, with its BSDF ray,
+    // 1 + (1 + 1/3) / 2 + 1 / 2 rays. Light sampling alone picks one light by power: two rays.
+    use fenestra_portals::pilot::measure;
+    use fenestra_render::light::{PowerLightSampler, SplitSuns, UniformLightSampler};
+    use fenestra_scene::LightDesc;
+    let mut desc = builtin::load("box-hole-sky").expect("builtin");
+    desc.lights.push(LightDesc::Distant {
+        direction: Vec3::new(0.3, -1.0, 0.2).normalize(),
+        irradiance: fenestra_core::Rgb::splat(3.0),
+    });
+    desc.lights.push(LightDesc::Point {
+        position: Vec3::new(0.2, 0.2, -0.2),
+        intensity: fenestra_core::Rgb::splat(0.1),
+    });
+    let portals = fenestra_portals::Portals::from_quads(&desc.portals);
+    let scene = RenderScene::new(Scene::build(desc, Backend::Obvhs).expect("scene"));
+    assert_eq!(scene.lights.lights.len(), 3);
+    let lights = PowerLightSampler::new(&scene.scene, &scene.lights);
+    let suns = SplitSuns::new(
+        Box::new(UniformLightSampler::new(&scene.lights)),
+        &scene.lights,
+    );
+    let surroundings = camera_surroundings(&scene.scene);
+    let verdict = measure(&scene, &portals, (&lights, &suns), &surroundings, Some(0.5));
+    let expected = 1.0 + (1.0 + 1.0 / 3.0) / 2.0 + 0.5;
+    assert!(
+        (verdict.portal_rays - expected).abs() < 0.03,
+        "{:.4} rays per vertex with the portals, expected {expected:.4}",
+        verdict.portal_rays
+    );
+    assert_eq!(verdict.light_rays, 2.0);
+}

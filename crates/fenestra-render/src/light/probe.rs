@@ -61,7 +61,9 @@ impl<'a> DiffuseProbe<'a> {
 
     /// One next-event estimate by `lights` (every light it picks), taken with probability
     /// `share` (only compact lights count with `compact_only`), weighted against a cosine
-    /// sample by the balance heuristic. Also returns how many lights it picked.
+    /// sample by the balance heuristic. Also returns the shadow rays it costs: one per light
+    /// picked (per compact light picked with `compact_only`, a pick of the sky beside portals
+    /// being dropped before any ray).
     pub fn light_estimate(
         &self,
         lights: &dyn LightSampler,
@@ -73,11 +75,12 @@ impl<'a> DiffuseProbe<'a> {
         let mut picks = Picks::default();
         lights.sample_all(&self.ctx, u_pick, &mut picks);
         let scene = self.scene;
-        let mut sum = 0.0;
+        let (mut sum, mut rays) = (0.0, 0);
         for &pick in picks.as_slice() {
             if compact_only && !scene.lights.lights[pick.0].is_compact() {
                 continue;
             }
+            rays += 1;
             let Some(ls) = lights.sample_li(&scene.scene, &scene.lights, &self.ctx, pick, u) else {
                 continue;
             };
@@ -95,7 +98,7 @@ impl<'a> DiffuseProbe<'a> {
                 le / (p + self.bsdf_pdf(ls.wi))
             };
         }
-        (sum, picks.as_slice().len())
+        (sum, rays)
     }
 
     /// A cosine-weighted direction.
