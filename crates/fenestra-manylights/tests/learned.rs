@@ -11,7 +11,7 @@ use common::{
 };
 use fenestra_builtin as builtin;
 use fenestra_core::{warp, Frame, Rng, Vec3, PI};
-use fenestra_manylights::learned::{light_sampling, Base};
+use fenestra_manylights::learned::{light_sampling, Base, Suns};
 use fenestra_manylights::sky::SKY_REGIONS;
 use fenestra_manylights::{LearnedLights, LearnedOptions, LightBvh};
 use fenestra_render::integrator::{af_hf, LightNextEvent, PathOptions, PathTracer};
@@ -27,7 +27,7 @@ const OPTIONS: LearnedOptions = LearnedOptions {
     passes: 3,
     base: Base::Bvh,
     sky_regions: SKY_REGIONS,
-    split_suns: false,
+    suns: Suns::Picked,
 };
 
 fn learned_af_hf(options: PathOptions) -> PathTracer<LightNextEvent> {
@@ -309,7 +309,7 @@ fn learned_sky_sampling_renders_the_light_trees_image() {
 #[test]
 fn learned_sampling_with_the_suns_split_renders_the_split_samplers_image() {
     let learned = LearnedOptions {
-        split_suns: true,
+        suns: Suns::Split,
         ..LearnedOptions::default()
     };
     for max_depth in [2, 5] {

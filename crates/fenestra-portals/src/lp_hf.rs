@@ -91,7 +91,7 @@ pub fn lp_hf(
             OptionError::new(
                 "portal.light_mix",
                 "draws one light at a time: not with a light sampler whose estimates take \
-                 several (light.selection all or split, bvh.split)",
+                 several (light.selection all or split, bvh.split, learned.suns split)",
             )
         })?
     } else {

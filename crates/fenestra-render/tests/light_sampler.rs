@@ -276,7 +276,7 @@ fn floor_under_sky_and_sun() -> (SceneDesc, f64) {
 /// (measured 0.004%: a bias of 0.02% fails), power's (whose coin toss between the two
 /// lights is noisier) below 0.1%. The default must choose split here. So does power selection
 /// with the sun taken apart ([`SplitSuns`], as the learned sampler takes it with
-/// `learned.split_suns`), whose picks of the sun are dropped: below 0.01% (measured 0.002%).
+/// `learned.suns split`), whose picks of the sun are dropped: below 0.01% (measured 0.002%).
 #[test]
 fn splitting_renders_a_sunlit_floor_at_its_closed_form_radiance() {
     let options = PathOptions {

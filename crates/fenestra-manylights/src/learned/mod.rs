@@ -49,7 +49,7 @@ use std::sync::{Mutex, OnceLock};
 
 mod options;
 
-pub use options::{Base, LearnedOptions};
+pub use options::{Base, LearnedOptions, Suns};
 
 /// Not a group (lights that send nothing).
 const NONE: u32 = u32::MAX;
@@ -259,15 +259,16 @@ struct Sky {
 
 /// Light sampling by the learned sampler with `options` (its suns split apart if asked).
 pub fn light_sampling(options: LearnedOptions) -> LightNextEvent {
+    let split = options.suns == Suns::Split;
     let next_event = LightNextEvent::with_learning_sampler(options.name(), move |s| {
         let learned = Box::new(LearnedLights::new(&s.scene, &s.lights, options));
-        if options.split_suns {
+        if split {
             Box::new(SplitSuns::new(learned, &s.lights))
         } else {
             learned
         }
     });
-    if options.split_suns {
+    if split {
         next_event.taking_several()
     } else {
         next_event

@@ -16,6 +16,19 @@ fenestra_render::choices! {
     }
 }
 
+fenestra_render::choices! {
+    /// How the learned sampler takes the suns (compact lights at infinity: a sun's disk, a
+    /// distant light).
+    pub enum Suns {
+        /// Each sun in every estimate, apart from the learned pick, which then stands for the
+        /// other lights (the sky's regions, the lamps): a sunlit patch's direct sun is no coin
+        /// toss against the sky, for a second shadow ray per vertex where a scene has a sun.
+        Split = "split",
+        /// Among the lights the learned pick chooses from, as any other.
+        Picked = "picked",
+    }
+}
+
 fenestra_render::options! {
     /// The learned light sampler (light.selection learned).
     #[derive(Copy)]
@@ -43,11 +56,11 @@ fenestra_render::options! {
         /// windows too, and draws directions there (0: the environment is one group, sampled
         /// by its own density).
         pub sky_regions: usize = SKY_REGIONS,
-        /// Take each sun (a compact light at infinity: a sun's disk, a distant light) in every
-        /// estimate, apart from the learned pick, which then stands for the other lights (the
-        /// sky's regions, the lamps): a sunlit patch's direct sun is then no coin toss against
-        /// the sky, for a second shadow ray per vertex.
-        pub split_suns: bool = false,
+        /// How the suns (a sun's disk, a distant light) are sampled: split (each in every
+        /// estimate, apart from the learned pick, which stands for the other lights: a sunlit
+        /// patch's direct sun is then no coin toss against the sky, for a second shadow ray
+        /// per vertex) or picked (among the other lights).
+        pub suns: Suns = Suns::Split,
     }
 }
 
@@ -62,7 +75,11 @@ impl LearnedOptions {
             self.passes,
             self.base,
             self.sky_regions,
-            if self.split_suns { ", suns split" } else { "" }
+            if self.suns == Suns::Split {
+                ", suns split"
+            } else {
+                ""
+            }
         )
     }
 }
