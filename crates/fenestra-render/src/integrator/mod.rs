@@ -17,7 +17,7 @@ pub use light_rays::{trace_probes, trace_shadows, Beyond, LightRays, ProbeRay, S
 pub use light_sampling::LightNextEvent;
 pub use next_event::{Found, NextEvent, NoNextEvent, Scattered, Shading};
 pub use path::{Gather, NoGather, PathTracer, Start};
-pub use path_options::{Mis, PathConfig, PathOptions, Sides};
+pub use path_options::{Mis, PathConfig, PathOptions, Roulette, Sides};
 
 use crate::control::RenderControl;
 use crate::film::Film;

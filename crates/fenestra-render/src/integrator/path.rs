@@ -9,7 +9,7 @@
 
 use super::light_rays::{trace_probes, trace_shadows, LightRays};
 use super::next_event::{Found, NextEvent, Scattered, Shading};
-use super::path_options::PathOptions;
+use super::path_options::{PathOptions, Roulette};
 use super::{Integrator, IntegratorError, Split};
 use crate::bsdf::Bsdf;
 use crate::control::RenderControl;
@@ -467,7 +467,12 @@ impl<N: NextEvent> PathTracer<N> {
         };
         if path.segments + 1 >= self.options.rr_depth {
             // Russian roulette (seed 000 §3.2.1): continue with probability q, divide by q.
-            let q = path.beta.max_component().min(0.95);
+            let m = path.beta.max_component();
+            let q = match self.options.roulette {
+                Roulette::Sqrt => m.sqrt(),
+                Roulette::Throughput => m,
+            }
+            .min(0.95);
             if q <= 0.0 || sample.sampler.next_1d() >= q {
                 return false;
             }

@@ -28,6 +28,19 @@ crate::choices! {
     }
 }
 
+crate::choices! {
+    /// The probability with which Russian roulette lets a path of throughput beta go on
+    /// (at most 0.95).
+    pub enum Roulette {
+        /// The square root of beta's largest component, as Cycles takes it: paths whose
+        /// throughput fell go on more often (more samples of the bounce light that lights
+        /// the dark parts of a room, for longer paths).
+        Sqrt = "sqrt",
+        /// Beta's largest component, as pbrt takes it.
+        Throughput = "throughput",
+    }
+}
+
 crate::options! {
     /// Path tracing (hf, af_hf, lp_hf, sdrc, shrc).
     pub struct PathConfig in "path", flags "" {
@@ -40,6 +53,10 @@ crate::options! {
         pub beta: f32 = 2.0,
         /// Path length from which Russian roulette may end paths.
         pub rr_depth: u32 = 3,
+        /// The probability with which Russian roulette lets a path go on: sqrt (the square
+        /// root of its throughput, as Cycles; docs/performance.md measures it) or throughput (as
+        /// pbrt).
+        pub roulette: Roulette = Roulette::Sqrt,
         /// Which normals decide a surface's sides where the shading and geometric normals
         /// disagree: both (a path ends there; no light leaks through shading normals) or the
         /// shading normal alone (pbrt-v4's; the default of pbrt-v4 scenes).
@@ -70,6 +87,7 @@ impl PathConfig {
                 Mis::Power => MisHeuristic::Power { beta: self.beta },
             },
             rr_depth: self.rr_depth,
+            roulette: self.roulette,
             sides: self.sides,
         }
     }
@@ -84,6 +102,8 @@ pub struct PathOptions {
     pub mis: MisHeuristic,
     /// Path length from which Russian roulette may end a path.
     pub rr_depth: u32,
+    /// Its probability of going on.
+    pub roulette: Roulette,
     /// Which normals decide a surface's sides where they disagree.
     pub sides: Sides,
 }
