@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 
 import bpy
 
-from . import area_lights, glb, mainthread, materials, portals, properties, world
+from . import area_lights, catalogue, glb, mainthread, materials, portals, properties, world
 
 
 @dataclass
@@ -111,7 +111,7 @@ def export(scene, view_layer, folder, portal_flags=True, give_up=None):
         scene_file, width, height, _camera_flag(scene_file, scene.camera), world_flags, notes=notes
     )
     settings = scene.fenestra
-    if portal_flags and settings.integrator == "lp_hf":
+    if portal_flags and catalogue.reads(settings.integrator, "portals"):
         if settings.portals == "scene":
             portal_file = os.path.join(folder, "portals.json")
             if portals.write_scene_portals(scene.objects, portal_file) == 0:

@@ -1,42 +1,31 @@
 """The render settings a scene keeps for fenestra (Render Properties panel), and the flags
-of `fenestra render` they become."""
+of `fenestra render` they become. The integrators, light selections and which integrator
+reads which options come from the binary (`catalogue`)."""
 
 import bpy
 
-INTEGRATORS = [
-    ("af_hf", "Path tracing", "af_hf: path tracing with next-event estimation and MIS"),
-    ("lp_hf", "Light portals", "lp_hf: path tracing that samples the light through portals"),
-    ("ias", "Adaptive many-light", "ias: iterative adaptive sampling for many lights"),
-    ("hf", "Plain path tracing", "hf: BSDF sampling only (a reference)"),
-]
+from . import catalogue
+
+# The integrator the add-on starts with (any of the binary's; its list comes from the binary).
+START_INTEGRATOR = "lp_hf"
+
+
+def _integrators(self, context):
+    return catalogue.enum_items("integrators", first=START_INTEGRATOR)
+
+
+def _light_selections(self, context):
+    return catalogue.enum_items("light_samplers", first=catalogue.default("light.selection"))
+
 
 PORTALS = [
     ("auto", "Automatic", "Estimate the portals from the scene (cached between renders)"),
     ("scene", "Scene", "The scene's Cycles portal lights"),
 ]
 
-SELECTIONS = [
-    (
-        "auto",
-        "Automatic",
-        "Sample the sky and the sun at every vertex where a pilot measures it pays, else pick a "
-        "light by its emitted power",
-    ),
-    ("power", "Power", "Pick a light by its emitted power"),
-    (
-        "split",
-        "Sky and sun split",
-        "Sample each light at infinity at every vertex, one other by power",
-    ),
-    ("bvh", "Light tree", "A light BVH that weighs lights by power, distance and orientation"),
-    ("learned", "Learned", "Learn which lights and parts of the sky each region sees"),
-    ("uniform", "Uniform", "Pick every light with the same probability"),
-    ("all", "All", "Sample every light (scenes with a few lights)"),
-]
-
 
 class FenestraRenderSettings(bpy.types.PropertyGroup):
-    integrator: bpy.props.EnumProperty(name="Integrator", items=INTEGRATORS, default="lp_hf")
+    integrator: bpy.props.EnumProperty(name="Integrator", items=_integrators)
     samples: bpy.props.IntProperty(
         name="Samples", description="Samples per pixel", default=64, min=1, soft_max=16384
     )
@@ -56,9 +45,7 @@ class FenestraRenderSettings(bpy.types.PropertyGroup):
         max=1024,
     )
     portals: bpy.props.EnumProperty(name="Portals", items=PORTALS, default="auto")
-    light_selection: bpy.props.EnumProperty(
-        name="Light Selection", items=SELECTIONS, default="auto"
-    )
+    light_selection: bpy.props.EnumProperty(name="Light Selection", items=_light_selections)
     seed: bpy.props.IntProperty(name="Seed", default=0, min=0)
     threads: bpy.props.IntProperty(
         name="Threads", description="Worker threads (0: all cores)", default=0, min=0
@@ -103,9 +90,9 @@ def render_flags(settings):
     flags += ["--seed", str(settings.seed)]
     if settings.threads > 0:
         flags += ["--threads", str(settings.threads)]
-    if settings.integrator != "ias":
+    if catalogue.reads(settings.integrator, "path"):
         flags += ["--max-depth", str(settings.max_depth)]
-    if settings.integrator in ("af_hf", "lp_hf"):
+    if catalogue.reads(settings.integrator, "light"):
         flags += ["--light-selection", settings.light_selection]
     if settings.variance_pass:
         flags.append("--variance")

@@ -2,6 +2,8 @@
 
 import bpy
 
+from . import catalogue
+
 
 class FenestraPanel:
     bl_space_type = "PROPERTIES"
@@ -25,11 +27,11 @@ class RENDER_PT_fenestra_sampling(FenestraPanel, bpy.types.Panel):
         col = layout.column(align=True)
         col.prop(s, "samples")
         col.prop(s, "time_limit")
-        if s.integrator != "ias":
+        if catalogue.reads(s.integrator, "path"):
             layout.prop(s, "max_depth")
-        if s.integrator in ("af_hf", "lp_hf"):
+        if catalogue.reads(s.integrator, "light"):
             layout.prop(s, "light_selection")
-        if s.integrator == "lp_hf":
+        if catalogue.reads(s.integrator, "portals"):
             row = layout.row()
             row.prop(s, "portals")
             layout.operator("fenestra.estimate_portals", icon="LIGHT_AREA")

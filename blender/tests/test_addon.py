@@ -503,3 +503,28 @@ def test_an_area_light_that_emits_nothing_is_left_out_and_said(workdir):
     notes = area_lights.append_to_glb(str(glb_file), scene.objects)
     assert any("area light dark emits nothing" in n for n in notes), notes
     assert glb_file.read_bytes() == before
+
+
+def test_the_settings_are_the_binarys_integrators_and_options(fenestra_bin):
+    import json
+
+    from fenestra import properties
+
+    listed = json.loads(
+        subprocess.run([fenestra_bin, "list", "--json"], capture_output=True, check=True).stdout
+    )
+    scene = bpy.context.scene
+    offered = [i[0] for i in properties._integrators(scene.fenestra, bpy.context)]
+    assert sorted(offered) == sorted(e["name"] for e in listed["integrators"])
+    # The add-on's starting integrator first (a new scene's), the binary's default selection.
+    assert offered[0] == properties.START_INTEGRATOR
+    selections = [i[0] for i in properties._light_selections(scene.fenestra, bpy.context)]
+    assert sorted(selections) == sorted(e["name"] for e in listed["light_samplers"])
+    assert selections[0] == "auto"
+    # Each integrator gets the flags of the option groups it reads, and no others.
+    for entry in listed["integrators"]:
+        scene.fenestra.integrator = entry["name"]
+        flags = properties.render_flags(scene.fenestra)
+        assert ("--max-depth" in flags) == ("path" in entry["groups"]), entry
+        assert ("--light-selection" in flags) == ("light" in entry["groups"]), entry
+    scene.fenestra.integrator = properties.START_INTEGRATOR

@@ -1,18 +1,21 @@
-//! The `fenestra` front end as a library: the subcommands, the integrator registry with the
-//! flags made from its option groups, scene arguments, progress and Ctrl-C. The `fenestra`
-//! binary is its command line; the Python module renders through the same jobs, so an image
-//! made from Python is the one the command line makes.
+//! The `fenestra` command line as a library: the subcommands with their flags, the flags
+//! made from the integrator registry's option groups, progress and Ctrl-C. What a render is
+//! (scenes, jobs, their files) is the session's (`fenestra-session`), which the Python module
+//! stands on too: the command line parses, calls it and prints.
 
 pub mod commands;
 pub mod integrators;
 pub mod support;
 
+/// A session's error as the command line says it: settings and options named by their flags.
+pub fn flagged(e: fenestra_session::Error) -> anyhow::Error {
+    match e {
+        fenestra_session::Error::Failed(e) => e,
+        e => anyhow::anyhow!(e.worded(fenestra_session::Style::Flag)),
+    }
+}
+
 /// A rayon pool with `threads` workers (all cores by default).
 pub fn thread_pool(threads: Option<usize>) -> anyhow::Result<rayon::ThreadPool> {
-    let mut pool = rayon::ThreadPoolBuilder::new();
-    if let Some(t) = threads {
-        anyhow::ensure!(t > 0, "--threads must be at least 1");
-        pool = pool.num_threads(t);
-    }
-    Ok(pool.build()?)
+    fenestra_session::thread_pool(threads).map_err(flagged)
 }

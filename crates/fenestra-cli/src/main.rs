@@ -5,7 +5,7 @@ use fenestra_cli::commands::{
 };
 
 use clap::{Parser, Subcommand};
-use fenestra_cli::integrators;
+use fenestra_session::registry;
 use std::process::ExitCode;
 
 #[derive(Parser)]
@@ -54,7 +54,13 @@ enum Command {
     /// then render it under other lights.
     Relight(relight::RelightArgs),
     /// List the built-in scenes and the integrators.
-    List,
+    List {
+        /// The integrators, light samplers and every option with its flag, keyword, help and
+        /// default, as JSON (what front ends such as the Blender add-on build their settings
+        /// from).
+        #[arg(long)]
+        json: bool,
+    },
 }
 
 fn main() -> ExitCode {
@@ -90,17 +96,26 @@ fn main() -> ExitCode {
             Ok(true) => return ExitCode::from(130),
             other => other.map(|_| ()),
         },
-        Command::List => {
+        Command::List { json: true } => {
+            let mut catalogue = fenestra_session::catalogue();
+            catalogue["scenes"] = fenestra_builtin::SCENES
+                .iter()
+                .map(|(name, about)| serde_json::json!({"name": name, "about": about}))
+                .collect();
+            println!("{catalogue}");
+            Ok(())
+        }
+        Command::List { json: false } => {
             println!("built-in scenes (use as builtin:NAME):");
             for (name, what) in fenestra_builtin::SCENES {
                 println!("  {name:<14} {what}");
             }
             println!("integrators (--integrator NAME):");
-            for e in integrators::registry().integrators() {
+            for e in registry().integrators() {
                 println!("  {:<14} {}", e.name, e.about);
             }
             println!("light samplers (--light-selection NAME):");
-            for e in integrators::registry().light_samplers() {
+            for e in registry().light_samplers() {
                 println!("  {:<14} {}", e.name, e.about);
             }
             Ok(())
@@ -109,6 +124,10 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
+            // A session's refusal reached here through `?`: name its settings by their flags.
+            let e = e
+                .downcast::<fenestra_session::Error>()
+                .map_or_else(|e| e, fenestra_cli::flagged);
             eprintln!("error: {e:#}");
             ExitCode::FAILURE
         }

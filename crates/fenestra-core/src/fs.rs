@@ -150,9 +150,38 @@ pub fn write_text_atomically(path: &Path, text: &str) -> Result<(), WriteError> 
     write_atomically(path, |tmp| std::fs::write(tmp, text))
 }
 
+/// A name made safe for file names: lower case, `builtin:` dropped, anything but letters,
+/// digits, '-' and '.' replaced by '_'.
+pub fn slug(s: &str) -> String {
+    let mut s = s.strip_prefix("builtin:").unwrap_or(s);
+    // A scene beside the repository ("../../shared/scenes/...") is named by what follows.
+    while let Some(rest) = s.strip_prefix("../").or_else(|| s.strip_prefix("./")) {
+        s = rest;
+    }
+    s.chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' || c == '.' {
+                c.to_ascii_lowercase()
+            } else {
+                '_'
+            }
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn slugs_name_scenes_by_what_sets_them_apart() {
+        assert_eq!(slug("builtin:box-hole"), "box-hole");
+        assert_eq!(
+            slug("../../shared/scenes/gltf/Breakfast Room.gltf"),
+            "shared_scenes_gltf_breakfast_room.gltf"
+        );
+        assert_eq!(slug("./a/b.pbrt"), "a_b.pbrt");
+    }
 
     #[test]
     fn a_failed_write_keeps_the_old_file_and_leaves_no_temporary() {

@@ -179,7 +179,7 @@ impl Image {
             }
             Some("pfm") => {
                 let bytes = std::fs::read(path).map_err(|e| err(e.to_string()))?;
-                pfm::decode(&bytes).map_err(err)
+                pfm::decode(&bytes).map_err(|e| err(e.to_string()))
             }
             Some("hdr" | "png" | "jpg" | "jpeg" | "tga") => {
                 let decoded = image::ImageReader::open(path)

@@ -3,8 +3,8 @@
 //! their HTML reports. Depends on the core only; the renderer is driven as a separate process.
 #![warn(missing_docs)]
 
+pub mod chi2;
 pub mod colormap;
-pub mod hash;
 pub mod metrics;
 pub mod plot;
 pub mod report;

@@ -4,8 +4,9 @@
 use crate::colormap::write_error_map;
 use crate::plot::{loglog, Series};
 use crate::run::{ReferenceRecord, RunRecord};
-use crate::suite::{slug, Suite};
+use crate::suite::Suite;
 use crate::EvalError;
+use fenestra_core::fs::slug;
 use fenestra_core::fs::write_text_atomically;
 use fenestra_core::image::Image;
 use serde::Serialize;

@@ -5,8 +5,9 @@
 //! `results.d/ID.jsonl`, so that tasks on many machines never write the same file.
 
 use crate::metrics::{self, Metrics};
-use crate::suite::{slug, RunSpec, Suite};
+use crate::suite::{RunSpec, Suite};
 use crate::EvalError;
+use fenestra_core::fs::slug;
 use fenestra_core::image::Image;
 use fenestra_core::stats::RenderStats;
 use serde::de::DeserializeOwned;

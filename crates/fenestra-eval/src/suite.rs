@@ -1,6 +1,7 @@
 //! Bench suites: which scenes, techniques and budgets to compare, read from TOML.
 
 use crate::EvalError;
+use fenestra_core::fs::slug;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -175,39 +176,32 @@ impl Suite {
                 reason: e.message().to_string(),
             }
         })?;
-        suite.check().map_err(bad)?;
+        suite.check().map_err(|problem| bad(problem.to_string()))?;
         Ok(suite)
     }
 
-    fn check(&self) -> Result<(), String> {
+    fn check(&self) -> Result<(), SuiteProblem> {
         if self.scenes.is_empty() || self.techniques.is_empty() || self.budgets.is_empty() {
-            return Err(
-                "a suite needs at least one [[scene]], [[technique]] and [[budget]]".into(),
-            );
+            return Err(SuiteProblem::Empty);
         }
         if self.resolution.contains(&0) || self.repetitions == 0 || self.reference.spp == 0 {
-            return Err("resolution, repetitions and reference spp must be positive".into());
+            return Err(SuiteProblem::NotPositive);
         }
         for (i, b) in self.budgets.iter().enumerate() {
+            let budget = i + 1;
             let set = [b.spp.is_some(), b.time.is_some(), b.rel_mse.is_some()]
                 .iter()
                 .filter(|&&x| x)
                 .count();
             if set != 1 {
-                return Err(format!(
-                    "budget {}: give exactly one of spp, time or rel_mse",
-                    i + 1
-                ));
+                return Err(SuiteProblem::BudgetKind { budget });
             }
             if b.max_time.is_some() && b.rel_mse.is_none() {
-                return Err(format!("budget {}: max_time goes with rel_mse", i + 1));
+                return Err(SuiteProblem::MaxTime { budget });
             }
             let positive = |x: Option<f64>| x.is_none_or(|x| x.is_finite() && x > 0.0);
             if b.spp == Some(0) || ![b.time, b.rel_mse, b.max_time].into_iter().all(positive) {
-                return Err(format!(
-                    "budget {}: spp, time, rel_mse and max_time must be positive and finite",
-                    i + 1
-                ));
+                return Err(SuiteProblem::BudgetValue { budget });
             }
         }
         // Run ids (and so file names) are built from these names: they must stay distinct.
@@ -219,10 +213,9 @@ impl Suite {
         distinct(self.budgets.iter().map(Budget::label), "budgets")?;
         for s in &self.scenes {
             if s.max_depth.is_empty() || s.max_depth.contains(&0) {
-                return Err(format!(
-                    "scene {}: max_depth needs path lengths of at least 1",
-                    s.scene
-                ));
+                return Err(SuiteProblem::MaxDepth {
+                    scene: s.scene.clone(),
+                });
             }
         }
         Ok(())
@@ -245,7 +238,7 @@ impl Suite {
                                 budget.label()
                             );
                             let seed = self.seed + rep as u64;
-                            let key = crate::hash::debug_hash(&(
+                            let key = fenestra_core::hash::debug_hash(&(
                                 self.resolution,
                                 (&tech.integrator, &tech.args),
                                 tech.budget_args(budget),
@@ -274,37 +267,34 @@ impl Suite {
     }
 }
 
-/// A file-name-safe form of a label.
 /// Refuses names that coincide (after `slug`), naming the first pair.
-fn distinct(names: impl Iterator<Item = String>, what: &str) -> Result<(), String> {
+fn distinct(names: impl Iterator<Item = String>, what: &'static str) -> Result<(), SuiteProblem> {
     let mut seen = std::collections::HashSet::new();
     for n in names {
         if !seen.insert(n.clone()) {
-            return Err(format!(
-                "{what} must give distinct file names; two give \"{n}\""
-            ));
+            return Err(SuiteProblem::SameName { what, name: n });
         }
     }
     Ok(())
 }
 
-/// A name made safe for file names: lower case, `builtin:` dropped, anything but letters,
-/// digits, '-' and '.' replaced by '_'.
-pub fn slug(s: &str) -> String {
-    let mut s = s.strip_prefix("builtin:").unwrap_or(s);
-    // A scene beside the repository ("../../shared/scenes/...") is named by what follows.
-    while let Some(rest) = s.strip_prefix("../").or_else(|| s.strip_prefix("./")) {
-        s = rest;
-    }
-    s.chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() || c == '-' || c == '.' {
-                c.to_ascii_lowercase()
-            } else {
-                '_'
-            }
-        })
-        .collect()
+/// What makes a suite that parses unusable.
+#[derive(Debug, thiserror::Error)]
+enum SuiteProblem {
+    #[error("a suite needs at least one [[scene]], [[technique]] and [[budget]]")]
+    Empty,
+    #[error("resolution, repetitions and reference spp must be positive")]
+    NotPositive,
+    #[error("budget {budget}: give exactly one of spp, time or rel_mse")]
+    BudgetKind { budget: usize },
+    #[error("budget {budget}: max_time goes with rel_mse")]
+    MaxTime { budget: usize },
+    #[error("budget {budget}: spp, time, rel_mse and max_time must be positive and finite")]
+    BudgetValue { budget: usize },
+    #[error("{what} must give distinct file names; two give \"{name}\"")]
+    SameName { what: &'static str, name: String },
+    #[error("scene {scene}: max_depth needs path lengths of at least 1")]
+    MaxDepth { scene: String },
 }
 
 fn line_col(text: &str, offset: usize) -> (usize, usize) {
@@ -418,16 +408,6 @@ max_time = 5
                 .to_string();
             assert!(e.contains("must be positive and finite"), "{bad}: {e}");
         }
-    }
-
-    #[test]
-    fn slugs_name_scenes_by_what_sets_them_apart() {
-        assert_eq!(slug("builtin:box-hole"), "box-hole");
-        assert_eq!(
-            slug("../../shared/scenes/gltf/Breakfast Room.gltf"),
-            "shared_scenes_gltf_breakfast_room.gltf"
-        );
-        assert_eq!(slug("./a/b.pbrt"), "a_b.pbrt");
     }
 
     #[test]

@@ -9,7 +9,7 @@ use rayon::prelude::*;
 use std::time::Instant;
 
 /// How the initial clusters are chosen (seed 003 §3.5).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
 pub enum Init {
     /// k distinct random points.
     Random,
@@ -17,8 +17,21 @@ pub enum Init {
     DistanceSum,
     /// k-means++ (Arthur and Vassilvitskii 2007).
     KmeansPlusPlus,
-    /// k-means++ with SortMeans' pruning (seed 003 Alg. 3).
+    /// k-means++ with SortMeans' pruning (seed 003 Alg. 3): the default.
+    #[default]
     SortMeansPlusPlus,
+}
+
+impl std::fmt::Display for Init {
+    /// As [`str::parse`] reads it.
+    fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str(match self {
+            Init::Random => "random",
+            Init::DistanceSum => "distance-sum",
+            Init::KmeansPlusPlus => "kmeans++",
+            Init::SortMeansPlusPlus => "sortmeans++",
+        })
+    }
 }
 
 impl std::str::FromStr for Init {

@@ -14,12 +14,23 @@ use serde::Serialize;
 use std::time::Instant;
 
 /// How points are classified to subspaces.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
 pub enum Algorithm {
     /// Exhaustive classification (Lloyd's k-means when the schedule is "0:N").
     Lpca,
-    /// SortCluster-LPCA (SortMeans when the schedule is "0:N").
+    /// SortCluster-LPCA (SortMeans when the schedule is "0:N"): the default.
+    #[default]
     ScLpca,
+}
+
+impl std::fmt::Display for Algorithm {
+    /// As [`str::parse`] reads it.
+    fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str(match self {
+            Algorithm::Lpca => "lpca",
+            Algorithm::ScLpca => "sc-lpca",
+        })
+    }
 }
 
 impl std::str::FromStr for Algorithm {

@@ -10,6 +10,21 @@ pub struct Schedule(pub Vec<(usize, usize)>);
 /// that a typo cannot make a run that never ends.
 pub const MAX_ITERATIONS: usize = 10_000;
 
+impl Default for Schedule {
+    /// Seed 003's: 0:15,2:10,4:7,8:5,12:4,16:2,24:1.
+    fn default() -> Self {
+        Schedule(vec![
+            (0, 15),
+            (2, 10),
+            (4, 7),
+            (8, 5),
+            (12, 4),
+            (16, 2),
+            (24, 1),
+        ])
+    }
+}
+
 impl std::fmt::Display for Schedule {
     /// As [`Schedule::parse`] reads it: "0:15,2:10,4:7".
     fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
@@ -60,6 +75,25 @@ impl Schedule {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_default_is_seed_003s_schedule_and_reads_back() {
+        let d = Schedule::default();
+        assert_eq!(d.to_string(), "0:15,2:10,4:7,8:5,12:4,16:2,24:1");
+        assert_eq!(Schedule::parse(&d.to_string()).expect("parses"), d);
+        for a in [crate::Algorithm::Lpca, crate::Algorithm::ScLpca] {
+            assert_eq!(a.to_string().parse::<crate::Algorithm>(), Ok(a));
+        }
+        use crate::init::Init;
+        for i in [
+            Init::Random,
+            Init::DistanceSum,
+            Init::KmeansPlusPlus,
+            Init::SortMeansPlusPlus,
+        ] {
+            assert_eq!(i.to_string().parse::<Init>(), Ok(i));
+        }
+    }
 
     #[test]
     fn parses_the_seed_schedule() {

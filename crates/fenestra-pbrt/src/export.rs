@@ -16,6 +16,9 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 mod metallic_roughness;
+mod named_material;
+
+use named_material::material;
 
 /// Meshes with more triangles than this are written as PLY files.
 const INLINE_TRIANGLES: usize = 4096;
@@ -93,10 +96,10 @@ struct Export<'a> {
 impl Export<'_> {
     /// Writes data file `name` into the data folder with `write` (atomically); its path as
     /// the scene file names it.
-    fn data(
+    fn data<E: std::fmt::Display>(
         &mut self,
         name: String,
-        write: &dyn Fn(&Path) -> Result<(), String>,
+        write: impl FnOnce(&Path) -> Result<(), E>,
     ) -> Result<String, ExportError> {
         let err = |reason: String| ExportError {
             path: self.path.to_path_buf(),
@@ -169,11 +172,8 @@ impl Export<'_> {
                 }
             }
             for (name, kind, texture) in textures {
-                let file = self.data(format!("texture-{}.exr", &name[1..]), &|tmp| {
-                    texture
-                        .image
-                        .write_exr(tmp, &Default::default())
-                        .map_err(|e| e.to_string())
+                let file = self.data(format!("texture-{}.exr", &name[1..]), |tmp| {
+                    texture.image.write_exr(tmp, &Default::default())
                 })?;
                 let _ = writeln!(self.s,
                     "Texture \"{name}\" \"{kind}\" \"imagemap\" \"string filename\" \"{file}\" \"float scale\" [ {} ] \"bool invert\" {} \"float uscale\" [ {} ] \"float vscale\" [ {} ] \"float udelta\" [ {} ] \"float vdelta\" [ {} ]",
@@ -271,10 +271,8 @@ impl Export<'_> {
                             for c in &mut baked.pixels {
                                 *c = Rgb::new(c.r * scale.r, c.g * scale.g, c.b * scale.b);
                             }
-                            let file = self.data(format!("environment-{i}.exr"), &|tmp| {
-                                baked
-                                    .write_exr(tmp, &Default::default())
-                                    .map_err(|e| e.to_string())
+                            let file = self.data(format!("environment-{i}.exr"), |tmp| {
+                                baked.write_exr(tmp, &Default::default())
                             })?;
                             let portal = portal();
                             let m = glam::Mat4::from_mat3(*to_world);
@@ -374,11 +372,8 @@ impl Export<'_> {
                 (&n.texture, String::new())
             }
         };
-        let file = self.data(format!("relief-{k}.exr"), &|tmp| {
-            image
-                .image
-                .write_exr(tmp, &Default::default())
-                .map_err(|e| e.to_string())
+        let file = self.data(format!("relief-{k}.exr"), |tmp| {
+            image.image.write_exr(tmp, &Default::default())
         })?;
         let parameter = match relief {
             Relief::Bump(_) => {
@@ -421,12 +416,10 @@ impl Export<'_> {
                         }
                     }
                     if mesh.indices.len() > INLINE_TRIANGLES {
-                        let file = self.data(format!("shape-{i}.ply"), &|tmp| {
-                            let f = std::fs::File::create(tmp).map_err(|e| e.to_string())?;
-                            let mut w = std::io::BufWriter::new(f);
-                            fenestra_scene::mesh::ply::write(&mesh, &mut w)
-                                .map_err(|e| e.to_string())?;
-                            std::io::Write::flush(&mut w).map_err(|e| e.to_string())
+                        let file = self.data(format!("shape-{i}.ply"), |tmp| {
+                            let mut w = std::io::BufWriter::new(std::fs::File::create(tmp)?);
+                            fenestra_scene::mesh::ply::write(&mesh, &mut w)?;
+                            std::io::Write::flush(&mut w)
                         })?;
                         let _ =
                             writeln!(self.s, "  Shape \"plymesh\" \"string filename\" \"{file}\"");
@@ -575,173 +568,6 @@ fn camera(s: &mut String, c: &Camera, width: u32, height: u32) {
         let _ = write!(s, " \"float screenwindow\" [ {} ]", join(&w));
     }
     s.push('\n');
-}
-
-fn material(s: &mut String, i: usize, m: &Material) {
-    let _ = write!(s, "MakeNamedMaterial \"m{i}\" ");
-    match m {
-        Material::Diffuse(material::Diffuse { reflectance }) => {
-            let _ = write!(
-                s,
-                "\"string type\" \"diffuse\" \"rgb reflectance\" [ {} ]",
-                rgb(*reflectance)
-            );
-        }
-        Material::TexturedDiffuse(material::TexturedDiffuse { .. }) => {
-            let _ = write!(
-                s,
-                "\"string type\" \"diffuse\" \"texture reflectance\" \"t{i}\""
-            );
-        }
-        Material::Mirror(material::Mirror { reflectance }) => {
-            let _ = write!(
-                s,
-                "\"string type\" \"conductor\" \"rgb reflectance\" [ {} ]",
-                rgb(*reflectance)
-            );
-        }
-        Material::Dielectric(material::Dielectric { eta }) => {
-            let _ = write!(s, "\"string type\" \"dielectric\" \"float eta\" [ {eta} ]");
-        }
-        Material::ThinDielectric(material::ThinDielectric { eta }) => {
-            let _ = write!(
-                s,
-                "\"string type\" \"thindielectric\" \"float eta\" [ {eta} ]"
-            );
-        }
-        Material::Phong(material::Phong {
-            diffuse,
-            specular,
-            exponent,
-        }) => {
-            let _ = write!(
-                s,
-                "\"string type\" \"phong\" \"rgb diffuse\" [ {} ] \"rgb specular\" [ {} ] \"float exponent\" [ {exponent} ]",
-                rgb(*diffuse),
-                rgb(*specular)
-            );
-        }
-        Material::Ward(material::Ward {
-            diffuse,
-            specular,
-            alpha_x,
-            alpha_y,
-        }) => {
-            let _ = write!(
-                s,
-                "\"string type\" \"ward\" \"rgb diffuse\" [ {} ] \"rgb specular\" [ {} ] \"float alphax\" [ {alpha_x} ] \"float alphay\" [ {alpha_y} ]",
-                rgb(*diffuse),
-                rgb(*specular)
-            );
-        }
-        Material::RoughConductor(material::RoughConductor {
-            eta,
-            k,
-            alpha_x,
-            alpha_y,
-            roughness,
-        }) => {
-            // A texture is written with its remapping; constants are alphas, so under
-            // remapping they are written squared.
-            let remap = roughness.as_ref().is_some_and(|r| r.remap);
-            let (tu, tv) = roughness
-                .as_ref()
-                .map_or((false, false), |r| (r.u.is_some(), r.v.is_some()));
-            let axis = |name: &str, textured: bool, alpha: f32| {
-                if textured {
-                    format!("\"texture {name}roughness\" \"r{i}{name}\"")
-                } else if remap {
-                    format!("\"float {name}roughness\" [ {} ]", alpha * alpha)
-                } else {
-                    format!("\"float {name}roughness\" [ {alpha} ]")
-                }
-            };
-            let _ = write!(
-                s,
-                "\"string type\" \"conductor\" \"rgb eta\" [ {} ] \"rgb k\" [ {} ] {} {} \"bool remaproughness\" {remap}",
-                rgb(*eta),
-                rgb(*k),
-                axis("u", tu, *alpha_x),
-                axis("v", tv, *alpha_y),
-            );
-        }
-        Material::RoughDielectric(material::RoughDielectric { eta, alpha }) => {
-            let _ = write!(
-                s,
-                "\"string type\" \"dielectric\" \"float eta\" [ {eta} ] \"float roughness\" [ {alpha} ] \"bool remaproughness\" false"
-            );
-        }
-        Material::CoatedConductor(material::CoatedConductor {
-            interface_eta,
-            interface_alpha,
-            eta,
-            k,
-            alpha_x,
-            alpha_y,
-            layers,
-        }) => {
-            let _ = write!(
-                s,
-                "\"string type\" \"coatedconductor\" \"float interface.eta\" [ {interface_eta} ] \"float interface.roughness\" [ {interface_alpha} ] \"rgb conductor.eta\" [ {} ] \"rgb conductor.k\" [ {} ] \"float conductor.uroughness\" [ {alpha_x} ] \"float conductor.vroughness\" [ {alpha_y} ] \"bool remaproughness\" false{}",
-                rgb(*eta),
-                rgb(*k),
-                layer_parameters(layers)
-            );
-        }
-        Material::DiffuseTransmission(material::DiffuseTransmission {
-            reflectance,
-            transmittance,
-        }) => {
-            let _ = write!(
-                s,
-                "\"string type\" \"diffusetransmission\" \"rgb reflectance\" [ {} ] \"rgb transmittance\" [ {} ]",
-                rgb(*reflectance),
-                rgb(*transmittance)
-            );
-        }
-        Material::Mix(material::Mix {
-            materials: [a, b],
-            amount,
-        }) => {
-            let _ = write!(
-                s,
-                "\"string type\" \"mix\" \"string materials\" [ \"m{a}\" \"m{b}\" ] \"float amount\" [ {amount} ]"
-            );
-        }
-        Material::MetallicRoughness(m) => {
-            s.push_str(&metallic_roughness::parameters(i, m));
-        }
-        Material::CoatedDiffuse(material::CoatedDiffuse {
-            reflectance,
-            texture,
-            eta,
-            alpha,
-            layers,
-        }) => {
-            let reflectance = match texture {
-                Some(_) => format!("\"texture reflectance\" \"t{i}\""),
-                None => format!("\"rgb reflectance\" [ {} ]", rgb(*reflectance)),
-            };
-            let _ = write!(
-                s,
-                "\"string type\" \"coateddiffuse\" {reflectance} \"float eta\" [ {eta} ] \"float roughness\" [ {alpha} ] \"bool remaproughness\" false{}",
-                layer_parameters(layers)
-            );
-        }
-    }
-    s.push('\n');
-}
-
-/// A coated material's slab as pbrt-v4's parameters (a leading space each).
-fn layer_parameters(l: &material::Layers) -> String {
-    format!(
-        " \"float thickness\" [ {} ] \"rgb albedo\" [ {} ] \"float g\" [ {} ] \"integer maxdepth\" [ {} ] \"integer nsamples\" [ {} ]",
-        l.thickness,
-        rgb(l.albedo),
-        l.g,
-        l.max_depth,
-        l.samples
-    )
 }
 
 fn inline_mesh(s: &mut String, m: &TriangleMesh) {

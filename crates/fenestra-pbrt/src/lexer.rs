@@ -137,10 +137,8 @@ pub fn tokenize(text: &str, file: &Arc<std::path::PathBuf>) -> Result<Vec<Token>
 mod tests {
     use super::*;
 
-    fn toks(s: &str) -> Result<Vec<Tok>, String> {
-        tokenize(s, &Arc::new("t.pbrt".into()))
-            .map(|v| v.into_iter().map(|t| t.tok).collect())
-            .map_err(|e| e.to_string())
+    fn toks(s: &str) -> Result<Vec<Tok>, PbrtError> {
+        tokenize(s, &Arc::new("t.pbrt".into())).map(|v| v.into_iter().map(|t| t.tok).collect())
     }
 
     #[test]
@@ -169,14 +167,18 @@ mod tests {
 
     #[test]
     fn errors_name_line_and_column() {
-        let e = toks("Shape\n  \"sphere").expect_err("unterminated");
+        let e = toks("Shape\n  \"sphere")
+            .expect_err("unterminated")
+            .to_string();
         assert!(e.starts_with("t.pbrt:2:3: unterminated string"), "{e}");
-        let e = toks("Translate 1 2x 3").expect_err("bad number");
+        let e = toks("Translate 1 2x 3")
+            .expect_err("bad number")
+            .to_string();
         assert!(
             e.starts_with("t.pbrt:1:13: '2x' is not a finite number"),
             "{e}"
         );
-        let e = toks("é \"\\q\"").expect_err("bad escape");
+        let e = toks("é \"\\q\"").expect_err("bad escape").to_string();
         assert!(e.starts_with("t.pbrt:1:5: unknown escape"), "{e}");
     }
 }

@@ -51,10 +51,10 @@ pub struct PbrtError {
 
 impl PbrtError {
     /// The error `msg` at `loc`.
-    pub fn at(loc: &Loc, msg: impl Into<String>) -> Self {
+    pub fn at(loc: &Loc, msg: impl std::fmt::Display) -> Self {
         PbrtError {
             loc: loc.clone(),
-            msg: msg.into(),
+            msg: msg.to_string(),
         }
     }
 }

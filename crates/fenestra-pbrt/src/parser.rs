@@ -321,15 +321,15 @@ mod tests {
     use crate::lexer::tokenize;
     use std::sync::Arc;
 
-    fn parse_str(s: &str) -> Result<Vec<Directive>, String> {
+    fn parse_str(s: &str) -> Result<Vec<Directive>, PbrtError> {
         let file = Arc::new(std::path::PathBuf::from("t.pbrt"));
-        let toks = tokenize(s, &file).map_err(|e| e.to_string())?;
+        let toks = tokenize(s, &file)?;
         let end = Loc {
             file,
             line: 99,
             col: 1,
         };
-        parse(&toks, end).map_err(|e| e.to_string())
+        parse(&toks, end)
     }
 
     #[test]
@@ -350,23 +350,29 @@ mod tests {
 
     #[test]
     fn malformed_directives_name_what_was_expected() {
-        let e = parse_str("Translate 1 2").expect_err("short");
+        let e = parse_str("Translate 1 2").expect_err("short").to_string();
         assert!(
             e.starts_with("t.pbrt:99:1: expected 3 numbers after Translate, found end of file"),
             "{e}"
         );
-        let e = parse_str("Shape 3").expect_err("no type");
+        let e = parse_str("Shape 3").expect_err("no type").to_string();
         assert!(
             e.contains("1:7: expected a quoted string after Shape, found number 3"),
             "{e}"
         );
-        let e = parse_str("Shapes \"sphere\"").expect_err("unknown");
+        let e = parse_str("Shapes \"sphere\"")
+            .expect_err("unknown")
+            .to_string();
         assert!(e.contains("unknown directive 'Shapes'"), "{e}");
-        let e = parse_str("Shape \"sphere\" \"float radius\" [1 \"a\"]").expect_err("mixed");
+        let e = parse_str("Shape \"sphere\" \"float radius\" [1 \"a\"]")
+            .expect_err("mixed")
+            .to_string();
         assert!(e.contains("expected a number"), "{e}");
-        let e = parse_str("Shape \"sphere\" \"float radius\" [1").expect_err("unclosed");
+        let e = parse_str("Shape \"sphere\" \"float radius\" [1")
+            .expect_err("unclosed")
+            .to_string();
         assert!(e.contains("expected a value or ']'"), "{e}");
-        let e = parse_str("[ 1 ]").expect_err("stray");
+        let e = parse_str("[ 1 ]").expect_err("stray").to_string();
         assert!(e.contains("expected a directive"), "{e}");
     }
 }

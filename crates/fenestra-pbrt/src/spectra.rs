@@ -59,7 +59,7 @@ pub fn blackbody(kelvin: f32) -> Rgb {
 /// to luminance 1, as pbrt-v4 divides every light's spectrum by its photometric luminance
 /// (the light's scale or power sets its brightness). RGB and named spectra are taken as
 /// written.
-pub fn illuminant_to_rgb(s: &SpectrumParam) -> Result<Rgb, String> {
+pub fn illuminant_to_rgb(s: &SpectrumParam) -> Result<Rgb, SpectrumError> {
     let xyz_rgb = |f: &dyn Fn(f64) -> f64| {
         let c = spectrum_to_linear_srgb(f);
         unit_luminance(Rgb::new(c[0] as f32, c[1] as f32, c[2] as f32))
@@ -131,17 +131,45 @@ pub fn named(name: &str) -> Option<Rgb> {
 /// All names [`named`] knows, for error messages.
 pub const NAMES: &str = "metal-{Au,Ag,Al,Cu,CuZn}-{eta,k}, glass-{BK7,BAF10,FK51A,LASF9,F5,F10,F11}, stdillum-{D65,D50,E,A}";
 
+/// Why a spectrum has no colour, or a spectrum file no spectrum.
+#[derive(Debug, PartialEq, thiserror::Error)]
+pub enum SpectrumError {
+    /// A blackbody of zero or negative temperature.
+    #[error("blackbody temperature {0} must be positive")]
+    Blackbody(f32),
+    /// Sampled values with no samples.
+    #[error("empty spectrum")]
+    Empty,
+    /// A name [`named`] does not know.
+    #[error("unknown named spectrum \"{0}\" (known: {NAMES})")]
+    UnknownName(String),
+    /// A spectrum file that cannot be read.
+    #[error("cannot read spectrum file {path}: {reason}")]
+    Unreadable { path: String, reason: String },
+    /// A word of a spectrum file that is not a number.
+    #[error("{path}:{line}: \"{word}\" is not a number")]
+    NotANumber {
+        path: String,
+        line: usize,
+        word: String,
+    },
+    /// A spectrum file whose numbers do not pair up.
+    #[error("{path}: {count} numbers, not (wavelength, value) pairs")]
+    NotPairs { path: String, count: usize },
+    /// A spectrum file whose wavelengths do not increase.
+    #[error("{path}: wavelengths must increase")]
+    NotIncreasing { path: String },
+}
+
 /// The RGB value of a spectrum parameter, or why it has none.
-pub fn to_rgb(s: &SpectrumParam) -> Result<Rgb, String> {
+pub fn to_rgb(s: &SpectrumParam) -> Result<Rgb, SpectrumError> {
     match s {
         SpectrumParam::Rgb(c) => Ok(*c),
         SpectrumParam::Blackbody(t) if *t > 0.0 => Ok(blackbody(*t)),
-        SpectrumParam::Blackbody(t) => Err(format!("blackbody temperature {t} must be positive")),
-        SpectrumParam::Sampled(p) if p.is_empty() => Err("empty spectrum".into()),
+        SpectrumParam::Blackbody(t) => Err(SpectrumError::Blackbody(*t)),
+        SpectrumParam::Sampled(p) if p.is_empty() => Err(SpectrumError::Empty),
         SpectrumParam::Sampled(p) => Ok(sampled(p)),
-        SpectrumParam::Named(n) => {
-            named(n).ok_or_else(|| format!("unknown named spectrum \"{n}\" (known: {NAMES})"))
-        }
+        SpectrumParam::Named(n) => named(n).ok_or_else(|| SpectrumError::UnknownName(n.clone())),
     }
 }
 
@@ -152,9 +180,12 @@ pub fn names_file(name: &str) -> bool {
 
 /// A spectrum file as pbrt-v4 reads it: (wavelength nm, value) pairs as whitespace-separated
 /// numbers, `#` starting a comment.
-pub fn read_file(path: &std::path::Path) -> Result<Vec<(f32, f32)>, String> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| format!("cannot read spectrum file {}: {e}", path.display()))?;
+pub fn read_file(path: &std::path::Path) -> Result<Vec<(f32, f32)>, SpectrumError> {
+    let shown = || path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| SpectrumError::Unreadable {
+        path: shown(),
+        reason: e.to_string(),
+    })?;
     let mut numbers = Vec::new();
     for (no, line) in text.lines().enumerate() {
         let line = line.split('#').next().unwrap_or("");
@@ -162,25 +193,24 @@ pub fn read_file(path: &std::path::Path) -> Result<Vec<(f32, f32)>, String> {
             match word.parse::<f32>() {
                 Ok(x) if x.is_finite() => numbers.push(x),
                 _ => {
-                    return Err(format!(
-                        "{}:{}: \"{word}\" is not a number",
-                        path.display(),
-                        no + 1
-                    ))
+                    return Err(SpectrumError::NotANumber {
+                        path: shown(),
+                        line: no + 1,
+                        word: word.to_string(),
+                    })
                 }
             }
         }
     }
     if numbers.is_empty() || numbers.len() % 2 != 0 {
-        return Err(format!(
-            "{}: {} numbers, not (wavelength, value) pairs",
-            path.display(),
-            numbers.len()
-        ));
+        return Err(SpectrumError::NotPairs {
+            path: shown(),
+            count: numbers.len(),
+        });
     }
     let pairs: Vec<(f32, f32)> = numbers.chunks_exact(2).map(|c| (c[0], c[1])).collect();
     if pairs.windows(2).any(|w| w[1].0 <= w[0].0) {
-        return Err(format!("{}: wavelengths must increase", path.display()));
+        return Err(SpectrumError::NotIncreasing { path: shown() });
     }
     Ok(pairs)
 }
@@ -268,11 +298,14 @@ mod tests {
             ("400 0.5\n500 x", ":2: \"x\" is not a number"),
             ("500 0.5 400 0.5", "wavelengths must increase"),
         ] {
-            let e = read_file(&file("bad.spd", text)).expect_err(says);
+            let e = read_file(&file("bad.spd", text))
+                .expect_err(says)
+                .to_string();
             assert!(e.contains(says), "{e}");
         }
         assert!(read_file(&dir.join("missing.spd"))
             .expect_err("missing")
+            .to_string()
             .contains("cannot read spectrum file"));
         let _ = std::fs::remove_dir_all(&dir);
     }

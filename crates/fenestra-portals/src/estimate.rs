@@ -7,10 +7,11 @@ use crate::aim::{camera_surroundings, Surroundings};
 use crate::carry::Carry;
 use crate::cluster::{dbscan, DbscanParams};
 use crate::error::PortalError;
+use crate::fitted::{quad_portal, Estimated};
 use crate::mvce::mvce;
 use crate::photon::Deposit;
 use crate::photon::{trace, PhotonParams, Photons};
-use crate::portal::{EstimationRecord, Portal, PortalFile, PortalRecord, Portals};
+use crate::portal::{EstimationRecord, Portal, PortalFile, Portals};
 use crate::ransac::{ransac_plane, Plane, Ransac};
 use crate::rectangle::{inner_rectangle, min_area_rectangle, pca_rectangle, Rectangle};
 use crate::snap::{snap_to_opening, Opening, MIN_ENCLOSED};
@@ -113,31 +114,6 @@ impl Default for EstimateParams {
     }
 }
 
-/// One fitted portal and what it came from.
-#[derive(Clone, Debug)]
-pub struct Estimated {
-    /// The portal.
-    pub portal: Portal,
-    /// Index of its cluster (clusters are ordered largest first).
-    pub cluster: usize,
-    /// Photons in the cluster and RANSAC inliers among them.
-    pub photons: usize,
-    /// RANSAC inliers among them.
-    pub inliers: usize,
-    /// Khachiyan iterations (0 when a rectangle was chosen without an ellipse).
-    pub mvce_iterations: usize,
-}
-
-impl Estimated {
-    /// Its portals.json record, with photons and cluster.
-    pub fn record(&self) -> PortalRecord {
-        let mut r = PortalRecord::new(&self.portal);
-        r.photons = Some(self.photons);
-        r.cluster = Some(self.cluster);
-        r
-    }
-}
-
 /// Seconds spent in each stage.
 #[derive(Clone, Copy, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct Timings {
@@ -166,6 +142,9 @@ pub struct Estimate {
     pub portals: Vec<Estimated>,
     /// Seconds per stage.
     pub timings: Timings,
+    /// What the camera sees around it, which photons were aimed at (lp_hf's pilot measures
+    /// there too).
+    pub surroundings: Surroundings,
 }
 
 impl Estimate {
@@ -292,6 +271,7 @@ pub fn estimate(
             photons: tracing,
             ..fit_timings
         },
+        surroundings,
     })
 }
 
@@ -530,16 +510,5 @@ fn ellipse_portal(plane: &Plane, e: &crate::mvce::Ellipse) -> Portal {
         center: plane.from_plane(e.center).as_vec3(),
         a: to3(e.axes[0]),
         b: to3(e.axes[1]),
-    }
-}
-
-/// The quad of rectangle `r` in `plane`.
-pub(crate) fn quad_portal(plane: &Plane, r: Rectangle) -> Portal {
-    let to3 = |v: DVec2| (plane.from_plane(v) - plane.point).as_vec3();
-    let (a, b) = (to3(r.half[0]), to3(r.half[1]));
-    Portal::Quad {
-        corner: plane.from_plane(r.center).as_vec3() - a - b,
-        e1: a * 2.0,
-        e2: b * 2.0,
     }
 }

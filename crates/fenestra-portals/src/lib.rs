@@ -11,7 +11,9 @@ pub mod carry;
 pub mod cluster;
 pub mod error;
 pub mod estimate;
+pub mod estimate_options;
 pub mod export;
+pub mod fitted;
 pub mod linalg;
 pub mod lp_hf;
 pub mod mvce;
@@ -26,6 +28,7 @@ pub mod source;
 pub mod window;
 
 pub use error::PortalError;
+pub use estimate_options::EstimateOptions;
 pub use lp_hf::{lp_hf, PortalNextEvent, PortalOptions};
 pub use portal::{Portal, PortalChoice, PortalFile, PortalSampling, Portals};
 pub use source::{PortalSource, PortalSourceOptions};

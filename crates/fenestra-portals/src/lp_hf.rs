@@ -11,10 +11,9 @@
 
 use crate::aim::camera_surroundings;
 use crate::error::PortalError;
-use crate::estimate::{estimate, EstimateParams};
 use crate::pilot::measure;
-use crate::portal::{PickWeights, PortalChoice, PortalFile, PortalRecord, PortalSampling, Portals};
-use crate::source::PortalSource;
+use crate::portal::{PickWeights, PortalChoice, PortalRecord, PortalSampling, Portals};
+use crate::source::{Estimation, PortalSource, Sourced};
 use fenestra_core::mis::MisHeuristic;
 use fenestra_core::stats::{RayCounters, RenderStats};
 use fenestra_core::{Ray, Rgb, Sampler, Vec3};
@@ -28,7 +27,6 @@ use fenestra_render::path_sample::PathSample;
 use fenestra_render::sample_context::SampleContext;
 use fenestra_render::{IntegratorError, RenderControl, RenderScene};
 use serde_json::json;
-use std::path::Path;
 
 fenestra_render::options! {
     /// Light portals: how lp_hf samples them.
@@ -132,15 +130,6 @@ pub struct PortalNextEvent {
     compact_share: Option<f32>,
 }
 
-/// Where estimated portals came from.
-#[derive(Clone, Copy, Debug)]
-enum Estimation {
-    /// Estimated now: photons gathered, seconds taken.
-    Made { photons: usize, seconds: f64 },
-    /// Read from the cache.
-    Cached,
-}
-
 /// The portals as portals.json records.
 fn records(portals: &Portals) -> serde_json::Value {
     json!(portals
@@ -148,19 +137,6 @@ fn records(portals: &Portals) -> serde_json::Value {
         .iter()
         .map(PortalRecord::new)
         .collect::<Vec<_>>())
-}
-
-/// The portals cached at `path` by an estimate with `params`, if there are (any other file,
-/// or an estimate with other parameters, does not count).
-fn cached<'a>(path: &'a Path, params: &EstimateParams) -> Option<(&'a Path, Portals)> {
-    let file = PortalFile::read(path).ok()?;
-    let record = file.estimation.as_ref()?;
-    let same =
-        serde_json::to_value(&record.parameters).ok()? == serde_json::to_value(params).ok()?;
-    (same && !record.interrupted)
-        .then(|| file.portals(path).ok())
-        .flatten()
-        .map(|p| (path, p))
 }
 
 /// What lp_hf keeps of a shading vertex: the portals' pick weights there, for the side light
@@ -291,52 +267,20 @@ impl NextEvent for PortalNextEvent {
         control: &RenderControl,
     ) -> Result<(), IntegratorError> {
         self.lights.prepare(scene, control)?;
-        let portals = match &self.source {
-            PortalSource::Scene => Portals::from_quads(&scene.scene.portals),
-            PortalSource::Given(p) => p.clone(),
-            PortalSource::Estimated { params, cache } => {
-                let portals = if let Some((path, portals)) =
-                    cache.as_deref().and_then(|c| cached(c, params))
-                {
-                    control.progress.note(&format!(
-                        "portals: {} from the cache {}",
-                        portals.portals().len(),
-                        path.display()
-                    ));
-                    self.estimated = Some(Estimation::Cached);
-                    portals
-                } else {
-                    let e = estimate(scene, params, control.cancel, control.progress)?;
-                    control.progress.note(&format!("portals: {}", e.summary()));
-                    // Rendered as the cache holds them (portals.json records rebuild them to
-                    // within float rounding), so that a render from the cache is the same; an
-                    // estimate that found none is cached too, and spares the next render it.
-                    let file = e.file(&scene.scene.name, params);
-                    if let (Some(path), false) = (cache, control.cancelled()) {
-                        if let Some(dir) = path.parent() {
-                            let _ = std::fs::create_dir_all(dir);
-                        }
-                        if let Err(why) = file.write(path) {
-                            control.progress.note(&format!("portals not cached: {why}"));
-                        }
-                    }
-                    self.estimated = Some(Estimation::Made {
-                        photons: e.photons.points.len(),
-                        seconds: e.timings.total(),
-                    });
-                    file.portals(Path::new("the estimated portals"))?
-                };
-                if portals.is_empty() {
-                    control.progress.note(
-                        "portals: none found that carries light to what the camera sees; \
-                         lp_hf samples the lights alone, as af_hf does",
-                    );
-                    self.none_found = true;
-                    return Ok(());
-                }
-                portals
-            }
-        };
+        let Sourced {
+            portals,
+            estimation,
+            surroundings,
+        } = self.source.portals(scene, control)?;
+        self.estimated = estimation;
+        if estimation.is_some() && portals.is_empty() {
+            control.progress.note(
+                "portals: none found that carries light to what the camera sees; \
+                 lp_hf samples the lights alone, as af_hf does",
+            );
+            self.none_found = true;
+            return Ok(());
+        }
         if portals.is_empty() {
             return Err(PortalError::NoPortals.into());
         }
@@ -350,7 +294,8 @@ impl NextEvent for PortalNextEvent {
             if keep {
                 return Box::new(suns);
             }
-            let surroundings = camera_surroundings(&scene.scene);
+            // Where the estimate aimed, or found out now.
+            let surroundings = surroundings.unwrap_or_else(|| camera_surroundings(&scene.scene));
             let measured = measure(scene, &portals, (suns.inner(), &suns), &surroundings, share);
             let pays = measured.gain() >= 1.0;
             verdict = Some(measured);

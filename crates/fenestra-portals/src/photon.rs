@@ -42,6 +42,28 @@ impl std::str::FromStr for Deposit {
     }
 }
 
+impl std::fmt::Display for Deposit {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Deposit::Depth => "depth",
+            Deposit::Material => "material",
+        })
+    }
+}
+
+impl fenestra_render::options::OptionValue for Deposit {
+    const KIND: fenestra_render::options::Kind =
+        fenestra_render::options::Kind::Choice(&["depth", "material"]);
+
+    fn from_param(param: &serde_json::Value) -> Result<Self, fenestra_render::options::ValueError> {
+        let bad = |e: String| fenestra_render::options::ValueError(e);
+        match param {
+            serde_json::Value::String(s) => s.parse().map_err(|e: UnknownName| bad(e.to_string())),
+            v => Err(bad(format!("takes depth or material, got {v}"))),
+        }
+    }
+}
+
 /// PT(theta, n, r) and when to stop.
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct PhotonParams {

@@ -1,12 +1,14 @@
 //! Where lp_hf's portals come from: the scene, a portals.json file, or an estimate (cached
 //! by scene content and parameters), as the `portals` options choose.
 
+use crate::aim::Surroundings;
 use crate::error::PortalError;
-use crate::estimate::{EstimateParams, Model};
-use crate::portal::Portals;
-use fenestra_eval::hash::debug_hash;
-use fenestra_eval::suite::slug;
+use crate::estimate::{estimate, EstimateParams, Model};
+use crate::portal::{PortalFile, Portals};
+use fenestra_core::fs::slug;
+use fenestra_core::hash::debug_hash;
 use fenestra_render::options::{OptionError, Validate};
+use fenestra_render::{IntegratorError, RenderControl, RenderScene};
 use fenestra_scene::SceneDesc;
 use std::path::{Path, PathBuf};
 
@@ -84,6 +86,100 @@ impl PortalSource {
             Some(file) => PortalSource::Given(Portals::read_json(Path::new(file))?),
         })
     }
+}
+
+/// Where estimated portals came from.
+#[derive(Clone, Copy, Debug)]
+pub enum Estimation {
+    /// Estimated now.
+    Made {
+        /// Photons gathered.
+        photons: usize,
+        /// Seconds taken.
+        seconds: f64,
+    },
+    /// Read from the cache.
+    Cached,
+}
+
+/// The portals a source gave.
+pub struct Sourced {
+    /// The portals.
+    pub portals: Portals,
+    /// For an estimated source, how they were come by.
+    pub estimation: Option<Estimation>,
+    /// What the camera sees around it, if the estimate found out.
+    pub surroundings: Option<Surroundings>,
+}
+
+impl PortalSource {
+    /// The portals this source gives for `scene`, and for an estimated source how they were
+    /// come by: read from the cache when it holds an estimate with the same parameters, else
+    /// estimated and then cached (an estimate that found none too: it spares the next render
+    /// of the scene; nothing is cached when the estimate was interrupted).
+    pub fn portals(
+        &self,
+        scene: &RenderScene,
+        control: &RenderControl,
+    ) -> Result<Sourced, IntegratorError> {
+        let given = |portals| Sourced {
+            portals,
+            estimation: None,
+            surroundings: None,
+        };
+        let (params, cache) = match self {
+            PortalSource::Scene => return Ok(given(Portals::from_quads(&scene.scene.portals))),
+            PortalSource::Given(p) => return Ok(given(p.clone())),
+            PortalSource::Estimated { params, cache } => (params, cache),
+        };
+        if let Some((path, portals)) = cache.as_deref().and_then(|c| cached(c, params)) {
+            control.progress.note(&format!(
+                "portals: {} from the cache {}",
+                portals.portals().len(),
+                path.display()
+            ));
+            return Ok(Sourced {
+                portals,
+                estimation: Some(Estimation::Cached),
+                surroundings: None,
+            });
+        }
+        let e = estimate(scene, params, control.cancel, control.progress)?;
+        control.progress.note(&format!("portals: {}", e.summary()));
+        // Rendered as the cache holds them (portals.json records rebuild them to within float
+        // rounding), so that a render from the cache is the same.
+        let file = e.file(&scene.scene.name, params);
+        if let (Some(path), false) = (cache, control.cancelled()) {
+            if let Some(dir) = path.parent() {
+                let _ = std::fs::create_dir_all(dir);
+            }
+            if let Err(why) = file.write(path) {
+                control.progress.note(&format!("portals not cached: {why}"));
+            }
+        }
+        let made = Estimation::Made {
+            photons: e.photons.points.len(),
+            seconds: e.timings.total(),
+        };
+        Ok(Sourced {
+            portals: file.portals(Path::new("the estimated portals"))?,
+            estimation: Some(made),
+            surroundings: Some(e.surroundings),
+        })
+    }
+}
+
+/// The portals cached at `path` by an estimate with `params`, if there are (any other file,
+/// or an estimate with other parameters, does not count).
+fn cached<'a>(path: &'a Path, params: &EstimateParams) -> Option<(&'a Path, Portals)> {
+    let file = PortalFile::read(path).ok()?;
+    let record = file.estimation.as_ref()?;
+    let same =
+        serde_json::to_value(&record.parameters).ok()? == serde_json::to_value(params).ok()?;
+    (same && !record.interrupted)
+        .then(|| file.portals(path).ok())
+        .flatten()
+        .map(|p| (path, p))
 }
 
 impl PortalSourceOptions {

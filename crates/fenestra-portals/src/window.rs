@@ -9,7 +9,7 @@
 //! plane's photons are set aside and the next plane is sought.
 
 use crate::cluster::{dbscan, DbscanParams};
-use crate::estimate::{quad_portal, Estimated};
+use crate::fitted::{quad_portal, Estimated};
 use crate::portal::Portal;
 use crate::ransac::{ransac_plane, Plane, Ransac};
 use crate::rectangle::{min_area_rectangle, Rectangle};

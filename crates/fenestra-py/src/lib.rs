@@ -1,7 +1,8 @@
 //! fenestra as a Python module (`fenestra._native`, wrapped by the `fenestra` package in
-//! `python/`): scenes loaded as the command line loads them, renders through the command
-//! line's own jobs (so an image is the one `fenestra render` makes with the same settings),
-//! films as bytes NumPy reads without a copy, and the measurement toolkit's comparisons.
+//! `python/`): scenes and renders through the render session the command line stands on too
+//! (`fenestra-session`: so an image is the one `fenestra render` makes with the same
+//! settings), films as bytes NumPy reads without a copy, and the measurement toolkit's
+//! comparisons. Keywords are the command line's flags with underscores, and errors name them.
 
 mod compare;
 mod lpca;
@@ -26,7 +27,15 @@ create_exception!(
 
 /// The error `e` as Python sees it, with the message the command line prints.
 fn error(e: anyhow::Error) -> PyErr {
-    FenestraError::new_err(format!("{e:#}"))
+    match e.downcast::<fenestra_session::Error>() {
+        Ok(e) => session_error(e),
+        Err(e) => FenestraError::new_err(format!("{e:#}")),
+    }
+}
+
+/// A session's error as Python sees it: settings and options named by their keywords.
+fn session_error(e: fenestra_session::Error) -> PyErr {
+    FenestraError::new_err(e.worded(fenestra_session::Style::Keyword))
 }
 
 /// The ray-query backend called `name` (default: the binary's).

@@ -3,7 +3,6 @@
 //! points to fitted subspaces.
 
 use crate::error;
-use fenestra_cli::commands::lpca::{ALGORITHM, INIT, SCHEDULE};
 use fenestra_lpca::classify::full as classify_all;
 use fenestra_lpca::{Dataset, Options, Schedule, Subspace};
 use pyo3::prelude::*;
@@ -84,12 +83,16 @@ pub fn fit<'py>(
         let data = dataset(values, shape)?;
         let options = Options {
             clusters,
-            schedule: Schedule::parse(schedule.as_deref().unwrap_or(SCHEDULE))?,
-            algorithm: algorithm.as_deref().unwrap_or(ALGORITHM).parse()?,
-            init: init.as_deref().unwrap_or(INIT).parse()?,
+            schedule: schedule
+                .as_deref()
+                .map_or(Ok(Schedule::default()), Schedule::parse)?,
+            algorithm: algorithm
+                .as_deref()
+                .map_or(Ok(Default::default()), str::parse)?,
+            init: init.as_deref().map_or(Ok(Default::default()), str::parse)?,
             seed,
         };
-        let pool = fenestra_cli::thread_pool(threads)?;
+        let pool = fenestra_session::thread_pool(threads)?;
         let outcome = py.detach(|| pool.install(|| fenestra_lpca::run(&data, &options)))?;
         Ok(outcome)
     };

@@ -1,15 +1,20 @@
 //! `fenestra.portals.estimate`: automatic light portals (seed 000 ch. 4) as `fenestra portals`
-//! estimates them, with its flags as keywords, returned as the portals.json document and the
-//! photons and clusters behind it.
+//! estimates them, the estimator's options group as keywords, returned as the portals.json
+//! document and the photons and clusters behind it.
 
+use crate::options::params;
 use crate::pixels::points;
 use crate::progress::watched;
 use crate::scene::Scene;
-use crate::{backend_named, error};
-use fenestra_cli::commands::portals::EstimateOpts;
+use crate::{backend_named, error, session_error};
 use fenestra_portals::estimate::estimate as estimate_portals;
+use fenestra_portals::EstimateOptions;
+use fenestra_render::options::Options;
+use fenestra_render::registry::Group;
 use fenestra_render::RenderScene;
 use fenestra_scene::Scene as Built;
+use fenestra_session::error::option_name_in;
+use fenestra_session::Style;
 use pyo3::exceptions::PyKeyboardInterrupt;
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
@@ -18,32 +23,33 @@ use pyo3::types::PyBytes;
 /// cluster's photon indices, the one-line summary).
 type Found<'py> = (String, Bound<'py, PyBytes>, Vec<Vec<usize>>, String);
 
-/// Estimates `scene`'s portals with `fenestra portals`'s flags `flags` ("--theta", "3",
-/// ...). Ctrl-C stops it and raises KeyboardInterrupt (part of the photons would give other
-/// portals).
+/// Estimates `scene`'s portals with the estimator's options `options` (a JSON object of
+/// keywords, `fenestra portals`'s flags with underscores: {"theta": 3, ...}). Ctrl-C stops it
+/// and raises KeyboardInterrupt (part of the photons would give other portals).
 #[pyfunction]
-#[pyo3(signature = (scene, flags, *, threads=None, backend=None, progress=None))]
+#[pyo3(signature = (scene, options="{}", *, threads=None, backend=None, progress=None))]
 pub fn estimate<'py>(
     py: Python<'py>,
     scene: &Scene,
-    flags: Vec<String>,
+    options: &str,
     threads: Option<usize>,
     backend: Option<String>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Found<'py>> {
-    #[derive(clap::Parser)]
-    #[command(name = "fenestra.portals.estimate", no_binary_name = true)]
-    struct Flags {
-        #[command(flatten)]
-        opts: EstimateOpts,
-    }
-    let opts = <Flags as clap::Parser>::try_parse_from(&flags)
-        .map_err(|e| error(anyhow::anyhow!("{}", e.render().to_string().trim_end())))?
-        .opts;
-    let params = opts.params();
+    let groups = [Group::of::<EstimateOptions>()];
+    let given = params(options, &groups).map_err(error)?;
+    let params = EstimateOptions::from_params(&given)
+        .map_err(|e| {
+            let word = option_name_in(&e.key, &groups, Style::Keyword);
+            error(anyhow::anyhow!(
+                "{}{e}",
+                word.map_or_else(String::new, |w| format!("{w}: "))
+            ))
+        })?
+        .params();
     let backend = backend_named(backend.as_deref())?;
-    let pool = fenestra_cli::thread_pool(threads).map_err(error)?;
-    let desc = scene.desc.clone();
+    let pool = fenestra_session::thread_pool(threads).map_err(session_error)?;
+    let desc = scene.loaded.desc.clone();
     let watched = watched(py, progress.as_ref(), |cancel, polled| {
         pool.install(|| -> anyhow::Result<_> {
             let built = RenderScene::new(Built::build(desc, backend)?);
@@ -56,7 +62,7 @@ pub fn estimate<'py>(
         ));
     }
     let e = watched.result.map_err(error)?;
-    let file = serde_json::to_string_pretty(&e.file(&scene.source, &params))
+    let file = serde_json::to_string_pretty(&e.file(&scene.loaded.source, &params))
         .map_err(|e| error(e.into()))?;
     Ok((
         file,

@@ -4,9 +4,9 @@
 
 use crate::error;
 use crate::pixels::bytes;
-use fenestra_cli::commands::relight::{open as open_store, Opened};
 use fenestra_relight::lights_file::LightsFile;
 use fenestra_relight::player::Player;
+use fenestra_session::relight::{open as open_store, Opened};
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 use std::path::PathBuf;
@@ -78,10 +78,14 @@ pub fn open(
             store,
             animated,
             lights,
+            warnings,
             ..
         } = open_store(&dir, None)?;
+        for w in warnings {
+            eprintln!("warning: {w}");
+        }
         let frames = store.manifest.frames;
-        let pool = fenestra_cli::thread_pool(threads)?;
+        let pool = fenestra_session::thread_pool(threads)?;
         let player = pool.install(|| Player::new(store, animated, light_samples, 0))?;
         Ok(Relighter {
             player: Mutex::new(player),

@@ -1,20 +1,18 @@
-//! `fenestra.render`: a render through the command line's own job (`fenestra render`'s
-//! checks, integrator registry, scene build and render loop), with the interpreter released
+//! `fenestra.render`: a render through the session's job (the checks, integrator registry,
+//! scene build and render loop `fenestra render` runs too), with the interpreter released
 //! while it runs, Ctrl-C stopping it with what was rendered kept, and progress polled.
 
-use crate::options::{keyword_error, params};
+use crate::options::params;
 use crate::pixels::bytes;
 use crate::progress::watched;
 use crate::scene::Scene;
-use crate::{backend_named, error};
-use fenestra_cli::commands::merge::film_file_of;
-use fenestra_cli::commands::render::{check_exr, parse_resolution, render_outputs, Job, JobSpec};
-use fenestra_cli::integrators::{IntegratorArgs, DEFAULT};
-use fenestra_cli::support::files::Files;
+use crate::{backend_named, error, session_error};
 use fenestra_core::stats::RenderStats;
-use fenestra_render::film_file::FilmHeader;
+use fenestra_render::film_file::{FilmHeader, SampleRange};
 use fenestra_render::merge::{merge as merge_parts, plan, Part};
 use fenestra_render::{output, Film};
+use fenestra_session::files::{check_exr, film_file_of, render_outputs, Files};
+use fenestra_session::{registry, Crop, IntegratorChoice, Job, JobSpec, Resolution};
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 use std::path::PathBuf;
@@ -106,38 +104,28 @@ pub fn render(
 ) -> PyResult<Render> {
     let backend = backend_named(backend.as_deref())?;
     let resolution = resolution
-        .map(|(w, h)| parse_resolution(&format!("{w}x{h}")))
+        .map(|(w, h)| Resolution::new(w, h))
         .transpose()
-        .map_err(error)?;
-    let integrator = IntegratorArgs {
-        integrator: integrator.unwrap_or_else(|| DEFAULT.to_string()),
-        params: params(options).map_err(error)?,
-    };
+        .map_err(session_error)?;
     let spec = JobSpec {
-        integrator: &integrator,
+        integrator: IntegratorChoice {
+            name: integrator.unwrap_or_else(|| fenestra_session::DEFAULT_INTEGRATOR.to_string()),
+            params: params(options, registry().groups()).map_err(error)?,
+        },
         spp,
         time,
         seed,
         resolution,
     };
-    let mut job = Job::new(
-        scene.desc.clone(),
-        &scene.source,
-        &scene.files,
-        &spec,
-        &keyword_error,
-    )
-    .map_err(error)?;
-    let samples = samples.map(|(a, b)| format!("{a}..{b}"));
-    let crop = crop.map(|(x0, y0, x1, y1)| format!("{x0},{y0},{x1},{y1}"));
+    let mut job = Job::new(scene.loaded.clone(), &spec).map_err(session_error)?;
+    let samples = samples.map(|(start, end)| SampleRange { start, end });
+    let crop = crop.map(|(x0, y0, x1, y1)| Crop { x0, y0, x1, y1 });
     let inputs = std::mem::take(&mut job.inputs);
-    let piece = job
-        .cut(samples.as_deref(), crop.as_deref(), spp.is_some(), backend)
-        .map_err(error)?;
+    let piece = job.cut(samples, crop, backend).map_err(session_error)?;
     let watched = watched(py, progress.as_ref(), |cancel, polled| {
         job.run(threads, backend, cancel, polled, None, None)
     })?;
-    let (stats, film, _) = watched.result.map_err(error)?;
+    let fenestra_session::Rendered { stats, film, .. } = watched.result.map_err(session_error)?;
     Ok(Render {
         piece: piece.map(|header| FilmHeader {
             stats: stats.clone(),

@@ -1,64 +1,72 @@
-//! `fenestra.load`: a scene read as `fenestra render` reads its SCENE argument.
+//! `fenestra.load`: a scene read as `fenestra render` reads its SCENE argument, its keywords
+//! made into the session's typed request.
 
-use crate::error;
-use fenestra_cli::support::scene_arg::{self, SceneOptions, SKY_ALBEDO, SKY_TURBIDITY};
-use fenestra_scene::SceneDesc;
+use crate::{error, session_error};
+use anyhow::anyhow;
+use fenestra_scene::sky::solar_position::Moment;
+use fenestra_session::scene::axis_named;
+use fenestra_session::{Lighting, LoadedScene, Placement, SceneRequest, SkyRequest, SunPlace};
 use pyo3::prelude::*;
 use std::path::PathBuf;
 
 /// A loaded scene: rendered as many times as asked, each render from its own copy.
 #[pyclass(frozen, module = "fenestra._native")]
 pub struct Scene {
-    /// What it was loaded from (`builtin:NAME` or a path).
-    #[pyo3(get)]
-    pub source: String,
-    pub desc: SceneDesc,
-    /// Every file read, in order: the scene's content hash is theirs.
-    pub files: Vec<PathBuf>,
-    /// What the scene asks for that fenestra replaces or leaves out.
-    #[pyo3(get)]
-    warnings: Vec<String>,
-    /// A glTF scene's cameras by name.
-    #[pyo3(get)]
-    cameras: Vec<String>,
+    pub loaded: LoadedScene,
 }
 
 #[pymethods]
 impl Scene {
+    /// What it was loaded from (`builtin:NAME` or a path).
+    #[getter]
+    fn source(&self) -> &str {
+        &self.loaded.source
+    }
+
+    /// What the scene asks for that fenestra replaces or leaves out.
+    #[getter]
+    fn warnings(&self) -> Vec<String> {
+        self.loaded.warnings()
+    }
+
+    /// A glTF scene's cameras by name.
+    #[getter]
+    fn cameras(&self) -> Vec<String> {
+        self.loaded.cameras.clone()
+    }
+
     /// The scene's name.
     #[getter]
     fn name(&self) -> &str {
-        &self.desc.name
+        &self.loaded.desc.name
     }
 
     /// The image size its file asks for: (width, height).
     #[getter]
     fn resolution(&self) -> (u32, u32) {
-        (self.desc.defaults.width, self.desc.defaults.height)
+        (
+            self.loaded.desc.defaults.width,
+            self.loaded.desc.defaults.height,
+        )
     }
 
     /// The samples per pixel its file asks for.
     #[getter]
     fn spp(&self) -> u32 {
-        self.desc.defaults.spp
+        self.loaded.desc.defaults.spp
     }
 
     fn __repr__(&self) -> String {
         let (w, h) = self.resolution();
         format!(
             "<fenestra.Scene '{}' from {}: {} shapes, {} lights, {w}x{h}, {} spp>",
-            self.desc.name,
-            self.source,
-            self.desc.shapes.len(),
-            self.desc.lights.len(),
-            self.desc.defaults.spp
+            self.loaded.desc.name,
+            self.loaded.source,
+            self.loaded.desc.shapes.len(),
+            self.loaded.desc.lights.len(),
+            self.loaded.desc.defaults.spp
         )
     }
-}
-
-/// Two numbers as the command line writes them: "A,B".
-fn pair(p: Option<(f64, f64)>) -> Option<String> {
-    p.map(|(a, b)| format!("{a},{b}"))
 }
 
 /// Loads `source` (`builtin:NAME`, a pbrt-v4, glTF 2.0, OBJ or PLY file) as `fenestra
@@ -77,9 +85,9 @@ pub fn load(
     sky: bool,
     sky_turbidity: Option<f32>,
     sky_albedo: Option<f32>,
-    sun: Option<(f64, f64)>,
+    sun: Option<(f32, f32)>,
     sun_time: Option<String>,
-    location: Option<(f64, f64)>,
+    location: Option<(f32, f32)>,
     sun_strength: Option<f32>,
     environment_rotation: Option<f32>,
     environment_strength: Option<f32>,
@@ -94,48 +102,103 @@ pub fn load(
         ("sun_strength", sun_strength.is_some()),
     ];
     if let Some((word, _)) = needs_sky.iter().find(|(_, given)| *given && !sky) {
-        return Err(error(anyhow::anyhow!(
+        return Err(error(anyhow!(
             "{word} describes sky=True's sky; sky is not set"
         )));
     }
     if environment.is_some() && sky {
-        return Err(error(anyhow::anyhow!(
+        return Err(error(anyhow!(
             "environment and sky both light the scene: give one"
         )));
     }
-    if sun.is_some() && sun_time.is_some() {
-        return Err(error(anyhow::anyhow!(
-            "sun and sun_time both place the sun: give one"
-        )));
+    let placing = [
+        ("environment_rotation", environment_rotation.is_some()),
+        ("environment_strength", environment_strength.is_some()),
+        ("environment_up", environment_up.is_some()),
+    ];
+    if let Some((word, _)) = placing.iter().find(|(_, given)| *given) {
+        if environment.is_none() && !sky {
+            return Err(error(anyhow!(
+                "{word} places environment or sky=True's sky; neither is given"
+            )));
+        }
     }
+    let up = match environment_up.as_deref() {
+        None => None,
+        Some(axis) => Some(axis_named(axis).ok_or_else(|| {
+            error(anyhow!(
+                "environment_up: expected x, y, z, -x, -y or -z, got \"{axis}\""
+            ))
+        })?),
+    };
+    let placement = Placement {
+        up,
+        rotation_deg: environment_rotation.unwrap_or(0.0),
+        strength: environment_strength.unwrap_or(1.0),
+    };
+    let lighting = match environment {
+        Some(path) => Lighting::Environment { path, placement },
+        None if sky => Lighting::Sky {
+            sky: sky_request(
+                sky_turbidity,
+                sky_albedo,
+                sun,
+                sun_time,
+                location,
+                sun_strength,
+            )?,
+            placement,
+        },
+        None => Lighting::Own,
+    };
+    let request = SceneRequest {
+        source,
+        strict,
+        camera,
+        lighting,
+    };
+    let loaded = py
+        .detach(|| fenestra_session::load(&request))
+        .map_err(session_error)?;
+    Ok(Scene { loaded })
+}
+
+/// sky=True's sky and sun from their keywords.
+fn sky_request(
+    turbidity: Option<f32>,
+    albedo: Option<f32>,
+    sun: Option<(f32, f32)>,
+    sun_time: Option<String>,
+    location: Option<(f32, f32)>,
+    sun_strength: Option<f32>,
+) -> PyResult<SkyRequest> {
+    let defaults = SkyRequest::default();
     if sun_time.is_some() != location.is_some() {
-        return Err(error(anyhow::anyhow!(
+        return Err(error(anyhow!(
             "sun_time and location go together: the sun at that moment seen from there"
         )));
     }
-    let options = SceneOptions {
-        strict,
-        environment,
-        sky,
-        sky_turbidity: sky_turbidity.unwrap_or(SKY_TURBIDITY),
-        sky_albedo: sky_albedo.unwrap_or(SKY_ALBEDO),
-        sun: pair(sun),
-        sun_time,
-        location: pair(location),
-        sun_strength,
-        environment_rotation,
-        environment_strength,
-        environment_up,
-        camera,
+    let sun = match (sun, sun_time, location) {
+        (Some(_), Some(_), _) => {
+            return Err(error(anyhow!(
+                "sun and sun_time both place the sun: give one"
+            )))
+        }
+        (Some((elevation_deg, azimuth_deg)), ..) => SunPlace::Angles {
+            elevation_deg,
+            azimuth_deg,
+        },
+        (None, Some(time), Some((latitude, longitude))) => SunPlace::At {
+            moment: Moment::parse(&time).map_err(|e| error(anyhow!("sun_time: {e}")))?,
+            latitude,
+            longitude,
+        },
+        _ => defaults.sun,
     };
-    let loaded = py
-        .detach(|| scene_arg::load_quietly(&source, &options))
-        .map_err(error)?;
-    Ok(Scene {
-        warnings: loaded.warnings(),
-        cameras: loaded.cameras,
-        source,
-        desc: loaded.desc,
-        files: loaded.files,
+    Ok(SkyRequest {
+        turbidity: turbidity.unwrap_or(defaults.turbidity),
+        albedo: albedo.unwrap_or(defaults.albedo),
+        sun,
+        sun_strength: sun_strength.unwrap_or(defaults.sun_strength),
     })
 }

@@ -125,33 +125,31 @@ pub fn read(path: &Path) -> Result<(FrameHeader, FrameTransfer), FrameFileError>
         path: path.display().to_string(),
         reason: e.to_string(),
     })?;
-    decode(&bytes).map_err(|reason| FrameFileError {
+    decode(&bytes).map_err(|problem| FrameFileError {
         path: path.display().to_string(),
-        reason,
+        reason: problem.to_string(),
     })
 }
 
 /// Reads a frame from its bytes.
-fn decode(bytes: &[u8]) -> Result<(FrameHeader, FrameTransfer), String> {
+fn decode(bytes: &[u8]) -> Result<(FrameHeader, FrameTransfer), Damage> {
     if bytes.len() < MAGIC.len() + 12 || &bytes[..MAGIC.len()] != MAGIC {
-        return Err("not a relighting frame file".into());
+        return Err(Damage::NotAFrame);
     }
     let (body, crc) = bytes.split_at(bytes.len() - 4);
     if crc32fast::hash(body) != u32::from_le_bytes([crc[0], crc[1], crc[2], crc[3]]) {
-        return Err("damaged (checksum mismatch)".into());
+        return Err(Damage::Checksum);
     }
     let mut r = Reader(&body[MAGIC.len()..]);
     let version = r.u32()?;
     if version != VERSION && version != 1 {
-        return Err(format!(
-            "version {version}, this build reads 1 and {VERSION}"
-        ));
+        return Err(Damage::Version(version));
     }
     let length = r.u32()? as usize;
     let header: FrameHeader =
-        serde_json::from_slice(r.take(length)?).map_err(|e| format!("header: {e}"))?;
+        serde_json::from_slice(r.take(length)?).map_err(|e| Damage::Header(e.to_string()))?;
     let n = haar::padded_len(header.gather);
-    let vector = |r: &mut Reader| -> Result<Vec<f64>, String> {
+    let vector = |r: &mut Reader| -> Result<Vec<f64>, Damage> {
         (0..n).map(|_| r.f32().map(f64::from)).collect()
     };
     let mut clusters = Vec::with_capacity(header.dimensions.len());
@@ -174,28 +172,26 @@ fn decode(bytes: &[u8]) -> Result<(FrameHeader, FrameTransfer), String> {
             // No more coefficients than the padded length: a count read from a damaged or
             // foreign file must not size an allocation.
             if n > haar::padded_len(header.gather) {
-                return Err(format!(
-                    "kept pixel with {n} coefficients of {}",
-                    header.gather
-                ));
+                return Err(Damage::KeptCount {
+                    count: n,
+                    gather: header.gather,
+                });
             }
             let (mut indices, mut values) = (Vec::with_capacity(n), Vec::with_capacity(n));
             for _ in 0..n {
                 let i = r.u32()?;
                 if i as usize >= haar::padded_len(header.gather) {
-                    return Err(format!(
-                        "kept pixel's coefficient {i} beyond the gather samples"
-                    ));
+                    return Err(Damage::KeptIndex(i));
                 }
                 indices.push(i);
                 values.push(r.f32()?);
             }
             Transfer::Kept { indices, values }
         } else {
-            let d = *header
-                .dimensions
-                .get(c as usize)
-                .ok_or_else(|| format!("pixel names cluster {c} of {}", clusters.len()))?;
+            let d = *header.dimensions.get(c as usize).ok_or(Damage::Cluster {
+                cluster: c,
+                clusters: clusters.len(),
+            })?;
             let coefficients = (0..d).map(|_| r.f32()).collect::<Result<_, _>>()?;
             Transfer::Compressed {
                 cluster: c,
@@ -205,7 +201,7 @@ fn decode(bytes: &[u8]) -> Result<(FrameHeader, FrameTransfer), String> {
         pixels.push(Some(Pixel { transfer, colour }));
     }
     if !r.0.is_empty() {
-        return Err(format!("{} bytes after the pixels", r.0.len()));
+        return Err(Damage::Trailing(r.0.len()));
     }
     let frame = FrameTransfer {
         width: header.width,
@@ -219,23 +215,46 @@ fn decode(bytes: &[u8]) -> Result<(FrameHeader, FrameTransfer), String> {
     Ok((header, frame))
 }
 
+/// Why bytes are not a frame file this build reads.
+#[derive(Debug, thiserror::Error)]
+enum Damage {
+    #[error("not a relighting frame file")]
+    NotAFrame,
+    #[error("damaged (checksum mismatch)")]
+    Checksum,
+    #[error("version {0}, this build reads 1 and {VERSION}")]
+    Version(u32),
+    #[error("header: {0}")]
+    Header(String),
+    #[error("kept pixel with {count} coefficients of {gather}")]
+    KeptCount { count: usize, gather: usize },
+    #[error("kept pixel's coefficient {0} beyond the gather samples")]
+    KeptIndex(u32),
+    #[error("pixel names cluster {cluster} of {clusters}")]
+    Cluster { cluster: u32, clusters: usize },
+    #[error("{0} bytes after the pixels")]
+    Trailing(usize),
+    #[error("truncated")]
+    Truncated,
+}
+
 /// Little-endian reads off a byte slice; running out is an error.
 struct Reader<'a>(&'a [u8]);
 
 impl<'a> Reader<'a> {
-    fn take(&mut self, n: usize) -> Result<&'a [u8], String> {
+    fn take(&mut self, n: usize) -> Result<&'a [u8], Damage> {
         if self.0.len() < n {
-            return Err("truncated".into());
+            return Err(Damage::Truncated);
         }
         let (a, b) = self.0.split_at(n);
         self.0 = b;
         Ok(a)
     }
-    fn u32(&mut self) -> Result<u32, String> {
+    fn u32(&mut self) -> Result<u32, Damage> {
         let b = self.take(4)?;
         Ok(u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
     }
-    fn f32(&mut self) -> Result<f32, String> {
+    fn f32(&mut self) -> Result<f32, Damage> {
         self.u32().map(f32::from_bits)
     }
 }
@@ -290,7 +309,7 @@ mod tests {
         let mut bytes = encode(&frame(), 1.5);
         let last = bytes.len() - 9;
         bytes[last] ^= 1;
-        let err = decode(&bytes).expect_err("a flipped byte");
+        let err = decode(&bytes).expect_err("a flipped byte").to_string();
         assert_eq!(err, "damaged (checksum mismatch)");
         // A kept pixel naming a coefficient past the padded length, checksum made right.
         let mut f = frame();
@@ -301,7 +320,9 @@ mod tests {
             },
             colour: Rgb::ONE,
         });
-        let err = decode(&encode(&f, 0.0)).expect_err("a coefficient out of range");
+        let err = decode(&encode(&f, 0.0))
+            .expect_err("a coefficient out of range")
+            .to_string();
         assert!(err.contains("coefficient 4 beyond"), "{err}");
         // More coefficients than the padded length.
         f.pixels[2] = Some(Pixel {
@@ -311,7 +332,9 @@ mod tests {
             },
             colour: Rgb::ONE,
         });
-        let err = decode(&encode(&f, 0.0)).expect_err("too many coefficients");
+        let err = decode(&encode(&f, 0.0))
+            .expect_err("too many coefficients")
+            .to_string();
         assert!(err.contains("kept pixel with 5 coefficients"), "{err}");
     }
 }

@@ -50,14 +50,11 @@ pub struct LightsFile {
 impl LightsFile {
     /// Parses `text` (`name` for messages: `name:LINE:COLUMN: what`, or the light at fault).
     pub fn parse(text: &str, name: &str) -> Result<Self, RelightError> {
-        Self::checked(text, name).map_err(RelightError::Lights)
-    }
-
-    fn checked(text: &str, name: &str) -> Result<Self, String> {
-        let file: LightsFile = serde_json::from_str(text)
-            .map_err(|e| format!("{name}:{}:{}: {e}", e.line(), e.column()))?;
+        let file: LightsFile = serde_json::from_str(text).map_err(|e| {
+            RelightError::Lights(format!("{name}:{}:{}: {e}", e.line(), e.column()))
+        })?;
         for (i, l) in file.lights.iter().enumerate() {
-            let bad = |what: &str| format!("{name}: lights[{i}]: {what}");
+            let bad = |what: &str| RelightError::Lights(format!("{name}: lights[{i}]: {what}"));
             let finite = |v: &[f32]| v.iter().all(|x| x.is_finite());
             // A direction to normalise: finite and not zero.
             let usable = |d: &[f32; 3]| finite(d) && Vec3::from(*d).length() > 0.0;

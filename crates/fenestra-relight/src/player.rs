@@ -99,11 +99,12 @@ impl Player {
     }
 
     /// Frame `f`'s transfer.
-    fn transfer(&mut self, f: u32) -> Result<Arc<FrameTransfer>, String> {
+    fn transfer(&mut self, f: u32) -> Result<Arc<FrameTransfer>, RelightError> {
         if let Some(t) = self.cache.get(&f) {
             return Ok(t.clone());
         }
-        let (_, t) = frame_file::read(&self.store.frame_path(f)).map_err(|e| e.to_string())?;
+        let (_, t) = frame_file::read(&self.store.frame_path(f))
+            .map_err(|e| RelightError::Frame(e.to_string()))?;
         let t = Arc::new(t);
         let bytes = t.bytes();
         if self.cached_bytes + bytes <= self.budget {
@@ -115,19 +116,15 @@ impl Player {
 
     /// Frame `f` relit by `lights`.
     pub fn relight(&mut self, f: u32, lights: &LightsFile) -> Result<RelitFrame, RelightError> {
-        self.relit(f, lights).map_err(RelightError::Frame)
-    }
-
-    fn relit(&mut self, f: u32, lights: &LightsFile) -> Result<RelitFrame, String> {
         if f >= self.store.manifest.frames {
-            return Err(format!(
+            return Err(RelightError::Frame(format!(
                 "frame {f} is not in the sequence (0 to {})",
                 self.store.manifest.frames - 1
-            ));
+            )));
         }
         let transfer = self.transfer(f)?;
         let start = Instant::now();
-        let scene = frame_scene(&self.animated, f, Some(lights)).map_err(|e| e.to_string())?;
+        let scene = frame_scene(&self.animated, f, Some(lights))?;
         let posed = self.gather.posed(&scene);
         let (direct, indirect) = relit_image(&scene, &posed, &transfer, &self.relighting);
         Ok(RelitFrame {

@@ -103,7 +103,7 @@ impl Store {
         animation: &str,
         lights: &str,
     ) -> Result<Self, RelightError> {
-        Self::created(dir, manifest, animation, lights).map_err(RelightError::Store)
+        Self::created(dir, manifest, animation, lights)
     }
 
     fn created(
@@ -111,12 +111,14 @@ impl Store {
         manifest: Manifest,
         animation: &str,
         lights: &str,
-    ) -> Result<Self, String> {
-        let at = |e: &dyn std::fmt::Display, p: &Path| format!("{}: {e}", p.display());
+    ) -> Result<Self, RelightError> {
+        let at = |e: &dyn std::fmt::Display, p: &Path| {
+            RelightError::Store(format!("{}: {e}", p.display()))
+        };
         std::fs::create_dir_all(dir.join("frames")).map_err(|e| at(&e, dir))?;
         let path = dir.join("relight.json");
         if path.exists() {
-            let old = Self::opened(dir)?;
+            let old = Self::open(dir)?;
             if old.manifest != manifest {
                 let (a, b) = (
                     serde_json::to_value(&old.manifest),
@@ -136,13 +138,13 @@ impl Store {
                     .join("; "),
                     _ => String::new(),
                 };
-                return Err(format!(
+                return Err(RelightError::Store(format!(
                     "{} holds a precomputation with other settings ({differs}): use another folder or remove it",
                     dir.display()
-                ));
+                )));
             }
         }
-        let json = serde_json::to_string_pretty(&manifest).map_err(|e| e.to_string())?;
+        let json = serde_json::to_string_pretty(&manifest).map_err(|e| at(&e, dir))?;
         for (name, text) in [
             ("relight.json", json.as_str()),
             ("animation.json", animation),
@@ -151,7 +153,7 @@ impl Store {
             let p = dir.join(name);
             if name != "lights.json" || !p.exists() {
                 fenestra_core::fs::write_atomically(&p, |tmp| std::fs::write(tmp, text))
-                    .map_err(|e| e.to_string())?;
+                    .map_err(|e| RelightError::Store(e.to_string()))?;
             }
         }
         Ok(Store {
@@ -162,25 +164,27 @@ impl Store {
 
     /// The precomputation in `dir`.
     pub fn open(dir: &Path) -> Result<Self, RelightError> {
-        Self::opened(dir).map_err(RelightError::Store)
-    }
-
-    fn opened(dir: &Path) -> Result<Self, String> {
         let path = dir.join("relight.json");
         let text = std::fs::read_to_string(&path).map_err(|e| {
-            format!(
+            RelightError::Store(format!(
                 "{}: {e} (not a folder made by `fenestra relight precompute`?)",
                 path.display()
-            )
+            ))
         })?;
-        let manifest: Manifest = serde_json::from_str(&text)
-            .map_err(|e| format!("{}:{}:{}: {e}", path.display(), e.line(), e.column()))?;
+        let manifest: Manifest = serde_json::from_str(&text).map_err(|e| {
+            RelightError::Store(format!(
+                "{}:{}:{}: {e}",
+                path.display(),
+                e.line(),
+                e.column()
+            ))
+        })?;
         if manifest.version != VERSION {
-            return Err(format!(
+            return Err(RelightError::Store(format!(
                 "{}: version {}, this build reads {VERSION}",
                 path.display(),
                 manifest.version
-            ));
+            )));
         }
         Ok(Store {
             dir: dir.to_path_buf(),

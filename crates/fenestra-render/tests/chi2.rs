@@ -1,11 +1,13 @@
 //! Chi-square goodness-of-fit of every sampling routine against its own pdf(), as pbrt-v4
 //! and Mitsuba test them: directions are binned on the sphere in (cos theta, phi), expected
-//! counts come from integrating pdf() over each bin, sparse bins are pooled, and the test
-//! fails below a Sidak-corrected significance of 1%.
+//! counts come from integrating pdf() over each bin, and the shared harness
+//! (`fenestra_eval::chi2`: sparse bins pooled) fails a test below a Sidak-corrected
+//! significance of 1%.
 
 use fenestra_core::image::Image;
 use fenestra_core::Rng;
 use fenestra_core::{warp, Frame, Ray, Rgb, Vec2, Vec3, PI};
+use fenestra_eval::chi2::{chi2, sidak};
 use fenestra_render::bsdf::Bsdf;
 use fenestra_render::light::{Light, LightHit, Lights};
 use fenestra_scene::light::Emission;
@@ -14,14 +16,13 @@ use fenestra_scene::{
     Backend, Camera, EnvironmentDesc, LightDesc, Material, RenderDefaults, Scene, SceneDesc, Shape,
     ShapeKind, TriangleMesh,
 };
-use statrs::distribution::{ChiSquared, ContinuousCDF};
 use std::sync::Arc;
 
 const THETA_BINS: usize = 20;
 const PHI_BINS: usize = 40;
 const SAMPLES: usize = 1_000_000;
 /// Number of chi-square tests in this file, for the Sidak correction.
-const TESTS: f64 = 47.0;
+const TESTS: usize = 47;
 
 fn bin_of(w: Vec3) -> usize {
     let z = ((w.z.clamp(-1.0, 1.0) + 1.0) * 0.5 * THETA_BINS as f32) as usize;
@@ -76,37 +77,10 @@ fn chi2_test(
         "{name}: pdf integrates to {} > 1",
         total_exp / SAMPLES as f64
     );
-    // Pool bins with fewer than 5 expected samples (sorted by expectation) as Mitsuba does.
-    let mut idx: Vec<usize> = (0..exp.len()).collect();
-    idx.sort_by(|&a, &b| exp[a].total_cmp(&exp[b]));
-    let (mut stat, mut dof) = (0.0f64, 0i64);
-    let (mut pool_o, mut pool_e) = (0.0, 0.0);
-    for &i in &idx {
-        // A sliver of a bin may hold density the midpoint rule misses; a real bug (samples
-        // where the density is zero, e.g. below the horizon) puts far more there.
-        if exp[i] == 0.0 && observed[i] > (SAMPLES as f64) * 1e-4 {
-            panic!(
-                "{name}: {} samples in bin {i} where pdf() is zero",
-                observed[i]
-            );
-        }
-        if exp[i] < 5.0 {
-            pool_o += observed[i];
-            pool_e += exp[i];
-            if pool_e >= 5.0 {
-                stat += (pool_o - pool_e).powi(2) / pool_e;
-                dof += 1;
-                (pool_o, pool_e) = (0.0, 0.0);
-            }
-        } else {
-            stat += (observed[i] - exp[i]).powi(2) / exp[i];
-            dof += 1;
-        }
-    }
-    if pool_e > 0.0 {
-        stat += (pool_o - pool_e).powi(2) / pool_e;
-        dof += 1;
-    }
+    // A sliver of a bin may hold density the midpoint rule misses; a real bug (samples where
+    // the density is zero, e.g. below the horizon) puts far more there.
+    let fit =
+        chi2(&observed, &exp, SAMPLES as f64 * 1e-4).unwrap_or_else(|e| panic!("{name}: {e}"));
     if std::env::var("CHI2_DEBUG").is_ok() {
         eprintln!(
             "{name}: expected total {total_exp:.0}, observed {}",
@@ -127,12 +101,13 @@ fn chi2_test(
             );
         }
     }
-    let dof = (dof - 1).max(1) as f64;
-    let p_value = 1.0 - ChiSquared::new(dof).expect("dof > 0").cdf(stat);
-    let alpha = 1.0 - (1.0 - 0.01f64).powf(1.0 / TESTS);
+    let alpha = sidak(0.01, TESTS);
     assert!(
-        p_value > alpha,
-        "{name}: chi2 = {stat:.1} with {dof} dof, p = {p_value:.2e} < {alpha:.2e}"
+        fit.p_value > alpha,
+        "{name}: chi2 = {:.1} with {} dof, p = {:.2e} < {alpha:.2e}",
+        fit.statistic,
+        fit.dof,
+        fit.p_value
     );
 }
 

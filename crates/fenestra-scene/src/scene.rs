@@ -179,8 +179,9 @@ pub enum SceneError {
         what: String,
     },
     /// The ray-query library refused the geometry.
+    #[cfg(feature = "embree")]
     #[error("building the ray-query structure failed: {0}")]
-    Accel(String),
+    Accel(#[from] crate::accel::EmbreeError),
 }
 
 /// A validated scene with its ray-query structure: what renderers read.

@@ -1,11 +1,12 @@
 //! `fenestra bench`: runs a suite and writes its report folder.
 
-use crate::support::job::{Engine, Job, Step, PIECE};
+use crate::support::engine_job::{Engine, EngineJob, Step, PIECE};
 use anyhow::{bail, Context, Result};
 use clap::Args;
+use fenestra_core::fs::slug;
 use fenestra_eval::report::{aggregate, markdown_table, write_report};
 use fenestra_eval::run::{Runner, SuiteOutcome};
-use fenestra_eval::suite::{slug, Suite};
+use fenestra_eval::suite::Suite;
 use std::path::{Path, PathBuf};
 
 #[derive(Args)]
@@ -50,7 +51,7 @@ pub fn run(args: BenchArgs) -> Result<bool> {
         .clone()
         .unwrap_or_else(|| PathBuf::from("bench-out").join(slug(&suite.name)));
     let suite_dir = args.suite.parent().map(PathBuf::from).unwrap_or_default();
-    let mut files = crate::support::files::Files::default();
+    let mut files = fenestra_session::files::Files::default();
     files
         .input(&args.suite, "suite")
         .folder(&out, "report folder")
@@ -182,7 +183,7 @@ fn write_job(
         // Timings compare only when a run has the machine to itself.
         whole_machine: true,
     };
-    let job = Job {
+    let job = EngineJob {
         title: format!("bench {} ({} runs)", suite.name, runs.len()),
         fenestra: std::env::current_exe()
             .context("cannot find the fenestra executable")?

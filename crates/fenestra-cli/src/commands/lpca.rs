@@ -8,13 +8,6 @@ use fenestra_lpca::{io, synthetic, Algorithm, Options, Schedule};
 use serde_json::json;
 use std::path::PathBuf;
 
-/// The schedule `fenestra lpca` uses unless told: seed 003's (dimension:iterations).
-pub const SCHEDULE: &str = "0:15,2:10,4:7,8:5,12:4,16:2,24:1";
-/// The classification unless told: SortCluster-LPCA.
-pub const ALGORITHM: &str = "sc-lpca";
-/// The seeding unless told.
-pub const INIT: &str = "sortmeans++";
-
 #[derive(Args)]
 pub struct LpcaArgs {
     /// A 2D float32/float64 NPY matrix, one data point per row.
@@ -24,13 +17,13 @@ pub struct LpcaArgs {
     clusters: usize,
     /// Subspace dimensions and iterations, e.g. "0:15,2:10,4:7,8:5,12:4,16:2,24:1";
     /// "0:N" alone is k-means.
-    #[arg(long, default_value = SCHEDULE)]
+    #[arg(long, default_value_t = Schedule::default().to_string())]
     schedule: String,
     /// lpca (exhaustive; Lloyd for 0:N) or sc-lpca (SortCluster-LPCA; SortMeans for 0:N).
-    #[arg(long, default_value = ALGORITHM)]
+    #[arg(long, default_value_t)]
     algorithm: Algorithm,
     /// random, distance-sum, kmeans++ or sortmeans++.
-    #[arg(long, default_value = INIT)]
+    #[arg(long, default_value_t)]
     init: Init,
     #[arg(long, default_value_t = 0)]
     seed: u64,
@@ -44,7 +37,7 @@ pub struct LpcaArgs {
 }
 
 pub fn run(args: LpcaArgs) -> Result<()> {
-    crate::support::files::Files::default()
+    fenestra_session::files::Files::default()
         .input(&args.data, "data")
         .folder(&args.output, "output folder")
         .check()?;

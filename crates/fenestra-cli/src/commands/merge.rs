@@ -1,14 +1,13 @@
 //! `fenestra merge`: the pieces of a split render (sample ranges, tiles) into one image, the
 //! one a single render of them all makes, bit for bit.
 
-use crate::commands::render::{check_exr, render_outputs};
-use crate::support::files::Files;
 use anyhow::{bail, Result};
 use clap::Args;
 use fenestra_render::film_file::FilmHeader;
 use fenestra_render::merge::{self, Part};
 use fenestra_render::output;
-use std::path::{Path, PathBuf};
+use fenestra_session::files::{check_exr, film_file_of, render_outputs, Files};
+use std::path::PathBuf;
 use std::time::Instant;
 
 #[derive(Args)]
@@ -42,14 +41,6 @@ pub struct MergeArgs {
 
 /// Checks the parts, merges them and writes the image; nothing is written unless every part
 /// is whole and they belong together.
-/// The film-state file of a part given as its image (OUT.exr: OUT.film) or as itself.
-pub fn film_file_of(part: &Path) -> PathBuf {
-    match part.extension().and_then(|e| e.to_str()) {
-        Some(e) if e.eq_ignore_ascii_case("exr") => output::film_state_path(part),
-        _ => part.to_path_buf(),
-    }
-}
-
 pub fn run(args: MergeArgs) -> Result<()> {
     let started = Instant::now();
     check_exr(&args.output)?;

@@ -2,12 +2,14 @@
 //! everything that changes the picture (docs/measuring.md), rendered again only when missing
 //! or unusable.
 
-use super::render::{check_exr, render_outputs, RenderOpts};
+use super::render::RenderOpts;
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use fenestra_core::image::Image;
 use fenestra_eval::run::{ReferenceSummary, REFERENCE_SEED_OFFSET};
 use fenestra_render::{output, RenderStats};
+use fenestra_session::files::{check_exr, render_outputs};
+use fenestra_session::Rendered;
 use std::path::{Path, PathBuf};
 
 #[derive(Args)]
@@ -46,7 +48,7 @@ pub fn run(args: ReferenceArgs) -> Result<()> {
     let key = job.key(args.opts.bvh.unwrap_or_default());
     let path = args.cache.join(format!(
         "{}-{key:016x}.exr",
-        fenestra_eval::suite::slug(&job.desc.name)
+        fenestra_core::fs::slug(&job.desc().name)
     ));
     let sidecar = output::companion_paths(&path).1;
     let mut summary = ReferenceSummary {
@@ -55,7 +57,8 @@ pub fn run(args: ReferenceArgs) -> Result<()> {
         sidecar: sidecar.clone(),
         key: format!("{key:016x}"),
     };
-    let cached = match verify_reference(&path, &format!("{key:016x}"), job.width, job.height) {
+    let (width, height) = job.size();
+    let cached = match verify_reference(&path, &format!("{key:016x}"), width, height) {
         Ok(()) => true,
         Err(why) => {
             if path.exists() && !args.opts.quiet {
@@ -71,7 +74,9 @@ pub fn run(args: ReferenceArgs) -> Result<()> {
         check_exr(&path)?;
         let mut files = std::mem::take(&mut job.inputs);
         render_outputs(&mut files, &path, true, false).check()?;
-        let (mut stats, film, _) = args.opts.run(job, None, None)?;
+        let Rendered {
+            mut stats, film, ..
+        } = args.opts.run(job, None, None)?;
         if stats.interrupted {
             bail!("reference interrupted: nothing cached");
         }

@@ -16,6 +16,7 @@ use fenestra_relight::player::{frame_scene, Player};
 use fenestra_relight::sequence::AnimatedScene;
 use fenestra_relight::store::{Manifest, Store};
 use fenestra_scene::filter::{FilterShape, PixelFilter};
+use fenestra_session::relight::Opened;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::collections::BTreeMap;
 use std::io::IsTerminal;
@@ -231,7 +232,10 @@ fn animated_scene(
 fn precompute(a: &PrecomputeArgs) -> Result<()> {
     let (animated, text) = animated_scene(&a.scene, a.animation.as_deref(), a.options.clone())?;
     let (width, height) = match &a.resolution {
-        Some(r) => parse_resolution(r)?,
+        Some(r) => {
+            let r = parse_resolution(r)?;
+            (r.width, r.height)
+        }
         None => (animated.rest.defaults.width, animated.rest.defaults.height),
     };
     if !(a.explored > 0.0 && a.explored <= 1.0) {
@@ -359,44 +363,13 @@ fn frame_range(s: Option<&str>, frames: u32) -> Result<std::ops::Range<u32>> {
     Ok(a..b)
 }
 
-/// A precomputation opened: the folder, its animated scene, the lights to relight with, and
-/// every file that was read (outputs must not replace them).
-pub struct Opened {
-    pub store: Store,
-    pub animated: AnimatedScene,
-    pub lights: LightsFile,
-    /// Every file it read.
-    pub inputs: Vec<PathBuf>,
-}
-
-/// The precomputation in `dir`, its animated scene, and the lights of `lights` (default: the
-/// folder's own lights file).
-pub fn open(dir: &Path, lights: Option<&Path>) -> Result<Opened> {
-    let store = Store::open(dir)?;
-    let animation_text = std::fs::read_to_string(store.animation_path())
-        .with_context(|| format!("cannot read {}", store.animation_path().display()))?;
-    let animation = Animation::parse(
-        &animation_text,
-        &store.animation_path().display().to_string(),
-    )?;
-    let loaded = scene_arg::load(&store.manifest.scene, &SceneOptions::default())?;
-    let animated = AnimatedScene::new(loaded.desc, animation)?;
-    let lights_path = lights.map_or_else(|| store.lights_path(), Path::to_path_buf);
-    let lights_text = std::fs::read_to_string(&lights_path)
-        .with_context(|| format!("cannot read {}", lights_path.display()))?;
-    let lights = LightsFile::parse(&lights_text, &lights_path.display().to_string())?;
-    let mut inputs = loaded.files;
-    inputs.extend([
-        store.animation_path(),
-        lights_path,
-        dir.join("relight.json"),
-    ]);
-    Ok(Opened {
-        store,
-        animated,
-        lights,
-        inputs,
-    })
+/// The precomputation in `dir` opened as the session opens it, its scene's warnings printed.
+fn open(dir: &Path, lights: Option<&Path>) -> Result<Opened> {
+    let opened = fenestra_session::relight::open(dir, lights).map_err(crate::flagged)?;
+    for w in &opened.warnings {
+        eprintln!("warning: {w}");
+    }
+    Ok(opened)
 }
 
 fn export(a: &ExportArgs) -> Result<()> {
@@ -405,6 +378,7 @@ fn export(a: &ExportArgs) -> Result<()> {
         animated,
         lights,
         inputs,
+        ..
     } = open(&a.dir, a.lights.as_deref())?;
     if a.frame >= store.manifest.frames {
         bail!(
@@ -423,8 +397,8 @@ fn export(a: &ExportArgs) -> Result<()> {
     // Relighting sees each pixel through its centre: so does its ground truth (a box filter
     // a thousandth of a pixel wide), or edges would count as error.
     desc.camera.filter = PixelFilter::new(FilterShape::Box, fenestra_core::Vec2::splat(1e-3));
-    crate::support::files::create_output_folder(&a.output)?;
-    crate::support::files::Files::default()
+    fenestra_session::files::create_output_folder(&a.output)?;
+    fenestra_session::files::Files::default()
         .inputs(&inputs, "input")
         .output(&a.output, "export")
         .folder(

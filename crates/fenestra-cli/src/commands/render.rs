@@ -1,28 +1,22 @@
 //! `fenestra render` and `fenestra reference`.
 
-use crate::integrators::{self, IntegratorArgs};
-use crate::support::files::Files;
+use crate::flagged;
+use crate::integrators::IntegratorArgs;
 use crate::support::progress::{Bar, Lines};
 use crate::support::{interrupt, pieces, scene_arg};
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use fenestra_core::image::Image;
 use fenestra_core::stats::ConvergencePoint;
-use fenestra_core::Rgb;
-use fenestra_eval::hash::{debug_hash, Fnv64};
 use fenestra_eval::metrics;
-
 use fenestra_render::control::{PassHook, Progress, ProgressHook};
-use fenestra_render::film::{Pixel, Window};
-use fenestra_render::film_file::{FilmHeader, SampleRange};
-use fenestra_render::integrator::{IntegratorError, Split, WorkMap};
-use fenestra_render::options::OptionError;
-use fenestra_render::{
-    output, Film, Integrator, RenderControl, RenderScene, RenderSettings, RenderStats,
-};
-use fenestra_scene::{Backend, Scene, SceneDesc};
+use fenestra_render::film_file::FilmHeader;
+use fenestra_render::integrator::{Split, WorkMap};
+use fenestra_render::{output, Film, RenderStats};
+use fenestra_scene::Backend;
+use fenestra_session::files::{check_exr, render_outputs};
+use fenestra_session::{Job, JobSpec, Rendered, Resolution};
 use std::path::{Path, PathBuf};
-use std::sync::atomic::AtomicBool;
 use std::sync::Mutex;
 
 /// What is rendered and how: shared by `render` and `reference`.
@@ -113,7 +107,8 @@ pub struct RenderArgs {
     opts: RenderOpts,
 }
 
-pub fn parse_resolution(s: &str) -> Result<(u32, u32)> {
+/// Reads WxH (the size checks are the session's).
+pub fn parse_resolution(s: &str) -> Result<Resolution> {
     let bad = || {
         anyhow::anyhow!("bad resolution '{s}': expected WxH with positive integers, e.g. 512x512")
     };
@@ -125,275 +120,11 @@ pub fn parse_resolution(s: &str) -> Result<(u32, u32)> {
         }
         match v.parse::<u32>() {
             Ok(0) => bail!(bad()),
-            Ok(n) if n <= 65536 => Ok(n),
-            _ => bail!("resolution '{s}' is too large: at most 65536 pixels a side"),
+            Ok(n) => Ok(n),
+            Err(_) => bail!("resolution '{s}' is too large: at most 65536 pixels a side"),
         }
     };
-    let (w, h) = (side(w)?, side(h)?);
-    // The film keeps 112 bytes per pixel (exact sums and squares in 128-bit integers, a
-    // count).
-    if w as u64 * h as u64 > 1 << 27 {
-        bail!("resolution {w}x{h} is too large: at most 134 million pixels (about 15 GB of film)");
-    }
-    Ok((w, h))
-}
-
-/// The hash of a scene's content: its files' bytes, in the order they were read (a
-/// built-in scene, which has none: its name and fenestra's version).
-fn scene_content(scene: &str, files: &[PathBuf]) -> Result<String> {
-    let mut hash = Fnv64::default();
-    if files.is_empty() {
-        hash.update(scene.as_bytes());
-        hash.update(env!("CARGO_PKG_VERSION").as_bytes());
-    }
-    let mut buffer = vec![0; 1 << 16];
-    for path in files {
-        let mut file = std::fs::File::open(path)
-            .with_context(|| format!("reading {} again", path.display()))?;
-        loop {
-            let n = std::io::Read::read(&mut file, &mut buffer)
-                .with_context(|| format!("reading {} again", path.display()))?;
-            if n == 0 {
-                break;
-            }
-            hash.update(&buffer[..n]);
-        }
-    }
-    Ok(format!("{:016x}", hash.finish()))
-}
-
-/// Refuses a film (with the mean and variance images written from it, and room for the
-/// EXR writer's copy) larger than the memory the machine has available, before allocating
-/// it: naming both figures.
-fn film_fits_in_memory(window: Window) -> Result<()> {
-    let pixels = u64::from(window.x1 - window.x0) * u64::from(window.y1 - window.y0);
-    let per_pixel = std::mem::size_of::<Pixel>() + 4 * std::mem::size_of::<Rgb>();
-    let needed = pixels * per_pixel as u64;
-    let available = std::fs::read_to_string("/proc/meminfo")
-        .ok()
-        .and_then(|info| {
-            let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
-            let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
-            Some(kb * 1024)
-        });
-    if let Some(available) = available.filter(|&a| needed > a) {
-        let gb = |b: u64| b as f64 / 1e9;
-        bail!(
-            "a {}x{} film needs {:.1} GB of memory and this machine has {:.1} GB available: render a smaller resolution, or tiles of it (--crop) merged with `fenestra merge`",
-            window.x1 - window.x0,
-            window.y1 - window.y0,
-            gb(needed),
-            gb(available)
-        );
-    }
-    Ok(())
-}
-
-/// A render fully specified and checked, ready to run.
-pub struct Job {
-    pub(crate) desc: SceneDesc,
-    /// The hash of the scene's content that its images carry.
-    scene_content: String,
-    /// What the render reads: scene files, a portals file.
-    pub inputs: Files,
-    pub(crate) width: u32,
-    pub(crate) height: u32,
-    integrator: Box<dyn Integrator>,
-    pub(crate) settings: RenderSettings,
-    /// The part of the image to render (all of it unless --crop).
-    window: Window,
-}
-
-impl Job {
-    /// Everything that changes the picture but the sample count and the window: what the
-    /// pieces of a split render share.
-    fn picture_key(&self, backend: Backend) -> u64 {
-        debug_hash(&(
-            &self.desc,
-            self.integrator.name(),
-            self.integrator.settings().to_string(),
-            self.width,
-            self.height,
-            self.settings.seed,
-            backend.name(),
-            env!("CARGO_PKG_VERSION"),
-        ))
-    }
-
-    /// Everything that changes the picture: the reference cache key.
-    pub(crate) fn key(&self, backend: Backend) -> u64 {
-        debug_hash(&(self.picture_key(backend), self.settings.spp))
-    }
-
-    /// Makes the job one piece of a split render: `--samples` and `--crop`. Returns what the
-    /// piece's film-state file says of it, if it is one.
-    /// `spp_given`: whether a sample count was asked for too (which `samples` replaces).
-    pub fn cut(
-        &mut self,
-        samples: Option<&str>,
-        crop: Option<&str>,
-        spp_given: bool,
-        backend: Backend,
-    ) -> Result<Option<FilmHeader>> {
-        if samples.is_none() && crop.is_none() {
-            return Ok(None);
-        }
-        let split = self.integrator.split();
-        if split == Split::Whole {
-            bail!(
-                "{} learns from, or builds caches from, every pixel's samples: it renders whole, not in pieces (--samples, --crop)",
-                self.integrator.name()
-            );
-        }
-        let range = samples.map(pieces::parse_samples).transpose()?;
-        if let Some(r) = range {
-            if spp_given {
-                bail!("--samples {r} says how many samples to take: not with --spp");
-            }
-            if split == Split::BlockTiles {
-                bail!(
-                    "{} decides how many samples each pixel takes: split it by tiles (--crop), not by --samples",
-                    self.integrator.name()
-                );
-            }
-            self.settings.first_sample = r.start;
-            self.settings.spp = r.end - r.start;
-        }
-        if let Some(c) = crop {
-            self.window = pieces::parse_crop(c, self.width, self.height, split)?;
-        }
-        let samples = (split == Split::SamplesOrTiles).then_some(SampleRange {
-            start: self.settings.first_sample,
-            end: self.settings.first_sample + self.settings.spp,
-        });
-        Ok(Some(FilmHeader {
-            key: format!("{:016x}", self.picture_key(backend)),
-            samples,
-            window: self.window,
-            stats: RenderStats::default(),
-        }))
-    }
-}
-
-/// What a render is asked to be beside its scene: what `fenestra render`'s flags (and the
-/// Python module's keyword arguments) say.
-pub struct JobSpec<'a> {
-    /// The integrator and its options.
-    pub integrator: &'a IntegratorArgs,
-    /// Samples per pixel (default: the scene's, or unlimited with `time`).
-    pub spp: Option<u32>,
-    /// Seconds to render for (with `spp`: whichever comes first).
-    pub time: Option<f64>,
-    pub seed: u64,
-    /// Image size (default: the scene's).
-    pub resolution: Option<(u32, u32)>,
-}
-
-impl Job {
-    /// A render of the scene `desc` (called `name`, read from `files`) as `spec` says,
-    /// checked and with its integrator built; an option's error is worded by `name_option`
-    /// (the command line names its flag).
-    pub fn new(
-        desc: SceneDesc,
-        name: &str,
-        files: &[PathBuf],
-        spec: &JobSpec,
-        name_option: &dyn Fn(&OptionError) -> String,
-    ) -> Result<Job> {
-        if let Some(t) = spec.time {
-            if !(t.is_finite() && t > 0.0) {
-                bail!("--time must be a positive number of seconds, got {t}");
-            }
-        }
-        if spec.spp == Some(0) {
-            bail!("--spp must be at least 1");
-        }
-        let scene_content = scene_content(name, files)?;
-        let mut inputs = Files::default();
-        inputs.inputs(files, "scene file");
-        if let Some(p) = spec.integrator.portals_file() {
-            inputs.input(Path::new(p), "portals file");
-        }
-        let (width, height) = spec
-            .resolution
-            .unwrap_or((desc.defaults.width, desc.defaults.height));
-        let integrator = integrators::registry()
-            .build(&spec.integrator.integrator, &spec.integrator.params, &desc)
-            .map_err(|e| match e {
-                IntegratorError::Option(e) => anyhow::anyhow!(name_option(&e)),
-                e => e.into(),
-            })?;
-        if let (Some(spp), Split::BlockTiles) = (spec.spp, integrator.split()) {
-            bail!(
-                "{} decides how many samples each pixel takes (until the pixel's relative variance is below its threshold): --spp {spp} would not steer it; set --ias-threshold, or --time",
-                integrator.name()
-            );
-        }
-        let spp = match spec.time {
-            Some(_) => spec.spp.unwrap_or(u32::MAX),
-            None => spec.spp.unwrap_or(desc.defaults.spp),
-        };
-        let settings = RenderSettings {
-            first_sample: 0,
-            spp,
-            time_limit: spec.time,
-            seed: spec.seed,
-        };
-        Ok(Job {
-            desc,
-            scene_content,
-            inputs,
-            width,
-            height,
-            integrator,
-            settings,
-            window: Window::full(width, height),
-        })
-    }
-
-    /// Builds the scene, prepares the integrator and renders on a pool of `threads` workers
-    /// (all cores by default), until done or `cancel` is set (what was rendered is kept);
-    /// `hook` after every pass, `watch` whenever the film holds more of the image.
-    pub fn run(
-        self,
-        threads: Option<usize>,
-        backend: Backend,
-        cancel: &AtomicBool,
-        progress: &dyn Progress,
-        hook: Option<PassHook>,
-        watch: Option<ProgressHook>,
-    ) -> Result<(RenderStats, Film, Vec<WorkMap>)> {
-        film_fits_in_memory(self.window)?;
-        let pool = crate::thread_pool(threads)?;
-        let Job {
-            desc,
-            scene_content,
-            mut integrator,
-            settings,
-            window,
-            ..
-        } = self;
-        pool.install(|| -> Result<_> {
-            let scene = Scene::build(desc, backend).context("invalid scene")?;
-            let scene = RenderScene::new(scene);
-            let mut film = Film::cropped(window);
-            let mut control = RenderControl::new(cancel, progress);
-            control.on_pass = hook;
-            control.on_progress = watch;
-            let stats = fenestra_render::render(
-                integrator.as_mut(),
-                &scene,
-                &mut film,
-                &settings,
-                &control,
-            );
-            let stats = RenderStats {
-                scene_content,
-                ..stats?
-            };
-            Ok((stats, film, integrator.work_maps()))
-        })
-    }
+    Resolution::new(side(w)?, side(h)?).map_err(flagged)
 }
 
 impl RenderOpts {
@@ -409,20 +140,14 @@ impl RenderOpts {
             bail!("--exposure must be a finite number of stops, got {e}");
         }
         let spec = JobSpec {
-            integrator: &self.integrator,
+            integrator: self.integrator.0.clone(),
             spp: self.spp,
             time,
             seed: self.seed,
             resolution,
         };
         let loaded = scene_arg::load(&self.scene, &self.scene_options)?;
-        Job::new(
-            loaded.desc,
-            &self.scene,
-            &loaded.files,
-            &spec,
-            &integrators::flag_error,
-        )
+        Job::new(loaded, &spec).map_err(flagged)
     }
 
     /// [`Job::run`] with this command's threads and backend, Ctrl-C stopping it cleanly
@@ -432,7 +157,7 @@ impl RenderOpts {
         job: Job,
         hook: Option<PassHook>,
         watch: Option<ProgressHook>,
-    ) -> Result<(RenderStats, Film, Vec<WorkMap>)> {
+    ) -> Result<Rendered> {
         let cancel = interrupt::on_ctrl_c("writing the samples taken so far");
         let bar = Bar::new(self.quiet || self.json || self.progress_lines);
         let lines = Lines::default();
@@ -446,7 +171,7 @@ impl RenderOpts {
             watch,
         );
         bar.finish();
-        done
+        done.map_err(flagged)
     }
 
     fn report(&self, output: &Path, stats: &RenderStats) -> Result<()> {
@@ -510,52 +235,15 @@ pub fn shape(args: &[String]) -> Result<RenderShape> {
         args.iter().map(String::as_str).chain(["-o", "split.exr"]),
     )?;
     let job = parsed.args.opts.job(None)?;
+    let (width, height) = job.size();
     Ok(RenderShape {
-        scene: job.desc.name.clone(),
-        integrator: job.integrator.name().to_string(),
+        scene: job.desc().name.clone(),
+        integrator: job.integrator_name().to_string(),
         spp: job.settings.spp,
-        width: job.width,
-        height: job.height,
-        split: job.integrator.split(),
+        width,
+        height,
+        split: job.split(),
     })
-}
-
-/// Adds the files a render writes for OUT.exr: OUT.png, OUT.json, with `variance`
-/// OUT.var.exr and with `state` OUT.film.
-pub fn render_outputs<'a>(
-    files: &'a mut Files,
-    exr: &Path,
-    variance: bool,
-    state: bool,
-) -> &'a mut Files {
-    let (png, json) = output::companion_paths(exr);
-    files
-        .output(exr, "image")
-        .output(&png, "picture")
-        .output(&json, "sidecar");
-    if variance {
-        files.output(&output::variance_path(exr), "variance image");
-    }
-    if state {
-        files.output(&output::film_state_path(exr), "film state");
-    }
-    files
-}
-
-pub fn check_exr(path: &Path) -> Result<()> {
-    if path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase)
-        .as_deref()
-        != Some("exr")
-    {
-        bail!(
-            "output {} must end in .exr (the PNG and JSON are written beside it)",
-            path.display()
-        );
-    }
-    crate::support::files::create_output_folder(path)
 }
 
 /// Renders; returns whether the render was interrupted (its partial result is written).
@@ -575,12 +263,15 @@ pub fn run(args: RenderArgs) -> Result<bool> {
         }
     }
     let mut job = args.opts.job(args.time)?;
-    let piece = job.cut(
-        args.samples.as_deref(),
-        args.crop.as_deref(),
-        args.opts.spp.is_some(),
-        args.opts.bvh.unwrap_or_default(),
-    )?;
+    let samples = args.samples.as_deref().map(pieces::parse_samples);
+    let crop = args.crop.as_deref().map(pieces::parse_crop);
+    let piece = job
+        .cut(
+            samples.transpose()?,
+            crop.transpose()?,
+            args.opts.bvh.unwrap_or_default(),
+        )
+        .map_err(flagged)?;
     if piece.is_some() && args.time.is_some() {
         bail!("a piece of a split render takes a fixed set of samples: not with --time");
     }
@@ -607,14 +298,13 @@ pub fn run(args: RenderArgs) -> Result<bool> {
     let reference = match &args.reference {
         Some(p) => {
             let r = Image::read(p)?;
-            if (r.width, r.height) != (job.width as usize, job.height as usize) {
+            let (width, height) = job.size();
+            if (r.width, r.height) != (width as usize, height as usize) {
                 bail!(
-                    "reference {} is {}x{}, the render {}x{}",
+                    "reference {} is {}x{}, the render {width}x{height}",
                     p.display(),
                     r.width,
                     r.height,
-                    job.width,
-                    job.height
                 );
             }
             Some(r)
@@ -626,8 +316,8 @@ pub fn run(args: RenderArgs) -> Result<bool> {
         every,
         to: where_to_write(&args.output, true),
         like: RenderStats {
-            scene: job.desc.name.clone(),
-            integrator: job.integrator.name().to_string(),
+            scene: job.desc().name.clone(),
+            integrator: job.integrator_name().to_string(),
             seed: job.settings.seed,
             ..Default::default()
         },
@@ -656,7 +346,11 @@ pub fn run(args: RenderArgs) -> Result<bool> {
         args.target_rel_mse.is_none_or(|t| m.rel_mse > t)
     };
     let watch = snapshots.as_ref().map(|_| &watch as ProgressHook);
-    let (mut stats, film, maps) = args.opts.run(job, Some(&hook), watch)?;
+    let Rendered {
+        mut stats,
+        film,
+        maps,
+    } = args.opts.run(job, Some(&hook), watch)?;
     if stats.interrupted && stats.spp_max == 0 {
         // Stopped before the first sample (while the scene was being built): a black image
         // would only replace whatever was there.

@@ -68,8 +68,8 @@ pub fn run(args: SceneArgs) -> Result<()> {
                 bail!("output {} must end in .pbrt", output.display());
             }
             let loaded = scene_arg::load(&scene, &options)?;
-            crate::support::files::create_output_folder(&output)?;
-            crate::support::files::Files::default()
+            fenestra_session::files::create_output_folder(&output)?;
+            fenestra_session::files::Files::default()
                 .inputs(&loaded.files, "scene file")
                 .output(&output, "export")
                 .folder(&pbrt::export::data_folder(&output), "export's data folder")
@@ -260,7 +260,7 @@ fn check(scene: &str) -> Result<()> {
     Ok(())
 }
 
-fn check_report(scene: &str, loaded: &scene_arg::LoadedScene) -> String {
+fn check_report(scene: &str, loaded: &fenestra_session::LoadedScene) -> String {
     use std::fmt::Write;
     let (subs, notes) = (&loaded.substitutions, &loaded.notes);
     let mut out = String::new();

@@ -3,7 +3,7 @@
 //! after it that merges them.
 
 use crate::commands::render::{shape, RenderShape};
-use crate::support::job::{self, Engine, Step, PART, PIECE};
+use crate::support::engine_job::{Engine, EngineJob, Step, PART, PIECE};
 use crate::support::pieces;
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
@@ -74,7 +74,7 @@ pub fn run(args: SplitArgs) -> Result<()> {
 
 /// The job: a step "Render" with a task per part (parts/part-K.exr and .film) and a step
 /// "Merge" (merged.exr).
-fn plan(args: &SplitArgs, shape: &RenderShape) -> Result<job::Job> {
+fn plan(args: &SplitArgs, shape: &RenderShape) -> Result<EngineJob> {
     let dir = std::path::absolute(&args.output)
         .with_context(|| format!("cannot place {}", args.output.display()))?;
     let fenestra = match &args.fenestra {
@@ -118,7 +118,7 @@ fn plan(args: &SplitArgs, shape: &RenderShape) -> Result<job::Job> {
         merge.extend(["--total".into(), n.to_string()]);
     }
     merge.extend(["-o".into(), dir.join("merged.exr").display().to_string()]);
-    Ok(job::Job {
+    Ok(EngineJob {
         title: format!(
             "{} at {}x{}, {} spp",
             shape.scene, shape.width, shape.height, shape.spp

@@ -2,6 +2,7 @@
 
 use super::*;
 use clap::Parser;
+use fenestra_render::options::OptionError;
 
 #[derive(Parser)]
 struct Cli {
@@ -24,23 +25,23 @@ fn flags_set_the_keys_they_are_made_from_and_nothing_else() {
         "4",
     ])
     .expect("flags");
-    assert_eq!(args.integrator, "sdrc");
+    assert_eq!(args.0.name, "sdrc");
     let expected = Params::new()
         .with("sdrc.a", "0.3")
         .with("path.max_depth", "4");
-    assert_eq!(args.params, expected);
+    assert_eq!(args.0.params, expected);
     let args = parse(&["--portals", "auto", "--no-portal-cache"]).expect("flags");
     let expected = Params::new()
         .with("portals.source", "auto")
         .with("portals.no_cache", true);
-    assert_eq!(args.params, expected);
-    assert_eq!(parse(&[]).expect("no flags").params, Params::new());
+    assert_eq!(args.0.params, expected);
+    assert_eq!(parse(&[]).expect("no flags").0.params, Params::new());
 }
 
 #[test]
 fn every_option_has_a_flag_and_choices_are_checked_by_the_parser() {
     let mut seen = std::collections::HashSet::new();
-    for (key, group, i) in flags() {
+    for (key, group, i) in flags(registry().groups()) {
         let flag = group.flag(&group.fields[i]);
         assert!(
             seen.insert(flag.clone()),
@@ -86,7 +87,7 @@ fn flags_and_a_parameter_map_build_the_same_integrator() {
         .with("path.max_depth", 4)
         .with("light.selection", "bvh")
         .with("bvh.split", 8);
-    let from_flags = settings(&flags.integrator, &flags.params);
+    let from_flags = settings(&flags.0.name, &flags.0.params);
     assert_eq!(from_flags, settings("sdrc", &map));
     assert_ne!(from_flags, settings("sdrc", &Params::new()));
     assert_eq!(
@@ -97,7 +98,7 @@ fn flags_and_a_parameter_map_build_the_same_integrator() {
     // No flags: every option its default, the path length the scene's.
     let defaults = settings(
         "sdrc",
-        &parse(&["--integrator", "sdrc"]).expect("flags").params,
+        &parse(&["--integrator", "sdrc"]).expect("flags").0.params,
     );
     let sdrc = serde_json::to_value(fenestra_cache::SdrcOptions::default()).expect("json");
     assert_eq!(defaults["sdrc"], sdrc);
@@ -106,10 +107,17 @@ fn flags_and_a_parameter_map_build_the_same_integrator() {
 
 #[test]
 fn errors_name_the_flag_and_the_key() {
-    let e = OptionError::new("sdrc.a", "must be positive, got 0");
-    assert_eq!(flag_error(&e), "--sdrc-a: sdrc.a must be positive, got 0");
-    assert_eq!(flag_of("portals.source").as_deref(), Some("--portals"));
-    assert_eq!(flag_of("path.max_depth").as_deref(), Some("--max-depth"));
+    use fenestra_session::error::option_name;
+    use fenestra_session::{Error, Style};
+    let e = Error::Option(OptionError::new("sdrc.a", "must be positive, got 0"));
+    assert_eq!(
+        e.worded(Style::Flag),
+        "--sdrc-a: sdrc.a must be positive, got 0"
+    );
+    assert_eq!(e.to_string(), "sdrc_a: sdrc.a must be positive, got 0");
+    let flag = |key| option_name(key, Style::Flag);
+    assert_eq!(flag("portals.source").as_deref(), Some("--portals"));
+    assert_eq!(flag("path.max_depth").as_deref(), Some("--max-depth"));
 }
 
 #[test]

@@ -1,9 +1,8 @@
-//! What the subcommands share: output files and their checks, Ctrl-C, progress bars, scene
-//! arguments, the pieces of split renders and job files for distributed engines.
+//! What the subcommands share: Ctrl-C, progress bars, scene
+//! arguments, the pieces of split renders and job files for distributed engines (`EngineJob`).
 
-pub mod files;
+pub mod engine_job;
 pub mod interrupt;
-pub mod job;
 pub mod pieces;
 pub mod progress;
 pub mod scene_arg;

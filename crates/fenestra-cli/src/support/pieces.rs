@@ -5,7 +5,7 @@ use anyhow::{bail, Result};
 use fenestra_render::driver::BLOCK_SIZE;
 use fenestra_render::film::Window;
 use fenestra_render::film_file::SampleRange;
-use fenestra_render::integrator::Split;
+use fenestra_session::Crop;
 
 /// Reads `A..B` (sample indices A to B-1, A < B).
 pub fn parse_samples(s: &str) -> Result<SampleRange> {
@@ -26,14 +26,10 @@ pub fn parse_samples(s: &str) -> Result<SampleRange> {
     Ok(SampleRange { start, end })
 }
 
-/// Reads `X0,Y0,X1,Y1` (columns X0 to X1-1, rows Y0 to Y1-1) of a `width` x `height` image;
-/// `split` says whether the corners must lie on the block grid.
-pub fn parse_crop(s: &str, width: u32, height: u32, split: Split) -> Result<Window> {
-    let bad = || {
-        anyhow::anyhow!(
-            "bad --crop '{s}': expected X0,Y0,X1,Y1 with X0 < X1 <= {width} and Y0 < Y1 <= {height} (the image is {width}x{height})"
-        )
-    };
+/// Reads `X0,Y0,X1,Y1` (columns X0 to X1-1, rows Y0 to Y1-1; the session checks them
+/// against the image).
+pub fn parse_crop(s: &str) -> Result<Crop> {
+    let bad = || anyhow::anyhow!("bad --crop '{s}': expected X0,Y0,X1,Y1, e.g. 0,0,64,64");
     let v: Vec<u32> = s
         .split(',')
         .map(|t| t.trim().parse().map_err(|_| bad()))
@@ -41,26 +37,7 @@ pub fn parse_crop(s: &str, width: u32, height: u32, split: Split) -> Result<Wind
     let [x0, y0, x1, y1] = v[..] else {
         bail!(bad())
     };
-    if !(x0 < x1 && y0 < y1 && x1 <= width && y1 <= height) {
-        bail!(bad());
-    }
-    let window = Window {
-        full_width: width,
-        full_height: height,
-        x0,
-        y0,
-        x1,
-        y1,
-    };
-    let on_grid = |v: u32, edge: u32| v.is_multiple_of(BLOCK_SIZE) || v == edge;
-    if split == Split::BlockTiles
-        && !(on_grid(x0, 0) && on_grid(y0, 0) && on_grid(x1, width) && on_grid(y1, height))
-    {
-        bail!(
-            "this integrator renders 8x8 pixel blocks as wholes: --crop corners must be multiples of {BLOCK_SIZE} (or the image's edge), got {s}"
-        );
-    }
-    Ok(window)
+    Ok(Crop { x0, y0, x1, y1 })
 }
 
 /// `spp` samples cut into `parts` ranges of sizes that differ by at most one.
@@ -103,6 +80,7 @@ fn cut(n: u32, parts: u32, i: u32) -> u32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use fenestra_render::integrator::Split;
 
     #[test]
     fn sample_ranges_cover_every_sample_once() {
@@ -134,16 +112,19 @@ mod tests {
         assert!(t.windows(2).all(|w| w[0].y1 == w[1].y0 && w[0].y1 % 8 == 0));
         assert!(t.iter().all(|w| (w.x0, w.x1) == (0, 100)));
         assert!(by_tiles(100, 70, 10).is_err());
-        let ok = parse_crop("8,16,100,70", 100, 70, Split::BlockTiles).expect("on the grid");
+        let window = |s: &str, split| {
+            let crop = parse_crop(s).map_err(|e| e.to_string())?;
+            crop.window(100, 70, split)
+                .map_err(|e| e.worded(fenestra_session::Style::Flag))
+        };
+        let ok = window("8,16,100,70", Split::BlockTiles).expect("on the grid");
         assert_eq!((ok.x0, ok.y0, ok.x1, ok.y1), (8, 16, 100, 70));
-        let err = parse_crop("4,16,100,70", 100, 70, Split::BlockTiles).expect_err("off the grid");
-        assert!(err.to_string().contains("multiples of 8"), "{err}");
-        assert!(parse_crop("4,16,100,70", 100, 70, Split::SamplesOrTiles).is_ok());
+        let err = window("4,16,100,70", Split::BlockTiles).expect_err("off the grid");
+        assert!(err.starts_with("--crop 4,16,100,70: "), "{err}");
+        assert!(err.contains("multiples of 8"), "{err}");
+        assert!(window("4,16,100,70", Split::SamplesOrTiles).is_ok());
         for bad in ["0,0,101,70", "5,5,5,9", "1,2,3", "a,0,4,4"] {
-            assert!(
-                parse_crop(bad, 100, 70, Split::SamplesOrTiles).is_err(),
-                "{bad}"
-            );
+            assert!(window(bad, Split::SamplesOrTiles).is_err(), "{bad}");
         }
     }
 }

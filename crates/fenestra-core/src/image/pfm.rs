@@ -8,20 +8,60 @@
 use super::Image;
 use crate::Rgb;
 
+/// Why bytes are not a PFM image.
+#[derive(Debug, PartialEq, thiserror::Error)]
+pub enum PfmError {
+    /// The header stops before one of its words.
+    #[error("the header ends before its {0}")]
+    EndsBefore(&'static str),
+    /// The header stops right after one of its words.
+    #[error("the header ends after its {0}")]
+    EndsAfter(&'static str),
+    /// A word of the header is not text.
+    #[error("its {0} is not text")]
+    NotText(&'static str),
+    /// The first word is not PF or Pf.
+    #[error("not a PFM file (starts with {0:?}, not PF or Pf)")]
+    NotPfm(String),
+    /// The width or height is not a positive whole number.
+    #[error("{what} {word:?} is not a positive whole number")]
+    Size {
+        /// "width" or "height".
+        what: &'static str,
+        /// What the header says.
+        word: String,
+    },
+    /// The scale is zero or not a finite number.
+    #[error("scale {0:?} is not a finite non-zero number")]
+    Scale(String),
+    /// The file holds fewer bytes than the pixels it declares.
+    #[error("{width}x{height} pixels of {channels} floats need more than the {available} bytes after the header")]
+    Truncated {
+        /// Declared width.
+        width: usize,
+        /// Declared height.
+        height: usize,
+        /// Floats per pixel.
+        channels: usize,
+        /// Bytes after the header.
+        available: usize,
+    },
+}
+
 /// Decodes a PFM file's bytes.
-pub fn decode(bytes: &[u8]) -> Result<Image, String> {
+pub fn decode(bytes: &[u8]) -> Result<Image, PfmError> {
     let mut rest = bytes;
-    let mut token = |what: &str| -> Result<&str, String> {
+    let mut token = |what: &'static str| -> Result<&str, PfmError> {
         let start = rest
             .iter()
             .position(|b| !b.is_ascii_whitespace())
-            .ok_or_else(|| format!("the header ends before its {what}"))?;
+            .ok_or(PfmError::EndsBefore(what))?;
         let len = rest[start..]
             .iter()
             .position(|b| b.is_ascii_whitespace())
-            .ok_or_else(|| format!("the header ends after its {what}"))?;
-        let word = std::str::from_utf8(&rest[start..start + len])
-            .map_err(|_| format!("its {what} is not text"))?;
+            .ok_or(PfmError::EndsAfter(what))?;
+        let word =
+            std::str::from_utf8(&rest[start..start + len]).map_err(|_| PfmError::NotText(what))?;
         // The one whitespace byte after the token belongs to the header.
         rest = &rest[start + len + 1..];
         Ok(word)
@@ -29,17 +69,16 @@ pub fn decode(bytes: &[u8]) -> Result<Image, String> {
     let channels = match token("type")? {
         "PF" => 3,
         "Pf" => 1,
-        other => {
-            return Err(format!(
-                "not a PFM file (starts with {other:?}, not PF or Pf)"
-            ))
-        }
+        other => return Err(PfmError::NotPfm(other.to_string())),
     };
-    let mut size = |what: &str| -> Result<usize, String> {
+    let mut size = |what: &'static str| -> Result<usize, PfmError> {
         let word = token(what)?;
         match word.parse::<usize>() {
             Ok(n) if n > 0 => Ok(n),
-            _ => Err(format!("{what} {word:?} is not a positive whole number")),
+            _ => Err(PfmError::Size {
+                what,
+                word: word.to_string(),
+            }),
         }
     };
     let width = size("width")?;
@@ -47,16 +86,18 @@ pub fn decode(bytes: &[u8]) -> Result<Image, String> {
     let word = token("scale")?;
     let scale = match word.parse::<f32>() {
         Ok(s) if s.is_finite() && s != 0.0 => s,
-        _ => return Err(format!("scale {word:?} is not a finite non-zero number")),
+        _ => return Err(PfmError::Scale(word.to_string())),
     };
     let bytes_needed = width
         .checked_mul(height)
         .and_then(|n| n.checked_mul(channels * 4));
     if bytes_needed.is_none_or(|n| n > rest.len()) {
-        return Err(format!(
-            "{width}x{height} pixels of {channels} floats need more than the {} bytes after the header",
-            rest.len()
-        ));
+        return Err(PfmError::Truncated {
+            width,
+            height,
+            channels,
+            available: rest.len(),
+        });
     }
     let magnitude = scale.abs();
     let value = |i: usize| {
@@ -145,7 +186,7 @@ mod tests {
             (b"PF\n1 1".to_vec(), "ends after its height"),
             (b"PF\n1 1\n-1".to_vec(), "ends after its scale"),
         ] {
-            let e = decode(&bytes).expect_err(says);
+            let e = decode(&bytes).expect_err(says).to_string();
             assert!(e.contains(says), "{says}: {e}");
         }
     }

@@ -398,31 +398,18 @@ pub fn picks_follow_pmf(
     assert!(p_value > alpha, "at {p}: p = {p_value:.2e}");
 }
 
-/// The p-value of `counts` drawn from the probabilities `expected` (chi-square, bins
-/// expecting fewer than five pooled into one); panics if a bin of zero probability has
-/// counts.
+/// The p-value of `counts` drawn from the probabilities `expected` (the shared chi-square
+/// harness); panics if a bin of zero probability has counts.
 pub fn chi_square(counts: &[f64], expected: &[f64]) -> f64 {
-    use statrs::distribution::{ChiSquared, ContinuousCDF};
     let draws: f64 = counts.iter().sum();
-    let (mut stat, mut dof, mut pool) = (0.0, 0i64, (0.0, 0.0));
-    for (o, e) in counts.iter().zip(expected.iter().map(|p| p * draws)) {
-        if e < 1e-6 {
-            assert_eq!(*o, 0.0, "something of zero probability was picked");
-        } else if e < 5.0 {
-            pool = (pool.0 + o, pool.1 + e);
-        } else {
-            stat += (o - e).powi(2) / e;
-            dof += 1;
-        }
-    }
-    if pool.1 > 0.0 {
-        stat += (pool.0 - pool.1).powi(2) / pool.1;
-        dof += 1;
-    }
-    let dof = (dof - 1).max(1) as f64;
-    let p_value = 1.0 - ChiSquared::new(dof).expect("dof").cdf(stat);
-    eprintln!("chi2 {stat:.1}, {dof} dof, p = {p_value:.3}");
-    p_value
+    let expected: Vec<f64> = expected.iter().map(|p| p * draws).collect();
+    let fit = fenestra_eval::chi2::chi2(counts, &expected, 0.0)
+        .unwrap_or_else(|e| panic!("something of zero probability was picked: {e}"));
+    eprintln!(
+        "chi2 {:.1}, {} dof, p = {:.3}",
+        fit.statistic, fit.dof, fit.p_value
+    );
+    fit.p_value
 }
 
 /// The sample light samplers see in tests of single points.

@@ -101,7 +101,7 @@ impl PortalRecord {
     }
 
     /// The portal this record describes, or what is wrong with it.
-    fn portal(&self) -> Result<Portal, String> {
+    fn portal(&self) -> Result<Portal, RecordError> {
         let v = |a: [f32; 3]| Vec3::from(a);
         let portal = match (self.kind.as_str(), &self.axes, &self.vertices) {
             ("ellipse", Some([a, b]), _) => Portal::Ellipse {
@@ -119,30 +119,27 @@ impl PortalRecord {
                     .max((corners[3] - corners[0]).length());
                 let off = (corners[2] - implied).length();
                 if !(off <= 1e-4 * size) {
-                    return Err(format!(
-                        "a quad's vertices must form a parallelogram in order (the third is {off:e} m from where the others put it)"
-                    ));
+                    return Err(RecordError::NotParallelogram { off });
                 }
                 Portal::quad(corners)
             }
             ("triangle", _, Some(c)) if c.len() == 3 => Portal::Triangle {
                 vertices: [v(c[0]), v(c[1]), v(c[2])],
             },
-            ("ellipse", ..) => {
-                return Err("an ellipse needs \"axes\": two semi-axis vectors".into())
+            ("ellipse", ..) => return Err(RecordError::Axes),
+            ("quad", ..) => {
+                return Err(RecordError::Vertices {
+                    kind: "quad",
+                    points: 4,
+                })
             }
-            ("quad" | "triangle", ..) => {
-                return Err(format!(
-                    "a {} needs \"vertices\" ({} points)",
-                    self.kind,
-                    if self.kind == "quad" { 4 } else { 3 }
-                ))
+            ("triangle", ..) => {
+                return Err(RecordError::Vertices {
+                    kind: "triangle",
+                    points: 3,
+                })
             }
-            (other, ..) => {
-                return Err(format!(
-                    "unknown portal kind \"{other}\" (expected ellipse, quad or triangle)"
-                ))
-            }
+            (other, ..) => return Err(RecordError::Kind(other.to_string())),
         };
         let finite = match &portal {
             Portal::Quad { corner, e1, e2 } => {
@@ -151,7 +148,7 @@ impl PortalRecord {
             Portal::Triangle { vertices } => vertices.iter().all(|p| p.is_finite()),
             Portal::Ellipse { center, a, b } => {
                 if a.normalize_or_zero().dot(b.normalize_or_zero()).abs() > 1e-3 {
-                    return Err("ellipse axes must be perpendicular".into());
+                    return Err(RecordError::Perpendicular);
                 }
                 center.is_finite() && a.is_finite() && b.is_finite()
             }
@@ -161,13 +158,32 @@ impl PortalRecord {
             .iter()
             .fold(0.0f32, |e, c| e.max(c.abs().max_element()));
         if let Some(what) = fenestra_scene::extent::extent_error(extent).filter(|_| finite) {
-            return Err(what);
+            return Err(RecordError::Extent(what));
         }
         if !finite || !portal.area().is_normal() || portal.area() < 0.0 {
-            return Err("a portal needs finite coordinates and a positive area".into());
+            return Err(RecordError::Degenerate);
         }
         Ok(portal)
     }
+}
+
+/// What is wrong with a portals.json record.
+#[derive(Debug, thiserror::Error)]
+enum RecordError {
+    #[error("a quad's vertices must form a parallelogram in order (the third is {off:e} m from where the others put it)")]
+    NotParallelogram { off: f32 },
+    #[error("an ellipse needs \"axes\": two semi-axis vectors")]
+    Axes,
+    #[error("a {kind} needs \"vertices\" ({points} points)")]
+    Vertices { kind: &'static str, points: usize },
+    #[error("unknown portal kind \"{0}\" (expected ellipse, quad or triangle)")]
+    Kind(String),
+    #[error("ellipse axes must be perpendicular")]
+    Perpendicular,
+    #[error("{0}")]
+    Extent(String),
+    #[error("a portal needs finite coordinates and a positive area")]
+    Degenerate,
 }
 
 impl PortalFile {

@@ -50,25 +50,18 @@ class Estimate:
         return f"<fenestra.portals.Estimate: {self.summary}>"
 
 
-def _flag(name, value):
-    flag = "--" + name.replace("_", "-")
-    if value is True:
-        return [flag]
-    if value is False or value is None:
-        return []
-    return [flag, str(value)]
-
-
-def estimate(scene, *, threads=None, backend=None, progress=True, **flags):
+def estimate(scene, *, threads=None, backend=None, progress=True, **options):
     """Estimates `scene`'s portals (a Scene, or what `fenestra.load` takes). Keywords are
-    `fenestra portals`'s flags (theta, rays, radius, deposit, photons, max_beams, settle, eps,
-    min_points, ransac_eps, ransac_tau, ransac_trials, mvce_eps, model, seed). Ctrl-C stops
-    it and raises KeyboardInterrupt."""
+    `fenestra portals`'s flags with underscores (theta, rays, radius, deposit, photons,
+    max_beams, settle, eps, min_points, ransac_eps, ransac_tau, ransac_trials, mvce_eps, model,
+    seed); None leaves one at its default. Ctrl-C stops it and raises KeyboardInterrupt."""
     from . import Scene, load
 
     if not isinstance(scene, Scene):
         scene = load(scene)
-    args = [a for name, value in flags.items() for a in _flag(name, value)]
+    options = {name: value for name, value in options.items() if value is not None}
     with reporter(progress) as report:
-        found = _native.estimate(scene, args, threads=threads, backend=backend, progress=report)
+        found = _native.estimate(
+            scene, json.dumps(options), threads=threads, backend=backend, progress=report
+        )
     return Estimate(*found)

@@ -59,8 +59,23 @@ def test_scene_keywords_need_what_they_describe():
 
 
 def test_a_wrong_piece_of_a_split_render_is_named(tmp_path):
-    with pytest.raises(fe.FenestraError, match="--samples 0..2 says how many samples"):
+    with pytest.raises(
+        fe.FenestraError, match="^samples 0..2 says how many samples to take: not with spp$"
+    ):
         fe.render("builtin:cornell-box", spp=4, samples=(0, 2), progress=False)
+
+
+def test_the_sessions_refusals_name_keywords_not_flags():
+    with pytest.raises(fe.FenestraError, match="^sun_strength must be 0 or more, got -1$"):
+        fe.load("builtin:box-hole", sky=True, sun_strength=-1)
+    with pytest.raises(fe.FenestraError, match="^environment_rotation places environment"):
+        fe.load("builtin:box-hole", environment_rotation=10)
+    with pytest.raises(fe.FenestraError, match="^resolution 0x4 has no pixels"):
+        fe.render("builtin:cornell-box", spp=1, resolution=(0, 4), progress=False)
+    with pytest.raises(fe.FenestraError, match="^crop 0,0,9,9 must be X0,Y0,X1,Y1"):
+        fe.render("builtin:cornell-box", spp=1, resolution=(8, 8), crop=(0, 0, 9, 9), progress=False)
+    with pytest.raises(fe.FenestraError, match="^theta: estimate.theta takes a number"):
+        fe.portals.estimate("builtin:box-hole", theta="wide", progress=False)
 
 
 def test_an_unknown_backend_is_named():

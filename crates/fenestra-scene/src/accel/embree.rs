@@ -28,12 +28,12 @@ unsafe impl Send for EmbreeScene {}
 unsafe impl Sync for EmbreeScene {}
 
 impl EmbreeScene {
-    pub fn new(shapes: &[Shape]) -> Result<Self, String> {
+    pub fn new(shapes: &[Shape]) -> Result<Self, EmbreeError> {
         // SAFETY: plain FFI calls on handles we create and own; buffers are sized by Embree.
         unsafe {
             let device = rtcNewDevice(std::ptr::null());
             if device.is_null() {
-                return Err("Embree could not create a device".into());
+                return Err(EmbreeError::Device);
             }
             let scene = rtcNewScene(device);
             rtcSetSceneBuildQuality(scene, RTCBuildQuality::HIGH);
@@ -101,7 +101,7 @@ impl EmbreeScene {
             if err != RTCError::NONE {
                 rtcReleaseScene(scene);
                 rtcReleaseDevice(device);
-                return Err(format!("Embree failed to build the scene: {err:?}"));
+                return Err(EmbreeError::Build(format!("{err:?}")));
             }
             Ok(EmbreeScene {
                 device,
@@ -112,9 +112,23 @@ impl EmbreeScene {
     }
 }
 
-fn device_error(device: RTCDevice) -> String {
+fn device_error(device: RTCDevice) -> EmbreeError {
     // SAFETY: valid device handle.
-    format!("Embree error {:?}", unsafe { rtcGetDeviceError(device) })
+    EmbreeError::Geometry(format!("{:?}", unsafe { rtcGetDeviceError(device) }))
+}
+
+/// What Embree refused.
+#[derive(Debug, thiserror::Error)]
+pub enum EmbreeError {
+    /// No device could be made.
+    #[error("Embree could not create a device")]
+    Device,
+    /// A geometry was refused, with Embree's error code.
+    #[error("Embree error {0}")]
+    Geometry(String),
+    /// The scene did not build, with Embree's error code.
+    #[error("Embree failed to build the scene: {0}")]
+    Build(String),
 }
 
 impl Drop for EmbreeScene {

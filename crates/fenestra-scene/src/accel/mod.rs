@@ -5,6 +5,9 @@
 mod embree;
 mod obvhs;
 
+#[cfg(feature = "embree")]
+pub use embree::EmbreeError;
+
 use crate::shape::Shape;
 use crate::SceneError;
 use fenestra_core::Ray;

@@ -30,7 +30,7 @@ pub fn read(path: &Path) -> Result<ObjModel, MeshError> {
         reason,
     };
     let text = std::fs::read(path).map_err(|e| err(e.to_string()))?;
-    check_indices(&text).map_err(err)?;
+    check_indices(&text).map_err(|e| err(e.to_string()))?;
     let dir = path.parent().unwrap_or(Path::new("."));
     let (models, mtl) = tobj::load_obj_buf(
         &mut std::io::Cursor::new(&text),
@@ -95,11 +95,41 @@ pub fn read(path: &Path) -> Result<ObjModel, MeshError> {
     })
 }
 
+/// A face or line index that names nothing.
+#[derive(Debug)]
+struct BadIndex {
+    line: usize,
+    index: i64,
+    kind: &'static str,
+    /// How many the file defines (in all, or before the line).
+    defined: i64,
+    /// Whether the index is past the file's last one (not only past those before it).
+    later: bool,
+}
+
+impl std::fmt::Display for BadIndex {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let BadIndex {
+            line,
+            index,
+            kind,
+            defined,
+            later,
+        } = self;
+        write!(f, "line {line}: index {index} names no {kind} (")?;
+        if *later {
+            write!(f, "the file has {defined})")
+        } else {
+            write!(f, "{defined} defined before it)")
+        }
+    }
+}
+
 /// Every face or line index must name a vertex, texture coordinate or normal, said with its
 /// line: tobj multiplies indices unchecked, which overflows for one far out of range (a
 /// relative index before the first vertex, found by cargo fuzz), and names no line for an
 /// index past the file's last vertex.
-fn check_indices(text: &[u8]) -> Result<(), String> {
+fn check_indices(text: &[u8]) -> Result<(), BadIndex> {
     const KINDS: [&str; 3] = ["vertex", "texture coordinate", "normal"];
     let mut defined = [0i64; 3];
     // Per kind, the largest absolute index and its line (the file may define it later).
@@ -129,12 +159,13 @@ fn check_indices(text: &[u8]) -> Result<(), String> {
                             i <= i64::from(u32::MAX)
                         };
                         if !names_one {
-                            return Err(format!(
-                                "line {}: index {i} names no {} ({} defined before it)",
-                                no + 1,
-                                KINDS[kind],
-                                defined[kind]
-                            ));
+                            return Err(BadIndex {
+                                line: no + 1,
+                                index: i,
+                                kind: KINDS[kind],
+                                defined: defined[kind],
+                                later: false,
+                            });
                         }
                     }
                 }
@@ -144,10 +175,13 @@ fn check_indices(text: &[u8]) -> Result<(), String> {
     }
     for (kind, &(i, line)) in largest.iter().enumerate() {
         if i > defined[kind] {
-            return Err(format!(
-                "line {line}: index {i} names no {} (the file has {})",
-                KINDS[kind], defined[kind]
-            ));
+            return Err(BadIndex {
+                line,
+                index: i,
+                kind: KINDS[kind],
+                defined: defined[kind],
+                later: true,
+            });
         }
     }
     Ok(())

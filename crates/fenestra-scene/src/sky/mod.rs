@@ -161,9 +161,9 @@ impl SceneDesc {
         up: Vec3,
         rotation_deg: f32,
         strength: f32,
-    ) -> Result<SceneDesc, String> {
+    ) -> Result<SceneDesc, SkyError> {
         if let Some(problem) = sky.validate() {
-            return Err(problem);
+            return Err(SkyError::Sky(problem));
         }
         let map = EnvironmentMap {
             image: Arc::new(sky.map()),
@@ -172,7 +172,7 @@ impl SceneDesc {
             strength,
         };
         if let Some(problem) = map.validate() {
-            return Err(problem);
+            return Err(SkyError::Placement(problem));
         }
         let mut desc = self.with_environment(&map);
         desc.lights
@@ -183,6 +183,17 @@ impl SceneDesc {
             }));
         Ok(desc)
     }
+}
+
+/// Why a sky cannot light a scene.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum SkyError {
+    /// The sky's own values (turbidity, albedo, the sun's elevation) are outside the model.
+    #[error("{0}")]
+    Sky(String),
+    /// Its placement (up axis, turn, strength) is refused.
+    #[error("{0}")]
+    Placement(String),
 }
 
 #[cfg(test)]

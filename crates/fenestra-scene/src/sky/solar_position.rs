@@ -16,18 +16,19 @@ pub struct Moment {
     utc_offset_min: i32,
 }
 
+/// Text that names no moment (a date and time with its UTC offset).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("expected a date and time with its UTC offset, as 2026-06-21T15:30+02:00 or 2026-06-21T13:30Z, got \"{0}\"")]
+pub struct NotAMoment(pub String);
+
 impl Moment {
     /// Parses `YYYY-MM-DDTHH:MM[:SS](Z|+HH:MM|-HH:MM)` (RFC 3339; a space may stand for the
     /// T). The offset is required: a time without one names no moment.
-    pub fn parse(text: &str) -> Result<Moment, String> {
-        let bad = || {
-            format!(
-                "expected a date and time with its UTC offset, as 2026-06-21T15:30+02:00 or 2026-06-21T13:30Z, got \"{text}\""
-            )
-        };
+    pub fn parse(text: &str) -> Result<Moment, NotAMoment> {
+        let bad = || NotAMoment(text.to_string());
         let (date, rest) = text.split_once(['T', ' ']).ok_or_else(bad)?;
         let mut d = date.splitn(3, '-');
-        let next_num = |what: &mut std::str::SplitN<char>| -> Result<i64, String> {
+        let next_num = |what: &mut std::str::SplitN<char>| -> Result<i64, NotAMoment> {
             what.next().and_then(|v| v.parse().ok()).ok_or_else(bad)
         };
         let (year, month, day) = (next_num(&mut d)?, next_num(&mut d)?, next_num(&mut d)?);
@@ -196,7 +197,7 @@ mod tests {
             "2026-06-21T25:00Z",
             "noon",
         ] {
-            let e = Moment::parse(bad).expect_err("refused");
+            let e = Moment::parse(bad).expect_err("refused").to_string();
             assert!(
                 e.contains("2026-06-21T15:30+02:00") && e.contains(bad),
                 "{e}"

@@ -5,6 +5,7 @@
 //! `scene.pbrt`.
 
 use anyhow::{bail, Context, Result};
+use fenestra_render::output;
 use std::path::{Path, PathBuf};
 
 /// Creates the folder an output file goes into, if it is missing.
@@ -98,6 +99,54 @@ impl Files {
             }
         }
         Ok(())
+    }
+}
+
+/// Adds the files a render writes for OUT.exr: OUT.png, OUT.json, with `variance`
+/// OUT.var.exr and with `state` OUT.film.
+pub fn render_outputs<'a>(
+    files: &'a mut Files,
+    exr: &Path,
+    variance: bool,
+    state: bool,
+) -> &'a mut Files {
+    let (png, json) = output::companion_paths(exr);
+    files
+        .output(exr, "image")
+        .output(&png, "picture")
+        .output(&json, "sidecar");
+    if variance {
+        files.output(&output::variance_path(exr), "variance image");
+    }
+    if state {
+        files.output(&output::film_state_path(exr), "film state");
+    }
+    files
+}
+
+/// Refuses a render's output that does not end in .exr; creates its folder.
+pub fn check_exr(path: &Path) -> Result<()> {
+    if path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+        .as_deref()
+        != Some("exr")
+    {
+        bail!(
+            "output {} must end in .exr (the PNG and JSON are written beside it)",
+            path.display()
+        );
+    }
+    create_output_folder(path)
+}
+
+/// The film-state file of a part of a split render given as its image (OUT.exr: OUT.film)
+/// or as itself.
+pub fn film_file_of(part: &Path) -> PathBuf {
+    match part.extension().and_then(|e| e.to_str()) {
+        Some(e) if e.eq_ignore_ascii_case("exr") => output::film_state_path(part),
+        _ => part.to_path_buf(),
     }
 }
 

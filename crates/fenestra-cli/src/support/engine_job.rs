@@ -36,7 +36,7 @@ pub struct Step {
 }
 
 /// A job: steps run in order by one fenestra executable; its files go to `dir`.
-pub struct Job {
+pub struct EngineJob {
     /// What it does, for people.
     pub title: String,
     /// The fenestra executable, as the workers see it.
@@ -47,7 +47,7 @@ pub struct Job {
     pub steps: Vec<Step>,
 }
 
-impl Job {
+impl EngineJob {
     /// Writes the job for `engine` into its folder (made with logs/ inside); returns the
     /// files written, each with a word on what it is.
     pub fn write(&self, engine: Engine) -> Result<Vec<(PathBuf, String)>> {
