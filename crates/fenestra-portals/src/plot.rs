@@ -98,15 +98,27 @@ fn draw<'a>(
     ]) {
         let project = |p: Vec3| (f64::from(p[axes.0]), f64::from(p[axes.1]));
         // A square window around everything drawn, so that lengths compare across axes.
+        // With no photon and no portal (nothing found) the scene's bounds, and a window
+        // always, whatever the points (a chart's range is never NaN).
         let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-        let drawn = estimate
+        let photons_and_portals = estimate
             .photons
             .points
             .iter()
             .chain(outlines.iter().flatten());
-        for q in drawn.map(|&p| project(p)) {
+        let mut drawn: Vec<Vec3> = photons_and_portals
+            .filter(|p| p.is_finite())
+            .copied()
+            .collect();
+        if drawn.is_empty() {
+            drawn = [lo3, hi3].into_iter().filter(|p| p.is_finite()).collect();
+        }
+        for q in drawn.into_iter().map(project) {
             (lo[0], hi[0]) = (lo[0].min(q.0), hi[0].max(q.0));
             (lo[1], hi[1]) = (lo[1].min(q.1), hi[1].max(q.1));
+        }
+        if !(lo[0] <= hi[0] && lo[1] <= hi[1]) {
+            (lo, hi) = ([-1.0; 2], [1.0; 2]);
         }
         let half = 0.55 * (hi[0] - lo[0]).max(hi[1] - lo[1]).max(1e-6);
         let mid = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
@@ -241,4 +253,49 @@ pub fn write_view(scene: &Scene, estimate: &Estimate, path: &Path) -> Result<(),
     image
         .write_png_to(path, Some(0.0))
         .map_err(|e| PortalError::Plot(e.to_string()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::aim::Surroundings;
+    use crate::estimate::Timings;
+    use crate::photon::{Deposit, Photons};
+
+    /// An estimate that found nothing: no photon, no cluster, no portal.
+    fn nothing_found() -> Estimate {
+        Estimate {
+            photons: Photons {
+                points: Vec::new(),
+                beams: 0,
+                rays: 0,
+                deposit: Deposit::Depth,
+                target: 8192,
+                interrupted: false,
+                settled: false,
+            },
+            clusters: Vec::new(),
+            portals: Vec::new(),
+            timings: Timings::default(),
+            surroundings: Surroundings {
+                points: Vec::new(),
+                sphere: (Vec3::ZERO, 1.0),
+            },
+        }
+    }
+
+    #[test]
+    fn an_estimate_that_found_nothing_is_drawn_in_the_scenes_bounds() {
+        let dir = std::env::temp_dir().join(format!("fenestra-plot-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("a folder");
+        let path = dir.join("nothing.svg");
+        let scene = (Vec3::splat(-2.0), Vec3::splat(3.0));
+        write_projections(&nothing_found(), scene, &path).expect("drawn in the bounds");
+        let svg = std::fs::read_to_string(&path).expect("written");
+        assert!(svg.contains("XY PROJECTION"), "{svg}");
+        // An empty scene's bounds are infinite: a unit window, still no panic.
+        let empty = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+        write_projections(&nothing_found(), empty, &path).expect("a unit window");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 }
