@@ -190,7 +190,7 @@ pub fn load(arg: &str, opts: &SceneOptions) -> Result<LoadedScene> {
 
 /// Loads `arg` as `opts` light it.
 pub fn load_quietly(arg: &str, opts: &SceneOptions) -> Result<LoadedScene> {
-    Ok(fenestra_session::load(&opts.request(arg)?).map_err(crate::flagged)?)
+    fenestra_session::load(&opts.request(arg)?).map_err(crate::flagged)
 }
 
 /// Two comma-separated numbers.
