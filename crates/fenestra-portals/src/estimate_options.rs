@@ -1,10 +1,13 @@
 //! The portal estimator's parameters as an options group, named as in seed 000 §5.2:
-//! PT(theta, n, r), DBSCAN(eps, m), RANSAC(eps, tau, N), MVCE(eps). `fenestra portals` makes
-//! its flags from it and the Python module its keywords; each default is the pipeline's own.
+//! PT(theta, n, r), DBSCAN(eps, m), RANSAC(eps, tau, N), MVCE(eps); each default is the
+//! pipeline's own. lp_hf reads it for `--portals auto` (`--estimate-theta`, Python's
+//! `estimate_theta`); `fenestra portals`, which does nothing else, names the same options
+//! without the prefix (`--theta`, Python's `fe.portals.estimate(theta=...)`).
 
 use crate::estimate::{EstimateParams, Model};
 use crate::photon::Deposit;
 use fenestra_render::options::Validate;
+use fenestra_render::registry::Group;
 
 /// The pipeline's defaults, which the options start from.
 fn defaults() -> EstimateParams {
@@ -12,8 +15,8 @@ fn defaults() -> EstimateParams {
 }
 
 fenestra_render::options! {
-    /// Portal estimation (seed 000 §5.2).
-    pub struct EstimateOptions in "estimate", flags "" {
+    /// Portal estimation (seed 000 §5.2; with --portals auto).
+    pub struct EstimateOptions in "estimate", flags "estimate" {
         /// PT: cone half-angle theta of a beam, degrees.
         pub theta: f32 = defaults().photons.theta_deg,
         /// PT: rays per beam n.
@@ -55,6 +58,14 @@ fenestra_render::options! {
 impl Validate for EstimateOptions {}
 
 impl EstimateOptions {
+    /// The group as `fenestra portals` shows it: the same keys, flags without the prefix.
+    pub fn unprefixed_group() -> Group {
+        Group {
+            flag_prefix: "",
+            ..Group::of::<Self>()
+        }
+    }
+
     /// The parameters as the pipeline takes them.
     pub fn params(&self) -> EstimateParams {
         let mut p = EstimateParams::default();

@@ -47,9 +47,10 @@ pub fn register(registry: &mut Registry) {
             Group::of::<LightOptions>(),
             Group::of::<PortalOptions>(),
             Group::of::<PortalSourceOptions>(),
+            Group::of::<EstimateOptions>(),
         ],
         |b| {
-            let source = PortalSource::new(&b.options()?, b.scene)
+            let source = PortalSource::new(&b.options()?, &b.options()?, b.scene)
                 .map_err(|e| fenestra_render::IntegratorError::Prepare(Box::new(e)))?;
             Ok(Box::new(lp_hf(
                 b.path()?,

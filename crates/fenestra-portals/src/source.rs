@@ -3,7 +3,8 @@
 
 use crate::aim::Surroundings;
 use crate::error::PortalError;
-use crate::estimate::{estimate, EstimateParams, Model};
+use crate::estimate::{estimate, EstimateParams};
+use crate::estimate_options::EstimateOptions;
 use crate::portal::{PortalFile, Portals};
 use fenestra_core::fs::slug;
 use fenestra_core::hash::debug_hash;
@@ -34,12 +35,10 @@ pub enum PortalSource {
 fenestra_render::options! {
     /// Light portals: where lp_hf takes them from.
     pub struct PortalSourceOptions in "portals", flags "portal" {
-        /// Light portals: a portals.json file, or "auto" to estimate them first with the
-        /// default parameters of `fenestra portals` (default: the scene's own portals).
+        /// Light portals: a portals.json file, or "auto" to estimate them first (with the
+        /// estimate options, `fenestra portals`'s defaults unless told; default: the scene's
+        /// own portals).
         pub source ["portals"]: Option<String> = None,
-        /// With portals auto: the shape fitted to each cluster (smallest, ellipse, rectangle
-        /// or pca, as `fenestra portals` fits them).
-        pub model: Model = Model::Smallest,
         /// With portals auto: the folder where estimated portals are kept, by scene content
         /// and parameters, so that the next render of the same scene reads them instead of
         /// estimating again (default: $XDG_CACHE_HOME/fenestra/portals, else
@@ -63,16 +62,17 @@ impl Validate for PortalSourceOptions {
 }
 
 impl PortalSource {
-    /// The source `options` name for `scene`: a portals file is read here, before the scene
-    /// is built.
-    pub fn new(options: &PortalSourceOptions, scene: &SceneDesc) -> Result<Self, PortalError> {
+    /// The source `options` name for `scene`, estimated with `estimate` if auto: a portals
+    /// file is read here, before the scene is built.
+    pub fn new(
+        options: &PortalSourceOptions,
+        estimate: &EstimateOptions,
+        scene: &SceneDesc,
+    ) -> Result<Self, PortalError> {
         Ok(match options.source.as_deref() {
             None => PortalSource::Scene,
             Some("auto") => {
-                let params = EstimateParams {
-                    model: options.model,
-                    ..EstimateParams::default()
-                };
+                let params = estimate.params();
                 let cache = options.cache_folder().map(|dir| {
                     let key = debug_hash(&(
                         scene,

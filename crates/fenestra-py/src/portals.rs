@@ -10,7 +10,6 @@ use crate::{backend_named, error, session_error};
 use fenestra_portals::estimate::estimate as estimate_portals;
 use fenestra_portals::EstimateOptions;
 use fenestra_render::options::Options;
-use fenestra_render::registry::Group;
 use fenestra_render::RenderScene;
 use fenestra_scene::Scene as Built;
 use fenestra_session::error::option_name_in;
@@ -36,7 +35,7 @@ pub fn estimate<'py>(
     backend: Option<String>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Found<'py>> {
-    let groups = [Group::of::<EstimateOptions>()];
+    let groups = [EstimateOptions::unprefixed_group()];
     let given = params(options, &groups).map_err(error)?;
     let params = EstimateOptions::from_params(&given)
         .map_err(|e| {

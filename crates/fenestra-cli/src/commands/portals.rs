@@ -23,7 +23,7 @@ pub struct EstimateArgs(pub EstimateOptions);
 
 impl EstimateArgs {
     fn group() -> [Group; 1] {
-        [Group::of::<EstimateOptions>()]
+        [EstimateOptions::unprefixed_group()]
     }
 }
 

@@ -178,3 +178,50 @@ fn a_pbrt_integrator_directive_sets_options_under_the_command_line() {
         "{e}"
     );
 }
+
+#[test]
+fn portals_auto_estimates_with_the_estimate_options_given_to_render() {
+    let scene = fenestra_builtin::load("box-hole").expect("built-in");
+    let flags = parse(&[
+        "--integrator",
+        "lp_hf",
+        "--portals",
+        "auto",
+        "--no-portal-cache",
+        "--estimate-theta",
+        "5",
+        "--estimate-model",
+        "ellipse",
+        "--estimate-photons",
+        "1000",
+    ])
+    .expect("flags");
+    assert_eq!(
+        flags.0.params,
+        Params::new()
+            .with("portals.source", "auto")
+            .with("portals.no_cache", true)
+            .with("estimate.theta", "5")
+            .with("estimate.model", "ellipse")
+            .with("estimate.photons", "1000")
+    );
+    let built = registry()
+        .build(&flags.0.name, &flags.0.params, &scene)
+        .expect("builds");
+    let estimated = &built.settings()["portals"]["estimated"];
+    assert_eq!(estimated["photons"]["theta_deg"], 5.0, "{estimated}");
+    assert_eq!(estimated["photons"]["target"], 1000, "{estimated}");
+    assert_eq!(estimated["model"], "Ellipse", "{estimated}");
+    // Unless told, the estimate is `fenestra portals`'s.
+    let defaults = registry()
+        .build(
+            "lp_hf",
+            &Params::new().with("portals.source", "auto"),
+            &scene,
+        )
+        .expect("builds");
+    assert_eq!(
+        defaults.settings()["portals"]["estimated"],
+        serde_json::to_value(fenestra_portals::estimate::EstimateParams::default()).expect("json")
+    );
+}
