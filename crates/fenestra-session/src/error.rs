@@ -16,10 +16,8 @@ pub enum Setting {
     Samples,
     Crop,
     Threads,
-    Exposure,
     Camera,
     Environment,
-    EnvironmentUp,
     Sky,
     Sun,
     SunTime,
@@ -29,17 +27,15 @@ pub enum Setting {
 
 impl Setting {
     /// Every setting.
-    pub const ALL: [Setting; 15] = [
+    pub const ALL: [Setting; 13] = [
         Setting::Spp,
         Setting::Time,
         Setting::Resolution,
         Setting::Samples,
         Setting::Crop,
         Setting::Threads,
-        Setting::Exposure,
         Setting::Camera,
         Setting::Environment,
-        Setting::EnvironmentUp,
         Setting::Sky,
         Setting::Sun,
         Setting::SunTime,
@@ -56,10 +52,8 @@ impl Setting {
             Setting::Samples => "samples",
             Setting::Crop => "crop",
             Setting::Threads => "threads",
-            Setting::Exposure => "exposure",
             Setting::Camera => "camera",
             Setting::Environment => "environment",
-            Setting::EnvironmentUp => "environment_up",
             Setting::Sky => "sky",
             Setting::Sun => "sun",
             Setting::SunTime => "sun_time",
@@ -138,12 +132,20 @@ impl Error {
 fn with_names(text: &str, style: Style) -> String {
     let mut out = String::with_capacity(text.len());
     let mut rest = text;
-    while let Some(open) = rest.find('{') {
+    while let Some(open) = rest.find(['{', '}']) {
         out.push_str(&rest[..open]);
         let after = &rest[open + 1..];
-        let Some(close) = after.find('}') else {
-            rest = &rest[open..];
-            break;
+        // Text quoted by `literal`: a doubled brace stands for itself.
+        if let Some(tail) = after.strip_prefix(&rest[open..open + 1]) {
+            out.push_str(&rest[open..open + 1]);
+            rest = tail;
+            continue;
+        }
+        let close = after.find('}').filter(|_| rest.as_bytes()[open] == b'{');
+        let Some(close) = close else {
+            out.push_str(&rest[open..open + 1]);
+            rest = after;
+            continue;
         };
         let word = &after[..close];
         let named = Setting::ALL
@@ -159,6 +161,12 @@ fn with_names(text: &str, style: Style) -> String {
     }
     out.push_str(rest);
     out
+}
+
+/// `text` (a path, a user's value) to stand in a problem as it is: its braces doubled, so that
+/// none is taken for a setting's name.
+pub fn literal(text: &str) -> String {
+    text.replace('{', "{{").replace('}', "}}")
 }
 
 /// The flag or keyword of integrator option `key` (`sdrc.a`), if the registry has it.
@@ -198,5 +206,15 @@ mod tests {
         );
         let e = Error::setting(Setting::SunTime, ": at 0,0");
         assert_eq!(e.worded(Style::Flag), "--sun-time: at 0,0");
+        // A path with braces in it stays as it is.
+        let path = literal("/scenes/{spp}/{a.b} }{.exr");
+        let e = Error::setting(
+            Setting::Environment,
+            format!("{path}: unreadable, see {{time}}"),
+        );
+        assert_eq!(
+            e.worded(Style::Flag),
+            "--environment /scenes/{spp}/{a.b} }{.exr: unreadable, see --time"
+        );
     }
 }

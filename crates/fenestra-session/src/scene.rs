@@ -1,7 +1,7 @@
 //! A scene asked for (`builtin:NAME`, a pbrt-v4 file, a glTF 2.0 scene, or an OBJ/PLY mesh
 //! staged for viewing) with the light it is shown under, and the scene loaded from it.
 
-use crate::error::{Error, Result, Setting};
+use crate::error::{literal, Error, Result, Setting};
 use anyhow::{anyhow, Context};
 use fenestra_builtin as builtin;
 use fenestra_core::image::Image;
@@ -169,7 +169,10 @@ pub fn load(request: &SceneRequest) -> Result<LoadedScene> {
     if request.camera.is_some() && !matches!(format.as_deref(), Some("gltf" | "glb")) {
         return Err(Error::setting(
             Setting::Camera,
-            format!("picks a glTF scene's camera; {arg} is not a .gltf or .glb file"),
+            format!(
+                "picks a glTF scene's camera; {} is not a .gltf or .glb file",
+                literal(arg)
+            ),
         ));
     }
     let (mut substitutions, mut notes, mut cameras) = (Vec::new(), Vec::new(), Vec::new());
@@ -249,7 +252,7 @@ pub fn load(request: &SceneRequest) -> Result<LoadedScene> {
 fn with_environment(desc: SceneDesc, path: &Path, placement: &Placement) -> Result<SceneDesc> {
     let image = Image::read(path)
         .with_context(|| path.display().to_string())
-        .map_err(|e| Error::setting(Setting::Environment, format!("{e:#}")))?;
+        .map_err(|e| Error::setting(Setting::Environment, literal(&format!("{e:#}"))))?;
     let map = EnvironmentMap {
         image: Arc::new(image),
         up: placement.up.unwrap_or_else(|| desc.camera_up_axis()),
@@ -259,7 +262,7 @@ fn with_environment(desc: SceneDesc, path: &Path, placement: &Placement) -> Resu
     if let Some(problem) = map.validate() {
         return Err(Error::setting(
             Setting::Environment,
-            format!("{}: {problem}", path.display()),
+            literal(&format!("{}: {problem}", path.display())),
         ));
     }
     Ok(desc.with_environment(&map))
