@@ -5,6 +5,7 @@ mod box_hole;
 mod chess;
 mod cornell;
 mod geometry;
+pub mod glazed;
 mod glossy_room;
 pub mod hall;
 mod kitchen;
@@ -85,6 +86,18 @@ pub const SCENES: &[(&str, &str)] = &[
         "Grand Central-like concourse, 832 lights, 1.1M triangles (seed 004 Table 4.1)",
     ),
     (
+        "room-glazed-sky",
+        "room lit by the sky through a window glazed with a refracting 8 mm pane, a mullion and a transom, in a 20 cm wall (issue 64)",
+    ),
+    (
+        "room-glazed-blind",
+        "the glazed room with a blind behind the glass, lit by an area light outside facing the window (issue 64)",
+    ),
+    (
+        "rooms-door-ajar",
+        "a room lit from the next one through a door 8 degrees ajar, a ceiling panel there the only light (issue 64)",
+    ),
+    (
         "relight-room",
         "diffuse room with a crate and a screen that move over 100 frames, two point lights and a spot (issue 14; its animation: `fenestra relight`)",
     ),
@@ -123,6 +136,9 @@ pub fn load(name: &str) -> Result<SceneDesc, UnknownScene> {
         "terminal-832" => Ok(terminal::terminal()),
         "tower" => Ok(tower::tower()),
         "relight-room" => Ok(relight_room::relight_room()),
+        "room-glazed-sky" => Ok(glazed::glazed_room(glazed::Lit::Sky)),
+        "room-glazed-blind" => Ok(glazed::glazed_room(glazed::Lit::LampBlind)),
+        "rooms-door-ajar" => Ok(glazed::door_ajar()),
         _ => match name
             .strip_prefix("teapot-box-phong-")
             .map(str::parse::<f32>)

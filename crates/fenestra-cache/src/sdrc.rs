@@ -316,7 +316,7 @@ impl Integrator for Sdrc {
         let placement_s = started.elapsed().as_secs_f64();
         // A time budget the placement used up still gets a sample per pixel: an image, not
         // a black frame.
-        let time_left = settings.time_limit.map(|t| t - placement_s);
+        let time_left = settings.time_limit.map(|t| t - control.elapsed());
         if time_left.is_some_and(|t| t <= 0.0) {
             control.progress.note(&format!(
                 "placing records took {placement_s:.1} s, the whole time budget: rendering one \
@@ -330,7 +330,11 @@ impl Integrator for Sdrc {
             window: film.window,
             served: vec![0.0; film.pixels.len()],
             seed: settings.seed,
-            budget: Budget::new(settings.spp, time_left.map(|t| t.max(f64::MIN_POSITIVE))),
+            // The render's clock runs from before the placement, which the limit covers.
+            budget: Budget::new(
+                settings.spp,
+                settings.time_limit.map(|t| t.max(f64::MIN_POSITIVE)),
+            ),
         };
         let mut stats = render_passes(&mut passes, scene, film, settings, control);
         stats.rays += placement_rays;

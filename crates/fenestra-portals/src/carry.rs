@@ -1,13 +1,14 @@
 //! Which portals carry light to what the camera sees (beyond seed 000, which keeps every
 //! cluster's portal): from points the camera sees, rays aimed at points of a portal either go
-//! on to a light (the sky, an emitter), passing thin glass as lp_hf's probe rays do, or stop.
+//! on to a light (the sky, an emitter), passing glass as lp_hf's probe rays do, or stop.
 //! A portal through which no light arrives (a desk top's photons, the gap between two desks, a
 //! glass vase in a room lit by a lamp) only takes samples from the light sampling it is mixed
 //! with, and is dropped.
 
 use crate::aim::Surroundings;
 use crate::portal::Portal;
-use fenestra_core::{Ray, Sampler};
+use fenestra_core::{Ray, Sampler, Vec3};
+use fenestra_render::integrator::{beyond_glass, Sides, MAX_REFRACTIONS};
 use fenestra_render::RenderScene;
 
 /// Points of the surroundings each portal is tried from, and rays from each.
@@ -19,6 +20,10 @@ const RAYS_PER_POINT: usize = 4;
 /// to the floor beneath them, but sampling it takes samples from the windows.
 const MIN_CARRY: f32 = 0.01;
 const MIN_SHARE: f32 = 0.01;
+/// Light counts as coming through a portal when its emitter lies farther beyond the portal
+/// than this share of the portal's size, and than `MIN_BEYOND` metres.
+const BEYOND: f32 = 0.02;
+const MIN_BEYOND: f32 = 1e-3;
 
 /// Decides whether portals carry light.
 pub struct Carry<'a> {
@@ -51,6 +56,7 @@ impl<'a> Carry<'a> {
             return 0.0;
         }
         let step = points.len().div_ceil(POINTS);
+        let beyond = (BEYOND * portal.area().sqrt()).max(MIN_BEYOND);
         let mut sampler = Sampler::new(0, 0x4341_5252, 0);
         let (mut tried, mut carried) = (0usize, 0usize);
         for si in points.iter().step_by(step) {
@@ -60,7 +66,7 @@ impl<'a> Carry<'a> {
                     continue;
                 };
                 tried += 1;
-                carried += usize::from(self.reaches_light(Ray::new(si.spawn(d), d)));
+                carried += usize::from(self.reaches_light(Ray::new(si.spawn(d), d), y, beyond));
             }
         }
         if tried == 0 {
@@ -91,13 +97,20 @@ impl<'a> Carry<'a> {
             .collect()
     }
 
-    /// Whether `ray` meets an emitter, or leaves the scene under a sky, through thin glass:
-    /// what lp_hf's probe ray through a portal finds.
-    fn reaches_light(&self, ray: Ray) -> bool {
-        match self.scene.through_glass(ray, f32::INFINITY) {
-            (_, Some(si)) => (self.scene.lights.surface_emission(&si, ray.d))
-                .is_some_and(|(_, le)| !le.is_black()),
-            (tr, None) => self.sky && !tr.is_black(),
+    /// Whether `ray`, aimed at the portal's point `y`, meets an emitter farther than `beyond`
+    /// from `y`, or leaves the scene under a sky, through thin glass and refracting glazing:
+    /// what lp_hf's probe ray through a portal finds. An emitter at the portal itself is no
+    /// light through an opening: the photons that ring a ceiling panel on the ceiling outline
+    /// the panel, whose own sampling is the better.
+    fn reaches_light(&self, ray: Ray, y: Vec3, beyond: f32) -> bool {
+        let found = beyond_glass(self.scene, ray, MAX_REFRACTIONS, Sides::Shading);
+        match found.surface {
+            Some(si) => {
+                (si.p - y).length() > beyond
+                    && (self.scene.lights.surface_emission(&si, found.d))
+                        .is_some_and(|(_, le)| !le.is_black())
+            }
+            None => self.sky && !found.tr.is_black(),
         }
     }
 }

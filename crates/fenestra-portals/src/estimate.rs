@@ -166,6 +166,7 @@ impl Estimate {
                 deposit: self.photons.deposit,
                 interrupted: self.photons.interrupted,
                 settled: self.photons.settled,
+                timed_out: self.photons.timed_out,
                 clusters: self.clusters.len(),
                 time_s: self.timings,
             }),
@@ -184,6 +185,8 @@ impl Estimate {
             ph.rays,
             if ph.interrupted {
                 ", interrupted".to_string()
+            } else if ph.timed_out {
+                format!(" (the time limit came before the {} aimed at)", ph.target)
             } else if ph.settled {
                 format!(" (portals settled before the {} aimed at)", ph.target)
             } else if ph.points.len() < ph.target {

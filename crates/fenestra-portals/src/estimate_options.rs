@@ -31,6 +31,10 @@ fenestra_render::options! {
         pub photons: Option<usize> = defaults().photons.target,
         /// Give up after this many beams if the photons are not gathered.
         pub max_beams: u64 = defaults().photons.max_beams,
+        /// Give up tracing photons after this many seconds (0: no limit, so that the photons
+        /// depend on nothing but the parameters); with --portals auto and a --time budget, at
+        /// most 5% of the budget.
+        pub time: f64 = defaults().photons.time_limit.unwrap_or(0.0),
         /// Stop tracing photons once portals fitted to 1.5 times as many photons lie within
         /// this fraction of their size of the previous fit's (0: trace to the photon target).
         pub settle: f64 = defaults().settle.unwrap_or(0.0),
@@ -75,6 +79,7 @@ impl EstimateOptions {
         p.photons.deposit = self.deposit;
         p.photons.target = self.photons;
         p.photons.max_beams = self.max_beams;
+        p.photons.time_limit = (self.time != 0.0).then_some(self.time);
         p.settle = (self.settle != 0.0).then_some(self.settle);
         p.photons.seed = self.seed;
         p.dbscan.eps = self.eps;

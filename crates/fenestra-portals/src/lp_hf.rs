@@ -19,7 +19,7 @@ use fenestra_core::stats::{RayCounters, RenderStats};
 use fenestra_core::{Ray, Rgb, Sampler, Vec3};
 use fenestra_render::integrator::{
     Beyond, Found, LightNextEvent, LightRays, NextEvent, PathOptions, PathTracer, ProbeRay,
-    Scattered, Shading,
+    Scattered, Shading, MAX_REFRACTIONS,
 };
 use fenestra_render::light::{LightContext, LightHit, LightRecords, SplitSuns};
 use fenestra_render::options::{OptionError, Options, Validate};
@@ -164,8 +164,9 @@ impl PortalNextEvent {
 
     /// Portal sampling at `s` (eq. 4.1), or with probability `light_mix` light sampling: a
     /// direction, and the probe ray that finds whatever lies beyond thin glass along it
-    /// (emitter or environment); [`PortalNextEvent::probed`] weighs that by MIS against the
-    /// BSDF with the mixture's density.
+    /// (emitter or environment), and for portal samples beyond the refractions of smooth
+    /// glass too (a glazed window); [`PortalNextEvent::probed`] weighs that by MIS against
+    /// the BSDF with the mixture's density.
     fn sample_portal(
         &self,
         scene: &RenderScene,
@@ -202,6 +203,9 @@ impl PortalNextEvent {
         Some(ProbeRay {
             ray: Ray::new(si.spawn(wi), wi),
             beta: Rgb::ONE,
+            // A light sample's direction points at a point of the light: refracted, it would
+            // miss it (the light sampler's density is that of the straight line).
+            refractions: if by_light { 0 } else { MAX_REFRACTIONS },
             probe: PortalProbe {
                 p: si.p,
                 n: si.ns,
@@ -403,12 +407,16 @@ impl NextEvent for PortalNextEvent {
         &self,
         scene: &RenderScene,
         probe: &PortalProbe,
-        ray: &Ray,
+        _ray: &Ray,
         beyond: &Beyond,
         sample: &SampleContext,
     ) -> Rgb {
         let light_mix = self.options.light_mix;
-        let wi = ray.d;
+        // Light arrives along the probe's last segment (refracted by glazing, or its own).
+        let wi = beyond.d;
+        // Only the portals' samples follow refractions: light found so has no light-sampling
+        // density.
+        let light_mix_found = if beyond.refracted { 0.0 } else { light_mix };
         let ctx = LightContext {
             p: probe.p,
             n: probe.n,
@@ -421,7 +429,7 @@ impl NextEvent for PortalNextEvent {
         let (li, light_pdf) = match &beyond.surface {
             Some(surface) => match scene.lights.surface_emission(surface, wi) {
                 Some((index, le)) if seen(index) => {
-                    let pdf = if light_mix > 0.0 {
+                    let pdf = if light_mix_found > 0.0 {
                         let hit = LightHit::Surface(surface);
                         light_sampler.pdf_li(&scene.scene, &scene.lights, &ctx, index, wi, hit)
                     } else {
@@ -452,7 +460,7 @@ impl NextEvent for PortalNextEvent {
         if li.is_black() {
             return Rgb::ZERO;
         }
-        let pdf = probe.share * ((1.0 - light_mix) * probe.portal_pdf + light_mix * light_pdf);
+        let pdf = probe.share * ((1.0 - light_mix) * probe.portal_pdf + light_mix_found * light_pdf);
         if !(pdf > 0.0) {
             return Rgb::ZERO;
         }
@@ -460,8 +468,15 @@ impl NextEvent for PortalNextEvent {
         probe.f * li * (probe.cos * weight / pdf)
     }
 
+    /// Whether portal samples follow refractions: whenever there are portals (without, lp_hf
+    /// is af_hf).
+    fn follows_refraction(&self) -> bool {
+        !self.portals.is_empty()
+    }
+
     /// The portal density of `wi`, whatever the ray found beyond, mixed with the light
-    /// sampler's density by `light_mix`.
+    /// sampler's density by `light_mix` (zero for light found through refractions, which
+    /// the compact lights' shadow rays and light samples do not follow).
     fn pdf(
         &self,
         scene: &RenderScene,

@@ -82,6 +82,13 @@ pub struct PhotonParams {
     pub target: Option<usize>,
     /// Give up after this many beams even if the target is not reached.
     pub max_beams: u64,
+    /// Give up after this many seconds even if the target is not reached (checked between
+    /// batches of beams; `None`: no limit, the photons then depend on nothing but the
+    /// parameters). Where light does not reach what the camera sees through any opening,
+    /// no photon may ever be deposited: without a limit a room lit from the next one traced
+    /// the 4,194,304 beams of the beam limit, 21 s.
+    #[serde(default)]
+    pub time_limit: Option<f64>,
     /// Seed of the beams' sample streams.
     pub seed: u64,
 }
@@ -95,6 +102,7 @@ impl Default for PhotonParams {
             deposit: None,
             target: None,
             max_beams: 1 << 22,
+            time_limit: Some(TIME_LIMIT),
             seed: 0,
         }
     }
@@ -117,7 +125,13 @@ pub struct Photons {
     pub interrupted: bool,
     /// Tracing stopped before the target because the caller found the photons enough.
     pub settled: bool,
+    /// Tracing stopped before the target because its time limit was reached.
+    pub timed_out: bool,
 }
+
+/// Seconds photon tracing takes at most by default: with the fits of the settling test and
+/// the last fit, estimation stays under a second.
+pub const TIME_LIMIT: f64 = 0.5;
 
 /// Beams traced between checks of the target and of Ctrl-C; the photons of a batch are added
 /// in beam order, so the result does not depend on the number of threads.
@@ -127,8 +141,9 @@ const CHUNK: u64 = 256;
 
 /// Traces cone-beams from the scene's lights (those at infinity aimed at the sphere `aim`,
 /// centre and radius: see [`crate::aim`]) until the target number of photons is gathered,
-/// `params.max_beams` beams are spent, `enough` says so of the photons so far (asked after
-/// each batch) or `cancel` is set (then the photons so far are kept).
+/// `params.max_beams` beams are spent, `params.time_limit` has passed, `enough` says so of
+/// the photons so far (asked after each batch) or `cancel` is set (then the photons so far
+/// are kept).
 pub fn trace(
     scene: &RenderScene,
     params: &PhotonParams,
@@ -156,6 +171,12 @@ pub fn trace(
             params.max_beams
         )));
     }
+    if params.time_limit.is_some_and(|t| !(t > 0.0)) {
+        return Err(PortalError::Parameters(format!(
+            "the time limit must be positive, not {}",
+            params.time_limit.unwrap_or_default()
+        )));
+    }
     if params.rays_per_beam == 0 || !(params.reject_radius >= 0.0) {
         return Err(PortalError::Parameters(
             "a beam needs at least one ray and a non-negative rejection radius".into(),
@@ -178,6 +199,7 @@ pub fn trace(
         cap: 1.0 - params.theta_deg.to_radians().cos(),
     };
     progress.start(Some(target as u64));
+    let started = std::time::Instant::now();
     let mut photons = Photons {
         points: Vec::with_capacity(target),
         target,
@@ -186,6 +208,7 @@ pub fn trace(
         deposit,
         interrupted: false,
         settled: false,
+        timed_out: false,
     };
     while photons.points.len() < target && photons.beams < params.max_beams {
         if cancel.load(Ordering::Relaxed) {
@@ -217,6 +240,13 @@ pub fn trace(
         progress.advance((photons.points.len() - before) as u64);
         if photons.points.len() < target && enough(&photons.points) {
             photons.settled = true;
+            break;
+        }
+        let late = params
+            .time_limit
+            .is_some_and(|t| started.elapsed().as_secs_f64() >= t);
+        if photons.points.len() < target && photons.beams < params.max_beams && late {
+            photons.timed_out = true;
             break;
         }
     }

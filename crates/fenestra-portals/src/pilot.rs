@@ -16,6 +16,7 @@ use crate::aim::Surroundings;
 use crate::portal::PickWeights;
 use crate::portal::Portals;
 use fenestra_core::Sampler;
+use fenestra_render::integrator::MAX_REFRACTIONS;
 use fenestra_render::light::probe::{DiffuseProbe, Moments, ALBEDO};
 use fenestra_render::light::LightSampler;
 use fenestra_render::sample_context::SampleContext;
@@ -180,7 +181,7 @@ fn moments(
         for _ in 0..SAMPLES {
             let mut e = at.estimates(plan, &mut sampler);
             let wi = at.probe.cosine_direction(&mut sampler);
-            if let (_, Some((y, tr))) = at.probe.look(wi) {
+            if let (_, Some((y, tr))) = at.probe.look(wi, 0) {
                 let probe = DiffuseProbe::facing(scene, &y, si.p, &context);
                 let bounce = Point::new(probe, samplers, portals).estimates(plan, &mut sampler);
                 e.add_reflected(&bounce, ALBEDO * tr);
@@ -316,8 +317,8 @@ impl<'a> Point<'a> {
         (self.probe).light_estimate(lights, compact_only, share, sampler)
     }
 
-    /// A direction through the portals, finding what lies beyond thin glass (the sun left to
-    /// light sampling), taken with probability `share`.
+    /// A direction through the portals, finding what lies beyond thin glass and through
+    /// refracting glazing (the sun left to light sampling), taken with probability `share`.
     fn portal_sample(&self, share: f32, sampler: &mut Sampler) -> f64 {
         let (u_pick, u) = (sampler.next_1d(), sampler.next_2d());
         let Some(ps) = self.portals.sample(&self.weights, u_pick, u) else {
@@ -327,7 +328,7 @@ impl<'a> Point<'a> {
         if cos <= 0.0 || !(ps.pdf > 0.0) {
             return 0.0;
         }
-        let found = self.probe.found(ps.wi);
+        let found = self.probe.found_through(ps.wi, MAX_REFRACTIONS);
         let le: f64 = found.iter().filter(|f| !f.compact).map(|f| f.le).sum();
         le * cos as f64 / (share as f64 * ps.pdf as f64 + self.probe.bsdf_pdf(ps.wi))
     }
@@ -343,10 +344,13 @@ impl<'a> Point<'a> {
             return (0.0, 0.0);
         }
         let portal_pdf = through as f64 * self.portals.pdf(&self.weights, wi) as f64;
-        let found = probe.found(wi);
+        // Through glazing as the paths refract (light sampling finds none of that light).
+        let found = probe.found_through(wi, MAX_REFRACTIONS);
         let mut with_portals = 0.0;
         for f in &found {
-            let strategy = if f.compact {
+            let strategy = if f.refracted && f.compact {
+                0.0
+            } else if f.compact {
                 compact as f64 * probe.light_pdf(self.samplers.compact, f.light, wi, f.hit())
             } else {
                 portal_pdf

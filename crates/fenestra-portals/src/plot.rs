@@ -273,6 +273,7 @@ mod tests {
                 target: 8192,
                 interrupted: false,
                 settled: false,
+                timed_out: false,
             },
             clusters: Vec::new(),
             portals: Vec::new(),

@@ -88,6 +88,9 @@ impl PortalSource {
     }
 }
 
+/// The share of a render's time budget that photon tracing for `--portals auto` may take.
+const BUDGET_SHARE: f64 = 0.03;
+
 /// Where estimated portals came from.
 #[derive(Clone, Copy, Debug)]
 pub enum Estimation {
@@ -144,7 +147,15 @@ impl PortalSource {
                 surroundings: None,
             });
         }
-        let e = estimate(scene, params, control.cancel, control.progress)?;
+        // Within a time budget, photon tracing takes at most its share of it (the cache
+        // still keys the estimate by the parameters asked for).
+        let mut within = params.clone();
+        if let Some(budget) = control.time_limit {
+            let share = BUDGET_SHARE * budget;
+            let limit = within.photons.time_limit.map_or(share, |t| t.min(share));
+            within.photons.time_limit = Some(limit.max(f64::MIN_POSITIVE));
+        }
+        let e = estimate(scene, &within, control.cancel, control.progress)?;
         control.progress.note(&format!("portals: {}", e.summary()));
         // Rendered as the cache holds them (portals.json records rebuild them to within float
         // rounding), so that a render from the cache is the same.

@@ -137,8 +137,10 @@ fn photons_do_not_depend_on_the_thread_count() {
     use fenestra_portals::photon::{trace, PhotonParams};
     let desc = builtin::load("box-4holes").expect("builtin");
     let scene = RenderScene::new(Scene::build(desc, Backend::Obvhs).expect("scene"));
+    // Without a time limit, which would make the photons depend on the machine's speed.
     let params = PhotonParams {
         target: Some(3000),
+        time_limit: None,
         ..PhotonParams::default()
     };
     let with = |threads| {

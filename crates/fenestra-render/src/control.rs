@@ -30,6 +30,7 @@ pub type ProgressHook<'a> = &'a (dyn Fn(&Film, f64) + Sync);
 
 /// Progress reporting, cancellation and a per-pass hook for one render, and its clock: the
 /// render's time runs from the control's creation, so preparation counts in it.
+#[derive(Clone, Copy)]
 pub struct RenderControl<'a> {
     /// Set (by a Ctrl-C handler) to stop: the work done so far is kept.
     pub cancel: &'a AtomicBool,
@@ -41,7 +42,10 @@ pub struct RenderControl<'a> {
     /// integrators that render each block to completion, after every block (one call at a
     /// time). For watching a render; it cannot stop it.
     pub on_progress: Option<ProgressHook<'a>>,
-    started: Instant,
+    /// The render's time budget in seconds on this control's clock, preparation included
+    /// (set from the render's settings when it starts): a preparation keeps to a share of it.
+    pub time_limit: Option<f64>,
+    pub(crate) started: Instant,
 }
 
 /// Never set: the cancel flag of unattended renders.
@@ -63,6 +67,7 @@ impl<'a> RenderControl<'a> {
             progress,
             on_pass: None,
             on_progress: None,
+            time_limit: None,
             started: Instant::now(),
         }
     }

@@ -22,6 +22,8 @@ pub struct RenderScene {
     pub lights: Lights,
     /// Whether any material is thin glass: without it a visibility ray is an any-hit query.
     thin_glass: bool,
+    /// Whether any material is smooth glass (which probes may follow by refraction).
+    smooth_glass: bool,
     /// Whether any surface emits: without it a ray looking for emission needs only to know
     /// whether it leaves the scene.
     surface_lights: bool,
@@ -44,6 +46,7 @@ impl RenderScene {
         }
         let lights = Lights::new(&scene);
         let thin_glass = bsdfs.iter().any(|b| matches!(b, Bsdf::ThinDielectric(_)));
+        let smooth_glass = bsdfs.iter().any(|b| matches!(b, Bsdf::SmoothDielectric(_)));
         let surface_lights = lights.first_area_light.iter().any(Option::is_some);
         let sensor_response = scene.camera.sensor_response();
         RenderScene {
@@ -51,6 +54,7 @@ impl RenderScene {
             bsdfs,
             lights,
             thin_glass,
+            smooth_glass,
             surface_lights,
             sensor_response,
         }
@@ -65,6 +69,11 @@ impl RenderScene {
     /// Whether any material is thin glass (visibility then follows rays through panes).
     pub fn has_thin_glass(&self) -> bool {
         self.thin_glass
+    }
+
+    /// Whether any material is smooth glass (a refracting interface).
+    pub fn has_smooth_glass(&self) -> bool {
+        self.smooth_glass
     }
 
     /// Whether any surface emits (else only environments light what rays escape to).

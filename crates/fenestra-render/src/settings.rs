@@ -10,9 +10,10 @@ pub struct RenderSettings {
     /// is one piece of a render split by sample ranges (scale-out), and merges exactly with
     /// the other pieces. 0 for a whole render.
     pub first_sample: u32,
-    /// Stop after about this many seconds of rendering, at a pass boundary. Preparation
-    /// (portal estimation, caches) comes on top: equal-time comparisons give every technique
-    /// the same sampling time and charge the preparation in the statistics' total time.
+    /// Stop after about this many seconds, at a pass boundary, preparation (portal
+    /// estimation, pilots, caches) included: equal-time comparisons give every technique the
+    /// same wall time. The first pass always runs, so a preparation that took it all still
+    /// leaves an image.
     pub time_limit: Option<f64>,
     /// Seed of every sample stream: sample `i` of pixel `p` uses the stream (seed, p, i).
     pub seed: u64,

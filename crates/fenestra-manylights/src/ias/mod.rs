@@ -225,8 +225,8 @@ impl Integrator for Ias {
             control.progress.note(
                 "ias with a time limit: each block's threshold is set from what the blocks before it cost and the time left (not reproducible from run to run)",
             );
-            // The limit is the rendering's, preparation on top (as the path tracers count it).
-            let deadline = control.elapsed() + limit;
+            // The limit is the render's, preparation included (as the path tracers count it).
+            let deadline = limit;
             let threads = rayon::current_num_threads();
             let blocks = film.width.div_ceil(BLOCK_SIZE) * film.height.div_ceil(BLOCK_SIZE);
             Budget::new(deadline, blocks as usize, threads, self.options.threshold)

@@ -66,6 +66,10 @@ pub struct EstimationRecord {
     /// Whether photon tracing stopped early because the portals had settled.
     #[serde(default)]
     pub settled: bool,
+    /// Whether photon tracing stopped at its time limit (the photons then depend on the
+    /// machine's speed).
+    #[serde(default)]
+    pub timed_out: bool,
     /// Clusters found.
     pub clusters: usize,
     /// Seconds per stage.

@@ -25,6 +25,14 @@ impl SmoothDielectric {
         })
     }
 
+    /// The refracted direction for `wo` and the share of radiance it carries, (1 - R) / eta'^2
+    /// (what a camera path that chose refraction keeps of its Fresnel share), or `None` under
+    /// total internal reflection: light followed through the interface deterministically.
+    pub fn transmit(&self, wo: Vec3) -> Option<(Vec3, f32)> {
+        let s = self.scatter(wo, 0.5, Mode::Radiance, Lobes::Transmission)?;
+        Some((s.wi, s.weight().max_component()))
+    }
+
     /// Samples one of `lobes` for `wo`: the mirror direction or the refracted one, in
     /// proportion to their Fresnel shares.
     pub(super) fn scatter(&self, wo: Vec3, uc: f32, mode: Mode, lobes: Lobes) -> Option<Scatter> {

@@ -68,7 +68,7 @@ pub fn render_progressive(
 }
 
 /// Samples per pixel a render takes when every pixel takes the same number in a pass: up to
-/// a count, or as many as fit in a time limit (of the passes, counted from their start).
+/// a count, or as many as fit in a time limit (on the render's clock, preparation included).
 #[derive(Clone, Copy, Debug)]
 pub struct Budget {
     /// Samples per pixel asked for.
@@ -97,15 +97,15 @@ impl Budget {
     }
 
     /// How many of `wanted` samples per pixel the pass about to start may take: what is left
-    /// of the count, and, after the first pass, what fits in the time left at the rate so far
-    /// (0: the render is done).
+    /// of the count, and, after the first pass, what fits in the time left at the passes'
+    /// rate so far (0: the render is done).
     pub fn next_pass(&self, pass: &PassInfo, wanted: u32) -> u32 {
         let mut n = wanted.min(self.spp.saturating_sub(self.done));
         match (self.time_limit, self.done) {
             (Some(limit), 0) if limit <= 0.0 => n = 0,
             (Some(limit), done) if done > 0 => {
                 let per_sample = pass.render_s / done as f64;
-                n = n.min(((limit - pass.render_s) / per_sample).floor().max(0.0) as u32);
+                n = n.min(((limit - pass.elapsed_s) / per_sample).floor().max(0.0) as u32);
             }
             _ => {}
         }

@@ -228,7 +228,8 @@ impl LightNextEvent {
     }
 
     /// Density with which [`LightNextEvent::sample_light`] at `ctx` gives the direction `wi`
-    /// towards `found` (the light sampler's joint density of the pick and the direction).
+    /// towards `found` (the light sampler's joint density of the pick and the direction);
+    /// zero for light found through refractions, which no shadow ray follows.
     pub fn light_pdf(
         &self,
         scene: &RenderScene,
@@ -236,6 +237,9 @@ impl LightNextEvent {
         wi: Vec3,
         found: Found,
     ) -> f32 {
+        if found.refracted {
+            return 0.0;
+        }
         (self.sampler).pdf_li(&scene.scene, &scene.lights, ctx, found.light, wi, found.hit)
     }
 }

@@ -13,7 +13,10 @@ mod next_event;
 mod path;
 mod path_options;
 
-pub use light_rays::{trace_probes, trace_shadows, Beyond, LightRays, ProbeRay, ShadowRay};
+pub use light_rays::{
+    beyond_glass, trace_probes, trace_shadows, Beyond, LightRays, ProbeRay, ShadowRay,
+    MAX_REFRACTIONS,
+};
 pub use light_sampling::LightNextEvent;
 pub use next_event::{Found, NextEvent, NoNextEvent, Scattered, Shading};
 pub use path::{Gather, NoGather, PathTracer, Start};
@@ -115,7 +118,8 @@ pub trait Integrator: Send + Sync {
 }
 
 /// Prepares `integrator` on `scene`, then renders: the statistics' time covers both, from
-/// the control's creation, with the preparation's share in `prepare_s`.
+/// the control's creation, with the preparation's share in `prepare_s`; a time limit covers
+/// both too.
 pub fn render(
     integrator: &mut dyn Integrator,
     scene: &RenderScene,
@@ -123,6 +127,10 @@ pub fn render(
     settings: &RenderSettings,
     control: &RenderControl,
 ) -> Result<RenderStats, IntegratorError> {
+    let control = &RenderControl {
+        time_limit: settings.time_limit,
+        ..*control
+    };
     let before = control.elapsed();
     integrator.prepare(scene, control)?;
     let prepare_s = control.elapsed() - before;

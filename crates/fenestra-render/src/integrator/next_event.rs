@@ -48,9 +48,14 @@ impl Shading<'_> {
     /// frame claims (`wi_local_z`: `wi`'s local z), which guards against light leaks through
     /// shading normals; always, where the shading normal alone decides.
     pub fn sides_agree(&self, wi: Vec3, wi_local_z: f32) -> bool {
-        self.sides == Sides::Shading
-            || (wi.dot(self.si.ng) * self.wo.dot(self.si.ng) > 0.0)
-                == (wi_local_z * self.wo_local.z > 0.0)
+        sides_agree(
+            self.sides,
+            self.si.ng,
+            self.wo,
+            self.wo_local.z,
+            wi,
+            wi_local_z,
+        )
     }
 
     /// The BSDF for light arriving from `wi` (world): the local direction and f, or `None`
@@ -63,6 +68,12 @@ impl Shading<'_> {
         let f = self.bsdf.eval(self.wo_local, wi_local);
         (!f.is_black()).then_some((wi_local, f))
     }
+}
+
+/// Whether `wi` and `wo` lie on the sides of the geometric surface (normal `ng`) that their
+/// local z (shading frame) claims; always, where the shading normal alone decides (`sides`).
+pub fn sides_agree(sides: Sides, ng: Vec3, wo: Vec3, wo_z: f32, wi: Vec3, wi_z: f32) -> bool {
+    sides == Sides::Shading || (wi.dot(ng) * wo.dot(ng) > 0.0) == (wi_z * wo_z > 0.0)
 }
 
 /// The vertex a BSDF-sampled ray left from, as MIS needs it when the ray finds light.
@@ -96,6 +107,11 @@ pub struct Found<'a> {
     pub light: usize,
     /// Where the ray met it.
     pub hit: LightHit<'a>,
+    /// Whether the path was refracted by smooth glass on its way from the vertex (only for
+    /// strategies that follow refractions, [`NextEvent::follows_refraction`]): then the
+    /// direction is the one the path left the vertex along, and only samples that follow
+    /// refractions (probes, not shadow rays) could have found the light.
+    pub refracted: bool,
 }
 
 /// A next-event strategy of a path tracer.
@@ -156,6 +172,14 @@ pub trait NextEvent: Send + Sync {
         _sample: &SampleContext,
     ) -> Rgb {
         Rgb::ZERO
+    }
+
+    /// Whether the strategy's probe rays go on through smooth glass by refraction
+    /// ([`ProbeRay::refractions`](super::ProbeRay)): then a path refracted on its way from a
+    /// vertex keeps that vertex for MIS, and the strategy's density of a light found so
+    /// ([`Found::refracted`]) is that of the direction the path left the vertex along.
+    fn follows_refraction(&self) -> bool {
+        false
     }
 
     /// Whether the strategy learns from the render's passes at all (known before

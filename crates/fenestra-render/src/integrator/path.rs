@@ -7,7 +7,7 @@
 //! it answers, its estimate replaces the path's continuation, and the BSDF-sampled ray only
 //! collects the emitters it finds.
 
-use super::light_rays::{trace_probes, trace_shadows, LightRays};
+use super::light_rays::{trace_probes, trace_shadows, LightRays, MAX_REFRACTIONS};
 use super::next_event::{Found, NextEvent, Scattered, Shading};
 use super::path_options::{PathOptions, Roulette};
 use super::{Integrator, IntegratorError, Split};
@@ -99,23 +99,38 @@ impl<N: NextEvent> PathTracer<N> {
         &self.next_event
     }
 
-    /// MIS weight of the BSDF technique for light `found` by a BSDF-sampled ray along `wi`
-    /// from `from` (`None`: the camera, or a delta bounce, which no strategy samples).
+    /// MIS weight of the BSDF technique for light `found` by the path's current ray `ray`
+    /// (`path.from`: the vertex it left, `None` at the camera or after a delta bounce, which
+    /// no strategy samples; after refractions the strategy follows, the direction is the
+    /// one the path left that vertex along).
     fn bsdf_weight(
         &self,
         scene: &RenderScene,
-        from: Option<&Scattered<N::Vertex>>,
-        wi: Vec3,
+        path: &PathState<N::Vertex>,
+        ray: &Ray,
         found: Found,
         ctx: &SampleContext,
     ) -> f32 {
-        match from {
-            Some(from) if N::SAMPLES => self.options.mis.weight(
-                from.bsdf_pdf,
-                self.next_event.pdf(scene, from, wi, found, ctx),
-            ),
+        match &path.from {
+            Some(from) if N::SAMPLES => {
+                let refracted = path.refractions > 0;
+                let wi = if refracted { path.from_wi } else { ray.d };
+                let found = Found { refracted, ..found };
+                self.options
+                    .mis
+                    .weight(from.bsdf_pdf, self.next_event.pdf(scene, from, wi, found, ctx))
+            }
             _ => 1.0,
         }
+    }
+
+    /// Smooth-glass interfaces a probe from a vertex `segments` into the path may pass: a
+    /// refraction is a vertex, and the light beyond must lie within the path's length.
+    fn refractions_left(&self, segments: u32) -> u32 {
+        self.options
+            .max_depth
+            .saturating_sub(segments + 1)
+            .min(MAX_REFRACTIONS)
     }
 }
 
@@ -197,8 +212,12 @@ pub(crate) struct PathState<V> {
     pub l: Rgb,
     beta: Rgb,
     /// The vertex the current ray left from, for MIS (`None` at the camera and after a
-    /// delta bounce).
+    /// delta bounce but a refraction the strategy follows).
     from: Option<Scattered<V>>,
+    /// The direction the path left `from` along.
+    from_wi: Vec3,
+    /// Smooth-glass refractions since `from` (kept for MIS when the strategy follows them).
+    refractions: u32,
     /// The path's segments up to the vertex being shaded; passing straight through a thin
     /// pane adds none (visibility rays pass panes too).
     segments: u32,
@@ -219,6 +238,8 @@ impl<V> PathState<V> {
             l: Rgb::ZERO,
             beta: Rgb::ONE,
             from: None,
+            from_wi: Vec3::ZERO,
+            refractions: 0,
             segments: start.segments,
             panes: 0,
             first: start.segments == 0,
@@ -252,7 +273,7 @@ impl<N: NextEvent> PathTracer<N> {
                 path.l += shadow.trace(scene, sample.records);
             }
             for probe in out.probes.drain(..) {
-                let beyond = probe.trace(scene);
+                let beyond = probe.trace(scene, self.options.sides);
                 path.l += probe.beta
                     * self
                         .next_event
@@ -314,7 +335,7 @@ impl<N: NextEvent> PathTracer<N> {
             trace_shadows(scene, &queued.shadows, wave.records, |k, l| {
                 paths[shadow_owners[k]].l += l;
             });
-            trace_probes(scene, &queued.probes, |k, beyond| {
+            trace_probes(scene, &queued.probes, self.options.sides, |k, beyond| {
                 let (i, probe) = (probe_owners[k], &queued.probes[k]);
                 paths[i].l += probe.beta
                     * self.next_event.probed(
@@ -358,25 +379,23 @@ impl<N: NextEvent> PathTracer<N> {
                 let found = Found {
                     light: e,
                     hit: LightHit::Escaped,
+                    refracted: false,
                 };
-                let w = self.bsdf_weight(scene, path.from.as_ref(), ray.d, found, ctx);
+                let w = self.bsdf_weight(scene, path, &ray, found, ctx);
                 path.l += path.beta * scene.lights.lights[e].le(LightHit::Escaped, ray.d) * w;
             }
             return false;
         };
         let si = scene.scene.interaction(&ray, &hit);
-        if let Some((index, le)) = scene
-            .lights
-            .surface_emission(&si, ray.d)
-            .filter(|_| path.emitted)
-        {
+        let emission = scene.lights.surface_emission(&si, ray.d);
+        if let Some((index, le)) = emission.filter(|_| path.emitted) {
             if !le.is_black() {
                 let found = Found {
                     light: index,
                     hit: LightHit::Surface(&si),
+                    refracted: false,
                 };
-                path.l +=
-                    path.beta * le * self.bsdf_weight(scene, path.from.as_ref(), ray.d, found, ctx);
+                path.l += path.beta * le * self.bsdf_weight(scene, path, &ray, found, ctx);
             }
         }
         path.emitted = true;
@@ -421,8 +440,10 @@ impl<N: NextEvent> PathTracer<N> {
             for shadow in &mut out.shadows[shadows..] {
                 shadow.value *= path.beta;
             }
+            let refractions = self.refractions_left(path.segments);
             for probe in &mut out.probes[probes..] {
                 probe.beta = path.beta;
+                probe.refractions = probe.refractions.min(refractions);
             }
         }
         if !bsdf.is_delta() {
@@ -455,16 +476,28 @@ impl<N: NextEvent> PathTracer<N> {
             return false;
         }
         path.panes = 0;
-        path.from = if bs.delta {
-            None
+        // Through smooth glass by refraction, as the strategy's probes go on: the vertex
+        // before the glass stays the one MIS weighs light found beyond against.
+        let follows = self.next_event.follows_refraction()
+            && path.from.is_some()
+            && path.refractions < MAX_REFRACTIONS
+            && emission.is_none()
+            && matches!(bsdf, Bsdf::SmoothDielectric(_))
+            && bs.wi.z * shading.wo_local.z < 0.0;
+        if follows {
+            path.refractions += 1;
+        } else if bs.delta {
+            path.from = None;
         } else {
-            Some(Scattered {
+            path.from = Some(Scattered {
                 p: si.p,
                 n: si.ns,
                 bsdf_pdf: bs.pdf,
                 vertex,
-            })
-        };
+            });
+            path.from_wi = wi;
+            path.refractions = 0;
+        }
         if path.segments + 1 >= self.options.rr_depth {
             // Russian roulette (seed 000 §3.2.1): continue with probability q, divide by q.
             let m = path.beta.max_component();

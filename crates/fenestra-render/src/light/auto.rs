@@ -89,7 +89,7 @@ fn measure(
         let mut moments = [Moments::default(), Moments::default()];
         for _ in 0..SAMPLES {
             let wi = x.cosine_direction(&mut sampler);
-            let (found, surface) = x.look(wi);
+            let (found, surface) = x.look(wi, 0);
             let y = (surface.as_ref())
                 .map(|(y, tr)| (DiffuseProbe::facing(scene, y, x.si.p, &context), *tr));
             let wy = y.as_ref().map(|(y, _)| y.cosine_direction(&mut sampler));

@@ -4,6 +4,7 @@
 //! luminance times cosine over density (irradiance estimates).
 
 use super::{LightContext, LightHit, LightSampler, Picks};
+use crate::integrator::{beyond_glass, Sides};
 use crate::render_scene::RenderScene;
 use fenestra_core::{warp, Frame, Ray, Sampler, Vec3};
 use fenestra_scene::SurfaceInteraction;
@@ -116,30 +117,51 @@ impl<'a> DiffuseProbe<'a> {
         }
         found
             .iter()
-            .map(|f| f.le * cos / (pdf + self.light_pdf(lights, f.light, wi, f.hit())))
+            .map(|f| {
+                let light_pdf = if f.refracted {
+                    0.0
+                } else {
+                    self.light_pdf(lights, f.light, wi, f.hit())
+                };
+                f.le * cos / (pdf + light_pdf)
+            })
             .sum()
     }
 
     /// The lights a ray from the point along `wi` meets beyond thin glass.
     pub fn found(&self, wi: Vec3) -> Vec<Found> {
-        self.look(wi).0
+        self.look(wi, 0).0
     }
 
-    /// The lights a ray from the point along `wi` meets beyond thin glass, and the surface it
-    /// meets (with the glass's transmittance's luminance) when it meets one.
-    pub fn look(&self, wi: Vec3) -> (Vec<Found>, Option<(SurfaceInteraction, f64)>) {
+    /// The lights a ray from the point along `wi` meets beyond thin glass and through up to
+    /// `refractions` smooth-glass interfaces (as lp_hf's portal samples and the paths that
+    /// refract there find them).
+    pub fn found_through(&self, wi: Vec3, refractions: u32) -> Vec<Found> {
+        self.look(wi, refractions).0
+    }
+
+    /// The lights a ray from the point along `wi` meets beyond thin glass (and up to
+    /// `refractions` smooth-glass interfaces), and the surface it meets (with the glass's
+    /// transmittance's luminance) when it meets one.
+    pub fn look(
+        &self,
+        wi: Vec3,
+        refractions: u32,
+    ) -> (Vec<Found>, Option<(SurfaceInteraction, f64)>) {
         let ray = Ray::new(self.si.spawn(wi), wi);
-        let (tr, surface) = self.scene.through_glass(ray, f32::INFINITY);
+        let beyond = beyond_glass(self.scene, ray, refractions, Sides::Shading);
+        let (tr, d, refracted) = (beyond.tr, beyond.d, beyond.refracted);
         let lights = &self.scene.lights;
-        match surface {
+        match beyond.surface {
             Some(s) => {
                 let found = lights
-                    .surface_emission(&s, wi)
+                    .surface_emission(&s, d)
                     .map(|(light, le)| Found {
                         light,
                         le: (tr * le).luminance() as f64,
                         compact: false,
-                        surface: Some(s.clone()),
+                        refracted,
+                        surface: Some(s),
                     })
                     .into_iter()
                     .collect();
@@ -149,8 +171,9 @@ impl<'a> DiffuseProbe<'a> {
                 let found = (lights.environments.iter())
                     .map(|&e| Found {
                         light: e,
-                        le: (tr * lights.lights[e].le(LightHit::Escaped, wi)).luminance() as f64,
+                        le: (tr * lights.lights[e].le(LightHit::Escaped, d)).luminance() as f64,
                         compact: lights.lights[e].is_compact(),
+                        refracted,
                         surface: None,
                     })
                     .collect();
@@ -168,6 +191,8 @@ pub struct Found {
     pub le: f64,
     /// Whether it is a compact light ([`super::Light::is_compact`]).
     pub compact: bool,
+    /// Whether the ray was refracted on the way (no light sampler's shadow ray finds it).
+    pub refracted: bool,
     surface: Option<SurfaceInteraction>,
 }
 
