@@ -66,9 +66,21 @@ fn shell() -> (TriangleMesh, TriangleMesh) {
         Vec3::X * (W / 2.0),
     );
     for (centre, u, v) in [
-        (Vec3::new(0.0, D / 2.0, H / 2.0), Vec3::Y * (D / 2.0), Vec3::Z * (H / 2.0)),
-        (Vec3::new(W, D / 2.0, H / 2.0), Vec3::Z * (H / 2.0), Vec3::Y * (D / 2.0)),
-        (Vec3::new(W / 2.0, D, H / 2.0), Vec3::X * (W / 2.0), Vec3::Z * (H / 2.0)),
+        (
+            Vec3::new(0.0, D / 2.0, H / 2.0),
+            Vec3::Y * (D / 2.0),
+            Vec3::Z * (H / 2.0),
+        ),
+        (
+            Vec3::new(W, D / 2.0, H / 2.0),
+            Vec3::Z * (H / 2.0),
+            Vec3::Y * (D / 2.0),
+        ),
+        (
+            Vec3::new(W / 2.0, D, H / 2.0),
+            Vec3::X * (W / 2.0),
+            Vec3::Z * (H / 2.0),
+        ),
     ] {
         walls.append(&TriangleMesh::quad(centre, u, v));
     }
@@ -103,7 +115,9 @@ pub fn glazed_room(lit: Lit) -> SceneDesc {
     let white = a.material(Material::diffuse(0.7));
     let floor_material = a.material(Material::diffuse(0.45));
     let frame = a.material(Material::diffuse(0.3));
-    let glass = a.material(Material::Dielectric(material::Dielectric { eta: GLASS_ETA }));
+    let glass = a.material(Material::Dielectric(material::Dielectric {
+        eta: GLASS_ETA,
+    }));
     let (floor, walls) = shell();
     a.mesh(floor, floor_material);
     a.mesh(walls, white);
@@ -140,8 +154,13 @@ pub fn glazed_room(lit: Lit) -> SceneDesc {
                 ground,
             );
             let glow = Vec3::new(0.3, -1.0, 0.4).normalize();
-            a.lights.push(LightDesc::Environment(sky(256, 128, glow, 1.0)));
-            ("room-glazed-sky", Vec3::new(3.6, 4.6, 1.6), Vec3::new(2.0, 0.0, 1.2))
+            a.lights
+                .push(LightDesc::Environment(sky(256, 128, glow, 1.0)));
+            (
+                "room-glazed-sky",
+                Vec3::new(3.6, 4.6, 1.6),
+                Vec3::new(2.0, 0.0, 1.2),
+            )
         }
         Lit::LampBlind => {
             let lamp = a.material(Material::diffuse(0.0));
@@ -149,7 +168,11 @@ pub fn glazed_room(lit: Lit) -> SceneDesc {
             a.emitter(ShapeKind::Mesh(panel), lamp, Rgb::splat(25.0));
             let slats = a.material(Material::diffuse(0.8));
             a.mesh(blind(), slats);
-            ("room-glazed-blind", Vec3::new(3.6, 4.6, 1.4), Vec3::new(2.0, 0.0, 1.3))
+            (
+                "room-glazed-blind",
+                Vec3::new(3.6, 4.6, 1.4),
+                Vec3::new(2.0, 0.0, 1.3),
+            )
         }
     };
     a.finish(
@@ -198,7 +221,11 @@ pub fn door_ajar() -> SceneDesc {
     let lamp = a.material(Material::diffuse(0.0));
     let (l, d, h) = (8.0, 4.0, 2.7);
     a.mesh(
-        TriangleMesh::quad(Vec3::new(l / 2.0, d / 2.0, 0.0), Vec3::X * (l / 2.0), Vec3::Y * (d / 2.0)),
+        TriangleMesh::quad(
+            Vec3::new(l / 2.0, d / 2.0, 0.0),
+            Vec3::X * (l / 2.0),
+            Vec3::Y * (d / 2.0),
+        ),
         floor_material,
     );
     let mut walls = TriangleMesh::quad(
@@ -207,10 +234,26 @@ pub fn door_ajar() -> SceneDesc {
         Vec3::X * (l / 2.0),
     );
     for (centre, u, v) in [
-        (Vec3::new(0.0, d / 2.0, h / 2.0), Vec3::Y * (d / 2.0), Vec3::Z * (h / 2.0)),
-        (Vec3::new(l, d / 2.0, h / 2.0), Vec3::Z * (h / 2.0), Vec3::Y * (d / 2.0)),
-        (Vec3::new(l / 2.0, d, h / 2.0), Vec3::X * (l / 2.0), Vec3::Z * (h / 2.0)),
-        (Vec3::new(l / 2.0, 0.0, h / 2.0), Vec3::Z * (h / 2.0), Vec3::X * (l / 2.0)),
+        (
+            Vec3::new(0.0, d / 2.0, h / 2.0),
+            Vec3::Y * (d / 2.0),
+            Vec3::Z * (h / 2.0),
+        ),
+        (
+            Vec3::new(l, d / 2.0, h / 2.0),
+            Vec3::Z * (h / 2.0),
+            Vec3::Y * (d / 2.0),
+        ),
+        (
+            Vec3::new(l / 2.0, d, h / 2.0),
+            Vec3::X * (l / 2.0),
+            Vec3::Z * (h / 2.0),
+        ),
+        (
+            Vec3::new(l / 2.0, 0.0, h / 2.0),
+            Vec3::Z * (h / 2.0),
+            Vec3::X * (l / 2.0),
+        ),
     ] {
         walls.append(&TriangleMesh::quad(centre, u, v));
     }
@@ -229,11 +272,19 @@ pub fn door_ajar() -> SceneDesc {
     let along = Vec3::new(angle.sin(), angle.cos(), 0.0) * width;
     let thick = Vec3::new(angle.cos(), -angle.sin(), 0.0) * 0.04;
     a.mesh(
-        slab(Vec3::new(4.0, lo[0], 0.0), along, thick, Vec3::Z * (hi[1] - 0.01)),
+        slab(
+            Vec3::new(4.0, lo[0], 0.0),
+            along,
+            thick,
+            Vec3::Z * (hi[1] - 0.01),
+        ),
         door_material,
     );
     // A cupboard in the far room, which the lamp lights and the doorway half sees.
-    a.mesh(cuboid(Vec3::new(5.0, 3.2, 0.0), Vec3::new(6.5, 3.9, 1.2)), door_material);
+    a.mesh(
+        cuboid(Vec3::new(5.0, 3.2, 0.0), Vec3::new(6.5, 3.9, 1.2)),
+        door_material,
+    );
     let panel = TriangleMesh::quad(Vec3::new(6.5, 1.0, h - 0.01), Vec3::Y * 0.5, Vec3::X * 0.5);
     a.emitter(ShapeKind::Mesh(panel), lamp, Rgb::splat(40.0));
     a.finish(

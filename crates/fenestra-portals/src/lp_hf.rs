@@ -460,7 +460,8 @@ impl NextEvent for PortalNextEvent {
         if li.is_black() {
             return Rgb::ZERO;
         }
-        let pdf = probe.share * ((1.0 - light_mix) * probe.portal_pdf + light_mix_found * light_pdf);
+        let pdf =
+            probe.share * ((1.0 - light_mix) * probe.portal_pdf + light_mix_found * light_pdf);
         if !(pdf > 0.0) {
             return Rgb::ZERO;
         }

@@ -116,9 +116,10 @@ impl<N: NextEvent> PathTracer<N> {
                 let refracted = path.refractions > 0;
                 let wi = if refracted { path.from_wi } else { ray.d };
                 let found = Found { refracted, ..found };
-                self.options
-                    .mis
-                    .weight(from.bsdf_pdf, self.next_event.pdf(scene, from, wi, found, ctx))
+                self.options.mis.weight(
+                    from.bsdf_pdf,
+                    self.next_event.pdf(scene, from, wi, found, ctx),
+                )
             }
             _ => 1.0,
         }
