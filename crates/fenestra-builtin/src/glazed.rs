@@ -52,38 +52,53 @@ fn slab(o: Vec3, a: Vec3, b: Vec3, c: Vec3) -> TriangleMesh {
     m
 }
 
+/// A box room x in [0, `l`], y in [0, `d`], z in [0, `h`], its faces inward: the floor, and
+/// the ceiling with the walls at x = 0, x = `l`, y = `d` and (if `front`) y = 0.
+fn room_box(l: f32, d: f32, h: f32, front: bool) -> (TriangleMesh, TriangleMesh) {
+    let floor = TriangleMesh::quad(
+        Vec3::new(l / 2.0, d / 2.0, 0.0),
+        Vec3::X * (l / 2.0),
+        Vec3::Y * (d / 2.0),
+    );
+    let mut walls = TriangleMesh::quad(
+        Vec3::new(l / 2.0, d / 2.0, h),
+        Vec3::Y * (d / 2.0),
+        Vec3::X * (l / 2.0),
+    );
+    let mut sides = vec![
+        (
+            Vec3::new(0.0, d / 2.0, h / 2.0),
+            Vec3::Y * (d / 2.0),
+            Vec3::Z * (h / 2.0),
+        ),
+        (
+            Vec3::new(l, d / 2.0, h / 2.0),
+            Vec3::Z * (h / 2.0),
+            Vec3::Y * (d / 2.0),
+        ),
+        (
+            Vec3::new(l / 2.0, d, h / 2.0),
+            Vec3::X * (l / 2.0),
+            Vec3::Z * (h / 2.0),
+        ),
+    ];
+    if front {
+        sides.push((
+            Vec3::new(l / 2.0, 0.0, h / 2.0),
+            Vec3::Z * (h / 2.0),
+            Vec3::X * (l / 2.0),
+        ));
+    }
+    for (centre, u, v) in sides {
+        walls.append(&TriangleMesh::quad(centre, u, v));
+    }
+    (floor, walls)
+}
+
 /// The room's shell: floor, ceiling, the three plain walls and the window wall's two faces
 /// with the reveal between them (a wall 20 cm thick).
 fn shell() -> (TriangleMesh, TriangleMesh) {
-    let floor = TriangleMesh::quad(
-        Vec3::new(W / 2.0, D / 2.0, 0.0),
-        Vec3::X * (W / 2.0),
-        Vec3::Y * (D / 2.0),
-    );
-    let mut walls = TriangleMesh::quad(
-        Vec3::new(W / 2.0, D / 2.0, H),
-        Vec3::Y * (D / 2.0),
-        Vec3::X * (W / 2.0),
-    );
-    for (centre, u, v) in [
-        (
-            Vec3::new(0.0, D / 2.0, H / 2.0),
-            Vec3::Y * (D / 2.0),
-            Vec3::Z * (H / 2.0),
-        ),
-        (
-            Vec3::new(W, D / 2.0, H / 2.0),
-            Vec3::Z * (H / 2.0),
-            Vec3::Y * (D / 2.0),
-        ),
-        (
-            Vec3::new(W / 2.0, D, H / 2.0),
-            Vec3::X * (W / 2.0),
-            Vec3::Z * (H / 2.0),
-        ),
-    ] {
-        walls.append(&TriangleMesh::quad(centre, u, v));
-    }
+    let (floor, mut walls) = room_box(W, D, H, false);
     let (lo, hi) = WINDOW;
     let opening = [([lo[1], lo[0]], [hi[1], hi[0]])];
     for y in [0.0, -WALL] {
@@ -220,43 +235,8 @@ pub fn door_ajar() -> SceneDesc {
     let door_material = a.material(Material::diffuse(0.55));
     let lamp = a.material(Material::diffuse(0.0));
     let (l, d, h) = (8.0, 4.0, 2.7);
-    a.mesh(
-        TriangleMesh::quad(
-            Vec3::new(l / 2.0, d / 2.0, 0.0),
-            Vec3::X * (l / 2.0),
-            Vec3::Y * (d / 2.0),
-        ),
-        floor_material,
-    );
-    let mut walls = TriangleMesh::quad(
-        Vec3::new(l / 2.0, d / 2.0, h),
-        Vec3::Y * (d / 2.0),
-        Vec3::X * (l / 2.0),
-    );
-    for (centre, u, v) in [
-        (
-            Vec3::new(0.0, d / 2.0, h / 2.0),
-            Vec3::Y * (d / 2.0),
-            Vec3::Z * (h / 2.0),
-        ),
-        (
-            Vec3::new(l, d / 2.0, h / 2.0),
-            Vec3::Z * (h / 2.0),
-            Vec3::Y * (d / 2.0),
-        ),
-        (
-            Vec3::new(l / 2.0, d, h / 2.0),
-            Vec3::X * (l / 2.0),
-            Vec3::Z * (h / 2.0),
-        ),
-        (
-            Vec3::new(l / 2.0, 0.0, h / 2.0),
-            Vec3::Z * (h / 2.0),
-            Vec3::X * (l / 2.0),
-        ),
-    ] {
-        walls.append(&TriangleMesh::quad(centre, u, v));
-    }
+    let (floor, mut walls) = room_box(l, d, h, true);
+    a.mesh(floor, floor_material);
     walls.append(&wall_with_openings(
         Vec3::new(4.0, 0.0, 0.0),
         Vec3::Y,

@@ -20,8 +20,9 @@ const RAYS_PER_POINT: usize = 4;
 /// to the floor beneath them, but sampling it takes samples from the windows.
 const MIN_CARRY: f32 = 0.01;
 const MIN_SHARE: f32 = 0.01;
-/// Light counts as coming through a portal when its emitter lies farther beyond the portal
-/// than this share of the portal's size, and than `MIN_BEYOND` metres.
+/// Light counts as coming through a portal when its emitter lies farther beyond the portal's
+/// plane (on the side away from the point the ray left) than this share of the portal's size,
+/// and than `MIN_BEYOND` metres.
 const BEYOND: f32 = 0.02;
 const MIN_BEYOND: f32 = 1e-3;
 
@@ -57,6 +58,7 @@ impl<'a> Carry<'a> {
         }
         let step = points.len().div_ceil(POINTS);
         let beyond = (BEYOND * portal.area().sqrt()).max(MIN_BEYOND);
+        let normal = portal.normal();
         let mut sampler = Sampler::new(0, 0x4341_5252, 0);
         let (mut tried, mut carried) = (0usize, 0usize);
         for si in points.iter().step_by(step) {
@@ -66,7 +68,10 @@ impl<'a> Carry<'a> {
                     continue;
                 };
                 tried += 1;
-                carried += usize::from(self.reaches_light(Ray::new(si.spawn(d), d), y, beyond));
+                // The portal's normal pointed away from the point: "beyond" is along it.
+                let n = if normal.dot(d) < 0.0 { -normal } else { normal };
+                let ray = Ray::new(si.spawn(d), d);
+                carried += usize::from(self.reaches_light(ray, y, n, beyond));
             }
         }
         if tried == 0 {
@@ -98,15 +103,16 @@ impl<'a> Carry<'a> {
     }
 
     /// Whether `ray`, aimed at the portal's point `y`, meets an emitter farther than `beyond`
-    /// from `y`, or leaves the scene under a sky, through thin glass and refracting glazing:
-    /// what lp_hf's probe ray through a portal finds. An emitter at the portal itself is no
-    /// light through an opening: the photons that ring a ceiling panel on the ceiling outline
-    /// the panel, whose own sampling is the better.
-    fn reaches_light(&self, ray: Ray, y: Vec3, beyond: f32) -> bool {
+    /// past the portal's plane along `n` (its normal pointing away from the ray's origin), or
+    /// leaves the scene under a sky, through thin glass and refracting glazing: what lp_hf's
+    /// probe ray through a portal finds. An emitter at the portal itself, or in front of it,
+    /// is no light through an opening: the photons that ring a ceiling panel outline the
+    /// panel, whose own sampling is the better.
+    fn reaches_light(&self, ray: Ray, y: Vec3, n: Vec3, beyond: f32) -> bool {
         let found = beyond_glass(self.scene, ray, MAX_REFRACTIONS, Sides::Shading);
         match found.surface {
             Some(si) => {
-                (si.p - y).length() > beyond
+                (si.p - y).dot(n) > beyond
                     && (self.scene.lights.surface_emission(&si, found.d))
                         .is_some_and(|(_, le)| !le.is_black())
             }

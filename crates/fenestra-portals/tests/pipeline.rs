@@ -14,10 +14,19 @@ fn run(name: &str) -> (RenderScene, Estimate) {
     run_with(name, &EstimateParams::default())
 }
 
+/// `params` without their time limit: the photons then depend on nothing but the parameters,
+/// not on the machine's speed or load.
+fn untimed(mut params: EstimateParams) -> EstimateParams {
+    params.photons.time_limit = None;
+    params
+}
+
+/// The estimate of built-in `name` by `params`, untimed.
 fn run_with(name: &str, params: &EstimateParams) -> (RenderScene, Estimate) {
+    let params = untimed(params.clone());
     let desc = builtin::load(name).expect("builtin");
     let scene = RenderScene::new(Scene::build(desc, Backend::Obvhs).expect("scene"));
-    let e = estimate(&scene, params, &AtomicBool::new(false), &NoProgress).expect("estimate");
+    let e = estimate(&scene, &params, &AtomicBool::new(false), &NoProgress).expect("estimate");
     (scene, e)
 }
 
@@ -132,6 +141,47 @@ fn hall_windows_yields_portals_on_the_lit_windows_only() {
     assert_eq!(xs.len(), lit.len());
 }
 
+/// A window glazed with a refracting 8 mm pane (photons beyond it reach the room by two
+/// refractions), with and without a blind behind the glass: one portal in the wall's reveal,
+/// covering the window to 5 mm of its edges and at most 1% larger than it.
+#[test]
+fn a_glazed_window_yields_one_portal_covering_it() {
+    let (lo, hi) = builtin::glazed::WINDOW;
+    let inset = 0.005;
+    let (x0, z0, x1, z1) = (lo[0] + inset, lo[1] + inset, hi[0] - inset, hi[1] - inset);
+    let window = [
+        Vec3::new(x0, 0.0, z0),
+        Vec3::new(x1, 0.0, z0),
+        Vec3::new(x1, 0.0, z1),
+        Vec3::new(x0, 0.0, z1),
+    ];
+    let full = (hi[0] - lo[0]) * (hi[1] - lo[1]);
+    for name in ["room-glazed-sky", "room-glazed-blind"] {
+        let (_, e) = run(name);
+        assert_eq!(e.portals.len(), 1, "{name}: {} portals", e.portals.len());
+        let p = &e.portals[0].portal;
+        assert!(
+            covers(p, &window),
+            "{name}: {p:?} leaves the window uncovered"
+        );
+        assert!(p.area() <= 1.01 * full, "{name}: area {}", p.area());
+        // The wall is y in [-0.2, 0].
+        let y = p.center().y;
+        assert!((-0.2..=0.0).contains(&y), "{name}: portal at y = {y}");
+    }
+}
+
+/// Light that reaches the room only after a bounce in the next one, through a door ajar:
+/// no portal (none on the far room's ceiling panel either, where photons ring the lamp),
+/// from the whole photon target.
+#[test]
+fn a_door_ajar_yields_no_portal() {
+    let (_, e) = run("rooms-door-ajar");
+    assert!(!e.photons.timed_out);
+    let found: Vec<_> = e.portals.iter().map(|p| p.portal.center()).collect();
+    assert!(found.is_empty(), "portals at {found:?}");
+}
+
 #[test]
 fn photons_do_not_depend_on_the_thread_count() {
     use fenestra_portals::photon::{trace, PhotonParams};
@@ -177,7 +227,7 @@ fn sky_box_with(shapes: Vec<fenestra_scene::TriangleMesh>) -> ([Vec3; 4], Estima
     let scene = RenderScene::new(Scene::build(desc, Backend::Obvhs).expect("scene"));
     let e = estimate(
         &scene,
-        &EstimateParams::default(),
+        &untimed(EstimateParams::default()),
         &AtomicBool::new(false),
         &NoProgress,
     )

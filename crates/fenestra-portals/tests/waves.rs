@@ -160,8 +160,11 @@ fn a_path_in_a_wave_gets_the_estimate_it_gets_alone() {
         // Thin glass: rays follow panes one query at a time (portals estimated).
         let hall = scene("hall-windows", backend);
         let lights = LightNextEvent::new(LightSelection::Power);
+        // Untimed: the photons then depend on nothing but the parameters.
+        let mut params = EstimateParams::default();
+        params.photons.time_limit = None;
         let estimated = PortalSource::Estimated {
-            params: EstimateParams::default(),
+            params,
             cache: None,
         };
         let portals = lp_hf(path, kept_portals(), estimated, lights).expect("lp_hf");

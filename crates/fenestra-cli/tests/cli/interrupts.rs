@@ -117,6 +117,8 @@ fn an_interrupted_portal_estimate_keeps_the_complete_one() {
         "0",
         "--max-beams",
         "4294967295",
+        "--time",
+        "0",
         "-q",
         "-o",
         o,
