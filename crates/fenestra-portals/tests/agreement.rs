@@ -166,10 +166,10 @@ fn light_through_refracting_glass_agrees_between_bsdf_and_portal_sampling() {
     refracting_glass_agreement(4096);
 }
 
-/// The same at 16 times the samples: image means to about 0.12% (2.5 minutes a room and
+/// The same at 16 times the samples: image means to 0.06-0.12% (1.2 minutes a room and
 /// path length; `cargo test --release -p fenestra-portals --test agreement -- --ignored`).
 #[test]
-#[ignore = "heavy: about 8 minutes"]
+#[ignore = "heavy: about 10 minutes"]
 fn light_through_refracting_glass_agrees_to_a_tenth_of_a_percent() {
     refracting_glass_agreement(65536);
 }
