@@ -12,6 +12,16 @@ import fenestra as fe
 
 
 def test_ctrl_c_stops_the_render_and_keeps_its_film():
+    # Python leaves SIGINT ignored when it started ignored, as in a job a shell runs in the
+    # background: Ctrl-C is what this test is about, so it takes its usual meaning here.
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        ctrl_c_during_a_render()
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
+def ctrl_c_during_a_render():
     timer = threading.Timer(0.5, lambda: os.kill(os.getpid(), signal.SIGINT))
     started = time.monotonic()
     timer.start()
