@@ -5,7 +5,7 @@
 //! through a door ajar (light arrives only after a bounce there, the classic case of
 //! bidirectional methods).
 
-use crate::geometry::{camera, cuboid, sky, wall_with_openings, Assembler};
+use crate::geometry::{camera, cuboid, room, sky, transposed, wall_with_openings, Assembler};
 use fenestra_core::{Rgb, Vec3};
 use fenestra_scene::light::LightDesc;
 use fenestra_scene::material;
@@ -52,64 +52,19 @@ fn slab(o: Vec3, a: Vec3, b: Vec3, c: Vec3) -> TriangleMesh {
     m
 }
 
-/// A box room x in [0, `l`], y in [0, `d`], z in [0, `h`], its faces inward: the floor, and
-/// the ceiling with the walls at x = 0, x = `l`, y = `d` and (if `front`) y = 0.
-fn room_box(l: f32, d: f32, h: f32, front: bool) -> (TriangleMesh, TriangleMesh) {
-    let floor = TriangleMesh::quad(
-        Vec3::new(l / 2.0, d / 2.0, 0.0),
-        Vec3::X * (l / 2.0),
-        Vec3::Y * (d / 2.0),
-    );
-    let mut walls = TriangleMesh::quad(
-        Vec3::new(l / 2.0, d / 2.0, h),
-        Vec3::Y * (d / 2.0),
-        Vec3::X * (l / 2.0),
-    );
-    let mut sides = vec![
-        (
-            Vec3::new(0.0, d / 2.0, h / 2.0),
-            Vec3::Y * (d / 2.0),
-            Vec3::Z * (h / 2.0),
-        ),
-        (
-            Vec3::new(l, d / 2.0, h / 2.0),
-            Vec3::Z * (h / 2.0),
-            Vec3::Y * (d / 2.0),
-        ),
-        (
-            Vec3::new(l / 2.0, d, h / 2.0),
-            Vec3::X * (l / 2.0),
-            Vec3::Z * (h / 2.0),
-        ),
-    ];
-    if front {
-        sides.push((
-            Vec3::new(l / 2.0, 0.0, h / 2.0),
-            Vec3::Z * (h / 2.0),
-            Vec3::X * (l / 2.0),
-        ));
-    }
-    for (centre, u, v) in sides {
-        walls.append(&TriangleMesh::quad(centre, u, v));
-    }
-    (floor, walls)
-}
-
 /// The room's shell: floor, ceiling, the three plain walls and the window wall's two faces
 /// with the reveal between them (a wall 20 cm thick).
 fn shell() -> (TriangleMesh, TriangleMesh) {
-    let (floor, mut walls) = room_box(W, D, H, false);
     let (lo, hi) = WINDOW;
-    let opening = [([lo[1], lo[0]], [hi[1], hi[0]])];
-    for y in [0.0, -WALL] {
-        walls.append(&wall_with_openings(
-            Vec3::new(0.0, y, 0.0),
-            Vec3::Z,
-            Vec3::X,
-            ([0.0, 0.0], [H, W]),
-            &opening,
-        ));
-    }
+    let (floor, mut walls) = room(W, D, H, &[WINDOW]);
+    // The wall's outer face.
+    walls.append(&wall_with_openings(
+        Vec3::new(0.0, -WALL, 0.0),
+        Vec3::Z,
+        Vec3::X,
+        ([0.0, 0.0], [H, W]),
+        &transposed(&[WINDOW]),
+    ));
     // The reveal: the opening's four sides through the wall.
     let (cx, cz) = ((lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0);
     let (hx, hz, hy) = ((hi[0] - lo[0]) / 2.0, (hi[1] - lo[1]) / 2.0, WALL / 2.0);
@@ -122,6 +77,17 @@ fn shell() -> (TriangleMesh, TriangleMesh) {
         walls.append(&TriangleMesh::quad(centre, u, v));
     }
     (floor, walls)
+}
+
+/// What the rooms of this module propose to render with.
+fn defaults() -> RenderDefaults {
+    RenderDefaults {
+        width: 320,
+        height: 240,
+        spp: 64,
+        max_depth: 8,
+        options: Vec::new(),
+    }
 }
 
 /// The glazed room, lit as `lit` says.
@@ -190,17 +156,7 @@ pub fn glazed_room(lit: Lit) -> SceneDesc {
             )
         }
     };
-    a.finish(
-        name,
-        camera(eye, target, 60.0),
-        RenderDefaults {
-            width: 320,
-            height: 240,
-            spp: 64,
-            max_depth: 8,
-            options: Vec::new(),
-        },
-    )
+    a.finish(name, camera(eye, target, 60.0), defaults())
 }
 
 /// A blind 3 cm inside the window: 15 slats 5 cm deep every 8 cm, tilted 30 degrees down
@@ -235,7 +191,7 @@ pub fn door_ajar() -> SceneDesc {
     let door_material = a.material(Material::diffuse(0.55));
     let lamp = a.material(Material::diffuse(0.0));
     let (l, d, h) = (8.0, 4.0, 2.7);
-    let (floor, mut walls) = room_box(l, d, h, true);
+    let (floor, mut walls) = room(l, d, h, &[]);
     a.mesh(floor, floor_material);
     walls.append(&wall_with_openings(
         Vec3::new(4.0, 0.0, 0.0),
@@ -270,12 +226,6 @@ pub fn door_ajar() -> SceneDesc {
     a.finish(
         "rooms-door-ajar",
         camera(Vec3::new(0.5, 0.4, 1.6), Vec3::new(4.0, 2.2, 1.0), 65.0),
-        RenderDefaults {
-            width: 320,
-            height: 240,
-            spp: 64,
-            max_depth: 8,
-            options: Vec::new(),
-        },
+        defaults(),
     )
 }
