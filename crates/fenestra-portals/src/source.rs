@@ -119,7 +119,8 @@ impl PortalSource {
     /// The portals this source gives for `scene`, and for an estimated source how they were
     /// come by: read from the cache when it holds an estimate with the same parameters, else
     /// estimated and then cached (an estimate that found none too: it spares the next render
-    /// of the scene; nothing is cached when the estimate was interrupted).
+    /// of the scene; nothing is cached when the estimate was interrupted, or cut short by the
+    /// render's time budget).
     pub fn portals(
         &self,
         scene: &RenderScene,
@@ -148,7 +149,8 @@ impl PortalSource {
             });
         }
         // Within a time budget, photon tracing takes at most its share of it (the cache
-        // still keys the estimate by the parameters asked for).
+        // keys the estimate by the parameters asked for, so an estimate that the share cut
+        // short is not cached: a render with more time would read it).
         let mut within = params.clone();
         if let Some(budget) = control.time_limit {
             let share = BUDGET_SHARE * budget;
@@ -157,10 +159,12 @@ impl PortalSource {
         }
         let e = estimate(scene, &within, control.cancel, control.progress)?;
         control.progress.note(&format!("portals: {}", e.summary()));
+        let cut_short =
+            e.photons.timed_out && within.photons.time_limit != params.photons.time_limit;
         // Rendered as the cache holds them (portals.json records rebuild them to within float
         // rounding), so that a render from the cache is the same.
         let file = e.file(&scene.scene.name, params);
-        if let (Some(path), false) = (cache, control.cancelled()) {
+        if let (Some(path), false) = (cache, control.cancelled() || cut_short) {
             if let Some(dir) = path.parent() {
                 let _ = std::fs::create_dir_all(dir);
             }

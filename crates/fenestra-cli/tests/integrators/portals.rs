@@ -271,3 +271,40 @@ fn estimated_portals_are_cached_and_the_next_render_reads_them() {
     let none = render("e.exr", &["--no-portal-cache"]);
     assert!(none["extra"].get("portal_estimation_s").is_some());
 }
+
+/// An estimate that a render's `--time` budget cut short (photon tracing takes at most 3% of
+/// it: 15 ms of 0.5 s, where the door ajar's photons take 0.4 s) is not cached, since the
+/// cache keys it by the parameters asked for and a render with more time would read it; the
+/// same estimate without a budget is.
+#[test]
+fn an_estimate_cut_short_by_the_time_budget_is_not_cached() {
+    let dir = tmp("portal-cache-budget");
+    let cache = dir.join("cache");
+    let render = |budget: &[&str]| {
+        let out = dir.join("door.exr");
+        let mut args = vec![
+            "render",
+            "builtin:rooms-door-ajar",
+            "--integrator",
+            "lp_hf",
+            "--portals",
+            "auto",
+            "--portal-cache",
+            cache.to_str().expect("utf-8"),
+            "--resolution",
+            "16x16",
+            "-q",
+            "-o",
+            out.to_str().expect("utf-8"),
+        ];
+        args.extend(budget);
+        let o = fenestra(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    };
+    let cached = || std::fs::read_dir(&cache).map_or(0, |d| d.count());
+    render(&["--time", "0.5"]);
+    assert_eq!(cached(), 0, "a cut-short estimate was cached");
+    render(&["--spp", "1"]);
+    assert_eq!(cached(), 1, "the whole estimate was not cached");
+    let _ = std::fs::remove_dir_all(&dir);
+}
