@@ -2,6 +2,7 @@
 //! docs/scenes.md shows each with a thumbnail.
 
 mod box_hole;
+mod building;
 mod chess;
 mod cornell;
 mod geometry;
@@ -82,6 +83,10 @@ pub const SCENES: &[(&str, &str)] = &[
         "8-storey office tower, 192 rooms, 4,608 ceiling-panel lights (few visible from anywhere) and a sky (issue 12)",
     ),
     (
+        "building-1024",
+        "one storey of 64 rooms joined by doorways, 16 downlights of its own strength in each: 1,024 lights, a few dozen visible from a point (issue 64)",
+    ),
+    (
         "terminal-832",
         "Grand Central-like concourse, 832 lights, 1.1M triangles (seed 004 Table 4.1)",
     ),
@@ -135,6 +140,7 @@ pub fn load(name: &str) -> Result<SceneDesc, UnknownScene> {
         "ponderosa-138" => Ok(ponderosa::ponderosa()),
         "terminal-832" => Ok(terminal::terminal()),
         "tower" => Ok(tower::tower()),
+        "building-1024" => Ok(building::building()),
         "relight-room" => Ok(relight_room::relight_room()),
         "room-glazed-sky" => Ok(glazed::glazed_room(glazed::Lit::Sky)),
         "room-glazed-blind" => Ok(glazed::glazed_room(glazed::Lit::LampBlind)),
@@ -198,6 +204,7 @@ mod tests {
                     assert_eq!(panels, rooms * 24);
                     assert!(panels >= 4096);
                 }
+                "building-1024" => assert_eq!(lights, 1024),
                 "terminal-832" => {
                     assert_eq!(desc.lights.len(), 613);
                     assert_eq!(lights, 832);

@@ -28,7 +28,7 @@ pub fn ponderosa() -> SceneDesc {
     let furniture = a.material(Material::Diffuse(material::Diffuse {
         reflectance: Rgb::new(0.35, 0.3, 0.5),
     }));
-    let plate = floor_plate(0.0, H, Some(COURTYARD));
+    let plate = floor_plate(&PLAN, 0.0, H, Some(COURTYARD));
     a.mesh(plate.floor, floor);
     a.mesh(plate.ceiling, plaster);
     a.mesh(plate.walls, plaster);
@@ -71,7 +71,26 @@ pub fn ponderosa() -> SceneDesc {
     )
 }
 
-/// One storey of the house: its floor, its ceiling (open above the courtyard, if any), its
+/// The house's plan: doorways on the centre lines of the walls.
+pub const PLAN: Plan = Plan {
+    cols: COLS,
+    rows: ROWS,
+    room: ROOM,
+    door_offset: |_, _| 0.0,
+};
+
+/// A floor plan: a grid of `cols` x `rows` square rooms of side `room`, a doorway in every
+/// other inner wall (a checkerboard), `door_offset(wall, room)` from the middle of its wall
+/// (walls of constant x numbered 0..=cols, then those of constant y), and a window in the
+/// middle of every outer wall.
+pub struct Plan {
+    pub cols: usize,
+    pub rows: usize,
+    pub room: f32,
+    pub door_offset: fn(usize, usize) -> f32,
+}
+
+/// One storey of a plan: its floor, its ceiling (open above the courtyard, if any), its
 /// walls (doorways between neighbouring rooms in a checkerboard pattern, windows outside) and
 /// two pieces of furniture per room, at height `z0`, rooms `h` high.
 pub struct Plate {
@@ -81,9 +100,16 @@ pub struct Plate {
     pub props: TriangleMesh,
 }
 
-/// The storey at `z0` with rooms `h` high and the room `courtyard` left open to the sky.
-pub fn floor_plate(z0: f32, h: f32, courtyard: Option<(usize, usize)>) -> Plate {
-    let (wx, wy) = (COLS as f32 * ROOM, ROWS as f32 * ROOM);
+/// The storey of `plan` at `z0` with rooms `h` high and the room `courtyard` left open to
+/// the sky.
+pub fn floor_plate(plan: &Plan, z0: f32, h: f32, courtyard: Option<(usize, usize)>) -> Plate {
+    let &Plan {
+        cols,
+        rows,
+        room,
+        door_offset,
+    } = plan;
+    let (wx, wy) = (cols as f32 * room, rows as f32 * room);
     let floor = TriangleMesh::quad(
         Vec3::new(wx / 2.0, wy / 2.0, z0),
         Vec3::X * (wx / 2.0),
@@ -91,8 +117,8 @@ pub fn floor_plate(z0: f32, h: f32, courtyard: Option<(usize, usize)>) -> Plate 
     );
     let open: Vec<Rect> = courtyard
         .map(|(i, j)| {
-            let (cx, cy) = (i as f32 * ROOM, j as f32 * ROOM);
-            ([cy, cx], [cy + ROOM, cx + ROOM])
+            let (cx, cy) = (i as f32 * room, j as f32 * room);
+            ([cy, cx], [cy + room, cx + room])
         })
         .into_iter()
         .collect();
@@ -107,16 +133,16 @@ pub fn floor_plate(z0: f32, h: f32, courtyard: Option<(usize, usize)>) -> Plate 
     let window = |s: f32| -> Rect { ([s - 0.6, 1.0], [s + 0.6, 2.0]) };
     let mut walls = TriangleMesh::default();
     // Walls of constant x (spanned by y, z) and of constant y (spanned by x, z).
-    for i in 0..=COLS {
-        let x = i as f32 * ROOM;
-        let openings: Vec<Rect> = (0..ROWS)
-            .filter(|j| i == 0 || i == COLS || (i + j) % 2 == 1)
+    for i in 0..=cols {
+        let x = i as f32 * room;
+        let openings: Vec<Rect> = (0..rows)
+            .filter(|j| i == 0 || i == cols || (i + j) % 2 == 1)
             .map(|j| {
-                let s = (j as f32 + 0.5) * ROOM;
-                if i == 0 || i == COLS {
+                let s = (j as f32 + 0.5) * room;
+                if i == 0 || i == cols {
                     window(s)
                 } else {
-                    door(s)
+                    door(s + door_offset(i, j))
                 }
             })
             .collect();
@@ -128,16 +154,16 @@ pub fn floor_plate(z0: f32, h: f32, courtyard: Option<(usize, usize)>) -> Plate 
             &openings,
         ));
     }
-    for j in 0..=ROWS {
-        let y = j as f32 * ROOM;
-        let openings: Vec<Rect> = (0..COLS)
-            .filter(|i| j == 0 || j == ROWS || (i + j) % 2 == 0)
+    for j in 0..=rows {
+        let y = j as f32 * room;
+        let openings: Vec<Rect> = (0..cols)
+            .filter(|i| j == 0 || j == rows || (i + j) % 2 == 0)
             .map(|i| {
-                let s = (i as f32 + 0.5) * ROOM;
-                if j == 0 || j == ROWS {
+                let s = (i as f32 + 0.5) * room;
+                if j == 0 || j == rows {
                     window(s)
                 } else {
-                    door(s)
+                    door(s + door_offset(cols + 1 + j, i))
                 }
             })
             .collect();
@@ -150,12 +176,12 @@ pub fn floor_plate(z0: f32, h: f32, courtyard: Option<(usize, usize)>) -> Plate 
         ));
     }
     let mut props = TriangleMesh::default();
-    for i in 0..COLS {
-        for j in 0..ROWS {
+    for i in 0..cols {
+        for j in 0..rows {
             if Some((i, j)) == courtyard {
                 continue;
             }
-            let o = Vec3::new(i as f32 * ROOM, j as f32 * ROOM, z0);
+            let o = Vec3::new(i as f32 * room, j as f32 * room, z0);
             props.append(&cuboid(
                 o + Vec3::new(1.2, 1.4, 0.0),
                 o + Vec3::new(2.4, 2.2, 0.75),

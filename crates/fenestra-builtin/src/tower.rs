@@ -7,7 +7,7 @@
 //! through their floors, which a light tree's bounds cannot see.
 
 use crate::geometry::{camera, sky, Assembler};
-use crate::ponderosa::{floor_plate, COLS, ROOM, ROWS};
+use crate::ponderosa::{floor_plate, COLS, PLAN, ROOM, ROWS};
 use fenestra_core::{Rgb, Vec3};
 use fenestra_scene::light::LightDesc;
 use fenestra_scene::material;
@@ -38,7 +38,7 @@ pub fn tower() -> SceneDesc {
     let mut panels = TriangleMesh::default();
     for storey in 0..STOREYS {
         let z0 = storey as f32 * STOREY_H;
-        let plate = floor_plate(z0, ROOM_H, None);
+        let plate = floor_plate(&PLAN, z0, ROOM_H, None);
         a.mesh(plate.floor, carpet);
         a.mesh(plate.ceiling, plaster);
         a.mesh(plate.walls, plaster);
