@@ -358,18 +358,30 @@ impl LightSampler for SplitLightSampler {
 pub struct SplitSuns {
     inner: Box<dyn LightSampler>,
     /// Per light: whether it is a sun.
-    suns: Vec<bool>,
+    is_sun: Vec<bool>,
+    /// The suns (not a scan of `is_sun` per estimate: a building has thousands of lights).
+    suns: Vec<usize>,
 }
 
 impl SplitSuns {
     /// `inner` over `lights`, with the suns taken apart.
     pub fn new(inner: Box<dyn LightSampler>, lights: &Lights) -> Self {
-        let suns = lights
+        let is_sun = lights
             .lights
             .iter()
             .map(|l| l.at_infinity() && l.is_compact())
             .collect();
-        SplitSuns { inner, suns }
+        Self::with_suns(inner, is_sun)
+    }
+
+    /// `inner` with the lights that `is_sun` marks taken apart.
+    fn with_suns(inner: Box<dyn LightSampler>, is_sun: Vec<bool>) -> Self {
+        let suns = (0..is_sun.len()).filter(|&l| is_sun[l]).collect();
+        SplitSuns {
+            inner,
+            is_sun,
+            suns,
+        }
     }
 
     /// The sampler of the other lights.
@@ -383,7 +395,7 @@ impl SplitSuns {
     }
 
     fn is_sun(&self, light: usize) -> bool {
-        self.suns.get(light).copied().unwrap_or(false)
+        self.is_sun.get(light).copied().unwrap_or(false)
     }
 }
 
@@ -438,8 +450,8 @@ impl LightSampler for SplitSuns {
     }
 
     fn sample_all(&self, ctx: &LightContext, u: f32, picks: &mut Picks) {
-        for (light, _) in self.suns.iter().enumerate().filter(|s| *s.1) {
-            picks.push((light, 1.0));
+        for &sun in &self.suns {
+            picks.push((sun, 1.0));
         }
         let mut inner = Picks::default();
         self.inner.sample_all(ctx, u, &mut inner);
@@ -598,15 +610,15 @@ mod tests {
         // A sky, a lamp, a sun, a second lamp: the inner sampler picks among all four by power.
         let powers = [50.0, 10.0, 200.0, 40.0];
         let learned = std::sync::Arc::default();
-        let split = SplitSuns {
-            inner: Box::new(Spy {
+        let split = SplitSuns::with_suns(
+            Box::new(Spy {
                 power: PowerLightSampler {
                     distribution: Some(Distribution1D::new(&powers)),
                 },
                 learned: std::sync::Arc::clone(&learned),
             }),
-            suns: vec![false, false, true, false],
-        };
+            vec![false, false, true, false],
+        );
         // The sun always; the others as often as the inner sampler picks them (its picks of
         // the sun dropped), each pick with the probability `pmf` claims.
         let total: f32 = powers.iter().sum();
