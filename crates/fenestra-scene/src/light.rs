@@ -91,7 +91,11 @@ impl LightDesc {
                 cone_angle,
                 falloff_start,
                 ..
-            } if !(*cone_angle > 0.0 && *cone_angle <= 180.0) || *falloff_start > *cone_angle => {
+            } if !(*cone_angle > 0.0
+                && *cone_angle <= 180.0
+                && *falloff_start >= 0.0
+                && *falloff_start <= *cone_angle) =>
+            {
                 "spot light cone angles must satisfy 0 <= falloff start <= cone angle <= 180"
             }
             LightDesc::Environment(EnvironmentDesc::Constant(l)) if !finite_rgb(l) => {
@@ -161,4 +165,37 @@ pub enum LightDesc {
     },
     /// Light from infinitely far away.
     Environment(EnvironmentDesc),
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn spot(cone_angle: f32, falloff_start: f32) -> LightDesc {
+        LightDesc::Spot {
+            position: Vec3::ZERO,
+            direction: -Vec3::Z,
+            intensity: Rgb::new(1.0, 1.0, 1.0),
+            cone_angle,
+            falloff_start,
+        }
+    }
+
+    #[test]
+    fn spot_cones_are_checked_at_both_ends() {
+        assert_eq!(spot(30.0, 0.0).problem(), None);
+        assert_eq!(spot(30.0, 30.0).problem(), None);
+        // A negative falloff start (a glTF innerConeAngle below 0) lit everything outside
+        // the cone and nothing inside.
+        for (cone, start) in [
+            (30.0, -5.0),
+            (30.0, 31.0),
+            (0.0, 0.0),
+            (181.0, 10.0),
+            (30.0, f32::NAN),
+        ] {
+            let problem = spot(cone, start).problem().expect("refused");
+            assert!(problem.contains("0 <= falloff start"), "{problem}");
+        }
+    }
 }
