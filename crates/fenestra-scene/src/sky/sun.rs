@@ -102,8 +102,21 @@ pub fn irradiance(elevation_deg: f32, turbidity: f32) -> Rgb {
     to_rgb(&direct_normal(elevation_deg as f64, turbidity as f64))
 }
 
-/// Linear sRGB of the piecewise-linear spectrum through `points` (nm, value).
+/// Linear sRGB of the piecewise-linear spectrum through `points` (nm, value), in the gamut.
 fn to_rgb(points: &[(f64, f64)]) -> Rgb {
+    let rgb = spectrum_rgb(points);
+    // A sun within a few degrees of the horizon is redder than sRGB's gamut holds (a negative
+    // blue): clip to the gamut and keep the luminance, which is the illuminance / 683 lm/W.
+    let clipped = Rgb::new(rgb.r.max(0.0), rgb.g.max(0.0), rgb.b.max(0.0));
+    if clipped == rgb || clipped.luminance() <= 0.0 {
+        clipped
+    } else {
+        clipped * (rgb.luminance().max(0.0) / clipped.luminance())
+    }
+}
+
+/// Linear sRGB of the piecewise-linear spectrum through `points`, out of gamut as it falls.
+fn spectrum_rgb(points: &[(f64, f64)]) -> Rgb {
     let at = |l: f64| {
         let i = points
             .partition_point(|p| p.0 < l)
@@ -149,5 +162,26 @@ mod tests {
         let y = to_rgb(&outside).luminance() as f64;
         let lux = y * 683.0;
         assert!((lux / 133_300.0 - 1.0).abs() < 0.02, "{lux} lux");
+    }
+
+    #[test]
+    fn a_sun_at_every_elevation_has_a_usable_radiance() {
+        // Near the horizon the sun's spectrum is so red that its blue falls outside the sRGB
+        // gamut: a negative channel, which the scene check refused below 3 degrees.
+        for tenth in 0..=900 {
+            let e = tenth as f32 / 10.0;
+            for turbidity in [1.0, 3.0, 10.0] {
+                let l = radiance(e, turbidity);
+                assert!(
+                    l.is_finite() && l.r >= 0.0 && l.g >= 0.0 && l.b >= 0.0,
+                    "elevation {e}, turbidity {turbidity}: {l:?}"
+                );
+            }
+        }
+        // Clipped to the gamut with the illuminance kept.
+        let unclipped = spectrum_rgb(&direct_normal(1.0, 3.0));
+        assert!(unclipped.b < 0.0, "the case is out of gamut: {unclipped:?}");
+        let kept = irradiance(1.0, 3.0).luminance() / unclipped.luminance();
+        assert!((kept - 1.0).abs() < 1e-4, "{kept}");
     }
 }
