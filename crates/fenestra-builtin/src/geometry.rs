@@ -232,6 +232,27 @@ pub fn checker(n: usize, texels: usize, a: Rgb, b: Rgb) -> Image {
     img
 }
 
+/// A number in [0, 1) from two integers (procedural placement, test points).
+pub fn unit(a: u32, b: u32) -> f32 {
+    use fenestra_core::sampler::{hash_combine, hash_u32};
+    hash_u32(hash_combine(a, b)) as f32 / (u32::MAX as f32 + 1.0)
+}
+
+/// How many of `lights` (points) each of `points` sees unoccluded in `scene`, on average.
+#[cfg(test)]
+pub fn lights_visible(scene: &fenestra_scene::Scene, points: &[Vec3], lights: &[Vec3]) -> f64 {
+    let mut visible = 0usize;
+    for &p in points {
+        for &l in lights {
+            let d = l - p;
+            let dist = d.length();
+            let ray = fenestra_core::Ray::new(p, d / dist);
+            visible += usize::from(!scene.occluded(&ray, dist * 0.999));
+        }
+    }
+    visible as f64 / points.len() as f64
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -203,8 +203,7 @@ pub fn floor_plate(plan: &Plan, z0: f32, h: f32, courtyard: Option<(usize, usize
 #[cfg(test)]
 mod tests {
     use super::*;
-    use fenestra_core::sampler::{hash_combine, hash_u32};
-    use fenestra_core::Ray;
+    use crate::geometry::{lights_visible, unit};
     use fenestra_scene::{Backend, Scene};
 
     #[test]
@@ -219,22 +218,17 @@ mod tests {
             })
             .collect();
         assert_eq!(lights.len(), 138);
-        let (mut visible, mut total) = (0usize, 0usize);
-        for k in 0..400u32 {
-            let r = |d: u32| hash_u32(hash_combine(k, d)) as f32 / u32::MAX as f32;
-            // Points at table height anywhere in the house.
-            let p = Vec3::new(r(0) * COLS as f32 * ROOM, r(1) * ROWS as f32 * ROOM, 0.8);
-            for &l in &lights {
-                let d = l - p;
-                let dist = d.length();
-                let ray = Ray::new(p, d / dist);
-                total += 1;
-                if !scene.occluded(&ray, dist * 0.999) {
-                    visible += 1;
-                }
-            }
-        }
-        let occluded = 1.0 - visible as f64 / total as f64;
+        // Points at table height anywhere in the house.
+        let points: Vec<Vec3> = (0..400)
+            .map(|k| {
+                Vec3::new(
+                    unit(k, 0) * COLS as f32 * ROOM,
+                    unit(k, 1) * ROWS as f32 * ROOM,
+                    0.8,
+                )
+            })
+            .collect();
+        let occluded = 1.0 - lights_visible(&scene, &points, &lights) / lights.len() as f64;
         eprintln!("occluded fraction {occluded:.4}");
         assert!((0.93..0.96).contains(&occluded), "{occluded}");
     }

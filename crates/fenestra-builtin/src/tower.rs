@@ -96,8 +96,7 @@ pub fn tower() -> SceneDesc {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use fenestra_core::sampler::{hash_combine, hash_u32};
-    use fenestra_core::Ray;
+    use crate::geometry::{lights_visible, unit};
     use fenestra_scene::{Backend, Scene};
 
     #[test]
@@ -117,26 +116,18 @@ mod tests {
             .collect();
         assert_eq!(centres.len() * 2, STOREYS * COLS * ROWS * 24);
         let scene = Scene::build(desc, Backend::Obvhs).expect("build");
-        let points = 60u32;
-        let mut visible = 0usize;
-        for k in 0..points {
-            let r = |d: u32| hash_u32(hash_combine(k, d)) as f32 / u32::MAX as f32;
-            // Desk height on a random storey, anywhere on the plate.
-            let storey = (r(2) * STOREYS as f32) as usize % STOREYS;
-            let p = Vec3::new(
-                r(0) * COLS as f32 * ROOM,
-                r(1) * ROWS as f32 * ROOM,
-                storey as f32 * STOREY_H + 0.8,
-            );
-            for &c in &centres {
-                let d = c - p;
-                let dist = d.length();
-                if !scene.occluded(&Ray::new(p, d / dist), dist * 0.999) {
-                    visible += 1;
-                }
-            }
-        }
-        let per_point = visible as f64 / points as f64;
+        // Desk height on a random storey, anywhere on the plate.
+        let points: Vec<Vec3> = (0..60)
+            .map(|k| {
+                let storey = (unit(k, 2) * STOREYS as f32) as usize % STOREYS;
+                Vec3::new(
+                    unit(k, 0) * COLS as f32 * ROOM,
+                    unit(k, 1) * ROWS as f32 * ROOM,
+                    storey as f32 * STOREY_H + 0.8,
+                )
+            })
+            .collect();
+        let per_point = lights_visible(&scene, &points, &centres);
         eprintln!(
             "panels visible per point {per_point:.1} of {}",
             centres.len()
