@@ -139,6 +139,19 @@ fn records(portals: &Portals) -> serde_json::Value {
         .collect::<Vec<_>>())
 }
 
+/// Where the portals come from, for an integrator's settings: once prepared (`portals` in
+/// use), an estimate's settings also say which portals it found.
+pub(crate) fn source_settings(source: &PortalSource, portals: &Portals) -> serde_json::Value {
+    match source {
+        PortalSource::Scene => json!("scene"),
+        PortalSource::Given(p) => records(p),
+        PortalSource::Estimated { params, .. } if !portals.is_empty() => {
+            json!({ "estimated": params, "found": records(portals) })
+        }
+        PortalSource::Estimated { params, .. } => json!({ "estimated": params }),
+    }
+}
+
 /// What lp_hf keeps of a shading vertex: the portals' pick weights there, for the side light
 /// may arrive from (computed once per vertex, used by the sample and by the MIS weight of the
 /// next BSDF-sampled ray).
@@ -247,15 +260,7 @@ impl NextEvent for PortalNextEvent {
     type Probe = PortalProbe;
 
     fn settings(&self) -> serde_json::Value {
-        let portals = match &self.source {
-            PortalSource::Scene => json!("scene"),
-            PortalSource::Given(p) => records(p),
-            // Once prepared, the sidecar also says which portals the estimate found.
-            PortalSource::Estimated { params, .. } if !self.portals.is_empty() => {
-                json!({ "estimated": params, "found": records(&self.portals) })
-            }
-            PortalSource::Estimated { params, .. } => json!({ "estimated": params }),
-        };
+        let portals = source_settings(&self.source, &self.portals);
         let mut s = json!({ "portals": portals, "portal": self.options });
         if let (Some(all), serde_json::Value::Object(lights)) =
             (s.as_object_mut(), self.lights.settings())

@@ -7,8 +7,10 @@
 //! ranges, tiles) rendered apart and merged give the very sums, and so the very image, that
 //! one render makes.
 
+use crate::splat::Splats;
 use fenestra_core::image::{Estimate, Image};
 use fenestra_core::Rgb;
+use glam::Mat3;
 
 /// Scale of the fixed-point sums: 2^64 units per unit of radiance.
 const ONE: f64 = 18_446_744_073_709_551_616.0;
@@ -215,6 +217,12 @@ pub struct Film {
     pub window: Window,
     /// Row-major, top row first.
     pub pixels: Vec<Pixel>,
+    /// Light tracing's sums per pixel (sums and squares of the splats that landed there; the
+    /// count is unused), row-major; empty until a light path is traced.
+    pub splats: Vec<Pixel>,
+    /// Light paths traced into the film: each pixel's light-tracing estimate is its splat sum
+    /// over this number.
+    pub light_paths: u64,
 }
 
 impl Film {
@@ -231,21 +239,78 @@ impl Film {
             height,
             window,
             pixels: vec![Pixel::default(); width as usize * height as usize],
+            splats: Vec::new(),
+            light_paths: 0,
         }
     }
 
-    fn to_image(&self, f: impl Fn(&Pixel) -> [f64; 3]) -> Image {
+    /// Adds a block's splats of a pass (those in the film's window; the rest belong to other
+    /// pieces of the image), seen by the sensor `response` as camera samples are; returns how
+    /// many were dropped as the film drops samples it does not take.
+    pub fn add_splats(&mut self, splats: &Splats, response: Option<Mat3>) -> u64 {
+        if self.splats.is_empty() {
+            self.splats = vec![Pixel::default(); self.pixels.len()];
+        }
+        self.light_paths += splats.paths;
+        let w = self.window;
+        let mut dropped = 0;
+        for s in &splats.entries {
+            if !(w.x0..w.x1).contains(&s.x) || !(w.y0..w.y1).contains(&s.y) {
+                continue;
+            }
+            let v = response.map_or(s.value, |m| s.value.transformed(m));
+            if !Pixel::accepts(v) {
+                dropped += 1;
+                continue;
+            }
+            let i = (s.y - w.y0) as usize * self.width as usize + (s.x - w.x0) as usize;
+            self.splats[i].add(v);
+        }
+        dropped
+    }
+
+    /// Each pixel's light-tracing estimate and the variance of that estimate, per channel:
+    /// the mean over every light path of what it brought to the pixel (most bring nothing).
+    /// A path that splats into one pixel twice counts as two paths' worth in the variance,
+    /// which a path's few vertices seldom do.
+    fn splat_estimate(&self, i: usize) -> ([f64; 3], [f64; 3]) {
+        let (Some(p), n) = (self.splats.get(i), self.light_paths as f64) else {
+            return ([0.0; 3], [0.0; 3]);
+        };
+        let mut mean = [0.0; 3];
+        let mut variance = [0.0; 3];
+        for c in 0..3 {
+            let m = p.sum[c] as f64 / ONE / n;
+            let sq = p.sum_sq[c] as f64 / ONE / n;
+            mean[c] = m;
+            variance[c] = if p.sum_sq[c] == u128::MAX {
+                f64::INFINITY
+            } else {
+                ((sq - m * m) / (n - 1.0).max(1.0)).max(0.0)
+            };
+        }
+        (mean, variance)
+    }
+
+    /// Per pixel, the camera samples' figure `f` plus light tracing's (`splat` picks the
+    /// estimate or its variance).
+    fn to_image(&self, f: impl Fn(&Pixel) -> [f64; 3], splat: usize) -> Image {
         let mut img = Image::new(self.width as usize, self.height as usize);
-        for (dst, p) in img.pixels.iter_mut().zip(&self.pixels) {
-            let v = f(p);
+        for (i, (dst, p)) in img.pixels.iter_mut().zip(&self.pixels).enumerate() {
+            let mut v = f(p);
+            if self.light_paths > 0 {
+                let s = self.splat_estimate(i);
+                let s = [s.0, s.1][splat];
+                v = std::array::from_fn(|c| v[c] + s[c]);
+            }
             *dst = Rgb::new(v[0] as f32, v[1] as f32, v[2] as f32);
         }
         img
     }
 
-    /// The rendered image: each pixel's sample mean.
+    /// The rendered image: each pixel's sample mean, plus what light paths brought it.
     pub fn image(&self) -> Image {
-        self.to_image(Pixel::mean)
+        self.to_image(Pixel::mean, 0)
     }
 
     /// The image and its per-pixel variance of the mean.
@@ -256,9 +321,10 @@ impl Film {
         }
     }
 
-    /// Per-pixel variance of the mean.
+    /// Per-pixel variance of the mean (of the camera samples' and the light paths'
+    /// estimates, which are independent).
     pub fn variance_image(&self) -> Image {
-        self.to_image(Pixel::variance_of_mean)
+        self.to_image(Pixel::variance_of_mean, 1)
     }
 
     /// (smallest, largest) samples taken by any pixel.
@@ -336,6 +402,39 @@ mod tests {
         let var = g.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0) / n;
         assert!((p.mean()[1] - mean).abs() < 1e-15);
         assert!((p.variance_of_mean()[1] / var - 1.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn splats_add_to_the_camera_estimate_over_the_light_paths_in_the_window() {
+        use crate::splat::Splats;
+        let mut film = Film::cropped(Window {
+            full_width: 8,
+            full_height: 8,
+            x0: 2,
+            y0: 2,
+            x1: 6,
+            y1: 6,
+        });
+        film.pixels[0].add(Rgb::splat(1.0));
+        let mut a = Splats::default();
+        (0..3).for_each(|_| a.count_path());
+        a.add(2, 2, Rgb::new(6.0, 0.0, 3.0));
+        a.add(0, 0, Rgb::splat(100.0)); // outside the window: another piece's
+        let mut b = Splats::default();
+        b.count_path();
+        b.add(2, 2, Rgb::new(2.0, 0.0, 1.0));
+        b.add(5, 5, Rgb::new(f32::NAN, 0.0, 0.0));
+        assert_eq!(film.add_splats(&a, None), 0);
+        assert_eq!(film.add_splats(&b, None), 1, "the NaN is dropped");
+        assert_eq!(film.light_paths, 4);
+        let img = film.image();
+        // (6 + 2) / 4 paths on top of the camera's 1.
+        assert_eq!(img.pixels[0], Rgb::new(3.0, 1.0, 1.0 + 1.0));
+        assert!(img.pixels[1..].iter().all(|p| *p == Rgb::ZERO));
+        // Splats 6, 2, 0, 0 over four paths: (E[c^2] - mean^2) / (n - 1) for the mean.
+        let v = film.variance_image().pixels[0].r as f64;
+        let (m, sq) = (2.0, (36.0 + 4.0) / 4.0);
+        assert!((v - (sq - m * m) / 3.0).abs() < 1e-6, "{v}");
     }
 
     #[test]

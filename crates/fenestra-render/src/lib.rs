@@ -22,6 +22,7 @@ pub mod registry;
 pub mod render_scene;
 pub mod sample_context;
 pub mod settings;
+pub mod splat;
 
 pub use control::{NoProgress, Progress, RenderControl};
 pub use fenestra_core::stats::{RayCounters, RenderStats};

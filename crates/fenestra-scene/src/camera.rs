@@ -14,6 +14,23 @@ pub enum FieldOfView {
     ShorterAxis(f32),
 }
 
+/// Where a point appears on the film, for paths that reach the camera from the scene (light
+/// tracing): the film position and the density with which camera rays take its direction.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Projection {
+    /// Film position in pixels (x right, y down, (0, 0) the image's top left corner), as
+    /// [`Camera::generate_ray`] takes it.
+    pub film: Vec2,
+    /// Unit direction from the pinhole to the point.
+    pub dir: Vec3,
+    /// Distance from the pinhole to the point.
+    pub distance: f32,
+    /// Solid-angle density of `dir` for film positions of density 1 per square pixel: a
+    /// camera sample drawn with density q (per square pixel) takes `dir` with density
+    /// q * `dir_pdf`, and a light path's vertex seen by the pixel counts with that weight.
+    pub dir_pdf: f32,
+}
+
 /// A pinhole camera.
 #[derive(Clone, Debug)]
 pub struct Camera {
@@ -157,6 +174,41 @@ impl Camera {
             (self.forward + self.right * sx + self.up * sy).normalize(),
         )
     }
+
+    /// Where `p` appears on a `width` x `height` film, or `None` when it lies behind the
+    /// pinhole or outside the film: the inverse of [`Camera::generate_ray`].
+    pub fn project(&self, p: Vec3, width: u32, height: u32) -> Option<Projection> {
+        let v = p - self.position;
+        // v = t (forward + sx right + sy up): solve for (t, t sx, t sy).
+        let basis = Mat3::from_cols(self.forward, self.right, self.up);
+        let c = basis.inverse() * v;
+        if !(c.x > 0.0) {
+            return None;
+        }
+        let (sx, sy) = (c.y / c.x, c.z / c.x);
+        let [x0, x1, y0, y1] = self.window(width, height);
+        let film = Vec2::new(
+            (sx - x0) / (x1 - x0) * width as f32,
+            (y1 - sy) / (y1 - y0) * height as f32,
+        );
+        let inside =
+            film.x >= 0.0 && film.x < width as f32 && film.y >= 0.0 && film.y < height as f32;
+        let distance = v.length();
+        if !inside || !(distance > 0.0) {
+            return None;
+        }
+        // The film plane's point s = forward + sx right + sy up, of area |right x up| per unit
+        // of (sx, sy), subtends the solid angle |(right x up) . s| / |s|^3 per unit area.
+        let s = self.forward + self.right * sx + self.up * sy;
+        let pixel_area = (x1 - x0) * (y1 - y0) / (width as f32 * height as f32);
+        let per_area = self.right.cross(self.up).dot(s).abs() / s.length().powi(3);
+        Some(Projection {
+            film,
+            dir: v / distance,
+            distance,
+            dir_pdf: 1.0 / (per_area * pixel_area),
+        })
+    }
 }
 
 #[cfg(test)]
@@ -175,5 +227,68 @@ mod tests {
         assert!(top.d.z > 0.7);
         assert!(Camera::look_at(Vec3::ZERO, Vec3::Z, Vec3::Z, 60.0).is_err());
         assert!(Camera::look_at(Vec3::ZERO, Vec3::Y, Vec3::Z, 0.0).is_err());
+    }
+
+    /// A camera with a skewed, unnormalised, left-handed basis and an off-centre window, as
+    /// pbrt-v4's scenes may give.
+    fn skewed() -> Camera {
+        Camera::from_basis(
+            Vec3::new(0.3, -1.0, 2.0),
+            Vec3::new(0.1, 2.0, 0.2),
+            Vec3::new(-1.5, 0.1, 0.0),
+            Vec3::new(0.2, 0.0, 1.2),
+            FieldOfView::ShorterAxis(50.0),
+            Some([-1.2, 0.8, -0.5, 0.9]),
+        )
+        .expect("camera")
+    }
+
+    #[test]
+    fn projection_inverts_generate_ray() {
+        let c = skewed();
+        let (w, h) = (320, 200);
+        for (i, film) in [(3.5, 7.25), (160.0, 100.0), (319.0, 1.0), (0.5, 199.5)]
+            .into_iter()
+            .enumerate()
+        {
+            let film = Vec2::new(film.0, film.1);
+            let ray = c.generate_ray(film, w, h);
+            let p = ray.at(0.7 + 3.0 * i as f32);
+            let q = c.project(p, w, h).expect("in view");
+            assert!((q.film - film).length() < 2e-3, "{film} -> {}", q.film);
+            assert!((q.dir - ray.d).length() < 1e-5);
+            assert!((q.distance - (0.7 + 3.0 * i as f32)).abs() < 1e-4);
+        }
+        assert!(
+            c.project(c.position - c.forward(), w, h).is_none(),
+            "behind"
+        );
+        let off = c.generate_ray(Vec2::new(330.0, 100.0), w, h).at(2.0);
+        assert!(c.project(off, w, h).is_none(), "outside the film");
+    }
+
+    #[test]
+    fn the_direction_density_is_the_inverse_jacobian_of_the_film_map() {
+        // A pixel's worth of film positions around `film` covers the solid angle of the
+        // four directions' spherical quadrilateral: about 1 / dir_pdf.
+        let c = skewed();
+        let (w, h) = (64, 48);
+        for film in [
+            Vec2::new(10.0, 10.0),
+            Vec2::new(50.0, 30.0),
+            Vec2::new(32.0, 47.0),
+        ] {
+            let e = 1e-2;
+            let d = |dx: f32, dy: f32| c.generate_ray(film + Vec2::new(dx, dy), w, h).d;
+            let (a, b, cc) = (d(0.0, 0.0), d(e, 0.0), d(0.0, e));
+            let solid = (b - a).cross(cc - a).length() / (e * e);
+            let q = c.project(c.position + a * 5.0, w, h).expect("in view");
+            assert!(
+                (q.dir_pdf * solid - 1.0).abs() < 1e-2,
+                "{film}: {} against {}",
+                q.dir_pdf,
+                1.0 / solid
+            );
+        }
     }
 }

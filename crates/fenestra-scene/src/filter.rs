@@ -125,6 +125,29 @@ impl PixelFilter {
         Vec2::splat(0.5) + offset
     }
 
+    /// The density with which [`PixelFilter::sample`] gives the film position `at` (relative
+    /// to the pixel's top-left corner, as `sample` returns it), per square pixel: what a
+    /// light path's vertex seen at `at` counts for this pixel.
+    pub fn density(&self, at: Vec2) -> f32 {
+        if self.is_pixel_box() {
+            let inside = (0.0..1.0).contains(&at.x) && (0.0..1.0).contains(&at.y);
+            return if inside { 1.0 } else { 0.0 };
+        }
+        let d = at - Vec2::splat(0.5);
+        let axis = |x: f32, r: f32, k: usize| -> f32 {
+            if !(x.abs() <= r) {
+                return 0.0;
+            }
+            match (&self.shape, &self.tables) {
+                (FilterShape::Box, _) => 0.5 / r,
+                (FilterShape::Triangle, _) => (1.0 - x.abs() / r) / r,
+                (_, Some(t)) => t[k].density(x),
+                (_, None) => 0.0,
+            }
+        };
+        axis(d.x, self.radius.x, 0) * axis(d.y, self.radius.y, 1)
+    }
+
     /// The profile's value at offset `x` from the centre along one axis of half-width `r`
     /// (negative lobes included).
     pub fn profile(&self, x: f32, r: f32) -> f32 {
@@ -189,6 +212,8 @@ fn profile(shape: &FilterShape, x: f32, r: f32) -> f32 {
 struct Profile {
     r: f32,
     values: Vec<f32>,
+    /// Area under the linear profile, in units of its pieces.
+    area: f32,
     /// Area up to each node, normalised to end at 1.
     cdf: Vec<f32>,
 }
@@ -210,7 +235,26 @@ impl Profile {
         if total > 0.0 {
             cdf.iter_mut().for_each(|c| *c /= total);
         }
-        Profile { r, values, cdf }
+        Profile {
+            r,
+            values,
+            area: total,
+            cdf,
+        }
+    }
+
+    /// The density of [`Profile::sample`]'s offsets at `x` in [-r, r].
+    fn density(&self, x: f32) -> f32 {
+        let step = 2.0 * self.r / PIECES as f32;
+        let at = ((x + self.r) / step).clamp(0.0, PIECES as f32);
+        let i = (at as usize).min(PIECES - 1);
+        let s = at - i as f32;
+        let v = self.values[i] * (1.0 - s) + self.values[i + 1] * s;
+        if self.area > 0.0 {
+            v / (self.area * step)
+        } else {
+            0.0
+        }
     }
 
     /// An offset in [-r, r] with density proportional to the linear profile.
@@ -304,6 +348,36 @@ mod tests {
         let gaussian = PixelFilter::new(FilterShape::Gaussian { sigma: 0.5 }, Vec2::splat(2.0));
         let test = chi_square(&gaussian, |x| 1.0 - x.abs() / 2.0);
         assert!(test.p_value < 1e-6, "{test:?}");
+    }
+
+    #[test]
+    fn the_density_is_that_of_the_samples_and_integrates_to_one() {
+        let third = 1.0 / 3.0;
+        for (shape, r) in [
+            (FilterShape::Box, 0.5),
+            (FilterShape::Box, 1.0),
+            (FilterShape::Triangle, 2.0),
+            (FilterShape::Gaussian { sigma: 0.5 }, 1.5),
+            (FilterShape::Mitchell { b: third, c: third }, 2.0),
+        ] {
+            let filter = PixelFilter::new(shape.clone(), Vec2::new(r, r * 0.5));
+            // Separable: the density along x at the centre row is the x marginal's, up to a
+            // factor.
+            let test = chi_square(&filter, |x| filter.density(Vec2::new(0.5 + x, 0.5)));
+            assert!(test.p_value > 1e-3, "{shape:?}: {test:?}");
+            let n = 400;
+            let (rx, ry) = (r, r * 0.5);
+            let cell = (2.0 * rx / n as f32) * (2.0 * ry / n as f32);
+            let total: f64 = (0..n * n)
+                .map(|k| {
+                    let x = -rx + 2.0 * rx * ((k % n) as f32 + 0.5) / n as f32;
+                    let y = -ry + 2.0 * ry * ((k / n) as f32 + 0.5) / n as f32;
+                    (filter.density(Vec2::new(0.5 + x, 0.5 + y)) * cell) as f64
+                })
+                .sum();
+            assert!((total - 1.0).abs() < 2e-3, "{shape:?}: {total}");
+            assert_eq!(filter.density(Vec2::new(0.5 + 1.01 * rx, 0.5)), 0.0);
+        }
     }
 
     #[test]

@@ -22,7 +22,7 @@ pub mod transform;
 pub mod view;
 
 pub use accel::{Backend, Hit, RayQuery, PACKET};
-pub use camera::{Camera, CameraError, FieldOfView};
+pub use camera::{Camera, CameraError, FieldOfView, Projection};
 pub use interaction::SurfaceInteraction;
 pub use light::{Emission, EnvironmentDesc, LightDesc};
 pub use material::Material;

@@ -176,6 +176,25 @@ impl Bsdf {
         )
     }
 
+    /// What a sample drawn for `wo` towards `wi` (local directions) must be multiplied by when
+    /// it carries light from `wo`'s side rather than radiance towards it (light paths, the
+    /// adjoint of camera paths): refraction through a dielectric interface compresses
+    /// radiance by 1/eta'^2 and leaves importance unscaled (Veach 1997 §5.2), so eta'^2 where
+    /// the sample crosses such an interface, 1 otherwise (panes come back into the medium
+    /// they left).
+    pub fn importance_scale(&self, wo: Vec3, wi: Vec3) -> f32 {
+        let eta = match self {
+            Bsdf::SmoothDielectric(b) => b.eta,
+            Bsdf::RoughDielectric(b) => b.eta(),
+            _ => return 1.0,
+        };
+        if wo.z * wi.z >= 0.0 {
+            return 1.0;
+        }
+        let etap = if wo.z > 0.0 { eta } else { 1.0 / eta };
+        etap * etap
+    }
+
     /// BSDF value f(wo, wi) (without the cosine).
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> Rgb {
         match self {

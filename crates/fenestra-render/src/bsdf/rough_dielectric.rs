@@ -41,6 +41,11 @@ fn half_vector(wo: Vec3, wi: Vec3, eta: f32) -> Option<(Vec3, f32, bool)> {
 }
 
 impl RoughDielectric {
+    /// Interior index over exterior index.
+    pub fn eta(&self) -> f32 {
+        self.eta
+    }
+
     /// The interface of relative index `eta` and GGX roughness `alpha`.
     pub fn new(eta: f32, alpha: f32) -> Self {
         RoughDielectric {

@@ -14,6 +14,7 @@ use crate::film::{Film, Pixel, Window};
 use crate::render_scene::RenderScene;
 use crate::sample_context::SampleContext;
 use crate::settings::RenderSettings;
+use crate::splat::Splats;
 use fenestra_core::stats::{RayCounters, RenderStats};
 use fenestra_core::{Rgb, Sampler};
 use rayon::prelude::*;
@@ -118,6 +119,13 @@ pub trait PassEstimator: Sync {
         }
     }
 
+    /// The splats of light paths that a block's statistics gathered during the pass (light
+    /// tracing): the film adds them after the pass, every block's, if the pass keeps its
+    /// samples. None by default.
+    fn take_splats(&self, _stats: &mut Self::BlockStats) -> Option<Splats> {
+        None
+    }
+
     /// Called after each completed pass with the film and every block's statistics in block
     /// order: whether to go on.
     fn end_pass(&mut self, scene: &RenderScene, film: &Film, blocks: Vec<Self::BlockStats>)
@@ -176,7 +184,10 @@ pub fn render_passes<E: PassEstimator>(
                 .map(|view| pass.render(shared, scene, control, view))
                 .collect();
         let mut block_stats = Vec::with_capacity(blocks.count());
-        for (stats, counters) in rendered {
+        for (mut stats, counters) in rendered {
+            if let Some(splats) = estimator.take_splats(&mut stats).filter(|_| keeps) {
+                rays.dropped += film.add_splats(&splats, scene.sensor_response());
+            }
             block_stats.push(stats);
             rays += counters;
         }

@@ -18,7 +18,7 @@ pub use light_rays::{
     MAX_REFRACTIONS,
 };
 pub use light_sampling::LightNextEvent;
-pub use next_event::{Found, NextEvent, NoNextEvent, Scattered, Shading};
+pub use next_event::{sides_agree, Found, NextEvent, NoNextEvent, Scattered, Shading};
 pub use path::{Gather, NoGather, PathTracer, Start};
 pub use path_options::{Mis, PathConfig, PathOptions, Roulette, Sides};
 

@@ -1,0 +1,104 @@
+//! Light paths from the sun through the portals (lt) must render what af_hf renders of the
+//! sun's light: the glossy room without its sky (Ward floor, GGX metals: the glint paths)
+//! at several path lengths, over the image and its 8x8 regions; and the same pixels for any
+//! thread count.
+
+use fenestra_builtin as builtin;
+use fenestra_core::Vec3;
+use fenestra_portals::lt::Lt;
+use fenestra_portals::{PortalSource, Portals};
+use fenestra_render::integrator::{af_hf, PathOptions};
+use fenestra_render::light::LightSelection;
+use fenestra_render::{render_image, Film, Integrator, RenderScene, RenderSettings};
+use fenestra_scene::light::LightDesc;
+use fenestra_scene::{Backend, Scene, SceneDesc};
+
+const SIZE: u32 = 32;
+
+/// The glossy room lit by its sun alone.
+fn sunlit_room() -> SceneDesc {
+    let mut desc = builtin::load("glossy-room").expect("builtin");
+    desc.lights
+        .retain(|l| !matches!(l, LightDesc::Environment(_)));
+    desc
+}
+
+/// The room's window (2 x 1.4 m in the wall y = 0), a little larger: lines through the wall
+/// beside it only meet the wall's outside.
+fn window() -> PortalSource {
+    portal(1.1)
+}
+
+/// The window scaled by `scale` about its centre.
+fn portal(scale: f32) -> PortalSource {
+    let (c, h) = (Vec3::new(2.5, 0.0, 1.5), Vec3::new(1.0, 0.0, 0.7) * scale);
+    PortalSource::Given(Portals::from_quads(&[[
+        Vec3::new(c.x - h.x, 0.0, c.z - h.z),
+        Vec3::new(c.x + h.x, 0.0, c.z - h.z),
+        Vec3::new(c.x + h.x, 0.0, c.z + h.z),
+        Vec3::new(c.x - h.x, 0.0, c.z + h.z),
+    ]]))
+}
+
+fn render(integrator: &mut dyn Integrator, spp: u32, threads: usize) -> Film {
+    let scene = RenderScene::new(Scene::build(sunlit_room(), Backend::default()).expect("scene"));
+    let settings = RenderSettings {
+        first_sample: 0,
+        spp,
+        time_limit: None,
+        seed: 5,
+    };
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("pool");
+    pool.install(|| render_image(integrator, &scene, SIZE, SIZE, &settings))
+        .expect("render")
+        .0
+}
+
+fn path(depth: u32) -> PathOptions {
+    PathOptions {
+        max_depth: depth,
+        ..PathOptions::default()
+    }
+}
+
+#[test]
+fn light_paths_render_what_path_tracing_renders_of_the_sun() {
+    for (depth, spp_af, spp_lt) in [(2, 512, 1024), (3, 1024, 2048), (5, 2048, 2048)] {
+        let af = render(&mut af_hf(path(depth), LightSelection::Power), spp_af, 2);
+        let lt = render(&mut Lt::new(path(depth), window()), spp_lt, 2);
+        let mean = |f: &Film| {
+            f.image()
+                .pixels
+                .iter()
+                .map(|p| p.luminance() as f64)
+                .sum::<f64>()
+        };
+        let t = fenestra_eval::agreement(&af.estimate(), &lt.estimate(), 0.01, 8).expect("sizes");
+        assert!(
+            t.passed(),
+            "path length {depth}: lt/af_hf {:.4}: {t:?}",
+            mean(&lt) / mean(&af)
+        );
+        assert!(lt.light_paths == (SIZE * SIZE * spp_lt) as u64);
+    }
+    // The test sees light missing: a portal of 0.9 times the window leaves a tenth of its
+    // edges' sunlight out.
+    let af = render(&mut af_hf(path(2), LightSelection::Power), 512, 2);
+    let lt = render(&mut Lt::new(path(2), portal(0.9)), 1024, 2);
+    let t = fenestra_eval::agreement(&af.estimate(), &lt.estimate(), 0.01, 8).expect("sizes");
+    assert!(!t.passed(), "a small portal: {t:?}");
+}
+
+#[test]
+fn light_paths_splat_the_same_pixels_for_any_thread_count() {
+    let one = render(&mut Lt::new(path(4), window()), 8, 1);
+    let two = render(&mut Lt::new(path(4), window()), 8, 2);
+    assert_eq!(one.splats, two.splats);
+    assert!(
+        one.splats.iter().any(|p| p.sum != [0; 3]),
+        "the sun is seen"
+    );
+}
