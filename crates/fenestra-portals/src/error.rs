@@ -13,9 +13,9 @@ pub enum PortalError {
     /// Photons need a light to start from.
     #[error("the scene has no light to trace photons from")]
     NoLight,
-    /// lp_hf was given no portal.
-    #[error("lp_hf needs light portals and the scene has none")]
-    NoPortals,
+    /// An integrator that needs portals (named) was given none.
+    #[error("{0} needs light portals and the scene has none")]
+    NoPortals(&'static str),
     /// A portals.json file is unreadable or describes an invalid portal.
     #[error("{}: {reason}", path.display())]
     File {

@@ -291,7 +291,7 @@ impl NextEvent for PortalNextEvent {
             return Ok(());
         }
         if portals.is_empty() {
-            return Err(PortalError::NoPortals.into());
+            return Err(PortalError::NoPortals("lp_hf").into());
         }
         let portals = portals.with_strategy(self.options.sampling, self.options.choice);
         // Beside the portals, which carry the sky, the suns take a light sample at every

@@ -70,7 +70,7 @@ impl Integrator for Lt {
     ) -> Result<(), IntegratorError> {
         let Sourced { portals, .. } = self.source.portals(scene, control)?;
         if portals.is_empty() {
-            return Err(PortalError::NoPortals.into());
+            return Err(PortalError::NoPortals("lt").into());
         }
         self.suns = suns_through(scene, portals.portals());
         if self.suns.is_empty() {

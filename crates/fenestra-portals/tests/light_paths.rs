@@ -102,3 +102,29 @@ fn light_paths_splat_the_same_pixels_for_any_thread_count() {
         "the sun is seen"
     );
 }
+
+#[test]
+fn light_paths_need_portals_and_a_sun() {
+    let settings = RenderSettings {
+        first_sample: 0,
+        spp: 1,
+        time_limit: None,
+        seed: 1,
+    };
+    let error = |desc: SceneDesc| {
+        let scene = RenderScene::new(Scene::build(desc, Backend::default()).expect("scene"));
+        let mut lt = Lt::new(path(3), PortalSource::Scene);
+        match render_image(&mut lt, &scene, 8, 8, &settings) {
+            Ok(_) => panic!("rendered"),
+            Err(e) => e.to_string(),
+        }
+    };
+    // The glossy room's window is no portal of the scene's own.
+    assert_eq!(
+        error(sunlit_room()),
+        "lt needs light portals and the scene has none"
+    );
+    // The box's hole is, but a panel lights it, not a sun.
+    let box_hole = builtin::load("box-hole").expect("builtin");
+    assert!(error(box_hole).contains("no sun"), "a sun is asked for");
+}
