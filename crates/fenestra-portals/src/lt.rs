@@ -12,7 +12,9 @@ use crate::source::{PortalSource, Sourced};
 use crate::PortalError;
 use fenestra_core::stats::{RayCounters, RenderStats};
 use fenestra_core::{Rgb, Sampler};
-use fenestra_render::driver::{render_passes, Budget, PassEstimator, PassInfo, PixelState};
+use fenestra_render::driver::{
+    next_pass_size, render_passes, Budget, PassEstimator, PassInfo, PixelState,
+};
 use fenestra_render::film::Film;
 use fenestra_render::integrator::{PathOptions, Split};
 use fenestra_render::sample_context::SampleContext;
@@ -20,9 +22,6 @@ use fenestra_render::settings::RenderSettings;
 use fenestra_render::splat::Splats;
 use fenestra_render::{Integrator, IntegratorError, RenderControl, RenderScene};
 use serde_json::json;
-
-/// Largest number of light paths per pixel traced in one pass.
-const MAX_PASS: u32 = 32;
 
 /// The lt integrator: light paths from the suns through the portals `source` gives.
 pub struct Lt {
@@ -180,7 +179,7 @@ impl PassEstimator for LightPasses<'_> {
 
     fn end_pass(&mut self, _: &RenderScene, _: &Film, _: Vec<Splats>) -> bool {
         self.budget.done += self.current;
-        self.size = (self.size * 2).min(MAX_PASS);
+        self.size = next_pass_size(self.size);
         true
     }
 }

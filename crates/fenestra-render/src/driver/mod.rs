@@ -19,7 +19,7 @@ pub mod progressive;
 
 pub use completion::{render_to_completion, BlockTask, CompletionEstimator, PixelEstimate};
 pub use passes::{render_passes, PassEstimator, PassInfo, PixelState};
-pub use progressive::{render_progressive, Budget, PathEstimator};
+pub use progressive::{next_pass_size, render_progressive, Budget, PathEstimator};
 
 /// Side of the square pixel blocks that block/pass estimators gather statistics over.
 pub const BLOCK_SIZE: u32 = 8;

@@ -45,6 +45,12 @@ const RECORDS_PER_SAMPLE: f64 = 2.0;
 /// Largest number of samples per pixel added in one pass.
 const MAX_PASS: u32 = 32;
 
+/// The size of the pass after one of `size` samples per pixel: twice as many, up to 32 (small
+/// first passes make Ctrl-C, time limits and convergence curves prompt).
+pub fn next_pass_size(size: u32) -> u32 {
+    (size * 2).min(MAX_PASS)
+}
+
 /// Renders `estimator` with `settings.spp` samples per pixel, or as many as fit in the time
 /// limit (a whole number per pixel).
 pub fn render_progressive(
@@ -223,7 +229,7 @@ impl<E: PathEstimator> PassEstimator for Schedule<'_, E> {
         if !self.learning {
             self.budget.done += self.current;
         }
-        self.size = (self.size * 2).min(MAX_PASS);
+        self.size = next_pass_size(self.size);
         true
     }
 }
