@@ -12,11 +12,15 @@
 //! projected area and n(x) the portals the line crosses.
 
 use crate::portal::Portal;
+use fenestra_core::mis::MisHeuristic;
 use fenestra_core::stats::RayCounters;
 use fenestra_core::{Frame, Ray, Rgb, Sampler, Vec2, Vec3};
 use fenestra_render::bsdf::Bsdf;
-use fenestra_render::integrator::{sides_agree, PathOptions, Roulette};
-use fenestra_render::light::{DistantLight, Light};
+use fenestra_render::integrator::{
+    seen_density, sides_agree, LightPaths, LightSide, PathOptions, Roulette,
+};
+use fenestra_render::light::{DistantLight, Light, LightContext};
+use fenestra_render::sample_context::SampleContext;
 use fenestra_render::splat::Splats;
 use fenestra_render::RenderScene;
 use fenestra_scene::{Camera, SurfaceInteraction};
@@ -27,6 +31,8 @@ const MAX_PANES: u32 = 16;
 /// One sun's lines through the portals.
 #[derive(Clone, Debug)]
 pub struct SunThroughPortals {
+    /// The sun's index in the scene's lights.
+    light: usize,
     /// The direction sunlight travels.
     dir: Vec3,
     irradiance: Rgb,
@@ -40,9 +46,14 @@ pub struct SunThroughPortals {
 }
 
 impl SunThroughPortals {
-    /// `sun`'s lines through `portals` into the scene of bounding sphere `sphere`, or `None`
-    /// when no portal faces the sun.
-    pub fn new(sun: &DistantLight, portals: &[Portal], sphere: (Vec3, f32)) -> Option<Self> {
+    /// The lines of `sun` (light `light` of the scene) through `portals` into the scene of
+    /// bounding sphere `sphere`, or `None` when no portal faces the sun.
+    pub fn new(
+        light: usize,
+        sun: &DistantLight,
+        portals: &[Portal],
+        sphere: (Vec3, f32),
+    ) -> Option<Self> {
         let dir = sun.direction();
         let mut kept = Vec::new();
         let mut cdf = Vec::new();
@@ -56,6 +67,7 @@ impl SunThroughPortals {
             }
         }
         (projected > 0.0).then_some(SunThroughPortals {
+            light,
             dir,
             irradiance: sun.irradiance(),
             portals: kept,
@@ -103,36 +115,124 @@ impl SunThroughPortals {
     }
 }
 
+/// The light paths of the scene's suns through the portals: a sun picked by its power
+/// through them, `per_sample` paths per camera sample.
+#[derive(Clone, Debug)]
+pub struct SunPaths {
+    suns: Vec<SunThroughPortals>,
+    /// Cumulative powers of `suns`.
+    cdf: Vec<f32>,
+    per_sample: f32,
+}
+
+impl SunPaths {
+    /// The light paths of the suns (distant lights) of `scene` through `portals`,
+    /// `per_sample` of them per camera sample; `None` when no portal faces a sun.
+    pub fn new(scene: &RenderScene, portals: &[Portal], per_sample: f32) -> Option<Self> {
+        let sphere = scene.scene.bounding_sphere();
+        let suns: Vec<_> = (scene.lights.lights.iter().enumerate())
+            .filter_map(|(i, l)| match l {
+                Light::Distant(sun) => SunThroughPortals::new(i, sun, portals, sphere),
+                _ => None,
+            })
+            .collect();
+        let mut total = 0.0;
+        let cdf = (suns.iter())
+            .map(|s| {
+                total += s.power();
+                total
+            })
+            .collect();
+        (!suns.is_empty()).then_some(SunPaths {
+            suns,
+            cdf,
+            per_sample,
+        })
+    }
+
+    /// The suns' count.
+    pub fn len(&self) -> usize {
+        self.suns.len()
+    }
+
+    /// Whether there are none (never, as built).
+    pub fn is_empty(&self) -> bool {
+        self.suns.is_empty()
+    }
+
+    /// Probability of picking sun `k`.
+    fn pick(&self, k: usize) -> f32 {
+        let total = self.cdf.last().copied().unwrap_or(0.0);
+        (self.suns[k].power() / total).max(f32::MIN_POSITIVE)
+    }
+}
+
+impl LightPaths for SunPaths {
+    fn emitted(&self, light: usize, p: Vec3, ng: Vec3) -> f32 {
+        (self.suns.iter().enumerate())
+            .find(|(_, s)| s.light == light)
+            .map_or(0.0, |(k, s)| {
+                self.per_sample * self.pick(k) * s.density(p, ng)
+            })
+    }
+}
+
+/// How light paths are weighed against a path tracer's next-event samples of the suns.
+#[derive(Clone, Copy)]
+pub struct Joined<'a> {
+    /// The MIS heuristic.
+    pub mis: MisHeuristic,
+    /// The path tracer's probability of picking a light at a vertex
+    /// ([`NextEvent::light_pick`](fenestra_render::integrator::NextEvent::light_pick)).
+    pub light_pick: &'a (dyn Fn(&LightContext, usize) -> f32 + Sync),
+}
+
 /// Light tracing from suns through portals into a film of `width` x `height` pixels (the
 /// whole image's).
 pub struct LightTracer<'a> {
     pub(crate) scene: &'a RenderScene,
     pub(crate) camera: &'a Camera,
-    pub(crate) suns: &'a [SunThroughPortals],
-    /// Cumulative powers of `suns`, for picking one.
-    pub(crate) cdf: &'a [f32],
+    pub(crate) suns: &'a SunPaths,
     pub(crate) options: &'a PathOptions,
     pub(crate) width: u32,
     pub(crate) height: u32,
+    /// The path tracer it is joined to, if any: splats are weighted by MIS against it.
+    pub(crate) joined: Option<Joined<'a>>,
 }
 
 impl LightTracer<'_> {
     /// Traces one light path from `sampler`'s stream, splatting what it brings to the pixels
     /// that see its vertices; its rays are counted in `rays` (segments as bounces,
     /// connections to the camera as shadow rays).
-    pub fn trace(&self, sampler: &mut Sampler, splats: &mut Splats, rays: &mut RayCounters) {
+    /// `ctx` is the camera sample the path belongs to.
+    pub fn trace(
+        &self,
+        ctx: &SampleContext,
+        sampler: &mut Sampler,
+        splats: &mut Splats,
+        rays: &mut RayCounters,
+    ) {
         splats.count_path();
-        let total = self.cdf.last().copied().unwrap_or(0.0);
+        let paths = self.suns;
+        let total = paths.cdf.last().copied().unwrap_or(0.0);
         if !(total > 0.0) {
             return;
         }
         let u_pick = sampler.next_1d() * total;
-        let k = self
-            .cdf
-            .partition_point(|&c| c <= u_pick)
-            .min(self.suns.len() - 1);
-        let sun = &self.suns[k];
-        let pick = (sun.power() / total).max(f32::MIN_POSITIVE);
+        let k = (paths.cdf.partition_point(|&c| c <= u_pick)).min(paths.suns.len() - 1);
+        let (sun, pick) = (&paths.suns[k], paths.pick(k));
+        let mut side = LightSide::default();
+        // (k pL, the path tracer's pick of the sun) at the path's first vertex.
+        let first = |si: &SurfaceInteraction, joined: &Joined| {
+            let at = LightContext {
+                p: si.p,
+                n: si.ns,
+                sample: ctx,
+            };
+            let pixels = (self.width * self.height) as f32;
+            let emitted = paths.emitted(sun.light, si.p, si.ng) * pixels;
+            (emitted, (joined.light_pick)(&at, sun.light))
+        };
         let through = sun.sample_point(sampler.next_1d(), sampler.next_2d());
         let mut ray = Ray::new(sun.line_start(through), sun.dir);
         // The flux a line carries, E A / (pick n): n(x) is the same along the whole line.
@@ -157,9 +257,15 @@ impl LightTracer<'_> {
             let pane = matches!(bsdf, Bsdf::ThinDielectric(_));
             if !pane {
                 vertices += 1;
-                // A connection at vertex j makes a path of j + 1 segments with the camera's.
-                if !bsdf.is_delta() && vertices < max_depth {
-                    self.connect(&si, bsdf, &frame, (wi, wi_local), beta, splats, rays);
+                if let Some(joined) = &self.joined {
+                    side.arrive(si.p, si.ng, || first(&si, joined));
+                }
+                // A connection at vertex j makes a path of j + 1 segments with the camera's;
+                // joined to a path tracer, the first vertex's light is its alone.
+                let own = self.joined.is_none() || vertices > 1;
+                if own && !bsdf.is_delta() && vertices < max_depth {
+                    let at = (&si, bsdf, &frame);
+                    self.connect(at, (wi, wi_local), beta, &side, splats, rays);
                 }
                 if vertices + 1 >= max_depth {
                     break;
@@ -182,7 +288,14 @@ impl LightTracer<'_> {
             }
             beta *= bs.weight * (bsdf.importance_scale(wi_local, bs.wi) * correction);
             ray = Ray::new(si.spawn(wo), wo);
-            if pane && bs.wi.z * wi_local.z < 0.0 {
+            let straight = pane && bs.wi.z * wi_local.z < 0.0;
+            if let Some(joined) = self.joined.as_ref().filter(|_| !straight) {
+                if pane {
+                    side.arrive(si.p, si.ng, || first(&si, joined));
+                }
+                side.leave(bsdf, wi_local, bs.wi, bs.delta);
+            }
+            if straight {
                 // Straight through a pane: no vertex, as for camera paths.
                 panes += 1;
                 if panes > MAX_PANES {
@@ -214,17 +327,15 @@ impl LightTracer<'_> {
         }
     }
 
-    /// Connects the non-delta vertex `si` (light arriving from `wi`, carrying `beta`) to the
-    /// camera: what it brings, weighted by each pixel's filter around where it lands. Returns
-    /// the rays traced (the visibility ray, if any).
-    #[allow(clippy::too_many_arguments)]
+    /// Connects the non-delta vertex `si` (BSDF `bsdf` in `frame`; light arriving from `wi`,
+    /// carrying `beta`; densities `side`) to the camera: what it brings, weighted by each
+    /// pixel's filter around where it lands, and by MIS if joined to a path tracer.
     fn connect(
         &self,
-        si: &SurfaceInteraction,
-        bsdf: &Bsdf,
-        frame: &Frame,
+        (si, bsdf, frame): (&SurfaceInteraction, &Bsdf, &Frame),
         (wi, wi_local): (Vec3, Vec3),
         beta: Rgb,
+        side: &LightSide,
         splats: &mut Splats,
         rays: &mut RayCounters,
     ) {
@@ -244,7 +355,7 @@ impl LightTracer<'_> {
         // dir_pdf |cos_o| / d^2 (the geometric normal: it is a change of area), with the
         // shading-normal correction |wi.ns| / |wi.ng| for the light's arrival.
         let cos_in = wi_local.z.abs() / wi.dot(si.ng).abs();
-        let g = seen.dir_pdf * wo.dot(si.ng).abs() / (seen.distance * seen.distance);
+        let g = seen_density(&seen, si.ng);
         let value = beta * f * (cos_in * g);
         if !value.is_finite() || value.is_black() {
             return;
@@ -258,9 +369,19 @@ impl LightTracer<'_> {
             return;
         }
         let value = value * tr;
+        // The MIS weight for a pixel whose filter density at the point is q: r / (q g) is its
+        // ratio of light tracing's density to the path tracer's (Veach eq. 10.9).
+        let ratio = self
+            .joined
+            .map(|j| (j.mis, side.ratio_at_camera(bsdf, wo_local, wi_local)));
+        let weight = |q: f32| match ratio {
+            Some((mis, Some(r))) => mis.weight(r / (q * g), 1.0),
+            _ => 1.0,
+        };
         let filter = &self.camera.filter;
         if filter.is_pixel_box() {
             let (x, y) = (seen.film.x as u32, seen.film.y as u32);
+            let value = value * weight(1.0);
             splats.add(x.min(self.width - 1), y.min(self.height - 1), value);
             return;
         }
@@ -272,7 +393,7 @@ impl LightTracer<'_> {
                 let at = seen.film - Vec2::new(x as f32, y as f32);
                 let q = filter.density(at);
                 if q > 0.0 {
-                    splats.add(x, y, value * q);
+                    splats.add(x, y, value * (q * weight(q)));
                 }
             }
         }
@@ -287,17 +408,21 @@ fn pixel_span(f: f32, r: f32, size: u32) -> (u32, u32) {
     (first.min(end), end)
 }
 
-/// The scene's suns (distant lights) through `portals`.
-pub fn suns_through(scene: &RenderScene, portals: &[Portal]) -> Vec<SunThroughPortals> {
-    scene
-        .lights
-        .lights
-        .iter()
-        .filter_map(|l| match l {
-            Light::Distant(sun) => {
-                SunThroughPortals::new(sun, portals, scene.scene.bounding_sphere())
-            }
-            _ => None,
-        })
-        .collect()
+/// The light paths of the suns of `scene` through `portals`, `per_sample` per camera sample,
+/// or the error that `integrator` cannot render without them.
+pub fn suns_through(
+    scene: &RenderScene,
+    portals: &crate::portal::Portals,
+    integrator: &str,
+    per_sample: f32,
+) -> Result<SunPaths, fenestra_render::IntegratorError> {
+    SunPaths::new(scene, portals.portals(), per_sample).ok_or_else(|| {
+        fenestra_render::IntegratorError::Prepare(
+            format!(
+                "{integrator} traces light from suns (distant lights) through the portals: \
+                 the scene has no sun, or no portal faces one"
+            )
+            .into(),
+        )
+    })
 }

@@ -83,6 +83,17 @@ pub fn lp_hf(
     source: PortalSource,
     lights: LightNextEvent,
 ) -> Result<PathTracer<PortalNextEvent>, OptionError> {
+    portal_path_tracer("lp_hf", path, options, source, lights)
+}
+
+/// lp_hf's path tracer as integrator `name` says it (in its errors and notes).
+pub fn portal_path_tracer(
+    name: &'static str,
+    path: PathOptions,
+    options: PortalOptions,
+    source: PortalSource,
+    lights: LightNextEvent,
+) -> Result<PathTracer<PortalNextEvent>, OptionError> {
     options.check()?;
     let lights = if options.light_mix > 0.0 {
         lights.one_at_a_time().ok_or_else(|| {
@@ -98,9 +109,11 @@ pub fn lp_hf(
     Ok(PathTracer::new(
         "lp_hf",
         PortalNextEvent {
+            name,
             options,
             source,
             portals: Portals::default(),
+            found: Portals::default(),
             lights,
             estimated: None,
             none_found: false,
@@ -113,10 +126,14 @@ pub fn lp_hf(
 
 /// Portal sampling, mixed with light sampling, as a next-event strategy.
 pub struct PortalNextEvent {
+    /// The integrator's name, for its errors and notes.
+    name: &'static str,
     options: PortalOptions,
     source: PortalSource,
     /// The portals, with the sampling and choice rules (set when prepared).
     portals: Portals,
+    /// The portals the source gave, sampled or not (light paths enter through them).
+    found: Portals,
     lights: LightNextEvent,
     /// How the portals were estimated, when they were.
     estimated: Option<Estimation>,
@@ -164,6 +181,12 @@ impl PortalNextEvent {
     /// The portals in use (empty before preparation).
     pub fn portals(&self) -> &Portals {
         &self.portals
+    }
+
+    /// The portals the source gave, also where sampling them did not pay (empty before
+    /// preparation).
+    pub fn found_portals(&self) -> &Portals {
+        &self.found
     }
 
     /// The probabilities that a vertex samples the compact lights and the portals: both 1
@@ -283,16 +306,18 @@ impl NextEvent for PortalNextEvent {
         } = self.source.portals(scene, control)?;
         self.estimated = estimation;
         if estimation.is_some() && portals.is_empty() {
-            control.progress.note(
+            control.progress.note(&format!(
                 "portals: none found that carries light to what the camera sees; \
-                 lp_hf samples the lights alone, as af_hf does",
-            );
+                 {} samples the lights alone, as af_hf does",
+                self.name
+            ));
             self.none_found = true;
             return Ok(());
         }
         if portals.is_empty() {
-            return Err(PortalError::NoPortals("lp_hf").into());
+            return Err(PortalError::NoPortals(self.name).into());
         }
+        self.found = portals.clone();
         let portals = portals.with_strategy(self.options.sampling, self.options.choice);
         // Beside the portals, which carry the sky, the suns take a light sample at every
         // vertex: the other lights' picks, when the sampler splits, cost no ray there.
@@ -324,9 +349,10 @@ impl NextEvent for PortalNextEvent {
             if verdict.gain() < 1.0 {
                 control.progress.note(&format!(
                     "portals: light sampling alone measured {:.2}x as efficient at the points \
-                     the camera sees ({rays}); lp_hf samples the lights alone, as af_hf does \
+                     the camera sees ({rays}); {} samples the lights alone, as af_hf does \
                      (--portal-keep keeps the portals)",
-                    1.0 / verdict.gain()
+                    1.0 / verdict.gain(),
+                    self.name
                 ));
                 return Ok(());
             }
@@ -508,6 +534,18 @@ impl NextEvent for PortalNextEvent {
             p += light_mix * self.lights.light_pdf(scene, &ctx, wi, found);
         }
         through * p
+    }
+
+    /// As [`PortalNextEvent::sample`] takes lights: all of them where there are no portals,
+    /// else the compact ones, with the probability that the vertex samples them.
+    fn light_pick(&self, scene: &RenderScene, ctx: &LightContext, light: usize) -> f32 {
+        if self.portals.is_empty() {
+            return self.lights.light_pick(ctx, light);
+        }
+        if !scene.lights.lights[light].is_compact() {
+            return 0.0;
+        }
+        self.shares(scene).0 * self.lights.light_pick(ctx, light)
     }
 
     fn report(&self, stats: &mut RenderStats) {

@@ -4,6 +4,7 @@
 //! wave of samples traced together.
 
 use crate::light::LightRecords;
+use crate::render_scene::RenderScene;
 use crate::sample_context::SampleContext;
 use fenestra_core::stats::RayCounters;
 use fenestra_core::{Ray, Sampler};
@@ -36,6 +37,26 @@ pub struct Wave<'a> {
 }
 
 impl Wave<'_> {
+    /// The samples `ctxs` as a wave along their camera rays (each drawn from its stream in
+    /// `samplers`), handed to `f`; light samples and rays are counted in `records` and `rays`.
+    pub fn of_cameras<R>(
+        scene: &RenderScene,
+        ctxs: &[SampleContext],
+        samplers: &mut [Sampler],
+        records: &mut LightRecords,
+        rays: &mut RayCounters,
+        f: impl FnOnce(&mut Wave) -> R,
+    ) -> R {
+        let cameras = SampleContext::camera_rays(ctxs, &scene.scene.camera, samplers, rays);
+        f(&mut Wave {
+            cameras: &cameras,
+            ctxs,
+            samplers,
+            records,
+            rays,
+        })
+    }
+
     /// Sample `i` as a path sample of its own.
     pub fn sample(&mut self, i: usize) -> PathSample<'_> {
         PathSample {

@@ -245,6 +245,17 @@ impl Bsdf {
         }
     }
 
+    /// [`Bsdf::pdf`] where two sampling strategies must agree on it exactly (the densities in
+    /// an MIS weight that a camera path and a light path compute for the same path): the
+    /// density itself, but for a layered BSDF, whose density is a random-walk estimate seeded
+    /// by the directions' bits, a deterministic stand-in ([`Layered::mis_pdf`]).
+    pub fn mis_pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        match self {
+            Bsdf::Layered(b) => opaque_side(wo, wi).map_or(0.0, |(wo, wi)| b.mis_pdf(wo, wi)),
+            _ => self.pdf(wo, wi),
+        }
+    }
+
     /// Samples an incident direction; `uc` picks a lobe, `u` places the direction.
     pub fn sample(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<BsdfSample> {
         if wo.z == 0.0 {

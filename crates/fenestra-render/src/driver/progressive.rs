@@ -207,15 +207,9 @@ impl<E: PathEstimator> PassEstimator for Schedule<'_, E> {
         rays: &mut RayCounters,
         out: &mut [Rgb],
     ) {
-        let cameras = SampleContext::camera_rays(ctxs, &scene.scene.camera, samplers, rays);
-        let wave = &mut Wave {
-            cameras: &cameras,
-            ctxs,
-            samplers,
-            records,
-            rays,
-        };
-        self.estimator.li_many(scene, wave, out);
+        Wave::of_cameras(scene, ctxs, samplers, records, rays, |wave| {
+            self.estimator.li_many(scene, wave, out)
+        });
     }
 
     fn end_pass(&mut self, _: &RenderScene, film: &Film, blocks: Vec<LightRecords>) -> bool {

@@ -26,6 +26,8 @@ pub struct ShadowRay {
     /// What the sample brings where nothing blocks it (through thin glass, times the panes'
     /// transmittance). The path loop multiplies in the path's throughput.
     pub value: Rgb,
+    /// The light sampled (its index in the scene's lights).
+    pub light: usize,
     /// The record a learning light sampler keeps of the sample if light arrives, its
     /// weight not yet multiplied by the transmittance.
     pub record: Option<LightRecord>,

@@ -223,8 +223,14 @@ impl LightNextEvent {
             ray,
             tmax,
             value: f * ls.li * (wi_local.z.abs() * weight / light_pdf),
+            light: index,
             record,
         })
+    }
+
+    /// Probability that [`LightNextEvent::sample_light`] at `ctx` takes light `light`.
+    pub fn light_pick(&self, ctx: &LightContext, light: usize) -> f32 {
+        self.sampler.pmf(ctx, light)
     }
 
     /// Density with which [`LightNextEvent::sample_light`] at `ctx` gives the direction `wi`
@@ -277,6 +283,10 @@ impl NextEvent for LightNextEvent {
     ) -> Rgb {
         self.sample_light(scene, s, false, mis, sample, &mut out.shadows);
         Rgb::ZERO
+    }
+
+    fn light_pick(&self, _: &RenderScene, ctx: &LightContext, light: usize) -> f32 {
+        self.light_pick(ctx, light)
     }
 
     fn report(&self, stats: &mut RenderStats) {

@@ -11,6 +11,7 @@ mod light_rays;
 mod light_sampling;
 mod next_event;
 mod path;
+mod path_densities;
 mod path_options;
 
 pub use light_rays::{
@@ -20,6 +21,7 @@ pub use light_rays::{
 pub use light_sampling::LightNextEvent;
 pub use next_event::{sides_agree, Found, NextEvent, NoNextEvent, Scattered, Shading};
 pub use path::{Gather, NoGather, PathTracer, Start};
+pub use path_densities::{pixel_density, seen_density, CameraSide, LightPaths, LightSide};
 pub use path_options::{Mis, PathConfig, PathOptions, Roulette, Sides};
 
 use crate::control::RenderControl;

@@ -207,6 +207,12 @@ pub trait NextEvent: Send + Sync {
         sample: &SampleContext,
     ) -> f32;
 
+    /// Probability that a sample at a vertex seen as `ctx` takes the compact light `light` by
+    /// a shadow ray (for the MIS weight against light paths from it); 0 where it does not.
+    fn light_pick(&self, _scene: &RenderScene, _ctx: &LightContext, _light: usize) -> f32 {
+        0.0
+    }
+
     /// Adds the strategy's own figures to a render's statistics.
     fn report(&self, _stats: &mut RenderStats) {}
 }

@@ -7,8 +7,9 @@
 //! it answers, its estimate replaces the path's continuation, and the BSDF-sampled ray only
 //! collects the emitters it finds.
 
-use super::light_rays::{trace_probes, trace_shadows, LightRays, MAX_REFRACTIONS};
+use super::light_rays::{trace_probes, trace_shadows, LightRays, ShadowRay, MAX_REFRACTIONS};
 use super::next_event::{Found, NextEvent, Scattered, Shading};
+use super::path_densities::{pixel_density, CameraSide, LightPaths};
 use super::path_options::{PathOptions, Roulette};
 use super::{Integrator, IntegratorError, Split};
 use crate::bsdf::Bsdf;
@@ -23,6 +24,7 @@ use crate::settings::RenderSettings;
 use fenestra_core::stats::{RayCounters, RenderStats};
 use fenestra_core::{Frame, Ray, Rgb, Vec3};
 use fenestra_scene::{Hit, PACKET};
+use std::sync::Arc;
 
 /// Consecutive panes a path may pass straight through (as visibility rays do).
 const MAX_PANES: u32 = 16;
@@ -32,6 +34,9 @@ pub struct PathTracer<N> {
     name: &'static str,
     next_event: N,
     options: PathOptions,
+    /// Light paths that share the light of some lights: the next-event samples of those
+    /// lights are weighted by MIS against them.
+    light_paths: Option<Arc<dyn LightPaths>>,
 }
 
 /// Indirect light that a cache supplies at a path vertex instead of the path's continuation.
@@ -91,7 +96,19 @@ impl<N: NextEvent> PathTracer<N> {
             name,
             next_event,
             options,
+            light_paths: None,
         }
+    }
+
+    /// Weighs the next-event samples of the lights `light_paths` start at by MIS against
+    /// them (the path tracer's part of a combination with light tracing).
+    pub fn join_light_paths(&mut self, light_paths: Arc<dyn LightPaths>) {
+        self.light_paths = Some(light_paths);
+    }
+
+    /// The path options.
+    pub fn options(&self) -> &PathOptions {
+        &self.options
     }
 
     /// The next-event strategy.
@@ -123,6 +140,27 @@ impl<N: NextEvent> PathTracer<N> {
             }
             _ => 1.0,
         }
+    }
+
+    /// The MIS weight of the next-event sample `shadow` taken at `s` against the light paths
+    /// `joined` (1 for lights they do not start at).
+    fn light_path_weight(
+        &self,
+        scene: &RenderScene,
+        s: &Shading,
+        path: &PathState<N::Vertex>,
+        shadow: &ShadowRay,
+        joined: &dyn LightPaths,
+    ) -> f32 {
+        let pixels = (s.sample.width * s.sample.height) as f32;
+        let emitted = joined.emitted(shadow.light, s.si.p, s.si.ng) * pixels;
+        if !(emitted > 0.0) {
+            return 1.0;
+        }
+        let pick = (self.next_event).light_pick(scene, &s.light_context(), shadow.light);
+        let wl = s.frame.to_local(shadow.ray.d);
+        let r = (path.densities).ratio_to_light(s.bsdf, s.wo_local, wl, emitted, pick);
+        self.options.mis.weight(1.0, r)
     }
 
     /// Smooth-glass interfaces a probe from a vertex `segments` into the path may pass: a
@@ -229,6 +267,8 @@ pub(crate) struct PathState<V> {
     emitted: bool,
     /// Set once a gather has supplied the indirect light: the next hit only adds emission.
     gathered: bool,
+    /// The densities of light paths' making the path, when they share its light.
+    densities: CameraSide,
 }
 
 impl<V> PathState<V> {
@@ -246,6 +286,7 @@ impl<V> PathState<V> {
             first: start.segments == 0,
             emitted: start.emitted,
             gathered: false,
+            densities: CameraSide::default(),
         }
     }
 }
@@ -427,6 +468,12 @@ impl<N: NextEvent> PathTracer<N> {
             sides: self.options.sides,
             sample: ctx,
         };
+        let joined = self.light_paths.as_deref();
+        if joined.is_some() && !pane {
+            let camera = &scene.scene.camera;
+            path.densities
+                .arrive(si.p, si.ng, || pixel_density(camera, si.p, si.ng, ctx));
+        }
         let vertex = if bsdf.is_delta() {
             N::Vertex::default()
         } else {
@@ -440,6 +487,9 @@ impl<N: NextEvent> PathTracer<N> {
                     .sample(scene, &shading, &vertex, self.options.mis, sample, out);
             for shadow in &mut out.shadows[shadows..] {
                 shadow.value *= path.beta;
+                if let Some(joined) = joined {
+                    shadow.value *= self.light_path_weight(scene, &shading, path, shadow, joined);
+                }
             }
             let refractions = self.refractions_left(path.segments);
             for probe in &mut out.probes[probes..] {
@@ -463,7 +513,14 @@ impl<N: NextEvent> PathTracer<N> {
             return false;
         }
         path.beta *= bs.weight;
-        if pane && bs.wi.z * shading.wo_local.z < 0.0 {
+        let straight = pane && bs.wi.z * shading.wo_local.z < 0.0;
+        if joined.is_some() && !straight {
+            if pane {
+                path.densities.arrive(si.p, si.ng, || 0.0);
+            }
+            (path.densities).leave(bsdf, shading.wo_local, bs.wi, bs.delta);
+        }
+        if straight {
             // Straight through a pane: the same line, so MIS keeps the previous vertex.
             path.panes += 1;
             if path.panes > MAX_PANES {

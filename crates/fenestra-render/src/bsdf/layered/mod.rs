@@ -274,6 +274,14 @@ impl Layered {
         }
     }
 
+    /// A smooth, deterministic stand-in for [`Layered::pdf`] (the coat's reflection and a
+    /// cosine lobe, half each), for MIS weights that two strategies must compute alike: the
+    /// estimate's stream is seeded by the directions' bits, which two paths through the same
+    /// vertices do not share.
+    pub fn mis_pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        0.5 * (self.coat.pdf(wo, wi, Lobes::Reflection) + wi.z.abs() * INV_PI)
+    }
+
     /// pbrt-v4's approximate density of `sample` (§14.3.3): the coat's reflection plus one
     /// round trip through the base, mixed with the uniform sphere's 1/4pi.
     pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {

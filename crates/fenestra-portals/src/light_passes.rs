@@ -1,0 +1,200 @@
+//! The pass schedule of renders with light paths (lt, lp_lt): passes of 1, 2, 4, ... up to 32
+//! samples per pixel, each camera sample tracing its camera path (lp_lt's; none for lt) and
+//! its share of the light paths, whose splats the film adds after the pass.
+
+use crate::light_paths::{Joined, LightTracer, SunPaths};
+use crate::lp_hf::PortalNextEvent;
+use fenestra_core::stats::{RayCounters, RenderStats};
+use fenestra_core::{Rgb, Sampler};
+use fenestra_render::driver::{
+    next_pass_size, render_passes, Budget, PassEstimator, PassInfo, PixelState,
+};
+use fenestra_render::film::Film;
+use fenestra_render::integrator::{NextEvent, NoGather, PathOptions, PathTracer, Start};
+use fenestra_render::light::{LightContext, LightRecords};
+use fenestra_render::path_sample::{PathSample, Wave};
+use fenestra_render::sample_context::SampleContext;
+use fenestra_render::settings::RenderSettings;
+use fenestra_render::splat::Splats;
+use fenestra_render::{RenderControl, RenderScene};
+
+/// What a block gathers in a pass: its light paths' splats (and the camera paths' light
+/// records, which nothing learns from).
+pub(crate) struct LightBlock {
+    records: LightRecords,
+    splats: Splats,
+}
+
+/// Passes of camera samples that trace light paths.
+pub(crate) struct LightPasses<'a> {
+    /// The path tracer the light paths are joined to (`None`: light paths alone).
+    pub camera: Option<&'a PathTracer<PortalNextEvent>>,
+    pub suns: &'a SunPaths,
+    pub options: &'a PathOptions,
+    /// Light paths per camera sample.
+    pub per_sample: f32,
+    budget: Budget,
+    size: u32,
+    current: u32,
+}
+
+impl<'a> LightPasses<'a> {
+    /// Passes of `options`' paths: light paths of `suns`, `per_sample` per camera sample,
+    /// joined to `camera` if given.
+    pub fn new(
+        camera: Option<&'a PathTracer<PortalNextEvent>>,
+        suns: &'a SunPaths,
+        options: &'a PathOptions,
+        per_sample: f32,
+    ) -> Self {
+        LightPasses {
+            camera,
+            suns,
+            options,
+            per_sample,
+            budget: Budget::new(0, None),
+            size: 1,
+            current: 0,
+        }
+    }
+
+    /// Renders the passes into `film` within `settings`' samples or time; the statistics
+    /// count the light paths.
+    pub fn render(
+        mut self,
+        scene: &RenderScene,
+        film: &mut Film,
+        settings: &RenderSettings,
+        control: &RenderControl,
+    ) -> RenderStats {
+        self.budget = Budget::new(settings.spp, settings.time_limit);
+        let mut stats = render_passes(&mut self, scene, film, settings, control);
+        stats.max_depth = Some(self.options.max_depth);
+        if let Some(pt) = self.camera {
+            pt.next_event().report(&mut stats);
+        }
+        let light_paths = film.light_paths as f64;
+        stats.extra.insert("light_paths".into(), light_paths);
+        stats
+    }
+
+    /// The light paths of camera sample `ctx`, from `sampler`'s stream: the sample's share,
+    /// floor((i + 1) k) - floor(i k) for its index i and k per sample, so that every pixel's
+    /// first n samples trace floor(n k).
+    fn trace_light_paths(
+        &self,
+        scene: &RenderScene,
+        ctx: &SampleContext,
+        sampler: &mut Sampler,
+        splats: &mut Splats,
+        rays: &mut RayCounters,
+    ) {
+        let k = f64::from(self.per_sample);
+        let i = f64::from(ctx.index);
+        let count = ((i + 1.0) * k).floor() - (i * k).floor();
+        let light_pick = |at: &LightContext, light: usize| {
+            let pt = self.camera.expect("joined");
+            pt.next_event().light_pick(scene, at, light)
+        };
+        let tracer = LightTracer {
+            scene,
+            camera: &scene.scene.camera,
+            suns: self.suns,
+            options: self.options,
+            width: ctx.width,
+            height: ctx.height,
+            joined: self.camera.map(|pt| Joined {
+                mis: pt.options().mis,
+                light_pick: &light_pick,
+            }),
+        };
+        for _ in 0..count as u32 {
+            tracer.trace(ctx, sampler, splats, rays);
+        }
+    }
+}
+
+impl PassEstimator for LightPasses<'_> {
+    type BlockStats = LightBlock;
+
+    fn expected_samples(&self, pixels: u64) -> Option<u64> {
+        self.budget.expected_samples(pixels)
+    }
+
+    fn begin_pass(&mut self, pass: &PassInfo) -> bool {
+        self.current = self.budget.next_pass(pass, self.size);
+        self.current > 0
+    }
+
+    fn block_stats(&self, _: u32, _: u32) -> LightBlock {
+        LightBlock {
+            records: LightRecords::off(),
+            splats: Splats::default(),
+        }
+    }
+
+    fn samples(&self, _: &PixelState) -> u32 {
+        self.current
+    }
+
+    /// The camera path's radiance (none for light paths alone), then the sample's light
+    /// paths, whose light comes to the pixels as splats.
+    fn sample(
+        &self,
+        scene: &RenderScene,
+        ctx: &SampleContext,
+        sampler: &mut Sampler,
+        block: &mut LightBlock,
+        rays: &mut RayCounters,
+    ) -> Rgb {
+        let l = match self.camera {
+            Some(pt) => {
+                let ray = ctx.camera_ray(&scene.scene.camera, sampler, rays);
+                let sample = &mut PathSample {
+                    ctx,
+                    sampler,
+                    records: &mut block.records,
+                    rays,
+                };
+                pt.trace(scene, ray, Start::CAMERA, sample, &mut NoGather)
+            }
+            None => Rgb::ZERO,
+        };
+        self.trace_light_paths(scene, ctx, sampler, &mut block.splats, rays);
+        l
+    }
+
+    /// The camera paths traced together ([`PathTracer::trace_wave`]), then each sample's
+    /// light paths.
+    fn sample_many(
+        &self,
+        scene: &RenderScene,
+        ctxs: &[SampleContext],
+        samplers: &mut [Sampler],
+        block: &mut LightBlock,
+        rays: &mut RayCounters,
+        out: &mut [Rgb],
+    ) {
+        if let Some(pt) = self.camera {
+            let records = &mut block.records;
+            Wave::of_cameras(scene, ctxs, samplers, records, rays, |wave| {
+                pt.trace_wave(scene, wave, &mut NoGather, out)
+            });
+        } else {
+            out.fill(Rgb::ZERO);
+        }
+        for (ctx, sampler) in ctxs.iter().zip(samplers.iter_mut()) {
+            self.trace_light_paths(scene, ctx, sampler, &mut block.splats, rays);
+        }
+    }
+
+    fn take_splats(&self, block: &mut LightBlock) -> Option<Splats> {
+        Some(std::mem::take(&mut block.splats))
+    }
+
+    fn end_pass(&mut self, _: &RenderScene, _: &Film, _: Vec<LightBlock>) -> bool {
+        self.budget.done += self.current;
+        self.size = next_pass_size(self.size);
+        true
+    }
+}

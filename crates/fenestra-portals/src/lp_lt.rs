@@ -1,0 +1,130 @@
+//! `lp_lt`: lp_hf's camera paths and light paths from the suns through the same portals,
+//! joined by MIS (issue 66). A path lit straight by a sun is made by lp_hf's next-event
+//! sample of the sun at its last vertex and by a light path connected to the camera at its
+//! first (light tracing, t = 1); each is weighted by the power heuristic (or the path options'
+//! MIS) over the two densities of the whole path ([`fenestra_render::integrator::CameraSide`],
+//! Veach 1997 §10.2), so the sun's glints thrown by glossy surfaces onto what the camera sees
+//! go to the light paths and its direct light stays with next-event estimation, by weight.
+//! Everything else (the sky through the portals, other lights, paths through mirrors and
+//! glass seen by the camera) is lp_hf's alone.
+
+use crate::light_passes::LightPasses;
+use crate::light_paths::{suns_through, SunPaths};
+use crate::lp_hf::PortalNextEvent;
+use fenestra_core::stats::RenderStats;
+use fenestra_render::film::Film;
+use fenestra_render::integrator::{PathTracer, Split};
+use fenestra_render::options::{OptionError, Options, Validate};
+use fenestra_render::settings::RenderSettings;
+use fenestra_render::{Integrator, IntegratorError, RenderControl, RenderScene};
+use std::sync::Arc;
+
+fenestra_render::options! {
+    /// Light paths from the suns through the portals, joined to the camera paths.
+    #[derive(Copy)]
+    pub struct LightPathOptions in "light_paths", flags "light-paths" {
+        /// Light paths traced per camera sample (0 to 16; fractions spread them over the
+        /// pixel's samples; 0.25 was the most efficient of 0.25-2 on the classroom, the
+        /// dining room and the glossy room, docs/interiors.md).
+        pub per_sample: f32 = 0.25,
+    }
+}
+
+impl Validate for LightPathOptions {
+    fn validate(&self) -> Result<(), OptionError> {
+        if !(0.0..=16.0).contains(&self.per_sample) {
+            return Err(OptionError::new(
+                "per_sample",
+                format!("must lie in [0, 16], got {}", self.per_sample),
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// The lp_lt integrator: `camera`'s paths joined to the suns' light paths.
+pub struct LpLt {
+    camera: PathTracer<PortalNextEvent>,
+    options: LightPathOptions,
+    /// The suns' light paths (set when prepared; `None` when there are none to trace).
+    suns: Option<Arc<SunPaths>>,
+}
+
+impl LpLt {
+    /// lp_hf's path tracer `camera` joined to light paths as `options` says.
+    pub fn new(
+        camera: PathTracer<PortalNextEvent>,
+        options: LightPathOptions,
+    ) -> Result<Self, OptionError> {
+        options.check()?;
+        Ok(LpLt {
+            camera,
+            options,
+            suns: None,
+        })
+    }
+}
+
+impl Integrator for LpLt {
+    fn name(&self) -> &str {
+        "lp_lt"
+    }
+
+    fn settings(&self) -> serde_json::Value {
+        let mut s = self.camera.settings();
+        if let Some(all) = s.as_object_mut() {
+            let traced = self.suns.as_ref().map_or(0, |s| s.len());
+            all.insert(
+                "light_paths".into(),
+                serde_json::json!({ "per_sample": self.options.per_sample, "suns": traced }),
+            );
+        }
+        s
+    }
+
+    fn prepare(
+        &mut self,
+        scene: &RenderScene,
+        control: &RenderControl,
+    ) -> Result<(), IntegratorError> {
+        self.camera.prepare(scene, control)?;
+        let portals = self.camera.next_event().found_portals();
+        if portals.is_empty() || self.options.per_sample == 0.0 {
+            control.progress.note(
+                "light paths: none to trace (no portal, or none asked for); lp_lt renders as lp_hf",
+            );
+            return Ok(());
+        }
+        match suns_through(scene, portals, "lp_lt", self.options.per_sample) {
+            Ok(suns) => {
+                let suns = Arc::new(suns);
+                self.camera.join_light_paths(suns.clone());
+                self.suns = Some(suns);
+            }
+            Err(why) => control.progress.note(&format!(
+                "light paths: none ({why}); lp_lt renders as lp_hf"
+            )),
+        }
+        Ok(())
+    }
+
+    /// Light paths splat anywhere in the image, and the film-state file holds no splats yet.
+    fn split(&self) -> Split {
+        Split::Whole
+    }
+
+    fn render(
+        &self,
+        scene: &RenderScene,
+        film: &mut Film,
+        settings: &RenderSettings,
+        control: &RenderControl,
+    ) -> RenderStats {
+        let Some(suns) = &self.suns else {
+            return self.camera.render(scene, film, settings, control);
+        };
+        let (options, per_sample) = (self.camera.options(), self.options.per_sample);
+        LightPasses::new(Some(&self.camera), suns, options, per_sample)
+            .render(scene, film, settings, control)
+    }
+}
