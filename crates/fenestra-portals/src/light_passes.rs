@@ -75,6 +75,9 @@ impl<'a> LightPasses<'a> {
         }
         let light_paths = film.light_paths as f64;
         stats.extra.insert("light_paths".into(), light_paths);
+        if let Some(share) = film.light_path_share() {
+            stats.extra.insert("light_path_share".into(), share);
+        }
         stats
     }
 

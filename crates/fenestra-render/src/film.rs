@@ -292,6 +292,22 @@ impl Film {
         (mean, variance)
     }
 
+    /// The share of the image's light (its luminance summed over the pixels) that light
+    /// paths brought, or `None` when none were traced or the image is black.
+    pub fn light_path_share(&self) -> Option<f64> {
+        if self.light_paths == 0 {
+            return None;
+        }
+        let luminance = |v: [f64; 3]| Rgb::new(v[0] as f32, v[1] as f32, v[2] as f32).luminance();
+        let (mut splatted, mut all) = (0.0f64, 0.0f64);
+        for (i, p) in self.pixels.iter().enumerate() {
+            let s = f64::from(luminance(self.splat_estimate(i).0));
+            splatted += s;
+            all += s + f64::from(luminance(p.mean()));
+        }
+        (all > 0.0).then(|| splatted / all)
+    }
+
     /// Per pixel, the camera samples' figure `f` plus light tracing's (`splat` picks the
     /// estimate or its variance).
     fn to_image(&self, f: impl Fn(&Pixel) -> [f64; 3], splat: usize) -> Image {
@@ -435,6 +451,14 @@ mod tests {
         let v = film.variance_image().pixels[0].r as f64;
         let (m, sq) = (2.0, (36.0 + 4.0) / 4.0);
         assert!((v - (sq - m * m) / 3.0).abs() < 1e-6, "{v}");
+        // Light paths brought (2, 0, 1) of (3, 1, 2).
+        let lum = |r: f32, g: f32, b: f32| f64::from(Rgb::new(r, g, b).luminance());
+        let share = film.light_path_share().expect("light paths");
+        assert!(
+            (share - lum(2.0, 0.0, 1.0) / lum(3.0, 1.0, 2.0)).abs() < 1e-6,
+            "{share}"
+        );
+        assert_eq!(Film::new(2, 2).light_path_share(), None);
     }
 
     #[test]
