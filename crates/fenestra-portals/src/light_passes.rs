@@ -95,10 +95,9 @@ impl<'a> LightPasses<'a> {
         let k = f64::from(self.per_sample);
         let i = f64::from(ctx.index);
         let count = ((i + 1.0) * k).floor() - (i * k).floor();
-        let light_pick = |at: &LightContext, light: usize| {
-            let pt = self.camera.expect("joined");
-            pt.next_event().light_pick(scene, at, light)
-        };
+        let light_pick = (self.camera).map(|pt| {
+            move |at: &LightContext, light: usize| pt.next_event().light_pick(scene, at, light)
+        });
         let tracer = LightTracer {
             scene,
             camera: &scene.scene.camera,
@@ -106,10 +105,13 @@ impl<'a> LightPasses<'a> {
             options: self.options,
             width: ctx.width,
             height: ctx.height,
-            joined: self.camera.map(|pt| Joined {
-                mis: pt.options().mis,
-                light_pick: &light_pick,
-            }),
+            joined: self
+                .camera
+                .zip(light_pick.as_ref())
+                .map(|(pt, light_pick)| Joined {
+                    mis: pt.options().mis,
+                    light_pick,
+                }),
         };
         for _ in 0..count as u32 {
             tracer.trace(ctx, sampler, splats, rays);
