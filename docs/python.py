@@ -18,7 +18,7 @@ import fenestra as fe
 
 quick = os.environ.get("FENESTRA_NOTEBOOK_QUICK") == "1"
 size = (64, 64) if quick else (128, 128)
-seconds = 0.5 if quick else 4.0
+seconds = 2.0 if quick else 4.0
 reference_spp = 1024 if quick else 4096
 
 scene = fe.load("builtin:box-hole")

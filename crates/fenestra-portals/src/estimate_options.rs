@@ -33,7 +33,7 @@ fenestra_render::options! {
         pub max_beams: u64 = defaults().photons.max_beams,
         /// Give up tracing photons after this many seconds (0: no limit, so that the photons
         /// depend on nothing but the parameters); with --portals auto and a --time budget, at
-        /// most 3% of the budget.
+        /// most 3% of the budget or 0.2 s, whichever is more (but no more than a quarter).
         pub time: f64 = defaults().photons.time_limit.unwrap_or(0.0),
         /// Stop tracing photons once portals fitted to 1.5 times as many photons lie within
         /// this fraction of their size of the previous fit's (0: trace to the photon target).

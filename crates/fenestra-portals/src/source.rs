@@ -88,8 +88,12 @@ impl PortalSource {
     }
 }
 
-/// The share of a render's time budget that photon tracing for `--portals auto` may take.
+/// The share of a render's time budget that photon tracing for `--portals auto` may take,
+/// and the time it may take whatever the share, up to a quarter of the budget: the box with
+/// a hole in its ceiling gathers 290 photons in 0.09 s and finds its portal, 43 in the 15 ms
+/// of a 0.5 s budget's 3% and finds none.
 const BUDGET_SHARE: f64 = 0.03;
+const BUDGET_FLOOR: (f64, f64) = (0.2, 0.25);
 
 /// Where estimated portals came from.
 #[derive(Clone, Copy, Debug)]
@@ -153,7 +157,8 @@ impl PortalSource {
         // short is not cached: a render with more time would read it).
         let mut within = params.clone();
         if let Some(budget) = control.time_limit {
-            let share = BUDGET_SHARE * budget;
+            let (floor, floor_share) = BUDGET_FLOOR;
+            let share = (BUDGET_SHARE * budget).max(floor.min(floor_share * budget));
             let limit = within.photons.time_limit.map_or(share, |t| t.min(share));
             within.photons.time_limit = Some(limit.max(f64::MIN_POSITIVE));
         }

@@ -272,8 +272,8 @@ fn estimated_portals_are_cached_and_the_next_render_reads_them() {
     assert!(none["extra"].get("portal_estimation_s").is_some());
 }
 
-/// An estimate that a render's `--time` budget cut short (photon tracing takes at most 3% of
-/// it: 15 ms of 0.5 s, where the door ajar's photons take 0.4 s) is not cached, since the
+/// An estimate that a render's `--time` budget cut short (photon tracing takes at most a
+/// quarter of 0.5 s, where the door ajar's photons take 0.4 s) is not cached, since the
 /// cache keys it by the parameters asked for and a render with more time would read it; the
 /// same estimate without a budget is.
 #[test]
