@@ -35,6 +35,34 @@ impl MisHeuristic {
             }
         }
     }
+
+    /// The density that stands for techniques of densities `pa` and `pb` together against a
+    /// third: (pa^beta + pb^beta)^(1/beta), so that `weight(pc, combined(pa, pb))` is the
+    /// third's weight against both.
+    pub fn combined(self, pa: f32, pb: f32) -> f32 {
+        match self {
+            MisHeuristic::Balance => pa + pb,
+            MisHeuristic::Power { beta: 2.0 } => pa.hypot(pb),
+            MisHeuristic::Power { beta } => (pa.powf(beta) + pb.powf(beta)).powf(1.0 / beta),
+        }
+    }
+
+    /// What multiplies a technique's weight `w` against others once one more technique
+    /// joins them, `r` times as dense as it for the same sample: w / (1 + w r^beta) is its
+    /// weight against all (1 / w = sum of (p_j / p)^beta, to which (p_new / p)^beta adds).
+    pub fn with_third(self, w: f32, r: f32) -> f32 {
+        let rb = match self {
+            MisHeuristic::Balance => r,
+            MisHeuristic::Power { beta: 2.0 } => r * r,
+            MisHeuristic::Power { beta } => r.powf(beta),
+        };
+        let f = 1.0 / (1.0 + w * rb);
+        if f.is_nan() {
+            1.0
+        } else {
+            f
+        }
+    }
 }
 
 #[cfg(test)]
@@ -54,5 +82,28 @@ mod tests {
             }
         }
         assert_eq!(MisHeuristic::Power { beta: 2.0 }.weight(1.0, 3.0), 0.1);
+    }
+
+    #[test]
+    fn three_techniques_weighted_pairwise_sum_to_one() {
+        for h in [
+            MisHeuristic::Balance,
+            MisHeuristic::Power { beta: 2.0 },
+            MisHeuristic::Power { beta: 3.5 },
+        ] {
+            for (a, b, c) in [
+                (1.0, 3.0, 2.0),
+                (1e-3, 5.0, 1e3),
+                (7.0, 0.0, 0.5),
+                (0.0, 2.0, 2.0),
+            ] {
+                // a and b weighed against each other, then each against c.
+                let wa = h.weight(a, b) * h.with_third(h.weight(a, b), c / a);
+                let wb = h.weight(b, a) * h.with_third(h.weight(b, a), c / b);
+                let wc = h.weight(c, h.combined(a, b));
+                let s = wa + wb + wc;
+                assert!((s - 1.0).abs() < 1e-5, "{h:?} {a} {b} {c}: {s}");
+            }
+        }
     }
 }

@@ -3,13 +3,14 @@
 //! tracing, t = 1). They carry what camera paths find worst: sunlight thrown by a glossy
 //! surface onto a diffuse one that the camera sees.
 //!
-//! The sun's lines are those through the portals: a portal is picked by its area projected
-//! along the sun's direction, a point on it uniformly, and the line through it along the sun's
+//! The sun's lines are those through the portals: a direction is drawn from the sun (one
+//! for a distant light, uniform in the cone of the sky's sun disk), a portal is picked by
+//! its area projected along it, a point on it uniformly, and the line through it along the sun's
 //! direction is traced from outside the scene, so that whatever it meets first (a pane, a
 //! sill, the floor inside) is where the sunlight lands, as it would without portals. A line
 //! through several portals is drawn from each of them, so a point x that the sun reaches
 //! first along its line has the area density p(x) = |cos_x| * n(x) / A, with A the portals'
-//! projected area and n(x) the portals the line crosses.
+//! projected area and n(x) the portals the line crosses, both along the line's direction.
 
 use crate::portal::Portal;
 use fenestra_core::mis::MisHeuristic;
@@ -17,9 +18,9 @@ use fenestra_core::stats::RayCounters;
 use fenestra_core::{Frame, Ray, Rgb, Sampler, Vec2, Vec3};
 use fenestra_render::bsdf::Bsdf;
 use fenestra_render::integrator::{
-    seen_density, sides_agree, LightPaths, LightSide, PathOptions, Roulette,
+    seen_density, sides_agree, FirstVertex, LightPaths, LightSide, PathOptions, Roulette,
 };
-use fenestra_render::light::{DistantLight, Light, LightContext};
+use fenestra_render::light::{Light, LightContext, SunDisk};
 use fenestra_render::sample_context::SampleContext;
 use fenestra_render::splat::Splats;
 use fenestra_render::RenderScene;
@@ -28,90 +29,137 @@ use fenestra_scene::{Camera, SurfaceInteraction};
 /// Consecutive panes a light path passes straight through (as camera paths do).
 const MAX_PANES: u32 = 16;
 
+/// Where a sun's light comes from.
+#[derive(Clone, Copy, Debug)]
+enum SunShape {
+    /// One direction (a distant light): the direction its light travels, its irradiance.
+    Direction(Vec3, Rgb),
+    /// A disk at infinity (the sky's sun).
+    Disk(SunDisk),
+}
+
+impl SunShape {
+    /// The direction the light of a line travels (from `u`: uniform over a disk's cone) and
+    /// the irradiance per unit of its direction's density (a Dirac direction's counts 1).
+    fn sample(&self, u: Vec2) -> (Vec3, Rgb) {
+        match self {
+            SunShape::Direction(dir, irradiance) => (*dir, *irradiance),
+            SunShape::Disk(disk) => (-disk.sample(u), disk.radiance() * disk.solid_angle()),
+        }
+    }
+
+    /// The density of [`SunShape::sample`]'s direction towards it being `towards`, as
+    /// [`Light::pdf_at_infinity`] gives it.
+    fn pdf(&self, towards: Vec3) -> f32 {
+        match self {
+            SunShape::Direction(..) => 1.0,
+            SunShape::Disk(disk) => disk.pdf(towards),
+        }
+    }
+
+    /// Whether BSDF-sampled rays can find it.
+    fn found(&self) -> bool {
+        matches!(self, SunShape::Disk(_))
+    }
+
+    /// The direction its light travels along the axis, and the irradiance it brings there.
+    fn axis(&self) -> (Vec3, Rgb) {
+        match self {
+            SunShape::Direction(dir, irradiance) => (*dir, *irradiance),
+            SunShape::Disk(disk) => (-disk.axis(), disk.radiance() * disk.solid_angle()),
+        }
+    }
+}
+
 /// One sun's lines through the portals.
 #[derive(Clone, Debug)]
 pub struct SunThroughPortals {
     /// The sun's index in the scene's lights.
     light: usize,
-    /// The direction sunlight travels.
-    dir: Vec3,
-    irradiance: Rgb,
-    /// The portals the sun crosses, with their cumulative projected areas.
+    shape: SunShape,
+    /// The portals the sun crosses.
     portals: Vec<Portal>,
-    cdf: Vec<f32>,
-    /// Their projected area along `dir`, A.
-    projected: f32,
     /// The scene's bounding sphere (centre, radius): the lines start outside it.
     sphere: (Vec3, f32),
 }
 
 impl SunThroughPortals {
-    /// The lines of `sun` (light `light` of the scene) through `portals` into the scene of
-    /// bounding sphere `sphere`, or `None` when no portal faces the sun.
-    pub fn new(
+    /// The lines of the sun light `light` of `scene` through `portals` into the scene of
+    /// bounding sphere `sphere`, or `None` when that light is no sun or no portal faces it.
+    fn new(
+        scene: &RenderScene,
         light: usize,
-        sun: &DistantLight,
         portals: &[Portal],
         sphere: (Vec3, f32),
     ) -> Option<Self> {
-        let dir = sun.direction();
-        let mut kept = Vec::new();
-        let mut cdf = Vec::new();
-        let mut projected = 0.0;
-        for p in portals {
-            let a = p.area() * p.normal().dot(dir).abs();
-            if a > 0.0 {
-                projected += a;
-                kept.push(p.clone());
-                cdf.push(projected);
-            }
-        }
-        (projected > 0.0).then_some(SunThroughPortals {
+        let shape = match &scene.lights.lights[light] {
+            Light::Distant(sun) => SunShape::Direction(sun.direction(), sun.irradiance()),
+            Light::Environment(e) => SunShape::Disk(*e.sun()?),
+            _ => return None,
+        };
+        let axis = shape.axis().0;
+        let portals: Vec<_> = (portals.iter())
+            .filter(|p| p.area() * p.normal().dot(axis).abs() > 0.0)
+            .cloned()
+            .collect();
+        let sun = SunThroughPortals {
             light,
-            dir,
-            irradiance: sun.irradiance(),
-            portals: kept,
-            cdf,
-            projected,
+            shape,
+            portals,
             sphere,
-        })
+        };
+        (sun.projected(axis) > 0.0).then_some(sun)
     }
 
     /// The sun's power through the portals (luminance), for choosing between suns.
     pub fn power(&self) -> f32 {
-        self.irradiance.luminance() * self.projected
+        let (dir, irradiance) = self.shape.axis();
+        irradiance.luminance() * self.projected(dir)
     }
 
-    /// A point of the portals, uniform in projected area (from `u_pick` and `u`).
-    fn sample_point(&self, u_pick: f32, u: Vec2) -> Vec3 {
-        let target = u_pick * self.projected;
-        let i = self
-            .cdf
-            .partition_point(|&c| c <= target)
-            .min(self.portals.len() - 1);
-        self.portals[i].sample_area(u)
+    /// The portals' area projected along `dir`, A.
+    fn projected(&self, dir: Vec3) -> f32 {
+        (self.portals.iter())
+            .map(|p| p.area() * p.normal().dot(dir).abs())
+            .sum()
     }
 
-    /// A point of the sun's line through `p` outside the scene, on the sun's side.
-    fn line_start(&self, p: Vec3) -> Vec3 {
+    /// A point of the portals, uniform in their area projected along `dir` (`projected`
+    /// of it), from `u_pick` and `u`.
+    fn sample_point(&self, dir: Vec3, projected: f32, u_pick: f32, u: Vec2) -> Vec3 {
+        let mut left = u_pick * projected;
+        let last = self.portals.len() - 1;
+        for (i, p) in self.portals.iter().enumerate() {
+            let a = p.area() * p.normal().dot(dir).abs();
+            if left < a || i == last {
+                return p.sample_area(u);
+            }
+            left -= a;
+        }
+        unreachable!("a sun through portals has some")
+    }
+
+    /// A point of the line along `dir` through `p` outside the scene, on the sun's side.
+    fn line_start(&self, p: Vec3, dir: Vec3) -> Vec3 {
         let (centre, radius) = self.sphere;
-        p - self.dir * (radius + (p - centre).length())
+        p - dir * (radius + (p - centre).length())
     }
 
-    /// n(x): the portals crossed by the sun's line through `p`, on either side of it.
-    pub fn crossings(&self, p: Vec3) -> u32 {
-        let start = self.line_start(p);
-        let crossed = self
-            .portals
-            .iter()
-            .filter(|q| q.intersect(start, self.dir).is_some());
+    /// n(x): the portals crossed by the line along `dir` through `p`, on either side of it.
+    pub fn crossings(&self, p: Vec3, dir: Vec3) -> u32 {
+        let start = self.line_start(p, dir);
+        let crossed = (self.portals.iter()).filter(|q| q.intersect(start, dir).is_some());
         crossed.count() as u32
     }
 
-    /// The area density with which the sun's lines reach `p` (a surface point of normal
-    /// `ng` that the sun reaches first along its line), p(x) = |cos_x| n(x) / A.
-    pub fn density(&self, p: Vec3, ng: Vec3) -> f32 {
-        ng.dot(self.dir).abs() * self.crossings(p) as f32 / self.projected
+    /// The area density with which the lines along `dir` reach `p` (a surface point of
+    /// normal `ng` that the sun reaches first along its line), p(x) = |cos_x| n(x) / A.
+    pub fn density(&self, p: Vec3, ng: Vec3, dir: Vec3) -> f32 {
+        let projected = self.projected(dir);
+        if !(projected > 0.0) {
+            return 0.0;
+        }
+        ng.dot(dir).abs() * self.crossings(p, dir) as f32 / projected
     }
 }
 
@@ -126,15 +174,12 @@ pub struct SunPaths {
 }
 
 impl SunPaths {
-    /// The light paths of the suns (distant lights) of `scene` through `portals`,
-    /// `per_sample` of them per camera sample; `None` when no portal faces a sun.
+    /// The light paths of the suns (distant lights and the sky's sun) of `scene` through
+    /// `portals`, `per_sample` of them per camera sample; `None` when no portal faces a sun.
     pub fn new(scene: &RenderScene, portals: &[Portal], per_sample: f32) -> Option<Self> {
         let sphere = scene.scene.bounding_sphere();
-        let suns: Vec<_> = (scene.lights.lights.iter().enumerate())
-            .filter_map(|(i, l)| match l {
-                Light::Distant(sun) => SunThroughPortals::new(i, sun, portals, sphere),
-                _ => None,
-            })
+        let suns: Vec<_> = (0..scene.lights.lights.len())
+            .filter_map(|i| SunThroughPortals::new(scene, i, portals, sphere))
             .collect();
         let mut total = 0.0;
         let cdf = (suns.iter())
@@ -167,13 +212,22 @@ impl SunPaths {
     }
 }
 
+impl SunPaths {
+    /// [`LightPaths::emitted`] for sun `k`.
+    fn emitted_by(&self, k: usize, p: Vec3, ng: Vec3, towards: Vec3) -> f32 {
+        let sun = &self.suns[k];
+        let direction = sun.shape.pdf(towards);
+        if !(direction > 0.0) {
+            return 0.0;
+        }
+        self.per_sample * self.pick(k) * direction * sun.density(p, ng, -towards)
+    }
+}
+
 impl LightPaths for SunPaths {
-    fn emitted(&self, light: usize, p: Vec3, ng: Vec3) -> f32 {
-        (self.suns.iter().enumerate())
-            .find(|(_, s)| s.light == light)
-            .map_or(0.0, |(k, s)| {
-                self.per_sample * self.pick(k) * s.density(p, ng)
-            })
+    fn emitted(&self, light: usize, p: Vec3, ng: Vec3, towards: Vec3) -> f32 {
+        (self.suns.iter().position(|s| s.light == light))
+            .map_or(0.0, |k| self.emitted_by(k, p, ng, towards))
     }
 }
 
@@ -221,8 +275,14 @@ impl LightTracer<'_> {
         let u_pick = sampler.next_1d() * total;
         let k = (paths.cdf.partition_point(|&c| c <= u_pick)).min(paths.suns.len() - 1);
         let (sun, pick) = (&paths.suns[k], paths.pick(k));
-        let mut side = LightSide::default();
-        // (k pL, the path tracer's pick of the sun) at the path's first vertex.
+        let (dir, irradiance) = sun.shape.sample(sampler.next_2d());
+        let projected = sun.projected(dir);
+        if !(projected > 0.0) {
+            return;
+        }
+        let mis = self.joined.map_or(MisHeuristic::Balance, |j| j.mis);
+        let mut side = LightSide::new(mis);
+        // What the densities need of the path's first vertex.
         let first = |si: &SurfaceInteraction, joined: &Joined| {
             let at = LightContext {
                 p: si.p,
@@ -230,14 +290,17 @@ impl LightTracer<'_> {
                 sample: ctx,
             };
             let pixels = (self.width * self.height) as f32;
-            let emitted = paths.emitted(sun.light, si.p, si.ng) * pixels;
-            (emitted, (joined.light_pick)(&at, sun.light))
+            FirstVertex {
+                emitted: paths.emitted_by(k, si.p, si.ng, -dir) * pixels,
+                next_event: (joined.light_pick)(&at, sun.light) * sun.shape.pdf(-dir),
+                found: sun.shape.found(),
+            }
         };
-        let through = sun.sample_point(sampler.next_1d(), sampler.next_2d());
-        let mut ray = Ray::new(sun.line_start(through), sun.dir);
+        let through = sun.sample_point(dir, projected, sampler.next_1d(), sampler.next_2d());
+        let mut ray = Ray::new(sun.line_start(through, dir), dir);
         // The flux a line carries, E A / (pick n): n(x) is the same along the whole line.
-        let n = sun.crossings(through).max(1);
-        let mut beta = sun.irradiance * (sun.projected / (pick * n as f32));
+        let n = sun.crossings(through, dir).max(1);
+        let mut beta = irradiance * (projected / (pick * n as f32));
         let initial = beta.max_component();
         let (mut vertices, mut panes) = (0u32, 0u32);
         let max_depth = self.options.max_depth;
@@ -419,7 +482,7 @@ pub fn suns_through(
     SunPaths::new(scene, portals.portals(), per_sample).ok_or_else(|| {
         fenestra_render::IntegratorError::Prepare(
             format!(
-                "{integrator} traces light from suns (distant lights) through the portals: \
+                "{integrator} traces light from suns (distant lights, the sky's sun) through the portals: \
                  the scene has no sun, or no portal faces one"
             )
             .into(),

@@ -1,8 +1,9 @@
 //! Light paths from the sun through the portals (lt) must render what af_hf renders of the
 //! sun's light: the glossy room without its sky (Ward floor, GGX metals: the glint paths)
 //! at several path lengths, over the image and its 8x8 regions; and the same pixels for any
-//! thread count. Joined to lp_hf by MIS (lp_lt), with the sky or without, they must render
-//! what af_hf renders: weights that the two sides compute differently would not sum to 1.
+//! thread count. Joined to lp_hf by MIS (lp_lt), with the sky or without, from a sun that is
+//! a direction or a disk (which BSDF sampling finds too), they must render what af_hf
+//! renders: weights that the two sides compute differently would not sum to 1.
 
 use fenestra_builtin as builtin;
 use fenestra_core::Vec3;
@@ -12,7 +13,7 @@ use fenestra_portals::{lp_hf, PortalOptions, PortalSource, Portals};
 use fenestra_render::integrator::{af_hf, LightNextEvent, PathOptions};
 use fenestra_render::light::LightSelection;
 use fenestra_render::{render_image, Film, Integrator, RenderScene, RenderSettings};
-use fenestra_scene::light::LightDesc;
+use fenestra_scene::light::{EnvironmentDesc, LightDesc};
 use fenestra_scene::{Backend, Scene, SceneDesc};
 
 const SIZE: u32 = 32;
@@ -22,6 +23,31 @@ fn sunlit_room() -> SceneDesc {
     let mut desc = builtin::load("glossy-room").expect("builtin");
     desc.lights
         .retain(|l| !matches!(l, LightDesc::Environment(_)));
+    desc
+}
+
+/// The glossy room lit by a disk of angular radius `half_angle` in its sun's place, of the
+/// same irradiance (the sky's sun is such a disk), with its sky or without: BSDF sampling
+/// of the glossy floor and metals finds a disk some degrees wide about as often as light
+/// sampling does.
+fn disk_lit_room(half_angle: f32, sky: bool) -> SceneDesc {
+    let mut desc = builtin::load("glossy-room").expect("builtin");
+    desc.lights
+        .retain(|l| sky || !matches!(l, LightDesc::Environment(_)));
+    for light in &mut desc.lights {
+        if let LightDesc::Distant {
+            direction,
+            irradiance,
+        } = *light
+        {
+            let solid_angle = 2.0 * std::f32::consts::PI * (1.0 - half_angle.cos());
+            *light = LightDesc::Environment(EnvironmentDesc::Sun {
+                direction: -direction,
+                radiance: irradiance / solid_angle,
+                half_angle,
+            });
+        }
+    }
     desc
 }
 
@@ -96,6 +122,13 @@ fn light_paths_render_what_path_tracing_renders_of_the_sun() {
         );
         assert!(lt.light_paths == (SIZE * SIZE * spp_lt) as u64);
     }
+    // From a disk, whose lines cross the window in a cone of directions.
+    let disk = || disk_lit_room(0.05, false);
+    let af = af_hf(path(3), LightSelection::Power);
+    let af = render_in(disk(), SIZE, &mut { af }, 1024, 2);
+    let lt = render_in(disk(), SIZE, &mut Lt::new(path(3), window()), 2048, 2);
+    let t = fenestra_eval::agreement(&af.estimate(), &lt.estimate(), 0.01, 8).expect("sizes");
+    assert!(t.passed(), "a disk: {t:?}");
     // The test sees light missing: a portal of 0.9 times the window leaves a tenth of its
     // edges' sunlight out.
     let af = render(&mut af_hf(path(2), LightSelection::Power), 512, 2);
@@ -121,17 +154,27 @@ fn lp_lt(depth: u32, per_sample: f32) -> LpLt {
 #[test]
 fn joined_light_paths_render_what_path_tracing_renders() {
     let with_sky = || builtin::load("glossy-room").expect("builtin");
-    for (sky, depth, size, spp_af, spp_lp) in [
-        (false, 3, 32, 1024, 512),
-        (false, 5, 16, 8192, 2048),
-        (true, 4, 32, 2048, 1024),
+    // (sky, the sun a disk, path length, image size, samples per pixel of af_hf and lp_lt)
+    for (sky, disk, depth, size, spp_af, spp_lp) in [
+        (false, false, 3, 32, 1024, 512),
+        (false, false, 5, 16, 8192, 2048),
+        (true, false, 4, 32, 2048, 1024),
+        (false, true, 3, 32, 1024, 512),
+        (true, true, 4, 32, 2048, 1024),
     ] {
-        let desc = || if sky { with_sky() } else { sunlit_room() };
+        let desc = || match (sky, disk) {
+            (_, true) => disk_lit_room(0.15, sky),
+            (true, false) => with_sky(),
+            (false, false) => sunlit_room(),
+        };
         let af = af_hf(path(depth), LightSelection::Power);
         let af = render_in(desc(), size, &mut { af }, spp_af, 2);
         let lp = render_in(desc(), size, &mut lp_lt(depth, 0.5), spp_lp, 2);
         let t = fenestra_eval::agreement(&af.estimate(), &lp.estimate(), 0.01, 8).expect("sizes");
-        assert!(t.passed(), "sky {sky}, path length {depth}: {t:?}");
+        assert!(
+            t.passed(),
+            "sky {sky}, disk {disk}, path length {depth}: {t:?}"
+        );
         assert_eq!(lp.light_paths, (size * size * spp_lp / 2) as u64);
     }
 }

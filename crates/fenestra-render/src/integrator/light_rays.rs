@@ -28,6 +28,8 @@ pub struct ShadowRay {
     pub value: Rgb,
     /// The light sampled (its index in the scene's lights).
     pub light: usize,
+    /// Its MIS weight against BSDF sampling (1 for a Dirac light), already in `value`.
+    pub mis: f32,
     /// The record a learning light sampler keeps of the sample if light arrives, its
     /// weight not yet multiplied by the transmittance.
     pub record: Option<LightRecord>,

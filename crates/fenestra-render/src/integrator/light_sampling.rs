@@ -224,6 +224,7 @@ impl LightNextEvent {
             tmax,
             value: f * ls.li * (wi_local.z.abs() * weight / light_pdf),
             light: index,
+            mis: weight,
             record,
         })
     }

@@ -21,7 +21,9 @@ pub use light_rays::{
 pub use light_sampling::LightNextEvent;
 pub use next_event::{sides_agree, Found, NextEvent, NoNextEvent, Scattered, Shading};
 pub use path::{Gather, NoGather, PathTracer, Start};
-pub use path_densities::{pixel_density, seen_density, CameraSide, LightPaths, LightSide};
+pub use path_densities::{
+    pixel_density, seen_density, CameraSide, FirstVertex, LightPaths, LightSide,
+};
 pub use path_options::{Mis, PathConfig, PathOptions, Roulette, Sides};
 
 use crate::control::RenderControl;

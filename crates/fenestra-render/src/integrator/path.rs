@@ -142,8 +142,8 @@ impl<N: NextEvent> PathTracer<N> {
         }
     }
 
-    /// The MIS weight of the next-event sample `shadow` taken at `s` against the light paths
-    /// `joined` (1 for lights they do not start at).
+    /// What multiplies the MIS weight of the next-event sample `shadow` taken at `s` once
+    /// the light paths `joined` weigh in (1 for lights they do not start at).
     fn light_path_weight(
         &self,
         scene: &RenderScene,
@@ -153,14 +153,33 @@ impl<N: NextEvent> PathTracer<N> {
         joined: &dyn LightPaths,
     ) -> f32 {
         let pixels = (s.sample.width * s.sample.height) as f32;
-        let emitted = joined.emitted(shadow.light, s.si.p, s.si.ng) * pixels;
+        let towards = shadow.ray.d;
+        let emitted = joined.emitted(shadow.light, s.si.p, s.si.ng, towards) * pixels;
         if !(emitted > 0.0) {
             return 1.0;
         }
+        let light = &scene.lights.lights[shadow.light];
         let pick = (self.next_event).light_pick(scene, &s.light_context(), shadow.light);
-        let wl = s.frame.to_local(shadow.ray.d);
-        let r = (path.densities).ratio_to_light(s.bsdf, s.wo_local, wl, emitted, pick);
-        self.options.mis.weight(1.0, r)
+        let next_event = pick * light.pdf_at_infinity(towards);
+        let wl = s.frame.to_local(towards);
+        let r = (path.densities).ratio_to_light(s.bsdf, s.wo_local, wl, emitted, next_event);
+        self.options.mis.with_third(shadow.mis, r)
+    }
+
+    /// What multiplies the MIS weight `w` of light from the environment `light` that the
+    /// path's BSDF-sampled ray `ray` found once the light paths `joined` weigh in.
+    fn found_light_path_weight(
+        &self,
+        path: &PathState<N::Vertex>,
+        ray: &Ray,
+        (light, w): (usize, f32),
+        joined: &dyn LightPaths,
+        ctx: &SampleContext,
+    ) -> f32 {
+        let pixels = (ctx.width * ctx.height) as f32;
+        let emitted = |p, ng| joined.emitted(light, p, ng, ray.d) * pixels;
+        let r = path.densities.ratio_found(emitted);
+        self.options.mis.with_third(w, r)
     }
 
     /// Smooth-glass interfaces a probe from a vertex `segments` into the path may pass: a
@@ -423,8 +442,15 @@ impl<N: NextEvent> PathTracer<N> {
                     hit: LightHit::Escaped,
                     refracted: false,
                 };
-                let w = self.bsdf_weight(scene, path, &ray, found, ctx);
-                path.l += path.beta * scene.lights.lights[e].le(LightHit::Escaped, ray.d) * w;
+                let le = scene.lights.lights[e].le(LightHit::Escaped, ray.d);
+                if le.is_black() {
+                    continue;
+                }
+                let mut w = self.bsdf_weight(scene, path, &ray, found, ctx);
+                if let Some(joined) = self.light_paths.as_deref() {
+                    w *= self.found_light_path_weight(path, &ray, (e, w), joined, ctx);
+                }
+                path.l += path.beta * le * w;
             }
             return false;
         };

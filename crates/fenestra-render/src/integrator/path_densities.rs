@@ -9,7 +9,12 @@
 //!   k = L / N for L light paths and N samples of each pixel (k light paths per camera
 //!   sample times the image's pixels);
 //!
-//! all in area measure. A path lit at the camera's first vertex (n = 1) is the path tracer's
+//! all in area measure, except that the light's end of a path lit from infinity is a
+//! direction (solid angle; a Dirac direction counts 1). Where BSDF sampling can find the
+//! light too (the sky's sun is a disk), the path tracer has two strategies for the last
+//! segment, P(xn) and the BSDF's density of the direction (1 after a delta lobe), and the
+//! light side stands them together by [`MisHeuristic::combined`], so that the three weights
+//! sum to one. A path lit at the camera's first vertex (n = 1) is the path tracer's
 //! alone: its pixel sample and its light sample are each drawn in proportion to what they
 //! integrate there, which the densities do not see (the light paths' count in a pixel is
 //! the noise they add), and on a 32x32 sunlit room light paths that took their share of the
@@ -24,16 +29,32 @@
 
 use crate::bsdf::Bsdf;
 use crate::sample_context::SampleContext;
+use fenestra_core::mis::MisHeuristic;
 use fenestra_core::{Vec2, Vec3};
 use fenestra_scene::{Camera, Projection};
 
 /// Light paths that share some lights' light with a path tracer's next-event samples.
 pub trait LightPaths: Send + Sync {
-    /// The light paths per camera sample times the area density with which they reach the
-    /// surface point `p` (geometric normal `ng`) straight from light `light` (k pL(x) once
-    /// multiplied by the image's pixels); 0 where they do not start at that light or cannot
-    /// reach `p` from it.
-    fn emitted(&self, light: usize, p: Vec3, ng: Vec3) -> f32;
+    /// The light paths per camera sample times the density with which they reach the
+    /// surface point `p` (geometric normal `ng`) straight from light `light` along the unit
+    /// direction `towards` it (k pL(x) once multiplied by the image's pixels): the light's
+    /// density of the direction (solid angle; a Dirac direction counts 1) times the area
+    /// density of `p` along it; 0 where they do not start at that light or cannot reach `p`
+    /// from it.
+    fn emitted(&self, light: usize, p: Vec3, ng: Vec3, towards: Vec3) -> f32;
+}
+
+/// What the light side needs of the path tracer at a light path's first vertex y1 = xn.
+#[derive(Clone, Copy, Debug)]
+pub struct FirstVertex {
+    /// k pL(y1) ([`LightPaths::emitted`] times the image's pixels).
+    pub emitted: f32,
+    /// The path tracer's next-event density of the light's direction at y1: its pick of
+    /// the light times the light's density of the direction (a Dirac direction counts 1).
+    pub next_event: f32,
+    /// Whether the path tracer's BSDF-sampled rays can find the light (a disk such as the
+    /// sky's sun, not a direction).
+    pub found: bool,
 }
 
 /// The area density at `to` (geometric normal `ng`) of a direction drawn at `from` with
@@ -119,10 +140,17 @@ impl CameraSide {
 
     /// r for the path closed at the current vertex (BSDF `bsdf`, `wo` towards the camera's
     /// side) by a next-event sample towards a light along `wl` (local) that the light paths
-    /// reach it from with `emitted` ([`LightPaths::emitted`]), picked with probability
-    /// `pick`: 0 where light tracing cannot make the path (or does not: n = 1), infinite where
-    /// only it can.
-    pub fn ratio_to_light(&self, bsdf: &Bsdf, wo: Vec3, wl: Vec3, emitted: f32, pick: f32) -> f32 {
+    /// reach it from with `emitted` ([`LightPaths::emitted`]), taken with the density
+    /// `next_event` ([`FirstVertex::next_event`]): 0 where light tracing cannot make the path
+    /// (or does not: n = 1), infinite where only it can.
+    pub fn ratio_to_light(
+        &self,
+        bsdf: &Bsdf,
+        wo: Vec3,
+        wl: Vec3,
+        emitted: f32,
+        next_event: f32,
+    ) -> f32 {
         let (Some(here), Some(prev)) = (self.here, self.prev) else {
             return 0.0;
         };
@@ -130,25 +158,53 @@ impl CameraSide {
             return 0.0;
         }
         let rev = to_area(bsdf.mis_pdf(wl, wo), here.p, prev.p, prev.ng);
-        let r = emitted * self.ratio * rev / pick;
-        if r.is_nan() {
-            0.0
-        } else {
-            r
+        finite_or_zero(emitted * self.ratio * rev / next_event)
+    }
+
+    /// r for the path whose current vertex was left (after [`CameraSide::leave`]) along a
+    /// direction that found a light at infinity, which the light paths reach the vertex
+    /// (position, geometric normal) from with `emitted` ([`LightPaths::emitted`]): the BSDF's
+    /// density of the direction is the path tracer's (1 after a delta lobe).
+    pub fn ratio_found(&self, emitted: impl FnOnce(Vec3, Vec3) -> f32) -> f32 {
+        let (Some(here), Some(_)) = (self.here, self.prev) else {
+            return 0.0;
+        };
+        if !(self.ratio > 0.0) {
+            return 0.0;
         }
+        let emitted = emitted(here.p, here.ng);
+        if !(emitted > 0.0) {
+            return 0.0;
+        }
+        finite_or_zero(emitted * self.ratio / self.fwd.unwrap_or(1.0))
+    }
+}
+
+/// `r`, or 0 where it is 0/0 (a density that vanishes on both sides).
+fn finite_or_zero(r: f32) -> f32 {
+    if r.is_nan() {
+        0.0
+    } else {
+        r
     }
 }
 
 /// The light path's side: p_light and p_camera so far, up to the last vertex.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug)]
 pub struct LightSide {
+    /// How the path tracer's two strategies for the light's direction stand together.
+    mis: MisHeuristic,
     /// k pL(y1) p<-(y2) ... p<-(yk) at vertex yk (y1 = xn).
     light: f32,
     /// P(y1) p->(y1) ... p->(y(k-2)), the path tracer's densities of the vertices beyond the
-    /// last two (its density of y(k-1) depends on where the camera is).
+    /// last two (its density of y(k-1) depends on where the camera is); P(y1) stands for its
+    /// next-event sample and its BSDF sampling together once y1 is left.
     camera: f32,
-    /// Whether the path tracer can make the path: not where y1 is left by a delta lobe (its
-    /// next-event sample there evaluates the BSDF's other lobes) or its pick is 0.
+    /// Whether BSDF sampling can find the light ([`FirstVertex::found`]).
+    found: bool,
+    /// Whether the path tracer can make the path: not where its densities of the light's
+    /// direction vanish (a delta lobe at y1, whose next-event sample evaluates the BSDF's
+    /// other lobes, and a light that BSDF sampling cannot find).
     possible: bool,
     prev: Option<Point>,
     here: Option<Point>,
@@ -157,15 +213,30 @@ pub struct LightSide {
 }
 
 impl LightSide {
+    /// A light path about to start, weighed by the heuristic `mis`.
+    pub fn new(mis: MisHeuristic) -> Self {
+        LightSide {
+            mis,
+            light: 0.0,
+            camera: 0.0,
+            found: false,
+            possible: false,
+            prev: None,
+            here: None,
+            rev: None,
+        }
+    }
+
     /// The light path reaches its next vertex, `p` of geometric normal `ng`; `first` gives
-    /// (k pL, the next-event pick P of the light) there if it is the first.
-    pub fn arrive(&mut self, p: Vec3, ng: Vec3, first: impl FnOnce() -> (f32, f32)) {
+    /// what the densities need there if it is the first.
+    pub fn arrive(&mut self, p: Vec3, ng: Vec3, first: impl FnOnce() -> FirstVertex) {
         match self.here {
             None => {
-                let (emitted, pick) = first();
-                self.light = emitted;
-                self.camera = pick;
-                self.possible = emitted > 0.0 && pick > 0.0;
+                let first = first();
+                self.light = first.emitted;
+                self.camera = first.next_event;
+                self.found = first.found;
+                self.possible = first.emitted > 0.0 && first.next_event > 0.0;
             }
             Some(here) => {
                 if let Some(rev) = self.rev {
@@ -182,7 +253,19 @@ impl LightSide {
     pub fn leave(&mut self, bsdf: &Bsdf, wi: Vec3, wo: Vec3, delta: bool) {
         let Some(here) = self.here else { return };
         match self.prev {
-            None if delta => self.possible = false,
+            None => {
+                // The path tracer's densities of the light's direction at y1: its next-event
+                // sample's (none at a delta lobe) and, where it can find the light, its BSDF
+                // sampling's.
+                let next_event = if delta { 0.0 } else { self.camera };
+                let bsdf_found = match (self.found, delta) {
+                    (false, _) => 0.0,
+                    (true, true) => 1.0,
+                    (true, false) => bsdf.mis_pdf(wo, wi),
+                };
+                self.camera = self.mis.combined(next_event, bsdf_found);
+                self.possible = self.light > 0.0 && self.camera > 0.0;
+            }
             Some(prev) if !delta => {
                 self.camera *= to_area(bsdf.mis_pdf(wo, wi), here.p, prev.p, prev.ng);
             }
@@ -264,9 +347,14 @@ mod tests {
         let towards_sun = x[n - 1].0 + sun;
         let (wo, wl) = (local(n, point(n - 1)), local(n, towards_sun));
         let r_camera = c.ratio_to_light(&x[n - 1].2, wo, wl, emitted, pick);
-        let mut l = LightSide::default();
+        let mut l = LightSide::new(MisHeuristic::Power { beta: 2.0 });
+        let first = FirstVertex {
+            emitted,
+            next_event: pick,
+            found: false,
+        };
         for i in (1..=n).rev() {
-            l.arrive(x[i - 1].0, x[i - 1].1, || (emitted, pick));
+            l.arrive(x[i - 1].0, x[i - 1].1, || first);
             if i > 1 {
                 let light = if i == n { towards_sun } else { point(i + 1) };
                 let (wi, wo) = (local(i, light), local(i, point(i - 1)));
@@ -304,6 +392,88 @@ mod tests {
         assert!(compared > 300, "{compared} paths compared");
         // The camera's first vertex lit directly is the path tracer's alone.
         assert_eq!(ratios(&path(1, 3, sun), sun, None), (0.0, 0.0));
+    }
+
+    /// The weights of the three strategies for the path `x` lit from a disk towards `sun`
+    /// (next-event sample, BSDF sampling, light tracing), with the last vertex scattering by
+    /// a delta lobe or not; `None` where the path tracer cannot make the path.
+    fn three_weights(x: &[(Vec3, Vec3, Bsdf)], sun: Vec3, delta: bool) -> Option<[f32; 3]> {
+        let mis = MisHeuristic::Power { beta: 2.0 };
+        let (emitted, pick, pixel) = (7.0, 0.8, 53.0);
+        let point = |i: usize| if i == 0 { Vec3::ZERO } else { x[i - 1].0 };
+        let local = |i: usize, to: Vec3| {
+            let (p, ng, _) = &x[i - 1];
+            Frame::from_normal(*ng).to_local((to - *p).normalize())
+        };
+        let n = x.len();
+        let mut c = CameraSide::default();
+        for i in 1..=n {
+            c.arrive(x[i - 1].0, x[i - 1].1, || pixel);
+            if i < n {
+                let (wo, wi) = (local(i, point(i - 1)), local(i, point(i + 1)));
+                c.leave(&x[i - 1].2, wo, wi, false);
+            }
+        }
+        let bsdf = &x[n - 1].2;
+        let (wo, wl) = (local(n, point(n - 1)), local(n, x[n - 1].0 + sun));
+        let (next_event, found) = if delta {
+            (0.0, 1.0)
+        } else {
+            let w = mis.weight(pick, bsdf.pdf(wo, wl));
+            let r = c.ratio_to_light(bsdf, wo, wl, emitted, pick);
+            (w * mis.with_third(w, r), 1.0 - w)
+        };
+        c.leave(bsdf, wo, wl, delta);
+        let r = c.ratio_found(|_, _| emitted);
+        if r == 0.0 {
+            // A direction below a surface: the path tracer cannot make the path.
+            return None;
+        }
+        let found = found * mis.with_third(found, r);
+        let mut l = LightSide::new(mis);
+        let first = FirstVertex {
+            emitted,
+            next_event: pick,
+            found: true,
+        };
+        for i in (1..=n).rev() {
+            l.arrive(x[i - 1].0, x[i - 1].1, || first);
+            if i > 1 {
+                let light = if i == n {
+                    x[n - 1].0 + sun
+                } else {
+                    point(i + 1)
+                };
+                let (wi, wo) = (local(i, light), local(i, point(i - 1)));
+                l.leave(&x[i - 1].2, wi, wo, delta && i == n);
+            }
+        }
+        let r = l.ratio_at_camera(&x[0].2, local(1, Vec3::ZERO), local(1, point(2)));
+        Some([
+            next_event,
+            found,
+            mis.weight(r.expect("possible") / pixel, 1.0),
+        ])
+    }
+
+    #[test]
+    fn three_strategies_for_a_light_that_bsdf_sampling_finds_weigh_one_in_all() {
+        let sun = Vec3::new(0.3, 0.8, -0.5).normalize();
+        let mut shared = 0;
+        for n in 2..=6 {
+            for seed in 0..40 {
+                let x = path(n, seed * 17 + n as u32, sun);
+                for delta in [false, true] {
+                    let Some(w) = three_weights(&x, sun, delta) else {
+                        continue;
+                    };
+                    let sum: f32 = w.iter().sum();
+                    assert!((sum - 1.0).abs() < 1e-4, "n {n} seed {seed}: {w:?}");
+                    shared += usize::from(w.iter().filter(|&&w| w > 1e-3).count() > 1);
+                }
+            }
+        }
+        assert!(shared > 60, "{shared} paths shared by strategies");
     }
 
     #[test]

@@ -37,6 +37,37 @@ impl SunDisk {
     fn holds(&self, dir: Vec3) -> bool {
         0.5 * (dir - self.frame.n).length_squared() <= self.cap
     }
+
+    /// Unit vector towards the disk's centre.
+    pub fn axis(&self) -> Vec3 {
+        self.frame.n
+    }
+
+    /// Its radiance.
+    pub fn radiance(&self) -> Rgb {
+        self.radiance
+    }
+
+    /// A direction towards the disk, uniform in its cone (every direction of the cone meets
+    /// the disk: an edge test could round it off).
+    pub fn sample(&self, u: Vec2) -> Vec3 {
+        self.frame
+            .to_world(warp::square_to_uniform_cone(u, self.cap))
+    }
+
+    /// Solid-angle density with which [`SunDisk::sample`] gives the direction `dir`.
+    pub fn pdf(&self, dir: Vec3) -> f32 {
+        if self.holds(dir.normalize()) {
+            warp::uniform_cone_pdf(self.cap)
+        } else {
+            0.0
+        }
+    }
+
+    /// Its solid angle.
+    pub fn solid_angle(&self) -> f32 {
+        2.0 * PI * self.cap
+    }
 }
 
 #[derive(Clone, Debug)]
@@ -99,6 +130,14 @@ impl Environment {
         matches!(self, Environment::Sun(_))
     }
 
+    /// The sun's disk, if this is one.
+    pub fn sun(&self) -> Option<&SunDisk> {
+        match self {
+            Environment::Sun(s) => Some(s),
+            _ => None,
+        }
+    }
+
     /// Radiance arriving along -`dir` from the environment (`dir` points away from the scene).
     pub fn le(&self, dir: Vec3) -> Rgb {
         match self {
@@ -131,10 +170,9 @@ impl Environment {
                 let local = Vec3::new(sin_t * phi.cos(), sin_t * phi.sin(), theta.cos());
                 (e.to_world * local, pdf_uv / (2.0 * PI * PI * sin_t))
             }
-            // Every direction of the cone meets the disk (an edge test could round it off).
             Environment::Sun(s) => {
                 return Some(LightSample {
-                    wi: s.frame.to_world(warp::square_to_uniform_cone(u, s.cap)),
+                    wi: s.sample(u),
                     li: s.radiance,
                     pdf: warp::uniform_cone_pdf(s.cap),
                     point: None,
@@ -164,8 +202,7 @@ impl Environment {
                     e.distribution.pdf(uv) / (2.0 * PI * PI * sin_t)
                 }
             }
-            Environment::Sun(s) if s.holds(dir.normalize()) => warp::uniform_cone_pdf(s.cap),
-            Environment::Sun(_) => 0.0,
+            Environment::Sun(s) => s.pdf(dir),
         }
     }
 
@@ -176,7 +213,7 @@ impl Environment {
             Environment::Constant(l) => l.luminance(),
             Environment::Image(e) => (e.image.mean() * e.scale).luminance(),
             // Its radiance times its solid angle, spread over the sphere.
-            Environment::Sun(s) => s.radiance.luminance() * 2.0 * PI * s.cap / (4.0 * PI),
+            Environment::Sun(s) => s.radiance.luminance() * s.solid_angle() / (4.0 * PI),
         };
         // pbrt-v4's convention: pi r^2 times the radiance integrated over the sphere.
         PI * r * r * 4.0 * PI * mean

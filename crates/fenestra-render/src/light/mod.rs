@@ -13,7 +13,7 @@ mod spot;
 pub use area::AreaLight;
 pub use auto::{AutoLightSampler, SPLIT_MARGIN};
 pub use distant::DistantLight;
-pub use environment::Environment;
+pub use environment::{Environment, SunDisk};
 pub use learning::{LightRecord, LightRecords};
 pub use point::PointLight;
 pub use sampler::{
@@ -148,6 +148,17 @@ impl Light {
         match (self, hit) {
             (Light::Area(a), LightHit::Surface(si)) => a.pdf_li(scene, p, si),
             (Light::Environment(e), LightHit::Escaped) => e.pdf_li(wi),
+            _ => 0.0,
+        }
+    }
+
+    /// Solid-angle density with which [`Light::sample_li`] gives the direction `wi` towards
+    /// a light at infinity, a Dirac direction counting 1 (as the densities of light paths'
+    /// MIS count it); 0 for lights at a finite distance.
+    pub fn pdf_at_infinity(&self, wi: Vec3) -> f32 {
+        match self {
+            Light::Distant(_) => 1.0,
+            Light::Environment(e) => e.pdf_li(wi),
             _ => 0.0,
         }
     }
