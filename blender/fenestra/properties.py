@@ -45,6 +45,16 @@ class FenestraRenderSettings(bpy.types.PropertyGroup):
         max=1024,
     )
     portals: bpy.props.EnumProperty(name="Portals", items=PORTALS, default="auto")
+    # The binary's default (`light_paths.per_sample`; the add-on's tests hold them equal).
+    light_paths_per_sample: bpy.props.FloatProperty(
+        name="Light Paths",
+        description="Light paths from the sun through the portals per camera sample, joined "
+        "to the camera paths by MIS (lp_lt): they carry the sun's glints off glossy surfaces",
+        default=0.25,
+        min=0.0,
+        max=16.0,
+        soft_max=2.0,
+    )
     light_selection: bpy.props.EnumProperty(name="Light Selection", items=_light_selections)
     seed: bpy.props.IntProperty(name="Seed", default=0, min=0)
     threads: bpy.props.IntProperty(
@@ -94,6 +104,8 @@ def render_flags(settings):
         flags += ["--max-depth", str(settings.max_depth)]
     if catalogue.reads(settings.integrator, "light"):
         flags += ["--light-selection", settings.light_selection]
+    if catalogue.reads(settings.integrator, "light_paths"):
+        flags += ["--light-paths-per-sample", f"{settings.light_paths_per_sample:g}"]
     if settings.variance_pass:
         flags.append("--variance")
     return flags

@@ -35,6 +35,8 @@ class RENDER_PT_fenestra_sampling(FenestraPanel, bpy.types.Panel):
             row = layout.row()
             row.prop(s, "portals")
             layout.operator("fenestra.estimate_portals", icon="LIGHT_AREA")
+        if catalogue.reads(s.integrator, "light_paths"):
+            layout.prop(s, "light_paths_per_sample")
         layout.prop(s, "seed")
         layout.prop(s, "threads")
 

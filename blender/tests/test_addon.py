@@ -527,4 +527,8 @@ def test_the_settings_are_the_binarys_integrators_and_options(fenestra_bin):
         flags = properties.render_flags(scene.fenestra)
         assert ("--max-depth" in flags) == ("path" in entry["groups"]), entry
         assert ("--light-selection" in flags) == ("light" in entry["groups"]), entry
+        light_paths = "light_paths" in entry["groups"]
+        assert ("--light-paths-per-sample" in flags) == light_paths, entry
+    per_sample = next(o for o in listed["options"] if o["key"] == "light_paths.per_sample")
+    assert scene.fenestra.light_paths_per_sample == per_sample["default"]
     scene.fenestra.integrator = properties.START_INTEGRATOR
