@@ -29,6 +29,10 @@ use fenestra_scene::{Camera, SurfaceInteraction};
 /// Consecutive panes a light path passes straight through (as camera paths do).
 const MAX_PANES: u32 = 16;
 
+/// The camera rays (a grid over the image, per axis) whose first hits measure
+/// [`SunPaths::sunlight_through_portals`].
+const SEEN_GRID: (u32, u32) = (48, 27);
+
 /// Where a sun's light comes from.
 #[derive(Clone, Copy, Debug)]
 enum SunShape {
@@ -203,6 +207,41 @@ impl SunPaths {
     /// Whether there are none (never, as built).
     pub fn is_empty(&self) -> bool {
         self.suns.is_empty()
+    }
+
+    /// The share of the sunlight on the surfaces the camera sees (the first hits of a grid
+    /// of its rays; each sun's irradiance along its axis through thin glass, times the
+    /// cosine on the side the camera sees) that arrives along lines through the portals: all
+    /// of the direct sunlight there that light paths can bring, and a sign of how much of the
+    /// rest they can. `None` where the camera sees no sunlit surface.
+    pub fn sunlight_through_portals(&self, scene: &RenderScene) -> Option<f64> {
+        let camera = &scene.scene.camera;
+        let (w, h) = SEEN_GRID;
+        let (mut through, mut all) = (0.0f64, 0.0f64);
+        for y in 0..h {
+            for x in 0..w {
+                let ray = camera.generate_ray(Vec2::new(x as f32 + 0.5, y as f32 + 0.5), w, h);
+                let Some(hit) = scene.scene.intersect(&ray, f32::INFINITY) else {
+                    continue;
+                };
+                let si = scene.scene.interaction(&ray, &hit);
+                for sun in &self.suns {
+                    let (dir, irradiance) = sun.shape.axis();
+                    let cos = -si.ng.dot(dir) * si.ng.dot(-ray.d).signum();
+                    if !(cos > 0.0) {
+                        continue;
+                    }
+                    let shadow = Ray::new(si.spawn(-dir), -dir);
+                    let tr = scene.transmittance(shadow, f32::INFINITY);
+                    let lit = f64::from((irradiance * tr).luminance() * cos);
+                    all += lit;
+                    if sun.crossings(si.p, dir) > 0 {
+                        through += lit;
+                    }
+                }
+            }
+        }
+        (all > 0.0).then(|| through / all)
     }
 
     /// Probability of picking sun `k`.

@@ -194,6 +194,27 @@ fn light_paths_splat_the_same_pixels_for_any_thread_count() {
     assert_eq!(one.pixels, two.pixels);
 }
 
+/// Light paths start at the portals: where these miss the sunlight the camera sees (a portal
+/// in the window's wall beside the window), lp_lt traces none and renders as lp_hf.
+#[test]
+fn no_light_paths_where_the_portals_miss_the_sunlight_the_camera_sees() {
+    let beside = PortalSource::Given(Portals::from_quads(&[[
+        Vec3::new(0.2, 0.0, 0.8),
+        Vec3::new(1.2, 0.0, 0.8),
+        Vec3::new(1.2, 0.0, 2.2),
+        Vec3::new(0.2, 0.0, 2.2),
+    ]]));
+    let portals = PortalOptions {
+        keep: true,
+        ..PortalOptions::default()
+    };
+    let lights = LightNextEvent::new(LightSelection::Power);
+    let camera = lp_hf(path(4), portals, beside, lights).expect("lp_hf");
+    let mut beside = LpLt::new(camera, LightPathOptions { per_sample: 1.0 }).expect("lp_lt");
+    assert_eq!(render(&mut beside, 4, 2).light_paths, 0);
+    assert_eq!(render(&mut lp_lt(4, 1.0), 4, 2).light_paths, 32 * 32 * 4);
+}
+
 #[test]
 fn light_paths_need_portals_and_a_sun() {
     let settings = RenderSettings {
