@@ -26,13 +26,18 @@ impl MisHeuristic {
         }
         match self {
             MisHeuristic::Balance => pa / (pa + pb),
-            MisHeuristic::Power { beta } => {
-                // pa^beta / (pa^beta + pb^beta) = 1 / (1 + r^beta) with r = pb / pa, which
-                // neither overflows nor underflows where it matters (r = inf gives 0).
-                let r = pb / pa;
-                let rb = if beta == 2.0 { r * r } else { r.powf(beta) };
-                1.0 / (1.0 + rb)
-            }
+            // pa^beta / (pa^beta + pb^beta) = 1 / (1 + r^beta) with r = pb / pa, which
+            // neither overflows nor underflows where it matters (r = inf gives 0).
+            MisHeuristic::Power { .. } => 1.0 / (1.0 + self.powered(pb / pa)),
+        }
+    }
+
+    /// r^beta (r for the balance heuristic).
+    fn powered(self, r: f32) -> f32 {
+        match self {
+            MisHeuristic::Balance => r,
+            MisHeuristic::Power { beta: 2.0 } => r * r,
+            MisHeuristic::Power { beta } => r.powf(beta),
         }
     }
 
@@ -51,12 +56,7 @@ impl MisHeuristic {
     /// joins them, `r` times as dense as it for the same sample: w / (1 + w r^beta) is its
     /// weight against all (1 / w = sum of (p_j / p)^beta, to which (p_new / p)^beta adds).
     pub fn with_third(self, w: f32, r: f32) -> f32 {
-        let rb = match self {
-            MisHeuristic::Balance => r,
-            MisHeuristic::Power { beta: 2.0 } => r * r,
-            MisHeuristic::Power { beta } => r.powf(beta),
-        };
-        let f = 1.0 / (1.0 + w * rb);
+        let f = 1.0 / (1.0 + w * self.powered(r));
         if f.is_nan() {
             1.0
         } else {

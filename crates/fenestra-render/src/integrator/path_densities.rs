@@ -325,45 +325,77 @@ mod tests {
             .collect()
     }
 
-    /// Both sides' r for the path `x` lit from `sun` (the direction towards it), with the
-    /// vertex `delta` (if any) scattering by a delta lobe.
-    fn ratios(x: &[(Vec3, Vec3, Bsdf)], sun: Vec3, delta: Option<usize>) -> (f32, f32) {
-        let (emitted, pick, pixel) = (0.7, 0.4, 53.0);
-        let camera = Vec3::ZERO;
-        let point = |i: usize| if i == 0 { camera } else { x[i - 1].0 };
-        let local = |i: usize, to: Vec3| {
-            let (p, ng, _) = &x[i - 1];
-            Frame::from_normal(*ng).to_local((to - *p).normalize())
-        };
+    type Path = [(Vec3, Vec3, Bsdf)];
+
+    /// Vertex i's (1-based; 0 is the camera at the origin) position.
+    fn point(x: &Path, i: usize) -> Vec3 {
+        if i == 0 {
+            Vec3::ZERO
+        } else {
+            x[i - 1].0
+        }
+    }
+
+    /// The direction from vertex i (1-based) towards `to`, in its local frame.
+    fn local(x: &Path, i: usize, to: Vec3) -> Vec3 {
+        let (p, ng, _) = &x[i - 1];
+        Frame::from_normal(*ng).to_local((to - *p).normalize())
+    }
+
+    /// The camera side walked to the last vertex of `x` (seen with density `pixel`), every
+    /// vertex before it left towards the next, vertex `delta` by a delta lobe.
+    fn camera_walk(x: &Path, pixel: f32, delta: Option<usize>) -> CameraSide {
         let n = x.len();
         let mut c = CameraSide::default();
         for i in 1..=n {
             c.arrive(x[i - 1].0, x[i - 1].1, || pixel);
             if i < n {
-                let (wo, wi) = (local(i, point(i - 1)), local(i, point(i + 1)));
+                let (wo, wi) = (local(x, i, point(x, i - 1)), local(x, i, point(x, i + 1)));
                 c.leave(&x[i - 1].2, wo, wi, delta == Some(i));
             }
         }
-        let towards_sun = x[n - 1].0 + sun;
-        let (wo, wl) = (local(n, point(n - 1)), local(n, towards_sun));
+        c
+    }
+
+    /// The light side walked from the last vertex of `x` (lit from `sun`, `first` there) to
+    /// the first, vertex `delta` left by a delta lobe: the first vertex's r for its pixel.
+    fn light_walk(
+        x: &Path,
+        sun: Vec3,
+        (mis, first, pixel): (MisHeuristic, FirstVertex, f32),
+        delta: Option<usize>,
+    ) -> Option<f32> {
+        let n = x.len();
+        let towards_sun = point(x, n) + sun;
+        let mut l = LightSide::new(mis);
+        for i in (1..=n).rev() {
+            l.arrive(x[i - 1].0, x[i - 1].1, || first);
+            if i > 1 {
+                let light = if i == n { towards_sun } else { point(x, i + 1) };
+                let (wi, wo) = (local(x, i, light), local(x, i, point(x, i - 1)));
+                l.leave(&x[i - 1].2, wi, wo, delta == Some(i));
+            }
+        }
+        let light = if n == 1 { towards_sun } else { point(x, 2) };
+        let (wc, wi) = (local(x, 1, Vec3::ZERO), local(x, 1, light));
+        Some(l.ratio_at_camera(&x[0].2, wc, wi)? / pixel)
+    }
+
+    /// Both sides' r for the path `x` lit from `sun` (the direction towards it), with the
+    /// vertex `delta` (if any) scattering by a delta lobe.
+    fn ratios(x: &Path, sun: Vec3, delta: Option<usize>) -> (f32, f32) {
+        let (emitted, pick, pixel) = (0.7, 0.4, 53.0);
+        let n = x.len();
+        let c = camera_walk(x, pixel, delta);
+        let (wo, wl) = (local(x, n, point(x, n - 1)), local(x, n, point(x, n) + sun));
         let r_camera = c.ratio_to_light(&x[n - 1].2, wo, wl, emitted, pick);
-        let mut l = LightSide::new(MisHeuristic::Power { beta: 2.0 });
         let first = FirstVertex {
             emitted,
             next_event: pick,
             found: false,
         };
-        for i in (1..=n).rev() {
-            l.arrive(x[i - 1].0, x[i - 1].1, || first);
-            if i > 1 {
-                let light = if i == n { towards_sun } else { point(i + 1) };
-                let (wi, wo) = (local(i, light), local(i, point(i - 1)));
-                l.leave(&x[i - 1].2, wi, wo, delta == Some(i));
-            }
-        }
-        let light = if n == 1 { towards_sun } else { point(2) };
-        let (wc, wi) = (local(1, camera), local(1, light));
-        let r_light = l.ratio_at_camera(&x[0].2, wc, wi).expect("possible") / pixel;
+        let mis = MisHeuristic::Power { beta: 2.0 };
+        let r_light = light_walk(x, sun, (mis, first, pixel), delta).expect("possible");
         (r_camera, r_light)
     }
 
@@ -397,25 +429,13 @@ mod tests {
     /// The weights of the three strategies for the path `x` lit from a disk towards `sun`
     /// (next-event sample, BSDF sampling, light tracing), with the last vertex scattering by
     /// a delta lobe or not; `None` where the path tracer cannot make the path.
-    fn three_weights(x: &[(Vec3, Vec3, Bsdf)], sun: Vec3, delta: bool) -> Option<[f32; 3]> {
+    fn three_weights(x: &Path, sun: Vec3, delta: bool) -> Option<[f32; 3]> {
         let mis = MisHeuristic::Power { beta: 2.0 };
         let (emitted, pick, pixel) = (7.0, 0.8, 53.0);
-        let point = |i: usize| if i == 0 { Vec3::ZERO } else { x[i - 1].0 };
-        let local = |i: usize, to: Vec3| {
-            let (p, ng, _) = &x[i - 1];
-            Frame::from_normal(*ng).to_local((to - *p).normalize())
-        };
         let n = x.len();
-        let mut c = CameraSide::default();
-        for i in 1..=n {
-            c.arrive(x[i - 1].0, x[i - 1].1, || pixel);
-            if i < n {
-                let (wo, wi) = (local(i, point(i - 1)), local(i, point(i + 1)));
-                c.leave(&x[i - 1].2, wo, wi, false);
-            }
-        }
+        let mut c = camera_walk(x, pixel, None);
         let bsdf = &x[n - 1].2;
-        let (wo, wl) = (local(n, point(n - 1)), local(n, x[n - 1].0 + sun));
+        let (wo, wl) = (local(x, n, point(x, n - 1)), local(x, n, point(x, n) + sun));
         let (next_event, found) = if delta {
             (0.0, 1.0)
         } else {
@@ -430,30 +450,14 @@ mod tests {
             return None;
         }
         let found = found * mis.with_third(found, r);
-        let mut l = LightSide::new(mis);
         let first = FirstVertex {
             emitted,
             next_event: pick,
             found: true,
         };
-        for i in (1..=n).rev() {
-            l.arrive(x[i - 1].0, x[i - 1].1, || first);
-            if i > 1 {
-                let light = if i == n {
-                    x[n - 1].0 + sun
-                } else {
-                    point(i + 1)
-                };
-                let (wi, wo) = (local(i, light), local(i, point(i - 1)));
-                l.leave(&x[i - 1].2, wi, wo, delta && i == n);
-            }
-        }
-        let r = l.ratio_at_camera(&x[0].2, local(1, Vec3::ZERO), local(1, point(2)));
-        Some([
-            next_event,
-            found,
-            mis.weight(r.expect("possible") / pixel, 1.0),
-        ])
+        let delta = delta.then_some(n);
+        let r = light_walk(x, sun, (mis, first, pixel), delta).expect("possible");
+        Some([next_event, found, mis.weight(r, 1.0)])
     }
 
     #[test]
