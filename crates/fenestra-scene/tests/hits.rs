@@ -149,8 +149,13 @@ fn directions_with_negative_zero_components_hit() {
         ] {
             for o in [Vec3::new(-0.5, 0.0, 1.0), Vec3::new(0.3, 0.6, 2.0)] {
                 let ray = Ray::new(o, d);
+                // Embree rounds t to within an ulp or two depending on the CPU it runs on.
                 let hit = scene.intersect(&ray, f32::INFINITY).map(|h| h.t);
-                assert_eq!(hit, Some(o.z), "{} from {o} along {d:?}", backend.name());
+                assert!(
+                    hit.is_some_and(|t| (t - o.z).abs() <= 4.0 * f32::EPSILON * o.z),
+                    "{} from {o} along {d:?}: {hit:?}",
+                    backend.name()
+                );
                 assert!(scene.occluded(&ray, 10.0), "{} occluded", backend.name());
             }
         }
