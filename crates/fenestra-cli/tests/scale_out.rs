@@ -60,7 +60,7 @@ fn assert_same(single: &Path, merged: &Path) {
     let (_, b) = film_file::read(&merged.with_extension("film")).expect("merged film");
     assert_eq!(a.window, b.window);
     assert!(
-        a.pixels == b.pixels,
+        a.pixels == b.pixels && a.splats == b.splats && a.light_paths == b.light_paths,
         "{} differs from {}",
         merged.display(),
         single.display()
@@ -78,18 +78,40 @@ fn assert_same(single: &Path, merged: &Path) {
     assert_eq!(bits(&x), bits(&y));
 }
 
+/// Path tracers and, with their light paths' splats, lt and lp_lt (on the glossy room lit by
+/// the sun through its window).
 #[test]
 fn sample_ranges_merge_into_the_single_render_bit_for_bit() {
     const SPP: u32 = 14;
     let splits: [&[u32]; 4] = [&[], &[5], &[1, 9], &[2, 3, 4, 8, 9, 13]];
-    for (integrator, scene) in [
-        ("hf", "builtin:box-hole"),
-        ("af_hf", "builtin:box-hole"),
-        ("lp_hf", "builtin:box-4holes"),
+    let window = dir("window").join("portals.json");
+    ok(fenestra(&[
+        "portals",
+        "builtin:glossy-room",
+        "--time",
+        "0",
+        "--quiet",
+        "-o",
+        s(&window),
+    ]));
+    let through_window = ["--portals", s(&window)];
+    for (integrator, scene, extra) in [
+        ("hf", "builtin:box-hole", &[][..]),
+        ("af_hf", "builtin:box-hole", &[]),
+        ("lp_hf", "builtin:box-4holes", &[]),
+        ("lt", "builtin:glossy-room", &through_window),
+        ("lp_lt", "builtin:glossy-room", &through_window),
     ] {
+        let render = |scene: &str, integrator: &str, out: &Path, more: &[&str]| {
+            render(scene, integrator, out, &[extra, more].concat());
+        };
         let d = dir(integrator);
         let single = d.join("single.exr");
         render(scene, integrator, &single, &["--samples", "0..14"]);
+        if integrator.ends_with("lt") {
+            let (_, film) = film_file::read(&single.with_extension("film")).expect("film");
+            assert!(film.light_paths > 0 && film.splats.iter().any(|p| p.count > 0));
+        }
         // An ordinary render makes the same image.
         let plain = d.join("plain.exr");
         render(scene, integrator, &plain, &["--spp", "14"]);
@@ -229,6 +251,19 @@ fn tiles_merge_into_the_single_render_for_path_tracers_and_ias() {
         s(&d.join("x.exr")),
     ]));
     assert!(e.contains("split it by tiles"), "{e}");
+    // Light paths bring light to every tile: lt splits by sample ranges only.
+    let e = refused(fenestra(&[
+        "render",
+        "builtin:glossy-room",
+        "--integrator",
+        "lt",
+        "--crop",
+        "0,0,8,8",
+        "-o",
+        s(&d.join("x.exr")),
+    ]));
+    assert!(e.contains("--crop cannot cut a tile of lt's render"), "{e}");
+    assert!(e.contains("split it by sample ranges (--samples)"), "{e}");
 }
 
 #[test]

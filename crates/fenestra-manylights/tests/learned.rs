@@ -131,7 +131,8 @@ fn af_hf_renders_the_same_image_with_the_learned_sampler_as_with_power_selection
 #[test]
 fn the_learned_sampler_renders_the_light_trees_image_to_a_tenth_of_a_percent() {
     for (max_depth, size) in [(2, (640, 400)), (5, (384, 256))] {
-        renders_the_light_trees_image(
+        renders_the_image_of(
+            bvh_af_hf,
             occluded_room,
             LearnedOptions::default(),
             max_depth,
@@ -142,9 +143,11 @@ fn the_learned_sampler_renders_the_light_trees_image_to_a_tenth_of_a_percent() {
 }
 
 /// The learned sampler (with `learned`) renders `scene`'s image at path length `max_depth`,
-/// `size` and 64 spp as the light tree does: image means within 3.5 standard errors, each
-/// below `most`, and 8x8 regions.
-fn renders_the_light_trees_image(
+/// `size` and 64 spp as af_hf with the light sampling of `reference` does (the light tree,
+/// or the split suns): image means within 3.5 standard errors, each below `most`, and 8x8
+/// regions.
+fn renders_the_image_of(
+    reference: fn(PathOptions) -> PathTracer<LightNextEvent>,
     scene: impl Fn() -> SceneDesc,
     learned: LearnedOptions,
     max_depth: u32,
@@ -157,8 +160,8 @@ fn renders_the_light_trees_image(
     };
     let mut learned = af_hf_learning(learned, options);
     let learned = render_with(scene(), &mut learned, size, 64, 1, 2).estimate();
-    let bvh = render_with(scene(), &mut bvh_af_hf(options), size, 64, 2, 2).estimate();
-    let shift = fenestra_eval::mean_shift(&bvh, &learned).expect("sizes");
+    let expected = render_with(scene(), &mut reference(options), size, 64, 2, 2).estimate();
+    let shift = fenestra_eval::mean_shift(&expected, &learned).expect("sizes");
     eprintln!("path length {max_depth}: {shift:?}, z {:.2}", shift.z());
     assert!(
         shift.standard_error < most,
@@ -168,7 +171,7 @@ fn renders_the_light_trees_image(
         shift.z().abs() < 3.5,
         "path length {max_depth}: the learned sampler's image mean is off: {shift:?}"
     );
-    let regions = fenestra_eval::agreement(&bvh, &learned, 0.01, 8).expect("sizes");
+    let regions = fenestra_eval::agreement(&expected, &learned, 0.01, 8).expect("sizes");
     assert!(regions.passed(), "path length {max_depth}: {regions:?}");
 }
 
@@ -291,7 +294,8 @@ fn learned_sky_directions_follow_the_density_they_claim() {
 fn learned_sky_sampling_renders_the_light_trees_image() {
     let skylit_room = || skylit_room(([0.5, 0.5], [7.5, 7.5]), false);
     for max_depth in [2, 5] {
-        renders_the_light_trees_image(
+        renders_the_image_of(
+            bvh_af_hf,
             skylit_room,
             LearnedOptions::default(),
             max_depth,
@@ -312,28 +316,9 @@ fn learned_sampling_with_the_suns_split_renders_the_split_samplers_image() {
         suns: Suns::Split,
         ..LearnedOptions::default()
     };
+    let split = |options| af_hf(options, LightSelection::Split);
     for max_depth in [2, 5] {
-        let options = PathOptions {
-            max_depth,
-            ..Default::default()
-        };
         let sunlit_room = || skylit_room(WINDOW, true);
-        let size = (384, 256);
-        let mut learning = af_hf_learning(learned, options);
-        let learned = render_with(sunlit_room(), &mut learning, size, 64, 1, 2).estimate();
-        let mut split = af_hf(options, LightSelection::Split);
-        let split = render_with(sunlit_room(), &mut split, size, 64, 2, 2).estimate();
-        let shift = fenestra_eval::mean_shift(&split, &learned).expect("sizes");
-        eprintln!("path length {max_depth}: {shift:?}, z {:.2}", shift.z());
-        assert!(
-            shift.standard_error < 1e-3,
-            "path length {max_depth}: {shift:?}"
-        );
-        assert!(
-            shift.z().abs() < 3.5,
-            "path length {max_depth}: the image mean is off: {shift:?}"
-        );
-        let regions = fenestra_eval::agreement(&split, &learned, 0.01, 8).expect("sizes");
-        assert!(regions.passed(), "path length {max_depth}: {regions:?}");
+        renders_the_image_of(split, sunlit_room, learned, max_depth, (384, 256), 1e-3);
     }
 }

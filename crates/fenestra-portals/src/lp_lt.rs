@@ -131,9 +131,11 @@ impl Integrator for LpLt {
         Ok(())
     }
 
-    /// Light paths splat anywhere in the image, and the film-state file holds no splats yet.
+    /// Light paths splat anywhere in the image, so a tile would miss what other tiles' light
+    /// paths bring to its pixels; sample ranges merge (each sample's light paths are its own,
+    /// and the film-state file keeps their splats).
     fn split(&self) -> Split {
-        Split::Whole
+        Split::Samples
     }
 
     fn render(

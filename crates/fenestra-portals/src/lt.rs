@@ -69,10 +69,11 @@ impl Integrator for Lt {
         Ok(())
     }
 
-    /// Light paths splat anywhere in the image: a tile would miss its pixels' splats from
-    /// other tiles' paths, and the film-state file holds no splats yet.
+    /// Light paths splat anywhere in the image, so a tile would miss what other tiles' light
+    /// paths bring to its pixels; sample ranges merge (each sample's light paths are its own,
+    /// and the film-state file keeps their splats).
     fn split(&self) -> Split {
-        Split::Whole
+        Split::Samples
     }
 
     fn render(

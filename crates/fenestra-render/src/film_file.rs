@@ -4,13 +4,17 @@
 //!
 //! ```text
 //! magic    "FENESTRA-FILM\n"                       14 bytes
-//! version  u32 little-endian (1)
+//! version  u32 little-endian (2)
 //! length   u32 little-endian: bytes of the header
 //! header   JSON (FilmHeader): what was rendered, the window, the sample range, statistics
+//! paths    u64 little-endian: light paths traced into the film (0: none, and no splats)
 //! pixels   per pixel of the window, row-major, 100 bytes each, little-endian:
 //!          count u32, sums 3 x i128, sums of squares 3 x u128 (units of 2^-64)
+//! splats   if paths > 0: per pixel, as pixels, the sums of the light paths' splats there
 //! crc      u32 little-endian: CRC-32 of every byte before it
 //! ```
+//!
+//! Version 1 had no `paths` and no splats; it is read as a film without light paths.
 
 use crate::film::{Film, Pixel, Window};
 use fenestra_core::stats::RenderStats;
@@ -19,7 +23,7 @@ use std::io::{BufReader, BufWriter, Read, Write};
 use std::path::{Path, PathBuf};
 
 const MAGIC: &[u8; 14] = b"FENESTRA-FILM\n";
-const VERSION: u32 = 1;
+const VERSION: u32 = 2;
 /// Bytes of one pixel's record.
 const PIXEL_BYTES: usize = 4 + 3 * 16 + 3 * 16;
 /// Largest header accepted (a corrupt length must not allocate gigabytes).
@@ -89,8 +93,15 @@ pub fn write(path: &Path, header: &FilmHeader, film: &Film) -> std::io::Result<(
     out.write_all(&VERSION.to_le_bytes())?;
     out.write_all(&(json.len() as u32).to_le_bytes())?;
     out.write_all(&json)?;
+    out.write_all(&film.light_paths.to_le_bytes())?;
     for p in &film.pixels {
         out.write_all(&encode(p))?;
+    }
+    if film.light_paths > 0 {
+        let none = Pixel::default();
+        for i in 0..film.pixels.len() {
+            out.write_all(&encode(film.splats.get(i).unwrap_or(&none)))?;
+        }
     }
     let crc = out.1.clone().finalize();
     out.0.write_all(&crc.to_le_bytes())?;
@@ -106,7 +117,14 @@ pub fn read_header(path: &Path) -> Result<FilmHeader, FilmFileError> {
 pub fn read(path: &Path) -> Result<(FilmHeader, Film), FilmFileError> {
     let mut reader = FilmReader::open(path)?;
     let mut film = Film::cropped(reader.header.window);
-    reader.pixels(|i, p| film.pixels[i] = p)?;
+    film.light_paths = reader.light_paths;
+    if reader.light_paths > 0 {
+        film.splats = vec![Pixel::default(); film.pixels.len()];
+    }
+    reader.records(|record, i, p| match record {
+        Record::Pixel => film.pixels[i] = p,
+        Record::Splat => film.splats[i] = p,
+    })?;
     Ok((reader.header, film))
 }
 
@@ -114,7 +132,7 @@ pub fn read(path: &Path) -> Result<(FilmHeader, Film), FilmFileError> {
 /// checksum) and every pixel record possible (see [`read`]).
 pub fn verify(path: &Path) -> Result<FilmHeader, FilmFileError> {
     let mut reader = FilmReader::open(path)?;
-    reader.pixels(|_, _| ())?;
+    reader.records(|_, _, _| ())?;
     Ok(reader.header)
 }
 
@@ -134,11 +152,24 @@ pub fn add_into(path: &Path, film: &mut Film) -> Result<FilmHeader, FilmFileErro
         return Err(reader.invalid(format!("its window {inner} is outside {outer}")));
     }
     let w = inner.width() as usize;
+    let Some(light_paths) = film.light_paths.checked_add(reader.light_paths) else {
+        return Err(reader.invalid(
+            "it holds more light paths than can be counted with the other parts'".into(),
+        ));
+    };
+    film.light_paths = light_paths;
+    if reader.light_paths > 0 && film.splats.is_empty() {
+        film.splats = vec![Pixel::default(); film.pixels.len()];
+    }
     let mut overflow = None;
-    reader.pixels(|i, p| {
+    reader.records(|record, i, p| {
         let (x, y) = (inner.x0 as usize + i % w, inner.y0 as usize + i / w);
         let at = (y - outer.y0 as usize) * film.width as usize + (x - outer.x0 as usize);
-        if !film.pixels[at].checked_merge(&p) {
+        let sums = match record {
+            Record::Pixel => &mut film.pixels[at],
+            Record::Splat => &mut film.splats[at],
+        };
+        if !sums.checked_merge(&p) {
             overflow.get_or_insert((x, y));
         }
     })?;
@@ -155,6 +186,15 @@ struct FilmReader {
     path: PathBuf,
     input: Crc<BufReader<std::fs::File>>,
     header: FilmHeader,
+    /// Light paths traced into the film (0: the file holds no splats).
+    light_paths: u64,
+}
+
+/// Which of a pixel's two records: the camera samples' sums or the light paths' splats.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Record {
+    Pixel,
+    Splat,
 }
 
 impl FilmReader {
@@ -177,14 +217,17 @@ impl FilmReader {
         }
         input.read_exact(&mut word).map_err(io)?;
         let version = u32::from_le_bytes(word);
-        if version != VERSION {
+        if !(1..=VERSION).contains(&version) {
             return Err(invalid(format!(
-                "format version {version}, this fenestra reads version {VERSION}"
+                "format version {version}, this fenestra reads versions 1 to {VERSION}"
             )));
         }
+        // Bytes besides the header and the records: magic, version, length, CRC, and from
+        // version 2 the light-path count.
+        let framing = 26 + if version >= 2 { 8 } else { 0 };
         input.read_exact(&mut word).map_err(io)?;
         let length = u32::from_le_bytes(word);
-        if length > MAX_HEADER || u64::from(length) + 22 > size {
+        if length > MAX_HEADER || u64::from(length) + framing > size {
             return Err(invalid(format!(
                 "truncated or corrupt: a header of {length} bytes in a file of {size}"
             )));
@@ -193,6 +236,12 @@ impl FilmReader {
         input.read_exact(&mut json).map_err(io)?;
         let header: FilmHeader = serde_json::from_slice(&json)
             .map_err(|e| invalid(format!("its header does not parse: {e}")))?;
+        let mut light_paths = 0;
+        if version >= 2 {
+            let mut count = [0u8; 8];
+            input.read_exact(&mut count).map_err(io)?;
+            light_paths = u64::from_le_bytes(count);
+        }
         let w = header.window;
         if w.x0 >= w.x1 || w.y0 >= w.y1 || w.x1 > w.full_width || w.y1 > w.full_height {
             return Err(invalid(format!(
@@ -212,10 +261,10 @@ impl FilmReader {
                 w.height()
             )));
         }
-        let expected = 22
+        let records = if light_paths > 0 { 2 } else { 1 };
+        let expected = framing
             + u64::from(length)
-            + u64::from(w.width()) * u64::from(w.height()) * PIXEL_BYTES as u64
-            + 4;
+            + records * u64::from(w.width()) * u64::from(w.height()) * PIXEL_BYTES as u64;
         if size != expected {
             return Err(invalid(format!(
                 "truncated or corrupt: {size} bytes where its header promises {expected}"
@@ -225,6 +274,7 @@ impl FilmReader {
             path: path.to_path_buf(),
             input,
             header,
+            light_paths,
         })
     }
 
@@ -235,8 +285,9 @@ impl FilmReader {
         }
     }
 
-    /// Hands every pixel record, in order, to `each`, then checks the CRC.
-    fn pixels(&mut self, mut each: impl FnMut(usize, Pixel)) -> Result<(), FilmFileError> {
+    /// Hands every record, in order (the pixels', then the splats'), to `each` with its pixel's
+    /// index in the window, then checks the CRC.
+    fn records(&mut self, mut each: impl FnMut(Record, usize, Pixel)) -> Result<(), FilmFileError> {
         let path = self.path.clone();
         let io = |source| FilmFileError::Io {
             path: path.clone(),
@@ -247,18 +298,37 @@ impl FilmReader {
         // dropped as non-finite); an adaptive render's at most its largest count.
         let most = (self.header.samples).map_or(self.header.stats.spp_max, |r| r.end - r.start);
         let mut impossible = None;
-        let mut record = [0u8; PIXEL_BYTES];
-        for i in 0..w.width() as usize * w.height() as usize {
-            self.input.read_exact(&mut record).map_err(io)?;
-            let pixel = decode(&record);
-            if let (None, Some(why)) = (&impossible, impossible_pixel(&pixel, most)) {
-                let (x, y) = (
-                    w.x0 as usize + i % w.width() as usize,
-                    w.y0 as usize + i / w.width() as usize,
-                );
-                impossible = Some(format!("pixel ({x}, {y}) {why}"));
+        let mut bytes = [0u8; PIXEL_BYTES];
+        let kinds: &[Record] = if self.light_paths > 0 {
+            &[Record::Pixel, Record::Splat]
+        } else {
+            &[Record::Pixel]
+        };
+        for &record in kinds {
+            // A pixel's splats are as many as its light paths' vertices that land in it:
+            // no bound on their number, only on their sums.
+            let most = if record == Record::Pixel {
+                most
+            } else {
+                u32::MAX
+            };
+            for i in 0..w.width() as usize * w.height() as usize {
+                self.input.read_exact(&mut bytes).map_err(io)?;
+                let pixel = decode(&bytes);
+                if let (None, Some(why)) = (&impossible, impossible_pixel(&pixel, most)) {
+                    let (x, y) = (
+                        w.x0 as usize + i % w.width() as usize,
+                        w.y0 as usize + i / w.width() as usize,
+                    );
+                    let what = if record == Record::Pixel {
+                        ""
+                    } else {
+                        "'s splats"
+                    };
+                    impossible = Some(format!("pixel ({x}, {y}){what} {why}"));
+                }
+                each(record, i, pixel);
             }
-            each(i, pixel);
         }
         let crc = self.input.1.clone().finalize();
         let mut word = [0u8; 4];
@@ -336,5 +406,102 @@ impl<T: Read> Read for Crc<T> {
         let n = self.0.read(buf)?;
         self.1.update(&buf[..n]);
         Ok(n)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::splat::Splats;
+    use fenestra_core::Rgb;
+
+    fn header(film: &Film) -> FilmHeader {
+        FilmHeader {
+            key: "k".into(),
+            samples: Some(SampleRange { start: 0, end: 4 }),
+            window: film.window,
+            stats: RenderStats {
+                width: film.width,
+                height: film.height,
+                ..Default::default()
+            },
+        }
+    }
+
+    fn film(light_paths: u64) -> Film {
+        let mut film = Film::new(5, 3);
+        for (i, p) in film.pixels.iter_mut().enumerate() {
+            for k in 0..4 {
+                p.add(Rgb::new(i as f32, 0.5 * k as f32, 1.0));
+            }
+        }
+        if light_paths > 0 {
+            let mut splats = Splats::default();
+            splats.add(4, 2, Rgb::new(2.0, 3.0, 4.0));
+            splats.add(0, 1, Rgb::new(0.25, 0.0, 1.0));
+            splats.add(4, 2, Rgb::new(1.0, 1.0, 1.0));
+            splats.paths = light_paths;
+            film.add_splats(&splats, None);
+        }
+        film
+    }
+
+    #[test]
+    fn splats_and_light_paths_round_trip_and_add_into_a_film() {
+        let dir = std::env::temp_dir().join(format!("fenestra-film-file-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("dir");
+        let path = dir.join("a.film");
+        let a = film(7);
+        write(&path, &header(&a), &a).expect("write");
+        let (h, b) = read(&path).expect("read");
+        assert_eq!(h, header(&a));
+        assert_eq!(
+            (b.pixels, b.splats, b.light_paths),
+            (a.pixels.clone(), a.splats.clone(), 7)
+        );
+        // A film without light paths gathers the part's splats and counts its paths.
+        let mut sum = film(0);
+        add_into(&path, &mut sum).expect("add");
+        assert_eq!(sum.light_paths, 7);
+        assert_eq!(sum.splats, a.splats);
+        // Without light paths the file holds no splat records: 100 bytes a pixel fewer.
+        let plain = dir.join("plain.film");
+        write(&plain, &header(&a), &film(0)).expect("write");
+        let size = |p: &Path| std::fs::metadata(p).expect("size").len();
+        assert_eq!(size(&path) - size(&plain), 15 * PIXEL_BYTES as u64);
+        let (_, c) = read(&plain).expect("read");
+        assert!(c.splats.is_empty() && c.light_paths == 0);
+        // A count of light paths whose splats are not there is refused before they are read.
+        let mut bytes = std::fs::read(&plain).expect("bytes");
+        let at = 22 + serde_json::to_vec(&header(&a)).expect("json").len();
+        bytes[at] = 1;
+        let forged = dir.join("forged.film");
+        std::fs::write(&forged, &bytes).expect("write");
+        let e = read(&forged).expect_err("no splats").to_string();
+        assert!(e.contains("truncated or corrupt"), "{e}");
+        std::fs::remove_dir_all(&dir).expect("clean");
+    }
+
+    /// A version-1 file (no light-path count, no splats) reads as a film without light paths.
+    #[test]
+    fn version_1_files_read_as_films_without_light_paths() {
+        let a = film(0);
+        let json = serde_json::to_vec(&header(&a)).expect("json");
+        let mut bytes = MAGIC.to_vec();
+        bytes.extend(1u32.to_le_bytes());
+        bytes.extend((json.len() as u32).to_le_bytes());
+        bytes.extend(&json);
+        for p in &a.pixels {
+            bytes.extend(encode(p));
+        }
+        let mut crc = crc32fast::Hasher::new();
+        crc.update(&bytes);
+        bytes.extend(crc.finalize().to_le_bytes());
+        let path = std::env::temp_dir().join(format!("fenestra-v1-{}.film", std::process::id()));
+        std::fs::write(&path, &bytes).expect("write");
+        let (_, b) = read(&path).expect("version 1");
+        std::fs::remove_file(&path).expect("clean");
+        assert_eq!(b.pixels, a.pixels);
+        assert!(b.splats.is_empty() && b.light_paths == 0);
     }
 }

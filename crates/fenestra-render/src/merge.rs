@@ -242,7 +242,8 @@ fn mismatch(a: &FilmHeader, b: &FilmHeader) -> Option<String> {
 
 /// Merges the parts by `plan` (from [`plan`]): the film of their union and statistics that
 /// add their rays and their times (seconds of all machines together); the integrator's own
-/// per-pixel figures (`extra`) are averaged over the parts, weighted by their pixels.
+/// per-pixel figures (`extra`) are averaged over the parts, weighted by their pixels, but for
+/// the light paths, which are counted.
 pub fn merge(parts: &[Part], plan: &Plan) -> Result<(Film, RenderStats), MergeError> {
     let Some(first) = parts.first() else {
         return Err(MergeError::Parts("no parts to merge".into()));
@@ -273,6 +274,15 @@ pub fn merge(parts: &[Part], plan: &Plan) -> Result<(Film, RenderStats), MergeEr
         for (name, value) in &s.extra {
             *stats.extra.entry(name.clone()).or_default() += value * share;
         }
+    }
+    // Light paths add up over sample ranges rather than average over pixels.
+    if film.light_paths > 0 {
+        let extra = &mut stats.extra;
+        extra.insert("light_paths".into(), film.light_paths as f64);
+        match film.light_path_share() {
+            Some(share) => extra.insert("light_path_share".into(), share),
+            None => extra.remove("light_path_share"),
+        };
     }
     (stats.spp, stats.spp_max) = film.sample_count_range();
     (stats.width, stats.height) = (film.width, film.height);

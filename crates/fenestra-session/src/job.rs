@@ -291,9 +291,15 @@ impl Job {
             self.settings.spp = r.end - r.start;
         }
         if let Some(c) = crop {
+            if split == Split::Samples {
+                return Err(Error::setting(
+                    Setting::Crop,
+                    format!("cannot cut a tile of {}'s render: its light paths bring light to every part of the image; split it by sample ranges ({{samples}})", self.integrator.name()),
+                ));
+            }
             self.window = c.window(self.width, self.height, split)?;
         }
-        let samples = (split == Split::SamplesOrTiles).then_some(SampleRange {
+        let samples = (split != Split::BlockTiles).then_some(SampleRange {
             start: self.settings.first_sample,
             end: self.settings.first_sample + self.settings.spp,
         });

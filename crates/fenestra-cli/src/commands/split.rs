@@ -100,6 +100,10 @@ fn plan(args: &SplitArgs, shape: &RenderShape) -> Result<EngineJob> {
                 .collect(),
             Some(shape.spp),
         ),
+        By::Tiles if shape.split == Split::Samples => bail!(
+            "{}'s light paths bring light to every part of the image: split it with --by samples",
+            shape.integrator
+        ),
         By::Tiles => (
             "--crop",
             pieces::by_tiles(shape.width, shape.height, args.parts)?
@@ -203,5 +207,41 @@ mod tests {
         assert_eq!(out[4..], ["--quiet"]);
         let kept = part_args(&args, false).expect("args");
         assert!(kept.contains(&"--spp".to_string()) && kept.contains(&"--spp=3".to_string()));
+    }
+
+    /// Each integrator's way of splitting is kept: adaptive ones by tiles, light paths by
+    /// samples, caches not at all.
+    #[test]
+    fn integrators_split_only_as_they_can() {
+        let plan_of = |split: Split, by: By| {
+            let args = SplitArgs {
+                parts: 2,
+                by,
+                engine: Engine::Slurm,
+                output: std::env::temp_dir().join("fenestra-split-plan"),
+                fenestra: Some(PathBuf::from("/bin/fenestra")),
+                render: vec!["builtin:box-hole".into()],
+            };
+            let shape = RenderShape {
+                scene: "box-hole".into(),
+                integrator: "x".into(),
+                spp: 8,
+                width: 32,
+                height: 16,
+                split,
+            };
+            plan(&args, &shape).map(|_| ()).map_err(|e| e.to_string())
+        };
+        for by in [By::Samples, By::Tiles] {
+            assert!(plan_of(Split::SamplesOrTiles, by).is_ok());
+            let e = plan_of(Split::Whole, by).expect_err("whole");
+            assert!(e.contains("cannot be split"), "{e}");
+        }
+        assert!(plan_of(Split::BlockTiles, By::Tiles).is_ok());
+        let e = plan_of(Split::BlockTiles, By::Samples).expect_err("blocks");
+        assert!(e.contains("split it with --by tiles"), "{e}");
+        assert!(plan_of(Split::Samples, By::Samples).is_ok());
+        let e = plan_of(Split::Samples, By::Tiles).expect_err("light paths");
+        assert!(e.contains("split it with --by samples"), "{e}");
     }
 }

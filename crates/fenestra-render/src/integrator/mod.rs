@@ -74,6 +74,9 @@ pub enum Split {
     /// Only by tiles whose corners lie on the 8x8 block grid: integrators that decide how
     /// many samples each pixel of a block takes.
     BlockTiles,
+    /// Only by sample ranges: integrators with light paths, whose splats land anywhere in the
+    /// image (a tile would miss what other tiles' light paths bring to its pixels).
+    Samples,
     /// Not at all: integrators whose every pixel depends on the whole render (caches built
     /// from all pixels' samples), so that no piece renders as it would in the single render.
     Whole,
