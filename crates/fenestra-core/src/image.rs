@@ -167,6 +167,7 @@ impl Image {
         };
         match extension(path).as_deref() {
             Some("exr") => {
+                exr_fits(path).map_err(err)?;
                 let img = exr::prelude::read_first_rgba_layer_from_file(
                     path,
                     |res, _| Image::new(res.width(), res.height()),
@@ -182,12 +183,16 @@ impl Image {
                 pfm::decode(&bytes).map_err(|e| err(e.to_string()))
             }
             Some("hdr" | "png" | "jpg" | "jpeg" | "tga") => {
-                let decoded = image::ImageReader::open(path)
-                    .map_err(|e| err(e.to_string()))?
-                    .with_guessed_format()
-                    .map_err(|e| err(e.to_string()))?
-                    .decode()
-                    .map_err(|e| err(e.to_string()))?;
+                let open = || {
+                    image::ImageReader::open(path)
+                        .map_err(|e| err(e.to_string()))?
+                        .with_guessed_format()
+                        .map_err(|e| err(e.to_string()))
+                };
+                let (w, h) = open()?.into_dimensions().map_err(|e| err(e.to_string()))?;
+                // The decoded image becomes RGB floats, then these pixels.
+                expansion_fits(w, h, 2 * PIXEL_BYTES).map_err(err)?;
+                let decoded = open()?.decode().map_err(|e| err(e.to_string()))?;
                 let is_hdr = matches!(
                     decoded,
                     image::DynamicImage::ImageRgb32F(_) | image::DynamicImage::ImageRgba32F(_)
@@ -326,6 +331,38 @@ impl Image {
         let log_avg = (sum / n as f64).exp() as f32;
         0.18 / log_avg
     }
+}
+
+/// Bytes of one pixel of an [`Image`].
+pub const PIXEL_BYTES: u64 = std::mem::size_of::<Rgb>() as u64;
+
+/// Whether the process can get `bytes_per_pixel` for each pixel of a `w` x `h` image
+/// decoded from a file (a compressed file may declare far more than it holds: a
+/// decompression bomb); the reason if not.
+pub fn expansion_fits(w: u32, h: u32, bytes_per_pixel: u64) -> Result<(), String> {
+    let needed = u64::from(w) * u64::from(h) * bytes_per_pixel;
+    crate::memory::ensure(needed, || format!("decoding its {w}x{h} pixels"))
+        .map_err(|e| e.to_string())
+}
+
+/// Whether the OpenEXR file at `path` can hold the image its header declares and the process
+/// can hold it decoded: its chunk offset tables alone (8 bytes a chunk) must fit in the file,
+/// and its pixels in memory. The reason if not.
+fn exr_fits(path: &Path) -> Result<(), String> {
+    let size = std::fs::metadata(path).map_err(|e| e.to_string())?.len();
+    let meta = exr::meta::MetaData::read_from_file(path, false).map_err(|e| e.to_string())?;
+    let offsets: u64 = meta.headers.iter().map(|h| 8 * h.chunk_count as u64).sum();
+    let Some(first) = meta.headers.first() else {
+        return Err("it has no image part".into());
+    };
+    let (w, h) = (first.layer_size.width(), first.layer_size.height());
+    if offsets > size {
+        return Err(format!(
+            "its header declares a {w}x{h} image in {} chunks, whose offset table alone ({offsets} bytes) is larger than the file ({size} bytes): truncated or forged",
+            meta.headers.iter().map(|h| h.chunk_count).sum::<usize>()
+        ));
+    }
+    expansion_fits(w as u32, h as u32, PIXEL_BYTES)
 }
 
 /// String attributes from an OpenEXR file's header.

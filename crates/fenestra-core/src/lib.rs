@@ -1,5 +1,6 @@
 //! Core types of fenestra: colours, rays, frames, sampling warps, deterministic sample
-//! streams, MIS heuristics, piecewise-constant distributions, images, atomic file writing, a
+//! streams, MIS heuristics, piecewise-constant distributions, images, atomic file writing,
+//! memory checks before large allocations, a
 //! small seeded random stream, and the render statistics every tool reads.
 #![warn(missing_docs)]
 
@@ -9,6 +10,7 @@ pub mod frame;
 pub mod fs;
 pub mod hash;
 pub mod image;
+pub mod memory;
 pub mod mis;
 pub mod name;
 pub mod palette;

@@ -3,7 +3,7 @@
 
 use crate::error::GltfError;
 use crate::source::Source;
-use fenestra_core::image::{srgb_to_linear, Image};
+use fenestra_core::image::{expansion_fits, srgb_to_linear, Image, PIXEL_BYTES};
 use fenestra_core::Rgb;
 use rayon::prelude::*;
 use std::collections::HashMap;
@@ -91,7 +91,18 @@ impl Images {
                         format!("{}: {e}", file.display()),
                     )
                 };
-                let image = image::load_from_memory(data).map_err(|e| err(e.to_string()))?;
+                let reader = || {
+                    image::ImageReader::new(std::io::Cursor::new(data))
+                        .with_guessed_format()
+                        .map_err(|e| err(e.to_string()))
+                };
+                let (w, h) = reader()?
+                    .into_dimensions()
+                    .map_err(|e| err(e.to_string()))?;
+                // Each encoding's pixels, and the conversion's buffer (RGBA floats at most).
+                let per_pixel = encodings.len() as u64 * PIXEL_BYTES + 16;
+                expansion_fits(w, h, per_pixel).map_err(err)?;
+                let image = reader()?.decode().map_err(|e| err(e.to_string()))?;
                 Ok(encodings
                     .iter()
                     .map(|&e| ((*i, e), (Arc::new(convert(&image, e)), file.clone())))

@@ -386,28 +386,15 @@ fn scene_content(scene: &str, files: &[PathBuf]) -> anyhow::Result<String> {
 }
 
 /// Refuses a film (with the mean and variance images written from it, and room for the
-/// EXR writer's copy) larger than the memory the machine has available, before allocating
-/// it: naming both figures.
+/// EXR writer's copy) larger than the memory the process can get (the machine's, or what
+/// `ulimit -v` leaves), before allocating it: naming both figures.
 fn film_fits_in_memory(window: Window) -> anyhow::Result<()> {
-    let pixels = u64::from(window.x1 - window.x0) * u64::from(window.y1 - window.y0);
+    let (w, h) = (window.x1 - window.x0, window.y1 - window.y0);
     let per_pixel = std::mem::size_of::<Pixel>() + 4 * std::mem::size_of::<Rgb>();
-    let needed = pixels * per_pixel as u64;
-    let available = std::fs::read_to_string("/proc/meminfo")
-        .ok()
-        .and_then(|info| {
-            let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
-            let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
-            Some(kb * 1024)
-        });
-    if let Some(available) = available.filter(|&a| needed > a) {
-        let gb = |b: u64| b as f64 / 1e9;
-        anyhow::bail!(
-            "a {}x{} film needs {:.1} GB of memory and this machine has {:.1} GB available: render a smaller resolution, or tiles of it (a crop) merged afterwards",
-            window.x1 - window.x0,
-            window.y1 - window.y0,
-            gb(needed),
-            gb(available)
-        );
-    }
-    Ok(())
+    let needed = u64::from(w) * u64::from(h) * per_pixel as u64;
+    fenestra_core::memory::ensure(needed, || format!("a {w}x{h} film")).map_err(|e| {
+        anyhow::anyhow!(
+            "{e}: render a smaller resolution, or tiles of it (a crop) merged afterwards"
+        )
+    })
 }

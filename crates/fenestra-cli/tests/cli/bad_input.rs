@@ -296,3 +296,160 @@ fn bad_input_gets_a_clear_error() {
         .expect("write");
     assert_compare_refused(&good, &nan, "the image has 1 pixels that are not finite");
 }
+
+/// Runs `fenestra args` with at most 3 GB of address space (`ulimit -v`), as a machine with
+/// little memory would.
+fn fenestra_within_3_gb(args: &[&str]) -> std::process::Output {
+    Command::new("sh")
+        .arg("-c")
+        .arg("ulimit -v 3000000 && exec \"$0\" \"$@\"")
+        .arg(env!("CARGO_BIN_EXE_fenestra"))
+        .args(args)
+        .output()
+        .expect("sh")
+}
+
+/// A 377-byte OpenEXR header declaring a 30000x15000 RGB float image (5.4 GB decoded), with
+/// `compression` (0 none, 3 zip, 4 piz) and no pixels.
+fn exr_declaring_30000x15000(compression: u8) -> Vec<u8> {
+    let attr = |out: &mut Vec<u8>, name: &str, kind: &str, value: &[u8]| {
+        for text in [name, kind] {
+            out.extend(text.as_bytes());
+            out.push(0);
+        }
+        out.extend((value.len() as i32).to_le_bytes());
+        out.extend(value);
+    };
+    let window: Vec<u8> = [0i32, 0, 29999, 14999]
+        .iter()
+        .flat_map(|v| v.to_le_bytes())
+        .collect();
+    let mut channels = Vec::new();
+    for c in ["B", "G", "R"] {
+        channels.extend(c.as_bytes());
+        channels.extend([0, 2, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0]);
+    }
+    channels.push(0);
+    let mut out = vec![0x76, 0x2f, 0x31, 0x01, 2, 0, 0, 0];
+    attr(&mut out, "channels", "chlist", &channels);
+    attr(&mut out, "compression", "compression", &[compression]);
+    attr(&mut out, "dataWindow", "box2i", &window);
+    attr(&mut out, "displayWindow", "box2i", &window);
+    attr(&mut out, "lineOrder", "lineOrder", &[0]);
+    attr(&mut out, "pixelAspectRatio", "float", &1f32.to_le_bytes());
+    attr(&mut out, "screenWindowCenter", "v2f", &[0; 8]);
+    attr(&mut out, "screenWindowWidth", "float", &1f32.to_le_bytes());
+    out.push(0);
+    out.extend([0; 64]);
+    out
+}
+
+/// A 261 KB PNG of 16384 x 16384 black grey pixels (6.4 GB as linear RGB and its conversion).
+fn png_of_16384_squared_grey() -> Vec<u8> {
+    use std::io::Write;
+    let chunk = |out: &mut Vec<u8>, kind: &[u8], data: &[u8]| {
+        out.extend((data.len() as u32).to_be_bytes());
+        let mut crc = flate2::Crc::new();
+        crc.update(kind);
+        crc.update(data);
+        out.extend(kind);
+        out.extend(data);
+        out.extend(crc.sum().to_be_bytes());
+    };
+    let side = 16384u32;
+    let mut z = flate2::write::ZlibEncoder::new(Vec::new(), flate2::Compression::best());
+    let row = vec![0u8; side as usize + 1];
+    for _ in 0..side {
+        z.write_all(&row).expect("deflate");
+    }
+    let mut header = Vec::new();
+    header.extend(side.to_be_bytes());
+    header.extend(side.to_be_bytes());
+    header.extend([8, 0, 0, 0, 0]);
+    let mut out = b"\x89PNG\r\n\x1a\n".to_vec();
+    chunk(&mut out, b"IHDR", &header);
+    chunk(&mut out, b"IDAT", &z.finish().expect("deflate"));
+    chunk(&mut out, b"IEND", &[]);
+    out
+}
+
+/// Sizes a file declares are checked against the file and against the memory the process can
+/// get before they are allocated (issue 68, items 1 to 3): a film, EXR headers whose images their
+/// files cannot hold, a decompression bomb as an environment and as a glTF texture, each a
+/// clear error under a 3 GB address-space limit where each aborted before.
+#[test]
+fn declared_sizes_are_checked_before_anything_is_allocated() {
+    let out = tmp("declared.exr");
+    let o = out.to_str().expect("utf-8");
+    let refused = |args: &[&str], expect: &[&str]| {
+        let run = fenestra_within_3_gb(args);
+        let err = String::from_utf8_lossy(&run.stderr);
+        assert_eq!(run.status.code(), Some(1), "{args:?}: {err}");
+        assert!(expect.iter().all(|e| err.contains(e)), "{args:?}: {err}");
+    };
+    for (compression, chunks) in [(0, 15000), (3, 938), (4, 469)] {
+        let bomb = tmp(&format!("declares-30000x15000-{compression}.exr"));
+        std::fs::write(&bomb, exr_declaring_30000x15000(compression)).expect("write");
+        let b = bomb.to_str().expect("utf-8");
+        let expect = format!(
+            "declares a 30000x15000 image in {chunks} chunks, whose offset table alone ({} bytes) is larger than the file (377 bytes)",
+            8 * chunks
+        );
+        refused(
+            &["render", "builtin:box-hole", "--environment", b, "-o", o],
+            &[&expect],
+        );
+        refused(&["compare", "--ref", b, b], &[&expect]);
+    }
+    let png = tmp("grey-16384.png");
+    std::fs::write(&png, png_of_16384_squared_grey()).expect("write");
+    let p = png.to_str().expect("utf-8");
+    refused(
+        &["render", "builtin:box-hole", "--environment", p, "-o", o],
+        &["decoding its 16384x16384 pixels needs 6.4 GB of memory and"],
+    );
+    // The same image as a glTF triangle's base colour.
+    let gltf = tmp("bomb-texture.gltf");
+    let positions: Vec<u8> = [0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0]
+        .iter()
+        .flat_map(|v| v.to_le_bytes())
+        .collect();
+    std::fs::write(tmp("bomb-texture.bin"), &positions).expect("write");
+    std::fs::write(
+        &gltf,
+        r#"{"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "material": 0}]}],
+        "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}],
+        "textures": [{"source": 0}], "images": [{"uri": "grey-16384.png"}],
+        "buffers": [{"uri": "bomb-texture.bin", "byteLength": 36}],
+        "bufferViews": [{"buffer": 0, "byteLength": 36}],
+        "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                       "min": [0, 0, 0], "max": [1, 1, 0]}]}"#,
+    )
+    .expect("write");
+    let g = gltf.to_str().expect("utf-8");
+    refused(
+        &["render", g, "-o", o],
+        &[
+            "/images/0: ",
+            "decoding its 16384x16384 pixels needs 7.5 GB of memory and",
+        ],
+    );
+    // A film inside the pixel cap that the address-space limit cannot hold (item 1).
+    refused(
+        &[
+            "render",
+            "builtin:cornell-box",
+            "--resolution",
+            "11585x11585",
+            "-o",
+            o,
+        ],
+        &[
+            "a 11585x11585 film needs",
+            "(the process's address-space limit, ulimit -v)",
+        ],
+    );
+    assert!(!out.exists(), "a refused render wrote");
+}
