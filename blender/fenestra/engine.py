@@ -31,15 +31,20 @@ class FenestraRenderEngine(bpy.types.RenderEngine):
     def render(self, depsgraph):
         scene = depsgraph.scene
         keep = kept_folder(scene)
-        if keep:
-            os.makedirs(keep, exist_ok=True)
-        folder = keep or tempfile.mkdtemp(prefix="fenestra-")
+        folder = None
+        # Everything inside the try: an exception escaping render() crashes Blender.
         try:
+            if keep:
+                try:
+                    os.makedirs(keep, exist_ok=True)
+                except OSError as e:
+                    raise RuntimeError(f"cannot make the Keep Files folder {keep}: {e}") from e
+            folder = keep or tempfile.mkdtemp(prefix="fenestra-")
             self._render(scene, depsgraph.view_layer, folder)
         except Exception as e:
             self.report({"ERROR"}, f"fenestra: {e}")
         finally:
-            if not keep:
+            if folder and not keep:
                 shutil.rmtree(folder, ignore_errors=True)
 
     def _render(self, scene, view_layer, folder):

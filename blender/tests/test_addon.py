@@ -532,3 +532,16 @@ def test_the_settings_are_the_binarys_integrators_and_options(fenestra_bin):
     per_sample = next(o for o in listed["options"] if o["key"] == "light_paths.per_sample")
     assert scene.fenestra.light_paths_per_sample == per_sample["default"]
     scene.fenestra.integrator = properties.START_INTEGRATOR
+
+
+def test_a_keep_files_folder_that_cannot_be_made_is_reported(workdir):
+    """A regular file where the folder should be: the render fails with the engine's error,
+    and Blender lives (an exception escaping the engine's render crashed bpy)."""
+    blocker = workdir / "a-file"
+    blocker.write_text("not a folder")
+    scene = room.build(samples=1)
+    scene.fenestra.keep_files = str(blocker)
+    scene.render.filepath = str(workdir / "never.exr")
+    with pytest.raises(RuntimeError, match="fenestra: cannot make the Keep Files folder .*a-file"):
+        bpy.ops.render.render(write_still=False)
+    assert blocker.read_text() == "not a folder"
