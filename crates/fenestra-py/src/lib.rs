@@ -59,6 +59,7 @@ fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(render::merge, m)?)?;
     m.add_function(wrap_pyfunction!(options::options, m)?)?;
     m.add_function(wrap_pyfunction!(portals::estimate, m)?)?;
+    m.add_function(wrap_pyfunction!(portals::write_portals, m)?)?;
     m.add_function(wrap_pyfunction!(lpca::fit, m)?)?;
     m.add_function(wrap_pyfunction!(lpca::classify, m)?)?;
     m.add_function(wrap_pyfunction!(relight::open, m)?)?;

@@ -17,6 +17,7 @@ use fenestra_session::Style;
 use pyo3::exceptions::PyKeyboardInterrupt;
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
+use std::path::PathBuf;
 
 /// What an estimate found: (portals.json as text, the photons as float32 xyz bytes, each
 /// cluster's photon indices, the one-line summary).
@@ -69,4 +70,18 @@ pub fn estimate<'py>(
         e.clusters.clone(),
         e.summary(),
     ))
+}
+
+/// Writes an estimate's portals.json `text` to `path` under the rules of `fenestra portals`'s
+/// output: not over a file of `scene` (its scene file, textures, meshes), in a folder made if
+/// missing, whole or not at all.
+#[pyfunction]
+pub fn write_portals(scene: &Scene, text: &str, path: PathBuf) -> PyResult<()> {
+    let mut files = fenestra_session::files::Files::default();
+    files
+        .inputs(&scene.loaded.files, "scene file")
+        .output(&path, "portals file");
+    fenestra_session::files::create_output_folder(&path).map_err(error)?;
+    files.check().map_err(error)?;
+    fenestra_core::fs::write_text_atomically(&path, text).map_err(|e| error(e.into()))
 }

@@ -22,7 +22,8 @@ __all__ = ["Estimate", "estimate"]
 class Estimate:
     """What portal estimation found: portals, the photons and clusters they were fitted to."""
 
-    def __init__(self, document, photons, clusters, summary):
+    def __init__(self, scene, document, photons, clusters, summary):
+        self._scene = scene
         self.document = json.loads(document)
         self.portals = self.document["portals"]
         self.photons = np.frombuffer(photons, dtype=np.float32).reshape(-1, 3)
@@ -30,18 +31,11 @@ class Estimate:
         self.summary = summary
 
     def write(self, path):
-        """Writes portals.json, which `render(..., portals=path)` reads (whole or not at all:
-        through a temporary file beside it)."""
-        path = os.fspath(path)
-        partial = f"{path}.{os.getpid()}.tmp"
-        try:
-            with open(partial, "w") as f:
-                json.dump(self.document, f, indent=2)
-                f.write("\n")
-            os.replace(partial, path)
-        finally:
-            if os.path.exists(partial):
-                os.remove(partial)
+        """Writes portals.json, which `render(..., portals=path)` reads: whole or not at all
+        (through a temporary file beside it), and never over a file of the scene it was
+        estimated from (as `fenestra portals` refuses)."""
+        text = json.dumps(self.document, indent=2) + "\n"
+        _native.write_portals(self._scene, text, os.fspath(path))
 
     def __len__(self):
         return len(self.portals)
@@ -64,4 +58,4 @@ def estimate(scene, *, threads=None, backend=None, progress=True, **options):
         found = _native.estimate(
             scene, json.dumps(options), threads=threads, backend=backend, progress=report
         )
-    return Estimate(*found)
+    return Estimate(scene, *found)

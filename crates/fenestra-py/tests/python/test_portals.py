@@ -34,3 +34,20 @@ def test_written_portals_render_as_the_commands_portals_do(tmp_path):
 def test_a_bad_flag_is_named():
     with pytest.raises(fe.FenestraError, match="^thetta: no such option"):
         fe.portals.estimate("builtin:box-hole", thetta=3, progress=False)
+
+
+def test_an_estimate_is_never_written_over_its_scene(tmp_path):
+    scene = tmp_path / "floor.pbrt"
+    scene.write_text(
+        'LookAt 0 -3 1  0 0 0  0 0 1\nCamera "perspective"\nWorldBegin\n'
+        'LightSource "infinite" "rgb L" [1 1 1]\n'
+        'Shape "trianglemesh" "point3 P" [-1 -1 0  1 -1 0  1 1 0  -1 1 0] '
+        '"integer indices" [0 1 2 0 2 3]\n'
+    )
+    before = scene.read_bytes()
+    est = fe.portals.estimate(str(scene), time=0.1, progress=False)
+    with pytest.raises(fe.FenestraError, match="is also the scene file this command reads"):
+        est.write(scene)
+    assert scene.read_bytes() == before
+    est.write(tmp_path / "new" / "portals.json")
+    assert json.loads((tmp_path / "new" / "portals.json").read_text())["portals"] == est.portals
