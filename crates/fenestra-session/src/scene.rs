@@ -201,13 +201,14 @@ pub fn load(request: &SceneRequest) -> Result<LoadedScene> {
                 (l.desc, warnings, l.files)
             }
             Some("obj" | "ply") => {
-                let (desc, warnings) = mesh::viewer_scene(path).map_err(anyhow::Error::from)?;
-                let textures = desc
+                let m = mesh::viewer_scene(path).map_err(anyhow::Error::from)?;
+                let textures = m
+                    .desc
                     .materials
                     .iter()
                     .filter_map(|m| m.texture().map(|t| t.path.clone()));
-                let files = std::iter::once(path.to_path_buf()).chain(textures).collect();
-                (desc, warnings, files)
+                let files = m.files.into_iter().chain(textures).collect();
+                (m.desc, m.warnings, files)
             }
             _ => return Err(anyhow!(
                 "{arg}: unknown scene type (expected a .pbrt or .pbrt.gz file, a .gltf or .glb scene, an .obj or .ply mesh, or builtin:NAME; `fenestra list` shows the built-in scenes)"

@@ -296,7 +296,18 @@ fn outputs_never_replace_inputs_or_each_other() {
     let sky_path = dir.join("sky.interrupted.exr");
     sky.write_exr(&sky_path, &Default::default()).expect("sky");
     let sky_bytes = std::fs::read(&sky_path).expect("sky");
+    // An OBJ whose material library is named like a render's sidecar.
+    std::fs::write(dir.join("lamp.json"), "newmtl lamp\nKe 5 5 5\n").expect("mtl");
+    std::fs::write(
+        dir.join("lamp.obj"),
+        "mtllib lamp.json\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl lamp\nf 1 2 3\n",
+    )
+    .expect("obj");
     for (args, expect) in [
+        (
+            vec!["render".into(), p("lamp.obj"), "-o".into(), p("lamp.exr")],
+            "lamp.json (sidecar) is also the scene file this command reads",
+        ),
         (
             vec![
                 "render".into(),
@@ -383,6 +394,10 @@ fn outputs_never_replace_inputs_or_each_other() {
         portals_bytes
     );
     assert_eq!(std::fs::read(&sky_path).expect("sky"), sky_bytes);
+    assert_eq!(
+        std::fs::read(dir.join("lamp.json")).expect("mtl"),
+        b"newmtl lamp\nKe 5 5 5\n"
+    );
     assert!(!dir.join("v.json").exists() && !dir.join("p.json").exists());
 
     // A folder in the way of the PNG is found before rendering; the old image set stays.

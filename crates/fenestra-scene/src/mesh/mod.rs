@@ -41,11 +41,22 @@ pub fn format_of(path: &Path) -> Option<String> {
         .map(|e| e.to_string_lossy().into_owned())
 }
 
+/// A mesh file made a scene ([`viewer_scene`]).
+pub struct MeshScene {
+    /// The scene.
+    pub desc: SceneDesc,
+    /// Problems that did not stop loading.
+    pub warnings: Vec<String>,
+    /// The files it was read from: the mesh file and the MTL files an OBJ names.
+    pub files: Vec<PathBuf>,
+}
+
 /// A mesh file (OBJ or PLY, the PLY perhaps gzip-compressed) staged for viewing: Y up as most such files are, a camera in
 /// front of its bounding sphere, lit by its emissive materials or, without any, as in a
 /// studio: a grey floor under it, a key light from above front left that casts its shadow
-/// there, and a dim sky as fill. Returns the scene and loading warnings.
-pub fn viewer_scene(path: &Path) -> Result<(SceneDesc, Vec<String>), MeshError> {
+/// there, and a dim sky as fill.
+pub fn viewer_scene(path: &Path) -> Result<MeshScene, MeshError> {
+    let mut files = vec![path.to_path_buf()];
     let (mut shapes, mut materials, warnings) = match format_of(path).as_deref() {
         Some("obj")
             if path
@@ -74,6 +85,7 @@ pub fn viewer_scene(path: &Path) -> Result<(SceneDesc, Vec<String>), MeshError> 
                 })
                 .collect();
             let materials = model.materials.into_iter().map(|m| m.0).collect();
+            files.extend(model.material_files);
             (shapes, materials, model.warnings)
         }
         Some("ply") => (
@@ -131,8 +143,8 @@ pub fn viewer_scene(path: &Path) -> Result<(SceneDesc, Vec<String>), MeshError> 
     let name = path
         .file_stem()
         .map_or_else(|| "mesh".into(), |s| s.to_string_lossy().into_owned());
-    Ok((
-        SceneDesc {
+    Ok(MeshScene {
+        desc: SceneDesc {
             name,
             shapes,
             materials,
@@ -148,7 +160,8 @@ pub fn viewer_scene(path: &Path) -> Result<(SceneDesc, Vec<String>), MeshError> 
             portals: Vec::new(),
         },
         warnings,
-    ))
+        files,
+    })
 }
 
 #[cfg(test)]
@@ -161,7 +174,7 @@ mod tests {
         std::fs::create_dir_all(&dir).expect("dir");
         let bare = dir.join("bare.obj");
         std::fs::write(&bare, "v 0 1 0\nv 1 1 0\nv 0 2 0\nf 1 2 3\n").expect("obj");
-        let (desc, _) = viewer_scene(&bare).expect("bare");
+        let desc = viewer_scene(&bare).expect("bare").desc;
         assert_eq!(desc.shapes.len(), 2);
         let ShapeKind::Disk { center, normal, .. } = desc.shapes[1].kind else {
             panic!("a floor disk")
@@ -179,7 +192,7 @@ mod tests {
             "mtllib lamp.mtl\nv 0 1 0\nv 1 1 0\nv 0 2 0\nusemtl lamp\nf 1 2 3\n",
         )
         .expect("obj");
-        let (desc, _) = viewer_scene(&lit).expect("lit");
+        let desc = viewer_scene(&lit).expect("lit").desc;
         assert_eq!(desc.shapes.len(), 1);
         assert!(desc.lights.is_empty());
         let _ = std::fs::remove_dir_all(&dir);

@@ -9,7 +9,7 @@ use crate::texture::ImageTexture;
 use crate::{Material, TriangleMesh};
 use fenestra_core::image::Image;
 use fenestra_core::{Rgb, Vec2, Vec3};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 /// An OBJ file's meshes, each with an index into `materials`.
@@ -21,6 +21,8 @@ pub struct ObjModel {
     pub materials: Vec<(Material, Option<Rgb>)>,
     /// Problems that did not stop loading (a missing MTL file, an unreadable texture).
     pub warnings: Vec<String>,
+    /// The MTL files it names (`mtllib`), read or not: inputs no output may replace.
+    pub material_files: Vec<PathBuf>,
 }
 
 /// Reads an OBJ file and its MTL materials.
@@ -32,10 +34,14 @@ pub fn read(path: &Path) -> Result<ObjModel, MeshError> {
     let text = std::fs::read(path).map_err(|e| err(e.to_string()))?;
     check_indices(&text).map_err(|e| err(e.to_string()))?;
     let dir = path.parent().unwrap_or(Path::new("."));
+    let material_files = std::cell::RefCell::new(Vec::new());
     let (models, mtl) = tobj::load_obj_buf(
         &mut std::io::Cursor::new(&text),
         &tobj::GPU_LOAD_OPTIONS,
-        |mtl| tobj::load_mtl(dir.join(mtl)),
+        |mtl| {
+            material_files.borrow_mut().push(dir.join(mtl));
+            tobj::load_mtl(dir.join(mtl))
+        },
     )
     .map_err(|e| err(e.to_string()))?;
     let mut warnings = Vec::new();
@@ -92,6 +98,7 @@ pub fn read(path: &Path) -> Result<ObjModel, MeshError> {
         meshes,
         materials,
         warnings,
+        material_files: material_files.into_inner(),
     })
 }
 
