@@ -29,6 +29,9 @@ pub enum EvalError {
         /// How many.
         pixels: usize,
     },
+    /// A test's parameter is out of range (a significance outside (0, 1), an empty region).
+    #[error("{0}")]
+    Parameter(String),
     /// An image could not be read or written.
     #[error(transparent)]
     Image(#[from] fenestra_core::image::ImageError),

@@ -45,7 +45,17 @@ pub fn z_test(
             ));
         }
     }
-    let block = block.max(1);
+    if !(alpha > 0.0 && alpha < 1.0) {
+        return Err(EvalError::Parameter(format!(
+            "alpha (the significance) must lie strictly between 0 and 1, not {alpha}"
+        )));
+    }
+    if block == 0 || img.width / block == 0 || img.height / block == 0 {
+        return Err(EvalError::Parameter(format!(
+            "region: no {block}x{block}-pixel region fits in a {}x{} image",
+            img.width, img.height
+        )));
+    }
     let (bw, bh) = (img.width / block, img.height / block);
     let normal = Normal::standard();
     let tests = bw * bh * 3;
@@ -275,5 +285,32 @@ mod tests {
         // 4.5 of the whole image's.
         let t = agreement(&a, &estimate(noisy(1.02, 0.1, 6)), 0.01, 8).expect("sizes");
         assert!(t.regions.passed && !t.whole.passed, "{t:?}");
+    }
+
+    /// A significance of NaN, 2 or 0 made a 50% brighter image "agree" (issue 68 item 14).
+    #[test]
+    fn a_significance_outside_0_1_and_empty_regions_are_refused() {
+        let estimate = |(mean, variance)| Estimate { mean, variance };
+        let a = estimate(noisy(1.0, 0.1, 4));
+        let brighter = estimate(noisy(1.5, 0.1, 5));
+        assert!(!agreement(&a, &brighter, 0.01, 8).expect("test").passed());
+        for alpha in [f64::NAN, 2.0, -1.0, 0.0, 1.0] {
+            let e = agreement(&a, &brighter, alpha, 8)
+                .expect_err("alpha")
+                .to_string();
+            assert!(
+                e.starts_with("alpha (the significance) must lie strictly between 0 and 1"),
+                "{e}"
+            );
+        }
+        for region in [0, 10_000] {
+            let e = agreement(&a, &brighter, 0.01, region)
+                .expect_err("region")
+                .to_string();
+            assert!(
+                e.starts_with(&format!("region: no {region}x{region}-pixel region fits")),
+                "{e}"
+            );
+        }
     }
 }

@@ -3,6 +3,7 @@
 import json
 
 import numpy as np
+import pytest
 
 import fenestra as fe
 
@@ -18,6 +19,12 @@ def test_two_seeds_agree_and_a_brighter_image_does_not():
     off = fe.compare(brighter, b)
     assert not off.agrees and off.z > 4
     assert abs(off.mean_shift - 0.2) < 0.05
+    # A significance or region that would make any image agree is refused, by its keyword.
+    for alpha in [float("nan"), 2, -1, 0]:
+        with pytest.raises(fe.FenestraError, match="^alpha"):
+            fe.compare(brighter, b, alpha=alpha)
+    with pytest.raises(fe.FenestraError, match="^region: no 0x0-pixel region fits"):
+        fe.compare(brighter, b, region=0)
 
 
 def test_metrics_are_the_command_lines(tmp_path, cli):
