@@ -120,8 +120,23 @@ impl Distribution2D {
         let conditional: Vec<Distribution1D> = (0..height)
             .map(|y| Distribution1D::new(&func[y * width..(y + 1) * width]))
             .collect();
-        let marginal =
-            Distribution1D::new(&conditional.iter().map(|c| c.integral()).collect::<Vec<_>>());
+        // The rows' own integrals: a row of zeros samples uniformly if picked, but it is
+        // never picked unless every row is zero.
+        let rows: Vec<f32> = (func.chunks(width.max(1)).take(height))
+            .map(|row| {
+                let sum: f64 = (row.iter())
+                    .map(|&v| {
+                        if v.is_finite() {
+                            f64::from(v.max(0.0))
+                        } else {
+                            0.0
+                        }
+                    })
+                    .sum();
+                (sum / row.len().max(1) as f64) as f32
+            })
+            .collect();
+        let marginal = Distribution1D::new(&rows);
         Distribution2D {
             conditional,
             marginal,
@@ -173,6 +188,20 @@ mod tests {
             let (x, pdf, _) = d.sample_continuous(i as f32 / 100.0);
             assert!((pdf - d.pdf_continuous(x)).abs() < 1e-5);
             assert!(pdf > 0.0, "never lands in a zero bin");
+        }
+    }
+
+    #[test]
+    fn two_d_never_picks_a_row_of_zeros() {
+        // One bright cell among rows of zeros: every sample lands in it.
+        let mut f = vec![0.0f32; 16 * 16];
+        f[5 * 16 + 9] = 3.0;
+        let d = Distribution2D::new(&f, 16, 16);
+        for i in 0..64 {
+            let u = Vec2::new((i as f32 * 0.618).fract(), (i as f32 + 0.5) / 64.0);
+            let (p, pdf) = d.sample(u);
+            assert_eq!(((p.x * 16.0) as usize, (p.y * 16.0) as usize), (9, 5));
+            assert!((pdf - 256.0).abs() < 1e-2, "{pdf}");
         }
     }
 
