@@ -23,6 +23,24 @@ pub fn square_to_disk_concentric(u: Vec2) -> Vec2 {
     major * d
 }
 
+/// The point of the square that [`square_to_disk_concentric`] maps to `d` (in the unit disk).
+pub fn disk_concentric_to_square(d: Vec2) -> Vec2 {
+    let r = d.length();
+    if r == 0.0 {
+        return Vec2::splat(0.5);
+    }
+    // The inverse of each case: the major coordinate keeps its sign with length r, the minor
+    // one is the angle from the major axis over pi/4, times it.
+    let o = if d.x.abs() > d.y.abs() {
+        let major = r.copysign(d.x);
+        Vec2::new(major, (d.y / d.x).atan() * (4.0 / PI) * major)
+    } else {
+        let major = r.copysign(d.y);
+        Vec2::new((d.x / d.y).atan() * (4.0 / PI) * major, major)
+    };
+    ((o + Vec2::ONE) * 0.5).clamp(Vec2::ZERO, Vec2::ONE)
+}
+
 /// Cosine-weighted hemisphere around +z (Malley's method); density cos(theta)/pi.
 pub fn square_to_cosine_hemisphere(u: Vec2) -> Vec3 {
     let d = square_to_disk_concentric(u);
@@ -92,6 +110,16 @@ pub fn square_to_triangle(u: Vec2) -> Vec2 {
     Vec2::new(b0, b1)
 }
 
+/// The point of the square that [`square_to_triangle`] maps to the barycentrics `b`.
+pub fn triangle_to_square(b: Vec2) -> Vec2 {
+    let u = if b.x < b.y {
+        Vec2::new(2.0 * b.x, b.y + b.x)
+    } else {
+        Vec2::new(b.x + b.y, 2.0 * b.y)
+    };
+    u.clamp(Vec2::ZERO, Vec2::ONE)
+}
+
 /// Converts an area density at a point `y` with normal `ny` seen from `x` into a solid-angle
 /// density at `x`: p_w = p_A * |x - y|^2 / |cos theta_y| (seed 000 ch. 4, p(Psi)). Returns 0
 /// where the conversion would divide by zero (grazing emitters).
@@ -121,6 +149,19 @@ mod tests {
                 assert!(c.z >= 0.8 - 1e-6 && (c.length() - 1.0).abs() < 1e-5);
                 let b = square_to_triangle(u);
                 assert!(b.x >= 0.0 && b.y >= 0.0 && b.x + b.y <= 1.0 + 1e-6);
+            }
+        }
+    }
+
+    #[test]
+    fn disk_and_triangle_warps_invert() {
+        for i in 0..64 {
+            for j in 0..64 {
+                let u = Vec2::new((i as f32 + 0.5) / 64.0, (j as f32 + 0.5) / 64.0);
+                let back = disk_concentric_to_square(square_to_disk_concentric(u));
+                assert!((back - u).length() < 1e-5, "{u} came back as {back}");
+                let back = triangle_to_square(square_to_triangle(u));
+                assert!((back - u).length() < 1e-5, "{u} came back as {back}");
             }
         }
     }

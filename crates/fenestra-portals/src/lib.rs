@@ -10,6 +10,7 @@
 pub mod aim;
 pub mod carry;
 pub mod cluster;
+pub mod emission;
 pub mod error;
 pub mod estimate;
 pub mod estimate_options;

@@ -1,7 +1,10 @@
 //! The pass schedule of renders with light paths (lt, lp_lt): passes of 1, 2, 4, ... up to 32
 //! samples per pixel, each camera sample tracing its camera path (lp_lt's; none for lt) and
-//! its share of the light paths, whose splats the film adds after the pass.
+//! its share of the light paths, whose splats the film adds after the pass. Before them, a
+//! pilot of light paths can learn where on the portals they should start
+//! ([`crate::emission`]).
 
+use crate::emission::Tally;
 use crate::light_paths::{Joined, LightTracer, SunPaths};
 use crate::lp_hf::PortalNextEvent;
 use fenestra_core::stats::{RayCounters, RenderStats};
@@ -17,6 +20,13 @@ use fenestra_render::sample_context::SampleContext;
 use fenestra_render::settings::RenderSettings;
 use fenestra_render::splat::Splats;
 use fenestra_render::{RenderControl, RenderScene};
+use rayon::prelude::*;
+
+/// The random stream of the emission pilot's light paths (the render's use stream 0).
+const PILOT_STREAM: u32 = 0x1ea7;
+
+/// Light paths a pilot traces at once (one task each).
+const PILOT_CHUNK: u32 = 512;
 
 /// What a block gathers in a pass: its light paths' splats (and the camera paths' light
 /// records, which nothing learns from).
@@ -81,20 +91,61 @@ impl<'a> LightPasses<'a> {
         stats
     }
 
-    /// The light paths of camera sample `ctx`, from `sampler`'s stream: the sample's share,
-    /// floor((i + 1) k) - floor(i k) for its index i and k per sample, so that every pixel's
-    /// first n samples trace floor(n k).
-    fn trace_light_paths(
+    /// The light that `paths` light paths drawn uniformly over the portals (from the
+    /// stream [`PILOT_STREAM`] of `seed`) bring to the pixels of a `width` x `height` image,
+    /// after their MIS weights, summed where they started; in a fixed order, so the same for
+    /// any thread count.
+    pub fn pilot(
+        &self,
+        scene: &RenderScene,
+        (width, height): (u32, u32),
+        seed: u64,
+        paths: u32,
+        rays: &mut RayCounters,
+    ) -> Tally {
+        let ctx = SampleContext {
+            width,
+            height,
+            ..SampleContext::SINGLE
+        };
+        let chunks: Vec<_> = (0..paths.div_ceil(PILOT_CHUNK))
+            .into_par_iter()
+            .map(|chunk| {
+                let (mut splats, mut rays) = (Splats::default(), RayCounters::default());
+                let first = chunk * PILOT_CHUNK;
+                let traced: Vec<_> = (first..(first + PILOT_CHUNK).min(paths))
+                    .filter_map(|i| {
+                        let mut sampler = Sampler::in_stream(seed, PILOT_STREAM, u64::from(i), 0);
+                        splats.entries.clear();
+                        let start = self.with_tracer(scene, &ctx, |tracer| {
+                            tracer.trace(&ctx, &mut sampler, &mut splats, &mut rays)
+                        })?;
+                        let light: f64 = (splats.entries.iter())
+                            .map(|s| f64::from(s.value.luminance()))
+                            .sum();
+                        Some((start, light))
+                    })
+                    .collect();
+                (traced, rays)
+            })
+            .collect();
+        let mut tally = self.suns.tally();
+        for (traced, chunk_rays) in chunks {
+            for (start, light) in traced {
+                tally.add(start.sun, start.portal, start.unit, light);
+            }
+            *rays += chunk_rays;
+        }
+        tally
+    }
+
+    /// Calls `f` with the light tracer of these passes for an image of `ctx`'s size.
+    fn with_tracer<T>(
         &self,
         scene: &RenderScene,
         ctx: &SampleContext,
-        sampler: &mut Sampler,
-        splats: &mut Splats,
-        rays: &mut RayCounters,
-    ) {
-        let k = f64::from(self.per_sample);
-        let i = f64::from(ctx.index);
-        let count = ((i + 1.0) * k).floor() - (i * k).floor();
+        f: impl FnOnce(&LightTracer) -> T,
+    ) -> T {
         let light_pick = (self.camera).map(|pt| {
             move |at: &LightContext, light: usize| pt.next_event().light_pick(scene, at, light)
         });
@@ -113,9 +164,28 @@ impl<'a> LightPasses<'a> {
                     light_pick,
                 }),
         };
-        for _ in 0..count as u32 {
-            tracer.trace(ctx, sampler, splats, rays);
-        }
+        f(&tracer)
+    }
+
+    /// The light paths of camera sample `ctx`, from `sampler`'s stream: the sample's share,
+    /// floor((i + 1) k) - floor(i k) for its index i and k per sample, so that every pixel's
+    /// first n samples trace floor(n k).
+    fn trace_light_paths(
+        &self,
+        scene: &RenderScene,
+        ctx: &SampleContext,
+        sampler: &mut Sampler,
+        splats: &mut Splats,
+        rays: &mut RayCounters,
+    ) {
+        let k = f64::from(self.per_sample);
+        let i = f64::from(ctx.index);
+        let count = ((i + 1.0) * k).floor() - (i * k).floor();
+        self.with_tracer(scene, ctx, |tracer| {
+            for _ in 0..count as u32 {
+                tracer.trace(ctx, sampler, splats, rays);
+            }
+        });
     }
 }
 

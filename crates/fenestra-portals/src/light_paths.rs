@@ -11,7 +11,11 @@
 //! through several portals is drawn from each of them, so a point x that the sun reaches
 //! first along its line has the area density p(x) = |cos_x| * n(x) / A, with A the portals'
 //! projected area and n(x) the portals the line crosses, both along the line's direction.
+//! With a learned emission ([`crate::emission`]) the points are drawn from a mixture of that
+//! and a histogram over each portal, and p(x) sums the histogram's density over the portals
+//! the line crosses in the same way.
 
+use crate::emission::{Emission, Tally, UNIFORM_SHARE};
 use crate::portal::Portal;
 use fenestra_core::mis::MisHeuristic;
 use fenestra_core::stats::RayCounters;
@@ -85,6 +89,19 @@ pub struct SunThroughPortals {
     portals: Vec<Portal>,
     /// The scene's bounding sphere (centre, radius): the lines start outside it.
     sphere: (Vec3, f32),
+    /// The learned density over the portals, if learned.
+    emission: Option<Emission>,
+}
+
+/// Where a light path's line crossed the portal it was drawn on.
+#[derive(Clone, Copy, Debug)]
+pub struct LineStart {
+    /// The sun's index among the suns through the portals.
+    pub sun: usize,
+    /// The portal's index among the sun's.
+    pub portal: usize,
+    /// The point of the portal's unit square.
+    pub unit: Vec2,
 }
 
 impl SunThroughPortals {
@@ -111,6 +128,7 @@ impl SunThroughPortals {
             shape,
             portals,
             sphere,
+            emission: None,
         };
         (sun.projected(axis) > 0.0).then_some(sun)
     }
@@ -128,19 +146,49 @@ impl SunThroughPortals {
             .sum()
     }
 
-    /// A point of the portals, uniform in their area projected along `dir` (`projected`
-    /// of it), from `u_pick` and `u`.
-    fn sample_point(&self, dir: Vec3, projected: f32, u_pick: f32, u: Vec2) -> Vec3 {
-        let mut left = u_pick * projected;
+    /// A point of the portals from `u_pick` and `u`: uniform in their area projected along
+    /// `dir` (`projected` of it), or with a learned emission from its mixture with that;
+    /// the portal and the point of its unit square it was drawn at.
+    fn sample_point(&self, dir: Vec3, projected: f32, u_pick: f32, u: Vec2) -> (usize, Vec2) {
+        let mut left = match &self.emission {
+            Some(learned) if u_pick >= UNIFORM_SHARE => {
+                return learned.sample((u_pick - UNIFORM_SHARE) / (1.0 - UNIFORM_SHARE), u);
+            }
+            Some(_) => u_pick / UNIFORM_SHARE * projected,
+            None => u_pick * projected,
+        };
         let last = self.portals.len() - 1;
         for (i, p) in self.portals.iter().enumerate() {
             let a = p.area() * p.normal().dot(dir).abs();
             if left < a || i == last {
-                return p.sample_area(u);
+                return (i, u);
             }
             left -= a;
         }
         unreachable!("a sun through portals has some")
+    }
+
+    /// The density per unit area across the line along `dir` through `p` with which
+    /// [`SunThroughPortals::sample_point`] draws it (`projected`, A, along `dir`): n / A for
+    /// the n portals it crosses, mixed with the learned density's over them.
+    fn line_density(&self, p: Vec3, dir: Vec3, projected: f32) -> f32 {
+        let start = self.line_start(p, dir);
+        let (mut crossed, mut learned) = (0u32, 0.0f32);
+        for (i, q) in self.portals.iter().enumerate() {
+            let Some(t) = q.intersect(start, dir) else {
+                continue;
+            };
+            crossed += 1;
+            if let Some(emission) = &self.emission {
+                let across = q.area() * q.normal().dot(dir).abs();
+                learned += emission.density(i, q.unit_of(start + dir * t)) / across;
+            }
+        }
+        let uniform = crossed as f32 / projected;
+        match self.emission {
+            Some(_) => UNIFORM_SHARE * uniform + (1.0 - UNIFORM_SHARE) * learned,
+            None => uniform,
+        }
     }
 
     /// A point of the line along `dir` through `p` outside the scene, on the sun's side.
@@ -157,13 +205,14 @@ impl SunThroughPortals {
     }
 
     /// The area density with which the lines along `dir` reach `p` (a surface point of
-    /// normal `ng` that the sun reaches first along its line), p(x) = |cos_x| n(x) / A.
+    /// normal `ng` that the sun reaches first along its line), p(x) = |cos_x| n(x) / A
+    /// uniformly.
     pub fn density(&self, p: Vec3, ng: Vec3, dir: Vec3) -> f32 {
         let projected = self.projected(dir);
         if !(projected > 0.0) {
             return 0.0;
         }
-        ng.dot(dir).abs() * self.crossings(p, dir) as f32 / projected
+        ng.dot(dir).abs() * self.line_density(p, dir, projected)
     }
 }
 
@@ -244,6 +293,21 @@ impl SunPaths {
         (all > 0.0).then(|| through / all)
     }
 
+    /// Empty sums of light per cell of each sun's portals, for a pilot.
+    pub fn tally(&self) -> Tally {
+        Tally::new(self.suns.iter().map(|s| &s.portals[..]))
+    }
+
+    /// These light paths, started from the emission `tally` learned (suns whose pilot
+    /// paths brought nothing keep the uniform density).
+    pub fn learned(&self, tally: &Tally) -> SunPaths {
+        let mut learned = self.clone();
+        for (sun, emission) in learned.suns.iter_mut().zip(tally.emissions()) {
+            sun.emission = emission;
+        }
+        learned
+    }
+
     /// Probability of picking sun `k`.
     fn pick(&self, k: usize) -> f32 {
         let total = self.cdf.last().copied().unwrap_or(0.0);
@@ -296,20 +360,20 @@ pub struct LightTracer<'a> {
 impl LightTracer<'_> {
     /// Traces one light path from `sampler`'s stream, splatting what it brings to the pixels
     /// that see its vertices; its rays are counted in `rays` (segments as bounces,
-    /// connections to the camera as shadow rays).
-    /// `ctx` is the camera sample the path belongs to.
+    /// connections to the camera as shadow rays). `ctx` is the camera sample the path
+    /// belongs to. Returns where it started, if it did.
     pub fn trace(
         &self,
         ctx: &SampleContext,
         sampler: &mut Sampler,
         splats: &mut Splats,
         rays: &mut RayCounters,
-    ) {
+    ) -> Option<LineStart> {
         splats.count_path();
         let paths = self.suns;
         let total = paths.cdf.last().copied().unwrap_or(0.0);
         if !(total > 0.0) {
-            return;
+            return None;
         }
         let u_pick = sampler.next_1d() * total;
         let k = (paths.cdf.partition_point(|&c| c <= u_pick)).min(paths.suns.len() - 1);
@@ -317,7 +381,7 @@ impl LightTracer<'_> {
         let (dir, irradiance) = sun.shape.sample(sampler.next_2d());
         let projected = sun.projected(dir);
         if !(projected > 0.0) {
-            return;
+            return None;
         }
         let mis = self.joined.map_or(MisHeuristic::Balance, |j| j.mis);
         let mut side = LightSide::new(mis);
@@ -335,11 +399,21 @@ impl LightTracer<'_> {
                 found: sun.shape.found(),
             }
         };
-        let through = sun.sample_point(dir, projected, sampler.next_1d(), sampler.next_2d());
+        let (portal, unit) = sun.sample_point(dir, projected, sampler.next_1d(), sampler.next_2d());
+        let through = sun.portals[portal].sample_area(unit);
+        let start = LineStart {
+            sun: k,
+            portal,
+            unit,
+        };
         let mut ray = Ray::new(sun.line_start(through, dir), dir);
-        // The flux a line carries, E A / (pick n): n(x) is the same along the whole line.
-        let n = sun.crossings(through, dir).max(1);
-        let mut beta = irradiance * (projected / (pick * n as f32));
+        // The flux a line carries, E / (pick p), p its density across the line (n / A when
+        // uniform): the same along the whole line.
+        let across = sun.line_density(through, dir, projected);
+        if !(across > 0.0) {
+            return Some(start);
+        }
+        let mut beta = irradiance / (pick * across);
         let initial = beta.max_component();
         let (mut vertices, mut panes) = (0u32, 0u32);
         let max_depth = self.options.max_depth;
@@ -427,6 +501,7 @@ impl LightTracer<'_> {
                 beta *= 1.0 / q;
             }
         }
+        Some(start)
     }
 
     /// Connects the non-delta vertex `si` (BSDF `bsdf` in `frame`; light arriving from `wi`,
@@ -527,4 +602,94 @@ pub fn suns_through(
             .into(),
         )
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use fenestra_core::Rng;
+
+    /// Two windows one behind the other, partly overlapping along the sun's lines, their
+    /// emission learned from a made-up pilot.
+    fn two_windows(learned: bool) -> SunThroughPortals {
+        let portals = vec![
+            Portal::quad([
+                Vec3::ZERO,
+                Vec3::new(2.0, 0.0, 0.0),
+                Vec3::new(2.0, 0.0, 1.5),
+                Vec3::new(0.0, 0.0, 1.5),
+            ]),
+            Portal::Quad {
+                corner: Vec3::new(1.0, 0.8, 0.5),
+                e1: Vec3::new(2.0, 0.0, 0.0),
+                e2: Vec3::new(0.0, 0.0, 1.0),
+            },
+        ];
+        let mut tally = Tally::new([&portals[..]].into_iter());
+        tally.add(0, 0, Vec2::new(0.1, 0.2), 5.0);
+        tally.add(0, 0, Vec2::new(0.7, 0.7), 1.0);
+        tally.add(0, 1, Vec2::new(0.5, 0.45), 3.0);
+        let dir = Vec3::new(0.3, 1.0, -0.2).normalize();
+        SunThroughPortals {
+            light: 0,
+            shape: SunShape::Direction(dir, Rgb::ONE),
+            portals,
+            sphere: (Vec3::new(1.0, 0.4, 0.75), 5.0),
+            emission: learned.then(|| tally.emissions()[0].clone().expect("learned")),
+        }
+    }
+
+    /// The lines [`SunThroughPortals::sample_point`] draws, binned across them, follow
+    /// [`SunThroughPortals::line_density`] (chi-square), uniform or learned, and that density
+    /// integrates to one: the flux a light path carries is divided by the density it was
+    /// drawn with.
+    #[test]
+    fn lines_follow_their_density() {
+        for learned in [false, true] {
+            let sun = two_windows(learned);
+            let (dir, _) = sun.shape.axis();
+            let projected = sun.projected(dir);
+            let across = Frame::from_normal(dir);
+            let on_plane = |p: Vec3| Vec2::new(p.dot(across.s), p.dot(across.t));
+            // The bins: a grid over the portals' shadows on the plane across the lines.
+            let corners: Vec<Vec2> = (sun.portals.iter())
+                .flat_map(|p| {
+                    let Portal::Quad { corner, e1, e2 } = *p else {
+                        unreachable!()
+                    };
+                    [corner, corner + e1, corner + e2, corner + e1 + e2].map(on_plane)
+                })
+                .collect();
+            let lo = corners.iter().fold(Vec2::MAX, |a, &b| a.min(b)) - 0.01;
+            let hi = corners.iter().fold(Vec2::MIN, |a, &b| a.max(b)) + 0.01;
+            let (bins, sub, n) = (16usize, 64usize, 200_000u32);
+            let cell = (hi - lo) / bins as f32;
+            let mut expected = vec![0.0f64; bins * bins];
+            for (b, e) in expected.iter_mut().enumerate() {
+                for k in 0..sub * sub {
+                    let at = lo
+                        + cell
+                            * (Vec2::new((b % bins) as f32, (b / bins) as f32)
+                                + (Vec2::new((k % sub) as f32, (k / sub) as f32) + 0.5)
+                                    / sub as f32);
+                    let p = across.s * at.x + across.t * at.y;
+                    *e += f64::from(sun.line_density(p, dir, projected));
+                }
+                *e *= f64::from(cell.x * cell.y) / (sub * sub) as f64 * f64::from(n);
+            }
+            let total: f64 = expected.iter().sum();
+            assert!((total / f64::from(n) - 1.0).abs() < 0.005, "{total}");
+            let mut observed = vec![0.0f64; bins * bins];
+            let mut rng = Rng::new(7);
+            for _ in 0..n {
+                let (portal, unit) =
+                    sun.sample_point(dir, projected, rng.next_f32(), rng.next_2d());
+                let at = (on_plane(sun.portals[portal].sample_area(unit)) - lo) / cell;
+                let (x, y) = (at.x as usize, at.y as usize);
+                observed[y.min(bins - 1) * bins + x.min(bins - 1)] += 1.0;
+            }
+            let fit = fenestra_eval::chi2::chi2(&observed, &expected, 3.0).expect("bins");
+            assert!(fit.p_value > 1e-3, "learned {learned}: {fit:?}");
+        }
+    }
 }

@@ -137,15 +137,24 @@ fn light_paths_render_what_path_tracing_renders_of_the_sun() {
     assert!(!t.passed(), "a small portal: {t:?}");
 }
 
+/// Pilot light paths that learn where on the portals light paths start.
+const PILOT: u32 = 32768;
+
 /// lp_hf through the window (kept: the sky's paths sample it) joined to light paths.
 fn lp_lt(depth: u32, per_sample: f32) -> LpLt {
+    lp_lt_piloted(depth, per_sample, 0)
+}
+
+/// lp_hf through the window joined to light paths whose emission a pilot of `pilot` paths
+/// learns (0: uniform).
+fn lp_lt_piloted(depth: u32, per_sample: f32, pilot: u32) -> LpLt {
     let portals = PortalOptions {
         keep: true,
         ..PortalOptions::default()
     };
     let lights = LightNextEvent::new(LightSelection::Power);
     let camera = lp_hf(path(depth), portals, window(), lights).expect("lp_hf");
-    LpLt::new(camera, LightPathOptions { per_sample }).expect("lp_lt")
+    LpLt::new(camera, LightPathOptions { per_sample, pilot }).expect("lp_lt")
 }
 
 /// At path length 5 the ceiling's light comes by glints that af_hf finds rarely (its
@@ -154,13 +163,14 @@ fn lp_lt(depth: u32, per_sample: f32) -> LpLt {
 #[test]
 fn joined_light_paths_render_what_path_tracing_renders() {
     let with_sky = || builtin::load("glossy-room").expect("builtin");
-    // (sky, the sun a disk, path length, image size, samples per pixel of af_hf and lp_lt)
-    for (sky, disk, depth, size, spp_af, spp_lp) in [
-        (false, false, 3, 32, 1024, 512),
-        (false, false, 5, 16, 8192, 2048),
-        (true, false, 4, 32, 2048, 1024),
-        (false, true, 3, 32, 1024, 512),
-        (true, true, 4, 32, 2048, 1024),
+    // (sky, the sun a disk, path length, image size, samples per pixel of af_hf and lp_lt,
+    // pilot paths learning the emission: 0 for uniform)
+    for (sky, disk, depth, size, spp_af, spp_lp, pilot) in [
+        (false, false, 3, 32, 1024, 512, 0),
+        (false, false, 5, 16, 8192, 2048, PILOT),
+        (true, false, 4, 32, 2048, 1024, 0),
+        (false, true, 3, 32, 1024, 512, PILOT),
+        (true, true, 4, 32, 2048, 1024, 0),
     ] {
         let desc = || match (sky, disk) {
             (_, true) => disk_lit_room(0.15, sky),
@@ -169,11 +179,12 @@ fn joined_light_paths_render_what_path_tracing_renders() {
         };
         let af = af_hf(path(depth), LightSelection::Power);
         let af = render_in(desc(), size, &mut { af }, spp_af, 2);
-        let lp = render_in(desc(), size, &mut lp_lt(depth, 0.5), spp_lp, 2);
+        let lp = lp_lt_piloted(depth, 0.5, pilot);
+        let lp = render_in(desc(), size, &mut { lp }, spp_lp, 2);
         let t = fenestra_eval::agreement(&af.estimate(), &lp.estimate(), 0.01, 8).expect("sizes");
         assert!(
             t.passed(),
-            "sky {sky}, disk {disk}, path length {depth}: {t:?}"
+            "sky {sky}, disk {disk}, path length {depth}, pilot {pilot}: {t:?}"
         );
         assert_eq!(lp.light_paths, (size * size * spp_lp / 2) as u64);
     }
@@ -188,8 +199,8 @@ fn light_paths_splat_the_same_pixels_for_any_thread_count() {
         one.splats.iter().any(|p| p.sum != [0; 3]),
         "the sun is seen"
     );
-    let one = render(&mut lp_lt(4, 1.5), 4, 1);
-    let two = render(&mut lp_lt(4, 1.5), 4, 2);
+    let one = render(&mut lp_lt_piloted(4, 1.5, PILOT), 4, 1);
+    let two = render(&mut lp_lt_piloted(4, 1.5, PILOT), 4, 2);
     assert_eq!(one.splats, two.splats);
     assert_eq!(one.pixels, two.pixels);
 }
@@ -210,7 +221,14 @@ fn no_light_paths_where_the_portals_miss_the_sunlight_the_camera_sees() {
     };
     let lights = LightNextEvent::new(LightSelection::Power);
     let camera = lp_hf(path(4), portals, beside, lights).expect("lp_hf");
-    let mut beside = LpLt::new(camera, LightPathOptions { per_sample: 1.0 }).expect("lp_lt");
+    let mut beside = LpLt::new(
+        camera,
+        LightPathOptions {
+            per_sample: 1.0,
+            ..LightPathOptions::default()
+        },
+    )
+    .expect("lp_lt");
     assert_eq!(render(&mut beside, 4, 2).light_paths, 0);
     assert_eq!(render(&mut lp_lt(4, 1.0), 4, 2).light_paths, 32 * 32 * 4);
 }

@@ -122,6 +122,29 @@ impl Portal {
         }
     }
 
+    /// The point of the unit square that [`Portal::sample_area`] maps to `p`, a point of
+    /// the portal (or of its plane, clamped into the square).
+    pub fn unit_of(&self, p: Vec3) -> Vec2 {
+        // The coordinates of p - o along two edges a, b: the dual basis of their Gram matrix.
+        let along = |o: Vec3, a: Vec3, b: Vec3| {
+            let d = p - o;
+            let (aa, ab, bb) = (a.dot(a), a.dot(b), b.dot(b));
+            let (da, db) = (d.dot(a), d.dot(b));
+            Vec2::new(bb * da - ab * db, aa * db - ab * da) / (aa * bb - ab * ab)
+        };
+        let unit = match self {
+            Portal::Quad { corner, e1, e2 } => along(*corner, *e1, *e2),
+            Portal::Triangle {
+                vertices: [p0, q, r],
+            } => fenestra_core::warp::triangle_to_square(along(*p0, *q - *p0, *r - *p0)),
+            Portal::Ellipse { center, a, b } => {
+                let d = along(*center, *a, *b);
+                fenestra_core::warp::disk_concentric_to_square(d / d.length().max(1.0))
+            }
+        };
+        unit.clamp(Vec2::ZERO, Vec2::ONE)
+    }
+
     /// Distance along the unit direction `d` from `o` to the portal, if the ray crosses it.
     pub fn intersect(&self, o: Vec3, d: Vec3) -> Option<f32> {
         Geometry::new(self).crossing(o, d)
@@ -538,6 +561,38 @@ impl Portals {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn unit_of_inverts_sample_area() {
+        let shapes = [
+            Portal::Quad {
+                corner: Vec3::new(0.3, -1.0, 2.0),
+                e1: Vec3::new(1.5, 0.2, 0.0),
+                e2: Vec3::new(0.4, 0.1, 0.9),
+            },
+            Portal::Triangle {
+                vertices: [
+                    Vec3::ZERO,
+                    Vec3::new(2.0, 0.5, 0.0),
+                    Vec3::new(0.3, 0.2, 1.7),
+                ],
+            },
+            Portal::Ellipse {
+                center: Vec3::new(1.0, 2.0, 3.0),
+                a: Vec3::new(0.0, 0.8, 0.0),
+                b: Vec3::new(0.0, 0.0, 0.3),
+            },
+        ];
+        for portal in &shapes {
+            for i in 0..32 {
+                for j in 0..32 {
+                    let u = Vec2::new((i as f32 + 0.5) / 32.0, (j as f32 + 0.5) / 32.0);
+                    let back = portal.unit_of(portal.sample_area(u));
+                    assert!((back - u).length() < 1e-4, "{portal:?}: {u} as {back}");
+                }
+            }
+        }
+    }
 
     #[test]
     fn ellipse_samples_are_uniform_over_the_area() {
