@@ -371,6 +371,25 @@ fn forged_damaged_and_partial_parts_are_refused() {
         e.contains("holds 4294967295 samples, its part at most 4"),
         "{e}"
     );
+    // Every pixel emptied: a part that did not drop its samples must hold them.
+    let empty = forge("empty.film", &|f| f.pixels.fill(Default::default()));
+    let e = refused(merge(&[&a, &empty], &[]));
+    assert!(
+        e.contains("its pixels lack 1120 of their samples, and it dropped 0"),
+        "{e}"
+    );
+    // A lit pixel's sum made 10x larger than its samples' squares allow.
+    let lit = film
+        .pixels
+        .iter()
+        .position(|p| p.sum[1] > 0)
+        .expect("a lit pixel");
+    let scaled = forge("scaled.film", &|f| f.pixels[lit].sum[1] *= 10);
+    let e = refused(merge(&[&a, &scaled], &[]));
+    assert!(
+        e.contains("has sums that no 4 samples with its sums of squares can have"),
+        "{e}"
+    );
     // One flipped byte in the header's key, the checksum left as it was.
     let mut bytes = std::fs::read(&c).expect("part");
     let at = bytes

@@ -13,7 +13,7 @@ use fenestra_core::Rgb;
 use glam::Mat3;
 
 /// Scale of the fixed-point sums: 2^64 units per unit of radiance.
-const ONE: f64 = 18_446_744_073_709_551_616.0;
+pub(crate) const ONE: f64 = 18_446_744_073_709_551_616.0;
 
 /// Largest magnitude a sample may have in any channel: 2^31, so that 2^32 samples of it sum
 /// within the 128-bit accumulators. Larger samples are dropped and counted, as non-finite

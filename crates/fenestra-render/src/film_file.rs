@@ -16,7 +16,7 @@
 //!
 //! Version 1 had no `paths` and no splats; it is read as a film without light paths.
 
-use crate::film::{Film, Pixel, Window};
+use crate::film::{Film, Pixel, Window, ONE};
 use fenestra_core::stats::RenderStats;
 use serde::{Deserialize, Serialize};
 use std::io::{BufReader, BufWriter, Read, Write};
@@ -298,6 +298,8 @@ impl FilmReader {
         // dropped as non-finite); an adaptive render's at most its largest count.
         let most = (self.header.samples).map_or(self.header.stats.spp_max, |r| r.end - r.start);
         let mut impossible = None;
+        // Samples a sample range's pixels lack: only those dropped as non-finite.
+        let mut missing = 0u64;
         let mut bytes = [0u8; PIXEL_BYTES];
         let kinds: &[Record] = if self.light_paths > 0 {
             &[Record::Pixel, Record::Splat]
@@ -327,6 +329,9 @@ impl FilmReader {
                     };
                     impossible = Some(format!("pixel ({x}, {y}){what} {why}"));
                 }
+                if record == Record::Pixel && self.header.samples.is_some() {
+                    missing += u64::from(most.saturating_sub(pixel.count));
+                }
                 each(record, i, pixel);
             }
         }
@@ -336,6 +341,12 @@ impl FilmReader {
         if u32::from_le_bytes(word) != crc {
             return Err(self.invalid(
                 "damaged: its checksum does not match its content (header or pixels)".into(),
+            ));
+        }
+        let dropped = self.header.stats.rays.dropped;
+        if impossible.is_none() && missing > dropped {
+            impossible = Some(format!(
+                "its pixels lack {missing} of their samples, and it dropped {dropped}"
             ));
         }
         match impossible {
@@ -364,6 +375,19 @@ fn impossible_pixel(p: &Pixel, most: u32) -> Option<String> {
     }
     if p.count == 0 && p.sum_sq.iter().any(|&q| q != 0) {
         return Some("has squares of samples it did not take".into());
+    }
+    // Cauchy-Schwarz: (sum x)^2 <= n sum x^2 for any samples; in units of 2^-64, with each
+    // square's rounding (half a unit) allowed for. A saturated sum of squares bounds nothing.
+    let n = f64::from(p.count);
+    let squares_fit = |c: usize| {
+        let (sum, sum_sq) = (p.sum[c] as f64, p.sum_sq[c]);
+        sum_sq == u128::MAX || sum * sum <= n * (sum_sq as f64 + n) * ONE * (1.0 + 1e-9)
+    };
+    if !(0..3).all(squares_fit) {
+        return Some(format!(
+            "has sums that no {} samples with its sums of squares can have",
+            p.count
+        ));
     }
     None
 }
