@@ -47,6 +47,17 @@ impl EnvironmentMap {
         if !(self.strength.is_finite() && self.strength > 0.0) {
             return Some(format!("strength must be positive, got {}", self.strength));
         }
+        let brightest = (self.image.pixels.iter())
+            .map(|p| p.max_component())
+            .filter(|v| v.is_finite())
+            .fold(0.0f32, f32::max);
+        if !(brightest * self.strength).is_finite() {
+            return Some(format!(
+                "strength {} times the map's brightest texel ({brightest}) overflows 32-bit \
+                 floats: its light would be infinite",
+                self.strength
+            ));
+        }
         if !self.rotation_deg.is_finite() {
             return Some(format!(
                 "rotation must be finite, got {}",

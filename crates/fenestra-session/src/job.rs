@@ -352,6 +352,7 @@ impl Job {
                 scene_content,
                 ..stats
             };
+            mostly_kept(&film, &stats)?;
             Ok(Rendered {
                 stats,
                 film,
@@ -359,6 +360,24 @@ impl Job {
             })
         })
     }
+}
+
+/// Refuses a render that dropped most of its samples (non-finite, or beyond the film's
+/// 2^31 in a channel): its image is black or nearly, and no picture of the scene.
+fn mostly_kept(film: &Film, stats: &RenderStats) -> Result<()> {
+    let kept: u64 = film.pixels.iter().map(|p| u64::from(p.count)).sum();
+    let dropped = stats.rays.dropped;
+    if dropped > kept {
+        return Err(anyhow::anyhow!(
+            "{dropped} of {} samples ({:.0}%) were dropped as non-finite or beyond 2^31 in a \
+             channel: the scene's light is brighter than the film can add up (a light, \
+             emission or environment strength near the 3.4e38 of 32-bit floats?)",
+            dropped + kept,
+            100.0 * dropped as f64 / (dropped + kept) as f64
+        )
+        .into());
+    }
+    Ok(())
 }
 
 /// The hash of a scene's content: its files' bytes, in the order they were read (a

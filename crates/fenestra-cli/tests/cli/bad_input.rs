@@ -453,3 +453,68 @@ fn declared_sizes_are_checked_before_anything_is_allocated() {
     );
     assert!(!out.exists(), "a refused render wrote");
 }
+
+/// Light too bright for the film (issue 68 item 17): an environment whose strength overflows
+/// its map to infinity is refused by the flag's figures, and a finite but huge one, whose
+/// every sample the film drops, is an error with nothing written instead of a black image.
+#[test]
+fn light_beyond_what_the_film_can_add_up_is_refused() {
+    let mut sky = Image::new(8, 4);
+    sky.pixels.fill(fenestra_core::Rgb::splat(2.0));
+    let map = tmp("bright-sky.exr");
+    sky.write_exr(&map, &Default::default()).expect("write");
+    let m = map.to_str().expect("utf-8");
+    let out = tmp("too-bright.exr");
+    let o = out.to_str().expect("utf-8");
+    // A triangle under the sky: most camera rays see the environment itself.
+    let triangle = tmp("triangle.gltf");
+    std::fs::write(
+        &triangle,
+        r#"{"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0}], "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+        "buffers": [{"byteLength": 36,
+            "uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}],
+        "bufferViews": [{"buffer": 0, "byteLength": 36}],
+        "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+            "min": [0, 0, 0], "max": [1, 1, 0]}]}"#,
+    )
+    .expect("write");
+    let render = |strength: &str| {
+        fenestra(&[
+            "render",
+            triangle.to_str().expect("utf-8"),
+            "--environment",
+            m,
+            "--environment-strength",
+            strength,
+            "--resolution",
+            "16x12",
+            "--spp",
+            "2",
+            "-q",
+            "-o",
+            o,
+        ])
+    };
+    let refused = |strength: &str, expect: &str| {
+        let run = render(strength);
+        let err = String::from_utf8_lossy(&run.stderr);
+        assert_eq!(run.status.code(), Some(1), "{strength}: {err}");
+        assert!(err.contains(expect), "{strength}: {err}");
+        assert!(!out.exists(), "{strength}: a refused render wrote");
+    };
+    refused(
+        "3e38",
+        "strength 300000000000000000000000000000000000000 times the map's brightest texel (2) overflows",
+    );
+    refused(
+        "1e30",
+        "were dropped as non-finite or beyond 2^31 in a channel",
+    );
+    let run = render("1e6");
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+}
