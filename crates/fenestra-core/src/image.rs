@@ -296,6 +296,16 @@ impl Image {
             Some(ev) => 2f32.powf(ev),
             None => self.auto_exposure_scale(),
         };
+        if let Some(ev) = exposure_stops.filter(|_| !(scale.is_finite() && scale > 0.0)) {
+            let why = format!(
+                "exposure must be a finite number of stops within 32-bit floats' range, got {ev}"
+            );
+            return Err(image::ImageError::Parameter(
+                image::error::ParameterError::from_kind(image::error::ParameterErrorKind::Generic(
+                    why,
+                )),
+            ));
+        }
         let mut bytes = Vec::with_capacity(self.pixels.len() * 3);
         for p in &self.pixels {
             for v in p.to_array() {

@@ -81,3 +81,13 @@ def test_the_sessions_refusals_name_keywords_not_flags():
 def test_an_unknown_backend_is_named():
     with pytest.raises(fe.FenestraError, match="^backend: "):
         fe.render("builtin:cornell-box", spp=1, backend="optix", progress=False)
+
+
+@pytest.mark.parametrize("exposure", [float("nan"), float("inf"), -float("inf"), 1000.0])
+def test_an_exposure_beyond_numbers_is_refused_and_writes_nothing(tmp_path, exposure):
+    img = fe.render(fe.load("builtin:cornell-box"), spp=1, resolution=(8, 8), progress=False)
+    with pytest.raises(fe.FenestraError, match="exposure must be a finite number of stops"):
+        img.write(tmp_path / "a.exr", exposure=exposure)
+    assert list(tmp_path.iterdir()) == []
+    with pytest.raises(fe.FenestraError, match="exposure must be a finite number of stops"):
+        img.png(exposure=exposure)
