@@ -7,7 +7,7 @@ use clap::{Args, Subcommand};
 use fenestra_pbrt as pbrt;
 use fenestra_scene::light::{EnvironmentDesc, LightDesc};
 use fenestra_scene::sky::{sky_irradiance, sun, Sky};
-use fenestra_scene::{SceneDesc, ShapeKind};
+use fenestra_scene::{Backend, SceneDesc, ShapeKind};
 use std::path::{Path, PathBuf};
 
 #[derive(Args)]
@@ -251,30 +251,41 @@ fn info(scene: &str, options: SceneOptions, json: bool) -> Result<()> {
 }
 
 /// `scene check`: the report, and whether anything is replaced (exit status 1).
+/// The scene is built as `render` builds it, so what render would refuse (non-finite or
+/// astronomically large geometry, negative or infinite light) is reported too.
 fn check(scene: &str) -> Result<()> {
     let loaded = scene_arg::load_quietly(scene, &SceneOptions::default())?;
-    print!("{}", check_report(scene, &loaded));
-    if !loaded.substitutions.is_empty() || !loaded.other.is_empty() {
+    let refused = fenestra_scene::Scene::build(loaded.desc.clone(), Backend::default()).err();
+    print!("{}", check_report(scene, &loaded, refused.as_ref()));
+    if !loaded.substitutions.is_empty() || !loaded.other.is_empty() || refused.is_some() {
         std::process::exit(1);
     }
     Ok(())
 }
 
-fn check_report(scene: &str, loaded: &fenestra_session::LoadedScene) -> String {
+fn check_report(
+    scene: &str,
+    loaded: &fenestra_session::LoadedScene,
+    refused: Option<&fenestra_scene::SceneError>,
+) -> String {
     use std::fmt::Write;
     let (subs, notes) = (&loaded.substitutions, &loaded.notes);
     let mut out = String::new();
+    let as_written = subs.is_empty() && notes.is_empty() && loaded.other.is_empty();
     let _ = writeln!(
         out,
         "{scene}: {} replaced, {} rendered fenestra's own way{}",
         kinds(subs.len()),
         kinds(notes.len()),
-        if subs.is_empty() && notes.is_empty() && loaded.other.is_empty() {
-            ": read as written"
-        } else {
-            ""
+        match (refused, as_written) {
+            (Some(_), _) => ": render refuses it",
+            (None, true) => ": read as written",
+            (None, false) => "",
         }
     );
+    if let Some(e) = refused {
+        let _ = writeln!(out, "\nRefused\n  {e}");
+    }
     let mut topics: Vec<pbrt::Topic> = subs.iter().chain(notes).map(|w| w.topic).collect();
     topics.sort();
     topics.dedup();

@@ -90,6 +90,74 @@ fn scene_files_export_render_and_report_what_they_cannot_represent() {
         "{text}"
     );
 
+    // What render refuses, check reports: it builds the scene as render does (a glTF
+    // triangle glowing beyond 32-bit floats, a point light of negative colour).
+    let gltf = |extensions: &str, material: &str, lights: &str| {
+        format!(
+            r#"{{"asset": {{"version": "2.0"}}, "extensionsUsed": [{extensions}],
+            "scene": 0, "scenes": [{{"nodes": [0, 1]}}],
+            "nodes": [{{"mesh": 0}}, {{"translation": [0, 0, 2]{lights}}}],
+            "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0}}, "material": 0}}]}}],
+            "materials": [{{{material}}}],
+            "buffers": [{{"byteLength": 36,
+                "uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}}],
+            "bufferViews": [{{"buffer": 0, "byteLength": 36}}],
+            "accessors": [{{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                "min": [0, 0, 0], "max": [1, 1, 0]}}]{}}}"#,
+            if lights.is_empty() {
+                String::new()
+            } else {
+                r#", "extensions": {"KHR_lights_punctual": {"lights": [{"type": "point", "color": [-1, 1, 1]}]}}"#.into()
+            }
+        )
+    };
+    for (name, text, why) in [
+        (
+            "glowing.gltf",
+            gltf(
+                r#""KHR_materials_emissive_strength""#,
+                r#""emissiveFactor": [1, 1, 1], "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 1e39}}"#,
+                "",
+            ),
+            "shape 0: emitted radiance",
+        ),
+        (
+            "negative.gltf",
+            gltf(
+                r#""KHR_lights_punctual""#,
+                "",
+                r#", "extensions": {"KHR_lights_punctual": {"light": 0}}"#,
+            ),
+            "light 0: position or intensity is not finite, or intensity is negative",
+        ),
+    ] {
+        let path = dir.join(name);
+        std::fs::write(&path, text).expect("write");
+        let path = path.to_str().expect("utf-8");
+        let o = fenestra(&[
+            "render",
+            path,
+            "--spp",
+            "1",
+            "--resolution",
+            "8x8",
+            "-q",
+            "-o",
+            out,
+        ]);
+        let render = String::from_utf8_lossy(&o.stderr).into_owned();
+        assert!(!o.status.success(), "{name} rendered");
+        let o = fenestra(&["scene", "check", path]);
+        let text = String::from_utf8_lossy(&o.stdout);
+        assert_eq!(o.status.code(), Some(1), "{text}");
+        let reason = text.split("\nRefused\n  ").nth(1).expect("a reason").trim();
+        assert!(
+            text.contains(": render refuses it") && render.contains(reason),
+            "{text}\n{render}"
+        );
+        assert!(reason.contains(why), "{reason}");
+    }
+
     let o = fenestra(&["scene", "info", "builtin:terminal-832", "--json"]);
     assert!(o.status.success());
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("json");
