@@ -11,7 +11,9 @@ use fenestra_core::stats::RenderStats;
 use fenestra_render::film_file::{FilmHeader, SampleRange};
 use fenestra_render::merge::{merge as merge_parts, plan, Part};
 use fenestra_render::{output, Film};
-use fenestra_session::files::{check_exr, film_file_of, render_outputs, Files};
+use fenestra_session::files::{
+    check_exr, film_file_of, interrupted_path, render_outputs, where_to_write, Files,
+};
 use fenestra_session::{registry, Crop, IntegratorChoice, Job, JobSpec, Resolution};
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
@@ -59,23 +61,39 @@ impl Render {
 
     /// Writes `path` (.exr), with the PNG and JSON sidecar beside it (and the variance as
     /// PATH.var.exr if `variance`; a piece of a split render also PATH.film, for `merge`),
-    /// as `fenestra render` writes them, atomically.
+    /// as `fenestra render` writes them, atomically; an interrupted render never over a
+    /// complete one (it goes to PATH.interrupted.exr), and one stopped before any sample
+    /// nowhere. Returns where it went, and the note saying so if that is not `path`.
     #[pyo3(signature = (path, exposure=None, variance=false))]
-    fn write(&self, path: PathBuf, exposure: Option<f32>, variance: bool) -> PyResult<()> {
+    fn write(
+        &self,
+        path: PathBuf,
+        exposure: Option<f32>,
+        variance: bool,
+    ) -> PyResult<(PathBuf, Option<String>)> {
         check_exr(&path).map_err(error)?;
+        if self.stats.interrupted && self.stats.spp_max == 0 {
+            return Err(error(anyhow::anyhow!(
+                "interrupted before any sample: nothing to write"
+            )));
+        }
         let mut files = self.inputs.clone();
-        render_outputs(&mut files, &path, variance, self.piece.is_some())
+        let piece = self.piece.is_some();
+        render_outputs(&mut files, &path, variance, piece);
+        render_outputs(&mut files, &interrupted_path(&path), variance, piece)
             .check()
             .map_err(error)?;
+        let (to, note) = where_to_write(&path, self.stats.interrupted);
         output::write_render(
-            &path,
+            &to,
             &self.film,
             &self.stats,
             exposure,
             variance,
             self.piece.as_ref(),
         )
-        .map_err(|e| error(e.into()))
+        .map_err(|e| error(e.into()))?;
+        Ok((to, note))
     }
 }
 

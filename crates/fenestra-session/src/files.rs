@@ -5,8 +5,35 @@
 //! `scene.pbrt`.
 
 use anyhow::{bail, Context, Result};
-use fenestra_render::output;
+use fenestra_render::{output, RenderStats};
 use std::path::{Path, PathBuf};
+
+/// Where a render's files go: OUT.exr, but an interrupted render never replaces a complete
+/// one (its sidecar says it finished): it goes beside it, to OUT.interrupted.exr, with a note
+/// saying so.
+pub fn where_to_write(output: &Path, interrupted: bool) -> (PathBuf, Option<String>) {
+    let (_, sidecar) = output::companion_paths(output);
+    let complete = || {
+        let text = std::fs::read_to_string(&sidecar).ok()?;
+        let stats: RenderStats = serde_json::from_str(&text).ok()?;
+        Some(!stats.interrupted)
+    };
+    if !interrupted || complete() != Some(true) {
+        return (output.to_path_buf(), None);
+    }
+    let beside = interrupted_path(output);
+    let note = format!(
+        "{} holds a complete render: the interrupted one goes to {} beside it",
+        output.display(),
+        beside.display()
+    );
+    (beside, Some(note))
+}
+
+/// Where a render that must not replace the complete one at OUT.exr goes: OUT.interrupted.exr.
+pub fn interrupted_path(output: &Path) -> PathBuf {
+    output.with_extension("interrupted.exr")
+}
 
 /// Creates the folder an output file goes into, if it is missing.
 pub fn create_output_folder(path: &Path) -> Result<()> {

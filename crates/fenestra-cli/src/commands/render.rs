@@ -14,7 +14,7 @@ use fenestra_render::film_file::FilmHeader;
 use fenestra_render::integrator::{Split, WorkMap};
 use fenestra_render::{output, Film, RenderStats};
 use fenestra_scene::Backend;
-use fenestra_session::files::{check_exr, render_outputs};
+use fenestra_session::files::{self, check_exr, render_outputs};
 use fenestra_session::{Job, JobSpec, Rendered, Resolution};
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
@@ -290,7 +290,7 @@ pub fn run(args: RenderArgs) -> Result<bool> {
     render_outputs(&mut files, &args.output, args.variance, piece.is_some());
     render_outputs(
         &mut files,
-        &beside(&args.output),
+        &files::interrupted_path(&args.output),
         args.variance,
         piece.is_some(),
     )
@@ -385,25 +385,13 @@ pub fn run(args: RenderArgs) -> Result<bool> {
     Ok(stats.interrupted)
 }
 
-/// Where a render's files go: OUT.exr, but an interrupted render never replaces a complete
-/// one (its sidecar says it finished): it goes beside it, to OUT.interrupted.exr.
+/// [`files::where_to_write`], saying where an interrupted render goes instead.
 fn where_to_write(output: &Path, interrupted: bool) -> PathBuf {
-    let (_, sidecar) = output::companion_paths(output);
-    let complete = || {
-        let text = std::fs::read_to_string(&sidecar).ok()?;
-        let stats: RenderStats = serde_json::from_str(&text).ok()?;
-        Some(!stats.interrupted)
-    };
-    if !interrupted || complete() != Some(true) {
-        return output.to_path_buf();
+    let (path, note) = files::where_to_write(output, interrupted);
+    if let Some(note) = note {
+        eprintln!("{note}");
     }
-    let beside = beside(output);
-    eprintln!(
-        "{} holds a complete render: the interrupted one goes to {} beside it",
-        output.display(),
-        beside.display()
-    );
-    beside
+    path
 }
 
 /// `--snapshot-every`: the image so far, written when the film holds more of it (after a
@@ -473,11 +461,6 @@ impl Snapshots {
             let _ = std::fs::remove_file(f);
         }
     }
-}
-
-/// Where a render that must not replace the complete one at OUT.exr goes: OUT.interrupted.exr.
-fn beside(output: &Path) -> PathBuf {
-    output.with_extension("interrupted.exr")
 }
 
 /// Where `--maps` writes for OUT.exr: the folder OUT-maps beside it.

@@ -1,6 +1,8 @@
 """Images as NumPy arrays: a render's mean and variance, its statistics, its files."""
 
 import json
+import pathlib
+import warnings
 
 import numpy as np
 
@@ -59,10 +61,16 @@ class Image:
 
     def write(self, path, exposure=None, variance=False):
         """Writes PATH.exr with its PNG and JSON sidecar beside it (and PATH.var.exr with
-        `variance`; a piece of a split render also PATH.film), as `fenestra render` does."""
+        `variance`; a piece of a split render also PATH.film), as `fenestra render` does: an
+        interrupted render never replaces a complete one (it goes to PATH.interrupted.exr,
+        with a warning), and one stopped before any sample is not written. Returns the path
+        written."""
         if self._native is None:
             raise ValueError("only a render writes its files (this image was read)")
-        self._native.write(str(path), exposure, variance)
+        written, note = self._native.write(str(path), exposure, variance)
+        if note is not None:
+            warnings.warn(note, stacklevel=2)
+        return pathlib.Path(written)
 
     def png(self, exposure=None):
         """The tone-mapped sRGB PNG the command line writes, as bytes."""
