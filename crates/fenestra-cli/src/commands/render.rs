@@ -314,14 +314,18 @@ pub fn run(args: RenderArgs) -> Result<bool> {
     // Snapshots go where an interrupted render would: never over a complete render.
     let snapshots = args.snapshot_every.map(|every| Snapshots {
         every,
-        to: where_to_write(&args.output, true),
+        output: args.output.clone(),
         like: RenderStats {
             scene: job.desc().name.clone(),
             integrator: job.integrator_name().to_string(),
             seed: job.settings.seed,
             ..Default::default()
         },
-        state: Mutex::new((f64::NEG_INFINITY, 0)),
+        state: Mutex::new(SnapshotState {
+            last_s: f64::NEG_INFINITY,
+            written: 0,
+            at: None,
+        }),
     });
     // Convergence: metrics against the reference after every pass.
     let curve = Mutex::new(Vec::new());
@@ -358,18 +362,15 @@ pub fn run(args: RenderArgs) -> Result<bool> {
         return Ok(true);
     }
     stats.convergence = curve.into_inner().unwrap_or_default();
+    let output = where_to_write(&args.output, stats.interrupted);
     if let Some(s) = snapshots {
         stats.extra.insert("snapshots".into(), s.written() as f64);
-        s.remove_beside(
-            &args.output,
-            &where_to_write(&args.output, stats.interrupted),
-        );
+        s.remove_beside(&args.output, &output);
     }
     let state = piece.map(|header| FilmHeader {
         stats: stats.clone(),
         ..header
     });
-    let output = where_to_write(&args.output, stats.interrupted);
     output::write_render(
         &output,
         &film,
@@ -398,12 +399,23 @@ fn where_to_write(output: &Path, interrupted: bool) -> PathBuf {
 /// pass, or a block of an integrator that finishes blocks whole) and the interval has passed.
 struct Snapshots {
     every: f64,
-    /// Where they go (OUT.exr, or beside a complete render).
-    to: PathBuf,
+    /// The render's OUT.exr.
+    output: PathBuf,
     /// The render's statistics that a snapshot's sidecar repeats.
     like: RenderStats,
-    /// When the last one was written, and how many were.
-    state: Mutex<(f64, u32)>,
+    state: Mutex<SnapshotState>,
+}
+
+/// What snapshots have done so far.
+struct SnapshotState {
+    /// When the last one was written.
+    last_s: f64,
+    /// How many were.
+    written: u32,
+    /// Where the last went: each goes where an interrupted render would at the time it is
+    /// written (OUT.exr, or beside a complete render there, which another render may have
+    /// finished since the last).
+    at: Option<PathBuf>,
 }
 
 impl Snapshots {
@@ -413,7 +425,7 @@ impl Snapshots {
         let Ok(mut state) = self.state.lock() else {
             return;
         };
-        if time_s - state.0 < self.every {
+        if time_s - state.last_s < self.every {
             return;
         }
         let (spp, spp_max) = film.sample_count_range();
@@ -427,37 +439,39 @@ impl Snapshots {
             ..self.like.clone()
         };
         stats.extra.insert("snapshot".into(), 1.0);
-        let written = output::write_render(
-            &self.to,
-            film,
-            &stats,
-            args.opts.exposure,
-            args.variance,
-            None,
-        );
+        let (to, note) = files::where_to_write(&self.output, true);
+        if let Some(note) = note.filter(|_| state.at.as_ref() != Some(&to)) {
+            eprintln!("{note}");
+        }
+        let written =
+            output::write_render(&to, film, &stats, args.opts.exposure, args.variance, None);
+        // Not again before the next interval, whether written or not.
+        state.last_s = time_s;
         match written {
-            Ok(()) => *state = (time_s, state.1 + 1),
-            Err(e) => {
-                eprintln!("warning: snapshot not written ({e}); the render goes on");
-                // Not again before the next interval.
-                state.0 = time_s;
+            Ok(()) => {
+                state.written += 1;
+                state.at = Some(to);
             }
+            Err(e) => eprintln!("warning: snapshot not written ({e}); the render goes on"),
         }
     }
 
     /// How many were written.
     fn written(&self) -> u32 {
-        self.state.lock().map_or(0, |s| s.1)
+        self.state.lock().map_or(0, |s| s.written)
     }
 
-    /// Removes the snapshot's files if they went beside `output` and the render's own
+    /// Removes the last snapshot's files if they went beside `output` and the render's own
     /// files went elsewhere (the snapshot of a finished render is stale).
     fn remove_beside(&self, output: &Path, written_to: &Path) {
-        if self.to == written_to || self.to == output || self.written() == 0 {
+        let Some(at) = self.state.lock().ok().and_then(|s| s.at.clone()) else {
+            return;
+        };
+        if at == written_to || at == output {
             return;
         }
-        let (png, json) = output::companion_paths(&self.to);
-        for f in [self.to.clone(), png, json, output::variance_path(&self.to)] {
+        let (png, json) = output::companion_paths(&at);
+        for f in [at.clone(), png, json, output::variance_path(&at)] {
             let _ = std::fs::remove_file(f);
         }
     }

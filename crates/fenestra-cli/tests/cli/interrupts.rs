@@ -54,6 +54,61 @@ fn an_interrupted_rerender_keeps_the_complete_image() {
     assert!(beside.with_extension("film").exists());
 }
 
+/// Each snapshot goes where an interrupted render would when it is written: a render that
+/// completes at the same OUT meanwhile is replaced neither by the later snapshots nor by the
+/// interrupted result (issue 68 item 7: both landed over it).
+#[cfg(unix)]
+#[test]
+fn snapshots_never_replace_a_render_completed_meanwhile() {
+    let out = tmp("meanwhile.exr");
+    let o = out.to_str().expect("utf-8");
+    let render = |spp: &'static str| {
+        [
+            "render",
+            "builtin:box-hole",
+            "--spp",
+            spp,
+            "--resolution",
+            "32x32",
+            "-q",
+            "-o",
+            o,
+        ]
+    };
+    let long = Command::new(env!("CARGO_BIN_EXE_fenestra"))
+        .args(render("100000000"))
+        .args(["--snapshot-every", "0.5"])
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("spawn");
+    let pause = || std::thread::sleep(std::time::Duration::from_millis(1200));
+    pause();
+    let sidecar = out.with_extension("json");
+    assert!(
+        sidecar.exists(),
+        "the long render's snapshots go to OUT at first"
+    );
+    let done = fenestra(&render("4"));
+    assert!(
+        done.status.success(),
+        "{}",
+        String::from_utf8_lossy(&done.stderr)
+    );
+    let files =
+        || ["exr", "json", "png"].map(|e| std::fs::read(out.with_extension(e)).expect("file"));
+    let complete = files();
+    pause();
+    let stopped = signal_after_a_while(long, "INT");
+    let err = String::from_utf8_lossy(&stopped.stderr);
+    assert_eq!(stopped.status.code(), Some(130), "{err}");
+    assert!(
+        files() == complete,
+        "the render completed meanwhile was replaced: {err}"
+    );
+    assert!(err.contains("holds a complete render"), "{err}");
+    assert!(out.with_extension("interrupted.exr").exists());
+}
+
 /// Renders for a while, sends `signal` as Ctrl-C or a job scheduler would: the samples taken
 /// so far are written and the exit status is 130.
 #[cfg(unix)]
