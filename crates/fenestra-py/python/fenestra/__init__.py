@@ -15,6 +15,7 @@ keyword arguments named after their flags (`--max-depth` is `max_depth`, `--sdrc
 
 import json
 import math
+import operator
 
 from . import _native
 from ._native import FenestraError, Scene
@@ -59,14 +60,29 @@ def load(source, **scene_options):
 
 
 def _plain(name, value):
-    """An option's value as JSON holds it (NumPy scalars become numbers)."""
+    """An option's value as JSON holds it (NumPy scalars become numbers; JSON has no NaN or
+    infinity, which no option takes)."""
     if hasattr(value, "item"):
         value = value.item()
+    if isinstance(value, float) and not math.isfinite(value):
+        raise FenestraError(f"{name}: must be a finite number, got {value!r}")
     if isinstance(value, (bool, int, float, str)):
         return value
     raise TypeError(
         f"{name}: expected a number, text or bool, got {type(value).__name__}"
     )
+
+
+def _whole(name, value, least):
+    """`value` as a Python int (NumPy integers too), at least `least`, or an error naming
+    `name`."""
+    try:
+        n = operator.index(value)
+    except TypeError:
+        n = None
+    if n is None or isinstance(value, bool) or n < least:
+        raise FenestraError(f"{name} must be a whole number of at least {least}, got {value!r}")
+    return n
 
 
 def render(
@@ -102,8 +118,8 @@ def render(
     """
     if not isinstance(scene, Scene):
         scene = load(scene)
-    if spp is not None and (not isinstance(spp, int) or spp < 1):
-        raise FenestraError(f"spp must be a whole number of at least 1, got {spp!r}")
+    if spp is not None:
+        spp = _whole("spp", spp, 1)
     if time is not None and not (math.isfinite(time) and time > 0):
         raise FenestraError(f"time must be a positive number of seconds, got {time!r}")
     given = dict(options or {})

@@ -1,5 +1,6 @@
 """Bad input: Python exceptions with the command line's messages, naming what is wrong."""
 
+import numpy as np
 import pytest
 
 import fenestra as fe
@@ -30,10 +31,21 @@ def test_a_value_json_cannot_hold_names_the_option():
         fe.render("builtin:cornell-box", spp=1, max_depth=[3], progress=False)
 
 
-@pytest.mark.parametrize("spp", [0, -1, 2.5])
+@pytest.mark.parametrize("spp", [0, -1, 2.5, True, np.float64(2.0)])
 def test_a_bad_sample_count_is_refused(spp):
-    with pytest.raises(fe.FenestraError, match="spp"):
+    with pytest.raises(fe.FenestraError, match="^spp must be a whole number of at least 1"):
         fe.render("builtin:cornell-box", spp=spp, progress=False)
+
+
+def test_numpy_integers_are_sample_counts():
+    img = fe.render("builtin:cornell-box", spp=np.int64(2), resolution=(8, 8), progress=False)
+    assert img.stats["spp"] == 2
+
+
+@pytest.mark.parametrize("value", [float("nan"), float("inf"), np.float32("nan")])
+def test_a_number_json_cannot_hold_names_the_option(value):
+    with pytest.raises(fe.FenestraError, match="^max_depth: must be a finite number"):
+        fe.render("builtin:cornell-box", spp=1, max_depth=value, progress=False)
 
 
 def test_a_bad_time_is_refused():
