@@ -363,10 +363,13 @@ impl Job {
 }
 
 /// Refuses a render that dropped most of its samples (non-finite, or beyond the film's
-/// 2^31 in a channel): its image is black or nearly, and no picture of the scene.
+/// 2^31 in a channel): its image is black or nearly, and no picture of the scene. Samples
+/// kept are the film's, or the camera rays less those dropped where the film holds each
+/// pixel's estimate as two samples (integrators that finish blocks whole).
 fn mostly_kept(film: &Film, stats: &RenderStats) -> Result<()> {
-    let kept: u64 = film.pixels.iter().map(|p| u64::from(p.count)).sum();
     let dropped = stats.rays.dropped;
+    let in_film: u64 = film.pixels.iter().map(|p| u64::from(p.count)).sum();
+    let kept = in_film.max(stats.rays.camera.saturating_sub(dropped));
     if dropped > kept {
         return Err(anyhow::anyhow!(
             "{dropped} of {} samples ({:.0}%) were dropped as non-finite or beyond 2^31 in a \
