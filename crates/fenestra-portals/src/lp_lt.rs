@@ -44,9 +44,18 @@ impl Validate for LightPathOptions {
                 format!("must lie in [0, 16], got {}", self.per_sample),
             ));
         }
+        if self.pilot > MAX_PILOT {
+            return Err(OptionError::new(
+                "pilot",
+                format!("must lie in [0, {MAX_PILOT}], got {}", self.pilot),
+            ));
+        }
         Ok(())
     }
 }
+
+/// The most light paths a pilot traces (a few seconds; it holds a record of each).
+const MAX_PILOT: u32 = 1 << 22;
 
 /// The lp_lt integrator: `camera`'s paths joined to the suns' light paths.
 pub struct LpLt {

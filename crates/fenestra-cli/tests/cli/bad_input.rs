@@ -17,6 +17,19 @@ fn bad_input_gets_a_clear_error() {
     assert_clear_error(
         &[
             "render",
+            "builtin:glossy-room",
+            "--integrator",
+            "lp_lt",
+            "--light-paths-pilot",
+            "99999999",
+            "-o",
+            o,
+        ],
+        "light_paths.pilot must lie in [0, 4194304], got 99999999",
+    );
+    assert_clear_error(
+        &[
+            "render",
             "builtin:box-hole",
             "--resolution",
             "640x",
