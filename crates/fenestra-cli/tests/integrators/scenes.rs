@@ -39,17 +39,20 @@ fn scene_files_export_render_and_report_what_they_cannot_represent() {
     let odd = odd.to_str().expect("utf-8");
     let out = dir.join("odd.exr");
     let out = out.to_str().expect("utf-8");
-    let o = fenestra(&[
-        "render",
-        odd,
-        "--spp",
-        "1",
-        "--resolution",
-        "8x8",
-        "-q",
-        "-o",
-        out,
-    ]);
+    let render = |scene: &str| {
+        fenestra(&[
+            "render",
+            scene,
+            "--spp",
+            "1",
+            "--resolution",
+            "8x8",
+            "-q",
+            "-o",
+            out,
+        ])
+    };
+    let o = render(odd);
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(o.status.success(), "{err}");
     assert!(
@@ -134,26 +137,16 @@ fn scene_files_export_render_and_report_what_they_cannot_represent() {
         let path = dir.join(name);
         std::fs::write(&path, text).expect("write");
         let path = path.to_str().expect("utf-8");
-        let o = fenestra(&[
-            "render",
-            path,
-            "--spp",
-            "1",
-            "--resolution",
-            "8x8",
-            "-q",
-            "-o",
-            out,
-        ]);
-        let render = String::from_utf8_lossy(&o.stderr).into_owned();
+        let o = render(path);
+        let refusal = String::from_utf8_lossy(&o.stderr).into_owned();
         assert!(!o.status.success(), "{name} rendered");
         let o = fenestra(&["scene", "check", path]);
         let text = String::from_utf8_lossy(&o.stdout);
         assert_eq!(o.status.code(), Some(1), "{text}");
         let reason = text.split("\nRefused\n  ").nth(1).expect("a reason").trim();
         assert!(
-            text.contains(": render refuses it") && render.contains(reason),
-            "{text}\n{render}"
+            text.contains(": render refuses it") && refusal.contains(reason),
+            "{text}\n{refusal}"
         );
         assert!(reason.contains(why), "{reason}");
     }
