@@ -20,6 +20,7 @@ use fenestra_render::control::RenderControl;
 use fenestra_render::driver::{
     render_passes, Budget, PassEstimator, PassInfo, PixelState, BLOCK_SIZE,
 };
+use fenestra_render::features::Feature;
 use fenestra_render::film::Window;
 use fenestra_render::integrator::{
     Integrator, IntegratorError, LightNextEvent, PathOptions, PathTracer, Shading, Sides, Split,
@@ -464,8 +465,6 @@ impl PassEstimator for Passes<'_> {
         out[0]
     }
 
-    /// A block's samples traced together in waves, as af_hf's are (the pixels of one path
-    /// at a time: the caches are asked at the camera's hits in the same order).
     fn sample_many(
         &self,
         scene: &RenderScene,
@@ -475,6 +474,22 @@ impl PassEstimator for Passes<'_> {
         rays: &mut RayCounters,
         out: &mut [Rgb],
     ) {
+        self.sample_many_with_features(scene, ctxs, samplers, work, rays, out, &mut []);
+    }
+
+    /// A block's samples traced together in waves, as af_hf's are (the pixels of one path
+    /// at a time: the caches are asked at the camera's hits in the same order), their
+    /// denoising features read off their paths.
+    fn sample_many_with_features(
+        &self,
+        scene: &RenderScene,
+        ctxs: &[SampleContext],
+        samplers: &mut [Sampler],
+        work: &mut Work,
+        rays: &mut RayCounters,
+        out: &mut [Rgb],
+        features: &mut [Option<Feature>],
+    ) {
         let cameras = SampleContext::camera_rays(ctxs, &scene.scene.camera, samplers, rays);
         let wave = &mut Wave {
             cameras: &cameras,
@@ -482,6 +497,7 @@ impl PassEstimator for Passes<'_> {
             samplers,
             records: &mut LightRecords::off(),
             rays,
+            features,
         };
         let tracer = &self.sdrc.tracer;
         tracer.trace_wave(scene, wave, &mut self.gather(work), out);

@@ -241,12 +241,41 @@ impl Image {
         path: &Path,
         metadata: &BTreeMap<String, String>,
     ) -> Result<(), ImageError> {
+        self.write_exr_layers_to(path, &[], metadata)
+    }
+
+    /// [`Image::write_exr_to`] with more layers in the same part, as OpenEXR names them: a
+    /// layer `name` with channels `[a, b, c]` is stored as channels `name.a`, `name.b`,
+    /// `name.c` (Blender's and Cycles' layout; readers of RGB see the image alone). Every
+    /// layer must be the image's size.
+    pub fn write_exr_layers_to(
+        &self,
+        path: &Path,
+        layers: &[ExrLayer],
+        metadata: &BTreeMap<String, String>,
+    ) -> Result<(), ImageError> {
         use exr::prelude::*;
-        let w = self.width;
-        let channels = SpecificChannels::rgb(|pos: exr::math::Vec2<usize>| {
-            let c = self.pixels[pos.y() * w + pos.x()];
-            (c.r, c.g, c.b)
-        });
+        let plain = ExrLayer {
+            name: "",
+            channels: ["R", "G", "B"],
+            image: self,
+        };
+        let mut list = SmallVec::new();
+        for layer in std::iter::once(&plain).chain(layers) {
+            assert_eq!(
+                (layer.image.width, layer.image.height),
+                (self.width, self.height),
+                "an EXR layer of another size"
+            );
+            for (c, channel) in layer.channels.iter().enumerate() {
+                let name = match layer.name {
+                    "" => channel.to_string(),
+                    prefix => format!("{prefix}.{channel}"),
+                };
+                let samples = layer.image.pixels.iter().map(|p| p.to_array()[c]).collect();
+                list.push(AnyChannel::new(name.as_str(), FlatSamples::F32(samples)));
+            }
+        }
         let layer = Layer::new(
             (self.width, self.height),
             LayerAttributes::named("rgb"),
@@ -257,7 +286,7 @@ impl Image {
                 line_order: LineOrder::Increasing,
                 ..Encoding::FAST_LOSSLESS
             },
-            channels,
+            AnyChannels::sort(list),
         );
         let mut image = exr::image::Image::from_layer(layer);
         for (k, v) in metadata {
@@ -343,6 +372,17 @@ impl Image {
     }
 }
 
+/// A layer of an OpenEXR file beside its RGB image ([`Image::write_exr_layers_to`]).
+#[derive(Clone, Copy, Debug)]
+pub struct ExrLayer<'a> {
+    /// The layer's name: its channels' prefix.
+    pub name: &'a str,
+    /// Its three channels' names ("R", "G", "B"; "X", "Y", "Z").
+    pub channels: [&'a str; 3],
+    /// Its pixels.
+    pub image: &'a Image,
+}
+
 /// Bytes of one pixel of an [`Image`].
 pub const PIXEL_BYTES: u64 = std::mem::size_of::<Rgb>() as u64;
 
@@ -394,6 +434,35 @@ pub fn read_exr_metadata(path: &Path) -> Result<BTreeMap<String, String>, ImageE
         }
     }
     Ok(out)
+}
+
+/// A layer of the OpenEXR file at `path`: the channels `name.c` for `c` in `channels` of its
+/// first part ([`Image::write_exr_layers_to`]'s layout).
+pub fn read_exr_layer(path: &Path, name: &str, channels: [&str; 3]) -> Result<Image, ImageError> {
+    let err = |reason: String| ImageError::Read {
+        path: path.to_path_buf(),
+        reason,
+    };
+    exr_fits(path).map_err(err)?;
+    let file =
+        exr::prelude::read_all_flat_layers_from_file(path).map_err(|e| err(e.to_string()))?;
+    let Some(part) = file.layer_data.first() else {
+        return Err(err("it has no image part".into()));
+    };
+    let (w, h) = (part.size.width(), part.size.height());
+    let mut values = Vec::with_capacity(3);
+    for c in channels {
+        let full = format!("{name}.{c}");
+        let channel = (part.channel_data.list.iter())
+            .find(|ch| ch.name.to_string() == full)
+            .ok_or_else(|| err(format!("it has no channel {full}")))?;
+        values.push(channel.sample_data.values_as_f32().collect::<Vec<f32>>());
+    }
+    let mut image = Image::new(w, h);
+    for (i, p) in image.pixels.iter_mut().enumerate() {
+        *p = Rgb::new(values[0][i], values[1][i], values[2][i]);
+    }
+    Ok(image)
 }
 
 /// The channel names of an OpenEXR file's first part, in the file's order (OpenEXR sorts

@@ -12,6 +12,7 @@ use fenestra_core::{Rgb, Sampler};
 use fenestra_render::driver::{
     next_pass_size, render_passes, Budget, PassEstimator, PassInfo, PixelState,
 };
+use fenestra_render::features::Feature;
 use fenestra_render::film::Film;
 use fenestra_render::integrator::{NextEvent, NoGather, PathOptions, PathTracer, Start};
 use fenestra_render::light::{LightContext, LightRecords};
@@ -239,8 +240,6 @@ impl PassEstimator for LightPasses<'_> {
         l
     }
 
-    /// The camera paths traced together ([`PathTracer::trace_wave`]), then each sample's
-    /// light paths.
     fn sample_many(
         &self,
         scene: &RenderScene,
@@ -250,9 +249,24 @@ impl PassEstimator for LightPasses<'_> {
         rays: &mut RayCounters,
         out: &mut [Rgb],
     ) {
+        self.sample_many_with_features(scene, ctxs, samplers, block, rays, out, &mut []);
+    }
+
+    /// The camera paths traced together ([`PathTracer::trace_wave`], which reads their
+    /// denoising features), then each sample's light paths.
+    fn sample_many_with_features(
+        &self,
+        scene: &RenderScene,
+        ctxs: &[SampleContext],
+        samplers: &mut [Sampler],
+        block: &mut LightBlock,
+        rays: &mut RayCounters,
+        out: &mut [Rgb],
+        features: &mut [Option<Feature>],
+    ) {
         if let Some(pt) = self.camera {
             let records = &mut block.records;
-            Wave::of_cameras(scene, ctxs, samplers, records, rays, |wave| {
+            Wave::of_cameras(scene, ctxs, samplers, records, rays, features, |wave| {
                 pt.trace_wave(scene, wave, &mut NoGather, out)
             });
         } else {

@@ -63,6 +63,7 @@ fn in_a_wave_and_alone(
         samplers: &mut streams,
         records: &mut *records,
         rays: &mut *rays,
+        features: &mut [],
     };
     integrator.li_many(scene, all, &mut wave);
     let mut alone = vec![Rgb::ZERO; ctxs.len()];
@@ -73,6 +74,7 @@ fn in_a_wave_and_alone(
             samplers: &mut [samplers[i].clone()],
             records: &mut *records,
             rays: &mut *rays,
+            features: &mut [],
         };
         integrator.li_many(scene, one, &mut alone[i..=i]);
     }

@@ -7,6 +7,7 @@
 //! ranges, tiles) rendered apart and merged give the very sums, and so the very image, that
 //! one render makes.
 
+use crate::features::FeaturePixel;
 use crate::splat::Splats;
 use fenestra_core::image::{Estimate, Image};
 use fenestra_core::Rgb;
@@ -223,6 +224,9 @@ pub struct Film {
     /// Light paths traced into the film: each pixel's light-tracing estimate is its splat sum
     /// over this number.
     pub light_paths: u64,
+    /// Denoising features per pixel (albedo and normal sums), row-major; empty when the
+    /// render does not take them ([`Film::with_features`]).
+    pub features: Vec<FeaturePixel>,
 }
 
 impl Film {
@@ -241,7 +245,34 @@ impl Film {
             pixels: vec![Pixel::default(); width as usize * height as usize],
             splats: Vec::new(),
             light_paths: 0,
+            features: Vec::new(),
         }
+    }
+
+    /// The film, taking denoising features beside its samples.
+    pub fn with_features(mut self) -> Self {
+        self.features = vec![FeaturePixel::default(); self.pixels.len()];
+        self
+    }
+
+    /// Whether the film takes denoising features.
+    pub fn takes_features(&self) -> bool {
+        !self.features.is_empty()
+    }
+
+    /// The denoising features as images, (albedo, normal), if the film takes them.
+    pub fn feature_images(&self) -> Option<(Image, Image)> {
+        if !self.takes_features() {
+            return None;
+        }
+        let (w, h) = (self.width as usize, self.height as usize);
+        let (mut albedo, mut normal) = (Image::new(w, h), Image::new(w, h));
+        for (i, f) in self.features.iter().enumerate() {
+            albedo.pixels[i] = f.albedo();
+            let n = f.normal();
+            normal.pixels[i] = Rgb::new(n.x, n.y, n.z);
+        }
+        Some((albedo, normal))
     }
 
     /// Adds a block's splats of a pass (those in the film's window; the rest belong to other

@@ -11,11 +11,15 @@
 //! pixels   per pixel of the window, row-major, 100 bytes each, little-endian:
 //!          count u32, sums 3 x i128, sums of squares 3 x u128 (units of 2^-64)
 //! splats   if paths > 0: per pixel, as pixels, the sums of the light paths' splats there
+//! features if the header says `features`: per pixel, 28 bytes, little-endian: count u32,
+//!          albedo sums 3 x i32, normal sums 3 x i32 (units of 2^-24)
 //! crc      u32 little-endian: CRC-32 of every byte before it
 //! ```
 //!
 //! Version 1 had no `paths` and no splats; it is read as a film without light paths.
+//! Version 2 had no features.
 
+use crate::features::{FeaturePixel, FEATURE_SAMPLES};
 use crate::film::{Film, Pixel, Window, ONE};
 use fenestra_core::stats::RenderStats;
 use serde::{Deserialize, Serialize};
@@ -23,9 +27,11 @@ use std::io::{BufReader, BufWriter, Read, Write};
 use std::path::{Path, PathBuf};
 
 const MAGIC: &[u8; 14] = b"FENESTRA-FILM\n";
-const VERSION: u32 = 2;
+const VERSION: u32 = 3;
 /// Bytes of one pixel's record.
 const PIXEL_BYTES: usize = 4 + 3 * 16 + 3 * 16;
+/// Bytes of one pixel's feature record.
+const FEATURE_BYTES: usize = 4 + 3 * 4 + 3 * 4;
 /// Largest header accepted (a corrupt length must not allocate gigabytes).
 const MAX_HEADER: u32 = 16 << 20;
 
@@ -58,6 +64,9 @@ pub struct FilmHeader {
     pub window: Window,
     /// The render's statistics (scene, integrator, settings, rays, time).
     pub stats: RenderStats,
+    /// Whether the film holds denoising features ([`write`] sets it from the film).
+    #[serde(default)]
+    pub features: bool,
 }
 
 /// Why a film-state file could not be read.
@@ -88,7 +97,11 @@ pub fn write(path: &Path, header: &FilmHeader, film: &Film) -> std::io::Result<(
         BufWriter::new(std::fs::File::create(path)?),
         crc32fast::Hasher::new(),
     );
-    let json = serde_json::to_vec(header)?;
+    let header = FilmHeader {
+        features: film.takes_features(),
+        ..header.clone()
+    };
+    let json = serde_json::to_vec(&header)?;
     out.write_all(MAGIC)?;
     out.write_all(&VERSION.to_le_bytes())?;
     out.write_all(&(json.len() as u32).to_le_bytes())?;
@@ -102,6 +115,9 @@ pub fn write(path: &Path, header: &FilmHeader, film: &Film) -> std::io::Result<(
         for i in 0..film.pixels.len() {
             out.write_all(&encode(film.splats.get(i).unwrap_or(&none)))?;
         }
+    }
+    for f in &film.features {
+        out.write_all(&encode_feature(f))?;
     }
     let crc = out.1.clone().finalize();
     out.0.write_all(&crc.to_le_bytes())?;
@@ -117,14 +133,22 @@ pub fn read_header(path: &Path) -> Result<FilmHeader, FilmFileError> {
 pub fn read(path: &Path) -> Result<(FilmHeader, Film), FilmFileError> {
     let mut reader = FilmReader::open(path)?;
     let mut film = Film::cropped(reader.header.window);
+    if reader.header.features {
+        film = film.with_features();
+    }
     film.light_paths = reader.light_paths;
     if reader.light_paths > 0 {
         film.splats = vec![Pixel::default(); film.pixels.len()];
     }
-    reader.records(|record, i, p| match record {
-        Record::Pixel => film.pixels[i] = p,
-        Record::Splat => film.splats[i] = p,
-    })?;
+    let mut features = std::mem::take(&mut film.features);
+    reader.records(
+        |record, i, p| match record {
+            Record::Pixel => film.pixels[i] = p,
+            Record::Splat => film.splats[i] = p,
+        },
+        |i, f| features[i] = f,
+    )?;
+    film.features = features;
     Ok((reader.header, film))
 }
 
@@ -132,7 +156,7 @@ pub fn read(path: &Path) -> Result<(FilmHeader, Film), FilmFileError> {
 /// checksum) and every pixel record possible (see [`read`]).
 pub fn verify(path: &Path) -> Result<FilmHeader, FilmFileError> {
     let mut reader = FilmReader::open(path)?;
-    reader.records(|_, _, _| ())?;
+    reader.records(|_, _, _| (), |_, _| ())?;
     Ok(reader.header)
 }
 
@@ -151,6 +175,13 @@ pub fn add_into(path: &Path, film: &mut Film) -> Result<FilmHeader, FilmFileErro
     {
         return Err(reader.invalid(format!("its window {inner} is outside {outer}")));
     }
+    if reader.header.features != film.takes_features() {
+        let (has, lacks) = match reader.header.features {
+            true => ("it holds", "the film it is added to does not"),
+            false => ("it lacks", "the film it is added to holds them"),
+        };
+        return Err(reader.invalid(format!("{has} denoising features, {lacks}")));
+    }
     let w = inner.width() as usize;
     let Some(light_paths) = film.light_paths.checked_add(reader.light_paths) else {
         return Err(reader.invalid(
@@ -162,17 +193,35 @@ pub fn add_into(path: &Path, film: &mut Film) -> Result<FilmHeader, FilmFileErro
         film.splats = vec![Pixel::default(); film.pixels.len()];
     }
     let mut overflow = None;
-    reader.records(|record, i, p| {
+    let at = |i: usize| {
         let (x, y) = (inner.x0 as usize + i % w, inner.y0 as usize + i / w);
-        let at = (y - outer.y0 as usize) * film.width as usize + (x - outer.x0 as usize);
-        let sums = match record {
-            Record::Pixel => &mut film.pixels[at],
-            Record::Splat => &mut film.splats[at],
-        };
-        if !sums.checked_merge(&p) {
-            overflow.get_or_insert((x, y));
-        }
-    })?;
+        (
+            (y - outer.y0 as usize) * outer.width() as usize + (x - outer.x0 as usize),
+            (x, y),
+        )
+    };
+    let mut features = std::mem::take(&mut film.features);
+    let mut feature_overflow = None;
+    reader.records(
+        |record, i, p| {
+            let (at, xy) = at(i);
+            let sums = match record {
+                Record::Pixel => &mut film.pixels[at],
+                Record::Splat => &mut film.splats[at],
+            };
+            if !sums.checked_merge(&p) {
+                overflow.get_or_insert(xy);
+            }
+        },
+        |i, f| {
+            let (at, xy) = at(i);
+            if !features[at].checked_merge(&f) || features[at].count > FEATURE_SAMPLES {
+                feature_overflow.get_or_insert(xy);
+            }
+        },
+    )?;
+    film.features = features;
+    let overflow = overflow.or(feature_overflow);
     if let Some((x, y)) = overflow {
         return Err(reader.invalid(format!(
             "pixel ({x}, {y}) holds more than its accumulators can take together with the \
@@ -262,9 +311,12 @@ impl FilmReader {
             )));
         }
         let records = if light_paths > 0 { 2 } else { 1 };
+        let features = if header.features { FEATURE_BYTES } else { 0 };
         let expected = framing
             + u64::from(length)
-            + records * u64::from(w.width()) * u64::from(w.height()) * PIXEL_BYTES as u64;
+            + u64::from(w.width())
+                * u64::from(w.height())
+                * (records * PIXEL_BYTES as u64 + features as u64);
         if size != expected {
             return Err(invalid(format!(
                 "truncated or corrupt: {size} bytes where its header promises {expected}"
@@ -285,9 +337,13 @@ impl FilmReader {
         }
     }
 
-    /// Hands every record, in order (the pixels', then the splats'), to `each` with its pixel's
-    /// index in the window, then checks the CRC.
-    fn records(&mut self, mut each: impl FnMut(Record, usize, Pixel)) -> Result<(), FilmFileError> {
+    /// Hands every record, in order (the pixels', then the splats', to `each`; the features'
+    /// to `each_feature`) with its pixel's index in the window, then checks the CRC.
+    fn records(
+        &mut self,
+        mut each: impl FnMut(Record, usize, Pixel),
+        mut each_feature: impl FnMut(usize, FeaturePixel),
+    ) -> Result<(), FilmFileError> {
         let path = self.path.clone();
         let io = |source| FilmFileError::Io {
             path: path.clone(),
@@ -334,6 +390,27 @@ impl FilmReader {
                 }
                 each(record, i, pixel);
             }
+        }
+        let mut bytes = [0u8; FEATURE_BYTES];
+        let pixels = w.width() as usize * w.height() as usize;
+        for i in (0..pixels).filter(|_| self.header.features) {
+            self.input.read_exact(&mut bytes).map_err(io)?;
+            let f = decode_feature(&bytes);
+            let why = match f.count > FEATURE_SAMPLES {
+                true => Some(format!(
+                    "holds {} feature samples, at most {FEATURE_SAMPLES}",
+                    f.count
+                )),
+                false => f.impossible(),
+            };
+            if let (None, Some(why)) = (&impossible, why) {
+                let (x, y) = (
+                    w.x0 as usize + i % w.width() as usize,
+                    w.y0 as usize + i / w.width() as usize,
+                );
+                impossible = Some(format!("pixel ({x}, {y}) {why}"));
+            }
+            each_feature(i, f);
         }
         let crc = self.input.1.clone().finalize();
         let mut word = [0u8; 4];
@@ -411,6 +488,25 @@ fn decode(b: &[u8; PIXEL_BYTES]) -> Pixel {
     }
 }
 
+fn encode_feature(f: &FeaturePixel) -> [u8; FEATURE_BYTES] {
+    let mut out = [0u8; FEATURE_BYTES];
+    out[..4].copy_from_slice(&f.count.to_le_bytes());
+    for c in 0..3 {
+        out[4 + 4 * c..8 + 4 * c].copy_from_slice(&f.albedo[c].to_le_bytes());
+        out[16 + 4 * c..20 + 4 * c].copy_from_slice(&f.normal[c].to_le_bytes());
+    }
+    out
+}
+
+fn decode_feature(b: &[u8; FEATURE_BYTES]) -> FeaturePixel {
+    let word = |at: usize| -> [u8; 4] { b[at..at + 4].try_into().expect("4 bytes") };
+    FeaturePixel {
+        count: u32::from_le_bytes(word(0)),
+        albedo: std::array::from_fn(|c| i32::from_le_bytes(word(4 + 4 * c))),
+        normal: std::array::from_fn(|c| i32::from_le_bytes(word(16 + 4 * c))),
+    }
+}
+
 /// A reader or writer that keeps the CRC-32 of the bytes passing through.
 struct Crc<T>(T, crc32fast::Hasher);
 
@@ -437,7 +533,7 @@ impl<T: Read> Read for Crc<T> {
 mod tests {
     use super::*;
     use crate::splat::Splats;
-    use fenestra_core::Rgb;
+    use fenestra_core::{Rgb, Vec3};
 
     fn header(film: &Film) -> FilmHeader {
         FilmHeader {
@@ -449,6 +545,7 @@ mod tests {
                 height: film.height,
                 ..Default::default()
             },
+            features: film.takes_features(),
         }
     }
 
@@ -503,6 +600,45 @@ mod tests {
         std::fs::write(&forged, &bytes).expect("write");
         let e = read(&forged).expect_err("no splats").to_string();
         assert!(e.contains("truncated or corrupt"), "{e}");
+        std::fs::remove_dir_all(&dir).expect("clean");
+    }
+
+    #[test]
+    fn features_round_trip_add_into_a_film_that_takes_them_and_only_such() {
+        use crate::features::Feature;
+        let dir =
+            std::env::temp_dir().join(format!("fenestra-film-features-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("dir");
+        let path = dir.join("f.film");
+        let mut a = film(0).with_features();
+        for (i, f) in a.features.iter_mut().enumerate() {
+            f.add(&Feature {
+                albedo: Rgb::new(0.25, i as f32 / 15.0, 1.0),
+                normal: Vec3::new(0.0, -0.6, 0.8),
+            });
+        }
+        write(&path, &header(&a), &a).expect("write");
+        let (h, b) = read(&path).expect("read");
+        assert!(h.features);
+        assert_eq!(b.features, a.features);
+        let mut sum = film(0).with_features();
+        add_into(&path, &mut sum).expect("add");
+        assert_eq!(sum.features, a.features);
+        let e = add_into(&path, &mut film(0)).expect_err("a film without features");
+        assert!(e.to_string().contains("holds denoising features"), "{e}");
+        // A feature record of more samples than a pixel takes is refused.
+        let mut bytes = std::fs::read(&path).expect("bytes");
+        let first = bytes.len() - 4 - 15 * FEATURE_BYTES;
+        bytes[first..first + 4].copy_from_slice(&(FEATURE_SAMPLES + 1).to_le_bytes());
+        let crc = crc32fast::hash(&bytes[..bytes.len() - 4]);
+        let n = bytes.len();
+        bytes[n - 4..].copy_from_slice(&crc.to_le_bytes());
+        let forged = dir.join("forged.film");
+        std::fs::write(&forged, &bytes).expect("write");
+        let e = read(&forged)
+            .expect_err("too many feature samples")
+            .to_string();
+        assert!(e.contains("feature samples"), "{e}");
         std::fs::remove_dir_all(&dir).expect("clean");
     }
 

@@ -9,6 +9,7 @@
 pub mod bsdf;
 pub mod control;
 pub mod driver;
+pub mod features;
 pub mod film;
 pub mod film_file;
 pub mod integrator;

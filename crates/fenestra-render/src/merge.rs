@@ -229,6 +229,12 @@ fn mismatch(a: &FilmHeader, b: &FilmHeader) -> Option<String> {
     if s.backend != t.backend {
         return differ("ray backend", s.backend.clone(), t.backend.clone());
     }
+    if a.features != b.features {
+        return Some(
+            "one holds denoising features, the other not (every part takes them or none does)"
+                .into(),
+        );
+    }
     if a.samples.is_some() != b.samples.is_some() {
         return Some("one is split by samples, the other adaptive".into());
     }
@@ -249,6 +255,9 @@ pub fn merge(parts: &[Part], plan: &Plan) -> Result<(Film, RenderStats), MergeEr
         return Err(MergeError::Parts("no parts to merge".into()));
     };
     let mut film = Film::cropped(plan.window);
+    if first.header.features {
+        film = film.with_features();
+    }
     let mut stats = first.header.stats.clone();
     stats.rays = Default::default();
     stats.time_s = 0.0;

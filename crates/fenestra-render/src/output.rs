@@ -3,7 +3,7 @@
 use crate::film::Film;
 use crate::film_file::{self, FilmHeader};
 use fenestra_core::fs::{FileSet, WriteError};
-use fenestra_core::image::ImageError;
+use fenestra_core::image::{ExrLayer, Image, ImageError};
 use fenestra_core::stats::RenderStats;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -42,6 +42,23 @@ pub fn exr_metadata(stats: &RenderStats) -> BTreeMap<String, String> {
     m
 }
 
+/// The EXR layers that hold the denoising features: `albedo` (R, G, B) and `normal`
+/// (X, Y, Z).
+pub fn feature_layers<'a>(albedo: &'a Image, normal: &'a Image) -> [ExrLayer<'a>; 2] {
+    [
+        ExrLayer {
+            name: "albedo",
+            channels: ["R", "G", "B"],
+            image: albedo,
+        },
+        ExrLayer {
+            name: "normal",
+            channels: ["X", "Y", "Z"],
+            image: normal,
+        },
+    ]
+}
+
 /// The film-state file written beside OUT.exr by pieces of a split render: OUT.film.
 pub fn film_state_path(exr_path: &Path) -> PathBuf {
     exr_path.with_extension("film")
@@ -52,35 +69,68 @@ pub fn variance_path(exr_path: &Path) -> PathBuf {
     exr_path.with_extension("var.exr")
 }
 
-/// Writes OUT.exr, OUT.png and the JSON sidecar OUT.json (the statistics), with `variance`
-/// OUT.var.exr, the per-pixel variance of the mean, and with `state` OUT.film, the film's
-/// exact accumulators: as one set, so that a failure or an interruption leaves the previous
-/// files of the set as they were.
+/// What a render writes beside OUT.exr, OUT.png and OUT.json.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Extras<'a> {
+    /// The PNG's exposure in stops (`None`: automatic).
+    pub exposure: Option<f32>,
+    /// OUT.var.exr, the per-pixel variance of the mean.
+    pub variance: bool,
+    /// OUT.film, the film's exact accumulators, with this header.
+    pub state: Option<&'a FilmHeader>,
+    /// OUT.denoised.exr and OUT.denoised.png: this image, the film's denoised.
+    pub denoised: Option<&'a Image>,
+}
+
+/// The denoised image written beside OUT.exr: OUT.denoised.exr (its PNG OUT.denoised.png).
+pub fn denoised_path(exr_path: &Path) -> PathBuf {
+    exr_path.with_extension("denoised.exr")
+}
+
+/// Writes OUT.exr (with the film's denoising features as its layers `albedo` and `normal`, if
+/// it takes them), OUT.png, the JSON sidecar OUT.json (the statistics) and the `extras`: as
+/// one set, so that a failure or an interruption leaves the previous files of the set as
+/// they were.
 pub fn write_render(
     exr_path: &Path,
     film: &Film,
     stats: &RenderStats,
-    exposure: Option<f32>,
-    variance: bool,
-    state: Option<&FilmHeader>,
+    extras: &Extras,
 ) -> Result<(), ImageError> {
     let image = film.image();
     let metadata = exr_metadata(stats);
     let mut set = FileSet::new();
-    set.stage(exr_path, |tmp| image.write_exr_to(tmp, &metadata))?;
-    if variance {
+    let features = film.feature_images();
+    let layers = match &features {
+        Some((albedo, normal)) => feature_layers(albedo, normal).to_vec(),
+        None => Vec::new(),
+    };
+    set.stage(exr_path, |tmp| {
+        image.write_exr_layers_to(tmp, &layers, &metadata)
+    })?;
+    if extras.variance {
         let var = film.variance_image();
         set.stage(&variance_path(exr_path), |tmp| {
             var.write_exr_to(tmp, &metadata)
         })?;
     }
-    if let Some(header) = state {
+    if let Some(header) = extras.state {
         set.stage(&film_state_path(exr_path), |tmp| {
             film_file::write(tmp, header, film)
         })?;
     }
     let (png, json) = companion_paths(exr_path);
-    set.stage(&png, |tmp| image.write_png_to(tmp, exposure))?;
+    set.stage(&png, |tmp| image.write_png_to(tmp, extras.exposure))?;
+    if let Some(denoised) = extras.denoised {
+        let exr = denoised_path(exr_path);
+        set.stage(&exr, |tmp| denoised.write_exr_to(tmp, &metadata))?;
+        // At the raw picture's exposure, so that the two compare.
+        let exposure = extras
+            .exposure
+            .unwrap_or(image.auto_exposure_scale().log2());
+        let png = exr.with_extension("png");
+        set.stage(&png, |tmp| denoised.write_png_to(tmp, Some(exposure)))?;
+    }
     let text = serde_json::to_string_pretty(stats).map_err(|e| WriteError::new(&json, e))?;
     set.stage(&json, |tmp| std::fs::write(tmp, text + "\n"))?;
     Ok(set.commit()?)

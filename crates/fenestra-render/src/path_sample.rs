@@ -3,6 +3,7 @@
 //! light samples (for learning light samplers) and its rays are counted; and the same for a
 //! wave of samples traced together.
 
+use crate::features::Feature;
 use crate::light::LightRecords;
 use crate::render_scene::RenderScene;
 use crate::sample_context::SampleContext;
@@ -34,17 +35,22 @@ pub struct Wave<'a> {
     pub records: &'a mut LightRecords,
     /// The rays traced.
     pub rays: &'a mut RayCounters,
+    /// Where an estimator that reads denoising features off its paths puts each sample's
+    /// (empty: none asked for; left `None`: the driver takes a feature sample of its own).
+    pub features: &'a mut [Option<Feature>],
 }
 
 impl Wave<'_> {
     /// The samples `ctxs` as a wave along their camera rays (each drawn from its stream in
-    /// `samplers`), handed to `f`; light samples and rays are counted in `records` and `rays`.
+    /// `samplers`), handed to `f`; light samples and rays are counted in `records` and `rays`,
+    /// denoising features read off the paths go to `features` (empty if none are asked for).
     pub fn of_cameras<R>(
         scene: &RenderScene,
         ctxs: &[SampleContext],
         samplers: &mut [Sampler],
         records: &mut LightRecords,
         rays: &mut RayCounters,
+        features: &mut [Option<Feature>],
         f: impl FnOnce(&mut Wave) -> R,
     ) -> R {
         let cameras = SampleContext::camera_rays(ctxs, &scene.scene.camera, samplers, rays);
@@ -54,6 +60,7 @@ impl Wave<'_> {
             samplers,
             records,
             rays,
+            features,
         })
     }
 

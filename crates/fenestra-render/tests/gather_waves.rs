@@ -95,6 +95,7 @@ fn a_cache_on_waves_is_asked_in_the_order_and_gives_the_pixels_of_one_path_at_a_
             samplers: &mut samplers,
             records,
             rays,
+            features: &mut [],
         };
         tracer.trace_wave(&scene, all, &mut in_waves, &mut wave);
 

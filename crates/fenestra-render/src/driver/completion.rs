@@ -9,8 +9,10 @@
 
 use super::{Blocks, BLOCK_SIZE};
 use crate::control::RenderControl;
+use crate::features::{feature_sample, FEATURE_SAMPLES};
 use crate::film::Film;
 use crate::render_scene::RenderScene;
+use crate::sample_context::SampleContext;
 use crate::settings::RenderSettings;
 use fenestra_core::stats::{RayCounters, RenderStats};
 use glam::{DVec3, Mat3};
@@ -106,6 +108,7 @@ pub fn render_to_completion<E: CompletionEstimator>(
     let blocks = Blocks::new(width, height);
     control.progress.start(Some(blocks.count() as u64));
     // Finished blocks go into the film at once, for whoever watches the render.
+    let features = film.takes_features();
     let shared = Mutex::new(&mut *film);
     let response = scene.sensor_response();
     let mut rendered: Vec<(u32, Option<Rendered<E::Block>>)> = estimator
@@ -123,6 +126,25 @@ pub fn render_to_completion<E: CompletionEstimator>(
             };
             let mut rays = RayCounters::default();
             let (pixels, block) = estimator.render_block(scene, &task, control, &mut rays);
+            // The block's feature samples, every pixel's first ones (the block takes its own
+            // samples, so none are cut by a sample range).
+            let taken = |px: &PixelEstimate| {
+                let ctx = SampleContext {
+                    x: px.x,
+                    y: px.y,
+                    width: task.width,
+                    height: task.height,
+                    block: b,
+                    pass: 0,
+                    index: 0,
+                };
+                (0..FEATURE_SAMPLES).map(move |index| {
+                    feature_sample(scene, &SampleContext { index, ..ctx }, task.seed)
+                })
+            };
+            let block_features: Vec<(usize, Vec<_>)> = (pixels.iter().filter(|_| features))
+                .filter_map(|px| Some((window.index((px.x, px.y))?, taken(px).collect())))
+                .collect();
             let mut film = shared.lock().unwrap_or_else(|e| e.into_inner());
             for px in &pixels {
                 if let Some(i) = window.index((px.x, px.y)) {
@@ -132,6 +154,9 @@ pub fn render_to_completion<E: CompletionEstimator>(
                     };
                     film.pixels[i].set_estimate(mean, variance);
                 }
+            }
+            for (i, samples) in block_features {
+                samples.iter().for_each(|f| film.features[i].add(f));
             }
             if let Some(watch) = control.on_progress {
                 watch(&film, control.elapsed());

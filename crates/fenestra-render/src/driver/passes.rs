@@ -10,6 +10,8 @@
 
 use super::{Blocks, BLOCK_SIZE};
 use crate::control::RenderControl;
+use crate::features::FeaturePixel;
+use crate::features::{feature_sample, takes_feature, Feature};
 use crate::film::{Film, Pixel, Window};
 use crate::render_scene::RenderScene;
 use crate::sample_context::SampleContext;
@@ -119,6 +121,24 @@ pub trait PassEstimator: Sync {
         }
     }
 
+    /// [`PassEstimator::sample_many`], with the denoising features of the samples read off
+    /// their own paths into `features` (as long as `ctxs`) by estimators that can; a sample
+    /// whose feature is left `None` takes a feature sample of its own ([`feature_sample`]).
+    /// By default none are read off.
+    #[allow(clippy::too_many_arguments)]
+    fn sample_many_with_features(
+        &self,
+        scene: &RenderScene,
+        ctxs: &[SampleContext],
+        samplers: &mut [Sampler],
+        stats: &mut Self::BlockStats,
+        rays: &mut RayCounters,
+        out: &mut [Rgb],
+        _features: &mut [Option<Feature>],
+    ) {
+        self.sample_many(scene, ctxs, samplers, stats, rays, out);
+    }
+
     /// The splats of light paths that a block's statistics gathered during the pass (light
     /// tracing): the film adds them after the pass, every block's, if the pass keeps its
     /// samples. None by default.
@@ -177,12 +197,18 @@ pub fn render_passes<E: PassEstimator>(
             stream,
             stream_start: &stream_start,
             keeps,
+            features: film.takes_features(),
         };
-        let rendered: Vec<(E::BlockStats, RayCounters)> =
-            BlockView::all(blocks, width, &mut film.pixels, &mut taken)
-                .into_par_iter()
-                .map(|view| pass.render(shared, scene, control, view))
-                .collect();
+        let rendered: Vec<(E::BlockStats, RayCounters)> = BlockView::all(
+            blocks,
+            width,
+            &mut film.pixels,
+            &mut taken,
+            &mut film.features,
+        )
+        .into_par_iter()
+        .map(|view| pass.render(shared, scene, control, view))
+        .collect();
         let mut block_stats = Vec::with_capacity(blocks.count());
         for (mut stats, counters) in rendered {
             if let Some(splats) = estimator.take_splats(&mut stats).filter(|_| keeps) {
@@ -229,22 +255,32 @@ pub fn render_passes<E: PassEstimator>(
     stats
 }
 
-/// The film's pixels of one block, and their sample counts: up to eight row pieces of up to
-/// eight pixels (disjoint slices of the row-major film, so blocks render in parallel).
+/// The film's pixels of one block, their sample counts and their denoising features (if the
+/// film takes them): up to eight row pieces of up to eight pixels (disjoint slices of the
+/// row-major film, so blocks render in parallel).
 struct BlockView<'a> {
     index: u32,
     x0: u32,
     y0: u32,
-    rows: [Option<(&'a mut [Pixel], &'a mut [u32])>; BLOCK_SIZE as usize],
+    rows: [Option<Row<'a>>; BLOCK_SIZE as usize],
+}
+
+/// One row piece of a block.
+struct Row<'a> {
+    pixels: &'a mut [Pixel],
+    taken: &'a mut [u32],
+    /// Empty if the film takes no features.
+    features: &'a mut [FeaturePixel],
 }
 
 impl<'a> BlockView<'a> {
-    /// Every block of the film, in block order.
+    /// Every block of the film, in block order (`features` empty if the film takes none).
     fn all(
         blocks: Blocks,
         width: u32,
         pixels: &'a mut [Pixel],
         taken: &'a mut [u32],
+        features: &'a mut [FeaturePixel],
     ) -> Vec<BlockView<'a>> {
         let mut views: Vec<BlockView> = (0..blocks.count() as u32)
             .map(|index| BlockView {
@@ -256,10 +292,20 @@ impl<'a> BlockView<'a> {
             .collect();
         let w = width.max(1) as usize;
         let b = BLOCK_SIZE as usize;
-        for (y, (pixels, taken)) in pixels.chunks_mut(w).zip(taken.chunks_mut(w)).enumerate() {
+        let rows = pixels.chunks_mut(w).zip(taken.chunks_mut(w));
+        let mut feature_rows = features.chunks_mut(w);
+        for (y, (pixels, taken)) in rows.enumerate() {
             let first = (y / b) * blocks.columns as usize;
-            for (column, piece) in pixels.chunks_mut(b).zip(taken.chunks_mut(b)).enumerate() {
-                views[first + column].rows[y % b] = Some(piece);
+            let mut features = feature_rows.next().unwrap_or_default().chunks_mut(b);
+            for (column, (pixels, taken)) in
+                pixels.chunks_mut(b).zip(taken.chunks_mut(b)).enumerate()
+            {
+                let features = features.next().unwrap_or_default();
+                views[first + column].rows[y % b] = Some(Row {
+                    pixels,
+                    taken,
+                    features,
+                });
             }
         }
         views
@@ -278,11 +324,13 @@ struct Pass<'a> {
     stream_start: &'a [u32],
     /// Whether the pass's samples go into the film.
     keeps: bool,
+    /// Whether the film takes denoising features.
+    features: bool,
 }
 
 impl Pass<'_> {
-    /// Renders one block: its pixels row by row, each pixel's samples in index order;
-    /// returns the block's statistics and the rays traced.
+    /// Renders one block: its pixels row by row, each pixel's samples in index order (and
+    /// their denoising features); returns the block's statistics and the rays traced.
     fn render<E: PassEstimator>(
         &self,
         estimator: &E,
@@ -296,12 +344,16 @@ impl Pass<'_> {
         if control.cancelled() {
             return (stats, counters);
         }
+        // Whether each sample takes a denoising feature.
+        let mut wanted: Vec<bool> = Vec::new();
         // Every sample of the block's pass, pixel by pixel, each pixel's in index order.
         let mut ctxs = Vec::new();
         let mut starts = Vec::new();
         let mut counts = Vec::with_capacity((BLOCK_SIZE * BLOCK_SIZE) as usize);
         for (dy, row) in view.rows.iter().enumerate() {
-            let Some((pixels, taken)) = row else { continue };
+            let Some(Row { pixels, taken, .. }) = row else {
+                continue;
+            };
             let y = self.window.y0 + view.y0 + dy as u32;
             for (dx, (pixel, &first)) in pixels.iter().zip(taken.iter()).enumerate() {
                 let x = self.window.x0 + view.x0 + dx as u32;
@@ -329,6 +381,8 @@ impl Pass<'_> {
                 let film_pixel = (view.y0 + dy as u32) * film_width + view.x0 + dx as u32;
                 let start = self.stream_start[film_pixel as usize];
                 starts.extend(std::iter::repeat_n(start, n as usize));
+                let wants = self.features && self.keeps;
+                wanted.extend((first..first + n).map(|i| wants && takes_feature(i)));
             }
         }
         let mut samplers: Vec<Sampler> = ctxs
@@ -339,21 +393,44 @@ impl Pass<'_> {
             })
             .collect();
         let mut out = vec![Rgb::ZERO; ctxs.len()];
-        estimator.sample_many(
-            scene,
-            &ctxs,
-            &mut samplers,
-            &mut stats,
-            &mut counters,
-            &mut out,
-        );
+        // The features read off the samples' paths (empty if none is wanted).
+        let mut read = Vec::new();
+        if wanted.contains(&true) {
+            read = vec![None; ctxs.len()];
+            estimator.sample_many_with_features(
+                scene,
+                &ctxs,
+                &mut samplers,
+                &mut stats,
+                &mut counters,
+                &mut out,
+                &mut read,
+            );
+        } else {
+            estimator.sample_many(
+                scene,
+                &ctxs,
+                &mut samplers,
+                &mut stats,
+                &mut counters,
+                &mut out,
+            );
+        }
         let mut values = out.into_iter();
         let mut counts = counts.into_iter();
+        let mut next = 0;
         let rows = view.rows.into_iter().flatten().filter(|_| self.keeps);
         let response = scene.sensor_response();
-        for (pixels, taken) in rows {
-            for (pixel, taken) in pixels.iter_mut().zip(taken.iter_mut()) {
+        for row in rows {
+            for (dx, (pixel, taken)) in row.pixels.iter_mut().zip(row.taken.iter_mut()).enumerate()
+            {
                 let n = counts.next().unwrap_or(0);
+                // The pixel's features: read off its paths, or feature samples of their own.
+                for i in (next..next + n as usize).filter(|&i| wanted[i]) {
+                    let f = read[i].unwrap_or_else(|| feature_sample(scene, &ctxs[i], self.seed));
+                    row.features[dx].add(&f);
+                }
+                next += n as usize;
                 for l in values.by_ref().take(n as usize) {
                     // The film's sensor sees each sample, as pbrt-v4's does.
                     let l = response.map_or(l, |m| l.transformed(m));

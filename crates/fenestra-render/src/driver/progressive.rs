@@ -7,6 +7,7 @@
 
 use super::passes::{render_passes, PassEstimator, PassInfo, PixelState};
 use crate::control::RenderControl;
+use crate::features::Feature;
 use crate::film::Film;
 use crate::light::LightRecords;
 use crate::path_sample::{PathSample, Wave};
@@ -207,7 +208,20 @@ impl<E: PathEstimator> PassEstimator for Schedule<'_, E> {
         rays: &mut RayCounters,
         out: &mut [Rgb],
     ) {
-        Wave::of_cameras(scene, ctxs, samplers, records, rays, |wave| {
+        self.sample_many_with_features(scene, ctxs, samplers, records, rays, out, &mut []);
+    }
+
+    fn sample_many_with_features(
+        &self,
+        scene: &RenderScene,
+        ctxs: &[SampleContext],
+        samplers: &mut [Sampler],
+        records: &mut LightRecords,
+        rays: &mut RayCounters,
+        out: &mut [Rgb],
+        features: &mut [Option<Feature>],
+    ) {
+        Wave::of_cameras(scene, ctxs, samplers, records, rays, features, |wave| {
             self.estimator.li_many(scene, wave, out)
         });
     }

@@ -15,6 +15,7 @@ use super::{Integrator, IntegratorError, Split};
 use crate::bsdf::Bsdf;
 use crate::control::RenderControl;
 use crate::driver::{render_progressive, PathEstimator};
+use crate::features::Feature;
 use crate::film::Film;
 use crate::light::{LightHit, LightRecords};
 use crate::path_sample::{PathSample, Wave};
@@ -288,6 +289,11 @@ pub(crate) struct PathState<V> {
     gathered: bool,
     /// The densities of light paths' making the path, when they share its light.
     densities: CameraSide,
+    /// Whether the path has met only delta vertices since the camera: its denoising feature
+    /// is still to be read, at the next non-delta vertex or where it escapes.
+    feature_pending: bool,
+    /// The path's denoising feature, once read.
+    feature: Option<Feature>,
 }
 
 impl<V> PathState<V> {
@@ -306,7 +312,15 @@ impl<V> PathState<V> {
             emitted: start.emitted,
             gathered: false,
             densities: CameraSide::default(),
+            feature_pending: start.segments == 0,
+            feature: None,
         }
+    }
+
+    /// Takes `feature` as the path's denoising feature.
+    fn read_feature(&mut self, feature: Feature) {
+        self.feature = Some(feature);
+        self.feature_pending = false;
     }
 }
 
@@ -415,6 +429,9 @@ impl<N: NextEvent> PathTracer<N> {
         for (o, p) in out.iter_mut().zip(&paths) {
             *o = p.l;
         }
+        for (f, p) in wave.features.iter_mut().zip(&paths) {
+            *f = p.feature;
+        }
     }
 
     /// Takes the path one vertex further: `hit` is where its current ray ended. Returns
@@ -436,6 +453,9 @@ impl<N: NextEvent> PathTracer<N> {
         }
         path.first = false;
         let Some(hit) = hit else {
+            if path.feature_pending {
+                path.read_feature(Feature::escaped(scene, path.beta, ray.d));
+            }
             for &e in scene.lights.environments.iter().filter(|_| path.emitted) {
                 let found = Found {
                     light: e,
@@ -531,7 +551,14 @@ impl<N: NextEvent> PathTracer<N> {
         }
         let uc = sample.sampler.next_1d();
         let u = sample.sampler.next_2d();
-        let Some(bs) = bsdf.sample(shading.wo_local, uc, u) else {
+        let sampled = bsdf.sample(shading.wo_local, uc, u);
+        if path.feature_pending && !bsdf.is_delta() {
+            let emitted = emission.map_or(Rgb::ZERO, |(_, le)| le);
+            let albedo = sampled.map(|bs| bs.weight);
+            let feature = Feature::at_surface(path.beta, albedo, emitted, si.ns, ray.d);
+            path.read_feature(feature);
+        }
+        let Some(bs) = sampled else {
             return false;
         };
         let wi = frame.to_world(bs.wi);
