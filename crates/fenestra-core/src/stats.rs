@@ -107,6 +107,10 @@ pub struct RenderStats {
     /// The key under which a reference render is cached.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub reference_key: Option<String>,
+    /// What denoised the image written beside it (OUT.denoised.exr), if anything did: the
+    /// denoiser, its version, device and settings.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub denoiser: Option<serde_json::Value>,
 }
 
 impl RenderStats {

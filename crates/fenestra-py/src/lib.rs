@@ -57,6 +57,7 @@ fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(scene::load, m)?)?;
     m.add_function(wrap_pyfunction!(render::render, m)?)?;
     m.add_function(wrap_pyfunction!(render::merge, m)?)?;
+    m.add_function(wrap_pyfunction!(render::denoise, m)?)?;
     m.add_function(wrap_pyfunction!(options::options, m)?)?;
     m.add_function(wrap_pyfunction!(portals::estimate, m)?)?;
     m.add_function(wrap_pyfunction!(portals::write_portals, m)?)?;

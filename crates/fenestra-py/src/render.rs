@@ -3,16 +3,19 @@
 //! while it runs, Ctrl-C stopping it with what was rendered kept, and progress polled.
 
 use crate::options::params;
-use crate::pixels::bytes;
+use crate::pixels::{self, bytes};
 use crate::progress::watched;
 use crate::scene::Scene;
 use crate::{backend_named, error, session_error};
+use fenestra_core::image::Image;
 use fenestra_core::stats::RenderStats;
 use fenestra_render::film_file::{FilmHeader, SampleRange};
 use fenestra_render::merge::{merge as merge_parts, plan, Part};
-use fenestra_render::{output, Film};
+use fenestra_render::output::{self, Extras};
+use fenestra_render::Film;
+use fenestra_session::denoise::{self as denoising, DenoiseMode};
 use fenestra_session::files::{
-    check_exr, film_file_of, interrupted_path, render_outputs, where_to_write, Files,
+    check_exr, film_file_of, interrupted_path, render_outputs, where_to_write, Beside, Files,
 };
 use fenestra_session::{registry, Crop, IntegratorChoice, Job, JobSpec, Resolution};
 use pyo3::prelude::*;
@@ -29,6 +32,8 @@ pub struct Render {
     inputs: Files,
     /// What its film-state file says of it, if it is a piece of a split render.
     piece: Option<FilmHeader>,
+    /// Its image denoised, if the render was asked to be (its stats say what denoised it).
+    denoised: Option<Image>,
 }
 
 #[pymethods]
@@ -47,6 +52,22 @@ impl Render {
     /// The per-pixel variance of the mean.
     fn variance<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyBytes>> {
         bytes(py, &self.film.variance_image())
+    }
+
+    /// The denoising features (albedo, normal), if the render took them.
+    fn features<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<Option<(Bound<'py, PyBytes>, Bound<'py, PyBytes>)>> {
+        let Some((albedo, normal)) = self.film.feature_images() else {
+            return Ok(None);
+        };
+        Ok(Some((bytes(py, &albedo)?, bytes(py, &normal)?)))
+    }
+
+    /// The image denoised, if the render was asked to be.
+    fn denoised<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyBytes>>> {
+        self.denoised.as_ref().map(|d| bytes(py, d)).transpose()
     }
 
     /// The statistics, as the JSON sidecar holds them.
@@ -79,20 +100,23 @@ impl Render {
         }
         let mut files = self.inputs.clone();
         let piece = self.piece.is_some();
-        render_outputs(&mut files, &path, variance, piece);
-        render_outputs(&mut files, &interrupted_path(&path), variance, piece)
+        let beside = Beside {
+            variance,
+            state: piece,
+            denoised: self.denoised.is_some(),
+        };
+        render_outputs(&mut files, &path, beside);
+        render_outputs(&mut files, &interrupted_path(&path), beside)
             .check()
             .map_err(error)?;
         let (to, note) = where_to_write(&path, self.stats.interrupted);
-        output::write_render(
-            &to,
-            &self.film,
-            &self.stats,
+        let extras = Extras {
             exposure,
             variance,
-            self.piece.as_ref(),
-        )
-        .map_err(|e| error(e.into()))?;
+            state: self.piece.as_ref(),
+            denoised: self.denoised.as_ref(),
+        };
+        output::write_render(&to, &self.film, &self.stats, &extras).map_err(|e| error(e.into()))?;
         Ok((to, note))
     }
 }
@@ -103,7 +127,8 @@ impl Render {
 /// has (the statistics say "interrupted").
 #[pyfunction]
 #[pyo3(signature = (scene, integrator=None, options="{}", *, spp=None, time=None, seed=0, threads=None,
-    resolution=None, samples=None, crop=None, backend=None, progress=None))]
+    resolution=None, samples=None, crop=None, backend=None, progress=None, features=false,
+    denoise=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn render(
     py: Python<'_>,
@@ -119,8 +144,17 @@ pub fn render(
     crop: Option<(u32, u32, u32, u32)>,
     backend: Option<String>,
     progress: Option<Py<PyAny>>,
+    features: bool,
+    denoise: Option<String>,
 ) -> PyResult<Render> {
     let backend = backend_named(backend.as_deref())?;
+    let denoise = denoise
+        .map(|m| m.parse::<DenoiseMode>())
+        .transpose()
+        .map_err(|e| error(anyhow::anyhow!("denoise: {e}")))?;
+    if denoise.is_some() {
+        denoising::check().map_err(|e| error(e.into()))?;
+    }
     let resolution = resolution
         .map(|(w, h)| Resolution::new(w, h))
         .transpose()
@@ -134,6 +168,7 @@ pub fn render(
         time,
         seed,
         resolution,
+        features: features || denoise.is_some(),
     };
     let mut job = Job::new(scene.loaded.clone(), &spec).map_err(session_error)?;
     let samples = samples.map(|(start, end)| SampleRange { start, end });
@@ -143,7 +178,15 @@ pub fn render(
     let watched = watched(py, progress.as_ref(), |cancel, polled| {
         job.run(threads, backend, cancel, polled, None, None)
     })?;
-    let fenestra_session::Rendered { stats, film, .. } = watched.result.map_err(session_error)?;
+    let fenestra_session::Rendered {
+        mut stats, film, ..
+    } = watched.result.map_err(session_error)?;
+    let mut denoised = None;
+    if let Some(mode) = denoise.filter(|_| stats.spp_max > 0) {
+        let (image, info) = denoising::denoise_film(&film, mode).map_err(|e| error(e.into()))?;
+        stats.denoiser = Some(info);
+        denoised = Some(image);
+    }
     Ok(Render {
         piece: piece.map(|header| FilmHeader {
             stats: stats.clone(),
@@ -152,7 +195,44 @@ pub fn render(
         film,
         stats,
         inputs,
+        denoised,
     })
+}
+
+/// `color` (float32 RGB bytes of a `size` image) denoised by OIDN's RT filter as `mode`
+/// says, guided by `albedo` and `normal` (both, or neither) of the same size.
+#[pyfunction]
+#[pyo3(signature = (color, size, albedo=None, normal=None, mode="accurate"))]
+pub fn denoise<'py>(
+    py: Python<'py>,
+    color: &[u8],
+    size: (usize, usize),
+    albedo: Option<&[u8]>,
+    normal: Option<&[u8]>,
+    mode: &str,
+) -> PyResult<Bound<'py, PyBytes>> {
+    let mode = mode
+        .parse::<DenoiseMode>()
+        .map_err(|e| error(anyhow::anyhow!("mode: {e}")))?;
+    let color = pixels::image(color, size).map_err(error)?;
+    let guides = match (albedo, normal) {
+        (Some(a), Some(n)) => Some((
+            pixels::image(a, size).map_err(error)?,
+            pixels::image(n, size).map_err(error)?,
+        )),
+        (None, None) => None,
+        _ => {
+            return Err(error(anyhow::anyhow!(
+                "give both albedo and normal, or neither"
+            )))
+        }
+    };
+    let done = py.detach(|| {
+        let guides = guides.as_ref().map(|(a, n)| (a, n));
+        denoising::denoise(&color, guides, mode)
+    });
+    let (image, _) = done.map_err(|e| error(e.into()))?;
+    bytes(py, &image)
 }
 /// The pieces of a split render (their .exr or .film files) merged into the render of them
 /// all, as `fenestra merge` merges them (`total`: the samples the whole takes, checked).
@@ -174,12 +254,14 @@ pub fn merge(parts: Vec<PathBuf>, total: Option<u32>) -> PyResult<Render> {
             samples: plan.samples,
             window: plan.window,
             stats: stats.clone(),
+            features: film.takes_features(),
         };
         Ok(Render {
             film,
             stats,
             piece: Some(piece),
             inputs,
+            denoised: None,
         })
     };
     run().map_err(error)

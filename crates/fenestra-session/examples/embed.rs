@@ -3,8 +3,8 @@
 //!
 //!     cargo run --release -p fenestra-session --example embed -- out/embedded.exr
 
-use fenestra_render::output;
-use fenestra_session::files::{check_exr, render_outputs, Files};
+use fenestra_render::output::{self, Extras};
+use fenestra_session::files::{check_exr, render_outputs, Beside, Files};
 use fenestra_session::{
     render, IntegratorChoice, JobSpec, Lighting, Placement, Resolution, SceneRequest, SkyRequest,
 };
@@ -26,9 +26,9 @@ pub fn embed(exr: &std::path::Path) -> fenestra_session::Result<fenestra_render:
         ..JobSpec::default()
     };
     check_exr(exr)?;
-    render_outputs(&mut Files::default(), exr, false, false).check()?;
+    render_outputs(&mut Files::default(), exr, Beside::default()).check()?;
     let done = render(&scene, &spec)?;
-    output::write_render(exr, &done.film, &done.stats, None, false, None)
+    output::write_render(exr, &done.film, &done.stats, &Extras::default())
         .map_err(anyhow::Error::from)?;
     Ok(done.stats)
 }

@@ -129,14 +129,24 @@ impl Files {
     }
 }
 
-/// Adds the files a render writes for OUT.exr: OUT.png, OUT.json, with `variance`
-/// OUT.var.exr and with `state` OUT.film.
-pub fn render_outputs<'a>(
-    files: &'a mut Files,
-    exr: &Path,
-    variance: bool,
-    state: bool,
-) -> &'a mut Files {
+/// Which of its optional files a render writes beside OUT.exr, OUT.png and OUT.json.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Beside {
+    /// OUT.var.exr.
+    pub variance: bool,
+    /// OUT.film.
+    pub state: bool,
+    /// OUT.denoised.exr and OUT.denoised.png.
+    pub denoised: bool,
+}
+
+/// Adds the files a render writes for OUT.exr: OUT.png, OUT.json and those `beside` says.
+pub fn render_outputs<'a>(files: &'a mut Files, exr: &Path, beside: Beside) -> &'a mut Files {
+    let Beside {
+        variance,
+        state,
+        denoised,
+    } = beside;
     let (png, json) = output::companion_paths(exr);
     files
         .output(exr, "image")
@@ -147,6 +157,12 @@ pub fn render_outputs<'a>(
     }
     if state {
         files.output(&output::film_state_path(exr), "film state");
+    }
+    if denoised {
+        let exr = output::denoised_path(exr);
+        files
+            .output(&exr, "denoised image")
+            .output(&exr.with_extension("png"), "denoised picture");
     }
     files
 }

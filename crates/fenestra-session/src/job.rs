@@ -10,6 +10,7 @@ use fenestra_core::hash::{debug_hash, Fnv64};
 use fenestra_core::Rgb;
 use fenestra_render::control::{PassHook, Progress, ProgressHook};
 use fenestra_render::driver::BLOCK_SIZE;
+use fenestra_render::features::FeaturePixel;
 use fenestra_render::film::{Pixel, Window};
 use fenestra_render::film_file::{FilmHeader, SampleRange};
 use fenestra_render::integrator::{IntegratorError, Split, WorkMap};
@@ -110,6 +111,8 @@ pub struct JobSpec {
     pub seed: u64,
     /// Image size (default: the scene's).
     pub resolution: Option<Resolution>,
+    /// Whether to take denoising features (albedo, normal) beside the samples.
+    pub features: bool,
 }
 
 /// What a finished (or interrupted) render made.
@@ -136,6 +139,8 @@ pub struct Job {
     spp_given: bool,
     /// The part of the image to render (all of it unless cut).
     window: Window,
+    /// Whether the film takes denoising features.
+    features: bool,
 }
 
 impl Job {
@@ -201,6 +206,7 @@ impl Job {
             settings,
             spp_given: spec.spp.is_some(),
             window: Window::full(width, height),
+            features: spec.features,
         })
     }
 
@@ -308,6 +314,7 @@ impl Job {
             samples,
             window: self.window,
             stats: RenderStats::default(),
+            features: self.features,
         }))
     }
 
@@ -323,7 +330,7 @@ impl Job {
         hook: Option<PassHook>,
         watch: Option<ProgressHook>,
     ) -> Result<Rendered> {
-        film_fits_in_memory(self.window)?;
+        film_fits_in_memory(self.window, self.features)?;
         let pool = crate::thread_pool(threads)?;
         let Job {
             desc,
@@ -331,12 +338,16 @@ impl Job {
             mut integrator,
             settings,
             window,
+            features,
             ..
         } = self;
         pool.install(|| -> Result<_> {
             let scene = Scene::build(desc, backend).context("invalid scene")?;
             let scene = RenderScene::new(scene);
             let mut film = Film::cropped(window);
+            if features {
+                film = film.with_features();
+            }
             let mut control = RenderControl::new(cancel, progress);
             control.on_pass = hook;
             control.on_progress = watch;
@@ -410,9 +421,14 @@ fn scene_content(scene: &str, files: &[PathBuf]) -> anyhow::Result<String> {
 /// Refuses a film (with the mean and variance images written from it, and room for the
 /// EXR writer's copy) larger than the memory the process can get (the machine's, or what
 /// `ulimit -v` leaves), before allocating it: naming both figures.
-fn film_fits_in_memory(window: Window) -> anyhow::Result<()> {
+fn film_fits_in_memory(window: Window, features: bool) -> anyhow::Result<()> {
     let (w, h) = (window.x1 - window.x0, window.y1 - window.y0);
-    let per_pixel = std::mem::size_of::<Pixel>() + 4 * std::mem::size_of::<Rgb>();
+    // With features: their sums, and their two images.
+    let features = match features {
+        true => std::mem::size_of::<FeaturePixel>() + 2 * std::mem::size_of::<Rgb>(),
+        false => 0,
+    };
+    let per_pixel = std::mem::size_of::<Pixel>() + 4 * std::mem::size_of::<Rgb>() + features;
     let needed = u64::from(w) * u64::from(h) * per_pixel as u64;
     fenestra_core::memory::ensure(needed, || format!("a {w}x{h} film")).map_err(|e| {
         anyhow::anyhow!(

@@ -17,6 +17,7 @@
 //! Errors are typed ([`Error`]): a refused setting says which ([`Setting`]), and each front
 //! end words it by its own names ([`Error::worded`]: `--sun-time` or `sun_time`).
 
+pub mod denoise;
 pub mod error;
 pub mod files;
 pub mod job;

@@ -1,12 +1,13 @@
 //! `fenestra merge`: the pieces of a split render (sample ranges, tiles) into one image, the
 //! one a single render of them all makes, bit for bit.
 
+use crate::support::denoise::DenoiseArgs;
 use anyhow::{bail, Result};
 use clap::Args;
 use fenestra_render::film_file::FilmHeader;
 use fenestra_render::merge::{self, Part};
-use fenestra_render::output;
-use fenestra_session::files::{check_exr, film_file_of, render_outputs, Files};
+use fenestra_render::output::{self, Extras};
+use fenestra_session::files::{check_exr, film_file_of, render_outputs, Beside, Files};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -34,6 +35,8 @@ pub struct MergeArgs {
     /// Print the summary as JSON.
     #[arg(long)]
     json: bool,
+    #[command(flatten)]
+    denoise: DenoiseArgs,
     /// Output EXR; the PNG, the JSON sidecar and OUT.film (to merge further) go beside it.
     #[arg(short, long)]
     output: PathBuf,
@@ -47,7 +50,13 @@ pub fn run(args: MergeArgs) -> Result<()> {
     let paths: Vec<PathBuf> = args.parts.iter().map(|p| film_file_of(p)).collect();
     let mut files = Files::default();
     files.inputs(&paths, "part");
-    render_outputs(&mut files, &args.output, args.variance, true).check()?;
+    let beside = Beside {
+        variance: args.variance,
+        state: true,
+        denoised: args.denoise.denoise.is_some(),
+    };
+    render_outputs(&mut files, &args.output, beside).check()?;
+    args.denoise.check()?;
     let parts = paths
         .iter()
         .map(|p| Part::open(p))
@@ -62,21 +71,22 @@ pub fn run(args: MergeArgs) -> Result<()> {
             w.full_height
         );
     }
-    let (film, stats) = merge::merge(&parts, &plan)?;
+    let (film, mut stats) = merge::merge(&parts, &plan)?;
+    let denoised = args.denoise.apply(&film, &mut stats)?;
     let header = FilmHeader {
         key: parts[0].header.key.clone(),
         samples: plan.samples,
         window: plan.window,
         stats: stats.clone(),
+        features: film.takes_features(),
     };
-    output::write_render(
-        &args.output,
-        &film,
-        &stats,
-        args.exposure,
-        args.variance,
-        Some(&header),
-    )?;
+    let extras = Extras {
+        exposure: args.exposure,
+        variance: args.variance,
+        state: Some(&header),
+        denoised: denoised.as_ref(),
+    };
+    output::write_render(&args.output, &film, &stats, &extras)?;
     if args.json {
         println!("{}", serde_json::to_string(&stats)?);
     } else {

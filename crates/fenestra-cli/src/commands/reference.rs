@@ -7,8 +7,9 @@ use anyhow::{bail, Context, Result};
 use clap::Args;
 use fenestra_core::image::Image;
 use fenestra_eval::run::{ReferenceSummary, REFERENCE_SEED_OFFSET};
-use fenestra_render::{output, RenderStats};
-use fenestra_session::files::{check_exr, render_outputs};
+use fenestra_render::output::{self, Extras};
+use fenestra_render::RenderStats;
+use fenestra_session::files::{check_exr, render_outputs, Beside};
 use fenestra_session::Rendered;
 use std::path::{Path, PathBuf};
 
@@ -43,7 +44,7 @@ fn verify_reference(path: &Path, key: &str, width: u32, height: u32) -> Result<(
 
 /// Renders a reference into the cache, or finds it there; prints where it is.
 pub fn run(args: ReferenceArgs) -> Result<()> {
-    let mut job = args.opts.job(None)?;
+    let mut job = args.opts.job(None, false)?;
     job.settings.seed = job.settings.seed.wrapping_add(REFERENCE_SEED_OFFSET);
     let key = job.key(args.opts.bvh.unwrap_or_default());
     let path = args.cache.join(format!(
@@ -73,7 +74,11 @@ pub fn run(args: ReferenceArgs) -> Result<()> {
     if !cached {
         check_exr(&path)?;
         let mut files = std::mem::take(&mut job.inputs);
-        render_outputs(&mut files, &path, true, false).check()?;
+        let beside = Beside {
+            variance: true,
+            ..Beside::default()
+        };
+        render_outputs(&mut files, &path, beside).check()?;
         let Rendered {
             mut stats, film, ..
         } = args.opts.run(job, None, None)?;
@@ -81,7 +86,12 @@ pub fn run(args: ReferenceArgs) -> Result<()> {
             bail!("reference interrupted: nothing cached");
         }
         stats.reference_key = Some(format!("{key:016x}"));
-        output::write_render(&path, &film, &stats, args.opts.exposure, true, None)?;
+        let extras = Extras {
+            exposure: args.opts.exposure,
+            variance: true,
+            ..Extras::default()
+        };
+        output::write_render(&path, &film, &stats, &extras)?;
         if !args.opts.json {
             println!("{}", stats.summary());
         }

@@ -2,6 +2,7 @@
 
 use crate::flagged;
 use crate::integrators::IntegratorArgs;
+use crate::support::denoise::DenoiseArgs;
 use crate::support::progress::{Bar, Lines};
 use crate::support::{interrupt, pieces, scene_arg};
 use anyhow::{bail, Context, Result};
@@ -12,9 +13,10 @@ use fenestra_eval::metrics;
 use fenestra_render::control::{PassHook, Progress, ProgressHook};
 use fenestra_render::film_file::FilmHeader;
 use fenestra_render::integrator::{Split, WorkMap};
-use fenestra_render::{output, Film, RenderStats};
+use fenestra_render::output::{self, Extras};
+use fenestra_render::{Film, RenderStats};
 use fenestra_scene::Backend;
-use fenestra_session::files::{self, check_exr, render_outputs};
+use fenestra_session::files::{self, check_exr, render_outputs, Beside};
 use fenestra_session::{Job, JobSpec, Rendered, Resolution};
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
@@ -100,6 +102,13 @@ pub struct RenderArgs {
     /// block grid (or the image's edge).
     #[arg(long, value_name = "X0,Y0,X1,Y1")]
     crop: Option<String>,
+    /// Take denoising features beside the samples: each pixel's albedo and shading normal
+    /// at the first surface that is not a mirror or smooth glass, written as the EXR's
+    /// layers `albedo` (R, G, B) and `normal` (X, Y, Z). --denoise takes them too.
+    #[arg(long)]
+    features: bool,
+    #[command(flatten)]
+    denoise: DenoiseArgs,
     /// Output EXR; the PNG and JSON sidecar are written beside it.
     #[arg(short, long)]
     output: PathBuf,
@@ -129,8 +138,8 @@ pub fn parse_resolution(s: &str) -> Result<Resolution> {
 
 impl RenderOpts {
     /// Checks every argument and builds the integrator before the (possibly long) scene
-    /// build.
-    pub(crate) fn job(&self, time: Option<f64>) -> Result<Job> {
+    /// build; the render takes denoising features if `features`.
+    pub(crate) fn job(&self, time: Option<f64>, features: bool) -> Result<Job> {
         let resolution = self
             .resolution
             .as_deref()
@@ -145,6 +154,7 @@ impl RenderOpts {
             time,
             seed: self.seed,
             resolution,
+            features,
         };
         let loaded = scene_arg::load(&self.scene, &self.scene_options)?;
         Job::new(loaded, &spec).map_err(flagged)
@@ -234,7 +244,7 @@ pub fn shape(args: &[String]) -> Result<RenderShape> {
     let parsed = <Render as clap::Parser>::try_parse_from(
         args.iter().map(String::as_str).chain(["-o", "split.exr"]),
     )?;
-    let job = parsed.args.opts.job(None)?;
+    let job = parsed.args.opts.job(None, false)?;
     let (width, height) = job.size();
     Ok(RenderShape {
         scene: job.desc().name.clone(),
@@ -262,7 +272,9 @@ pub fn run(args: RenderArgs) -> Result<bool> {
             bail!("--snapshot-every watches whole renders: a piece is merged from its .film (watch the merged render instead)");
         }
     }
-    let mut job = args.opts.job(args.time)?;
+    args.denoise.check()?;
+    let features = args.features || args.denoise.denoise.is_some();
+    let mut job = args.opts.job(args.time, features)?;
     let samples = args.samples.as_deref().map(pieces::parse_samples);
     let crop = args.crop.as_deref().map(pieces::parse_crop);
     let piece = job
@@ -287,14 +299,13 @@ pub fn run(args: RenderArgs) -> Result<bool> {
         files.folder(&maps_dir, "work maps folder");
     }
     // An interruption (or a snapshot) over a complete render writes beside it.
-    render_outputs(&mut files, &args.output, args.variance, piece.is_some());
-    render_outputs(
-        &mut files,
-        &files::interrupted_path(&args.output),
-        args.variance,
-        piece.is_some(),
-    )
-    .check()?;
+    let beside = Beside {
+        variance: args.variance,
+        state: piece.is_some(),
+        denoised: args.denoise.denoise.is_some(),
+    };
+    render_outputs(&mut files, &args.output, beside);
+    render_outputs(&mut files, &files::interrupted_path(&args.output), beside).check()?;
     let reference = match &args.reference {
         Some(p) => {
             let r = Image::read(p)?;
@@ -367,18 +378,18 @@ pub fn run(args: RenderArgs) -> Result<bool> {
         stats.extra.insert("snapshots".into(), s.written() as f64);
         s.remove_beside(&args.output, &output);
     }
+    let denoised = args.denoise.apply(&film, &mut stats)?;
     let state = piece.map(|header| FilmHeader {
         stats: stats.clone(),
         ..header
     });
-    output::write_render(
-        &output,
-        &film,
-        &stats,
-        args.opts.exposure,
-        args.variance,
-        state.as_ref(),
-    )?;
+    let extras = Extras {
+        exposure: args.opts.exposure,
+        variance: args.variance,
+        state: state.as_ref(),
+        denoised: denoised.as_ref(),
+    };
+    output::write_render(&output, &film, &stats, &extras)?;
     args.opts.report(&output, &stats)?;
     if args.maps {
         write_maps(&maps_dir, &maps, film.width, film.height, &stats.integrator)?;
@@ -443,8 +454,20 @@ impl Snapshots {
         if let Some(note) = note.filter(|_| state.at.as_ref() != Some(&to)) {
             eprintln!("{note}");
         }
-        let written =
-            output::write_render(&to, film, &stats, args.opts.exposure, args.variance, None);
+        let denoised = match args.denoise.apply(film, &mut stats) {
+            Ok(image) => image,
+            Err(e) => {
+                eprintln!("warning: snapshot not denoised ({e})");
+                None
+            }
+        };
+        let extras = Extras {
+            exposure: args.opts.exposure,
+            variance: args.variance,
+            state: None,
+            denoised: denoised.as_ref(),
+        };
+        let written = output::write_render(&to, film, &stats, &extras);
         // Not again before the next interval, whether written or not.
         state.last_s = time_s;
         match written {

@@ -11,5 +11,6 @@ use std::path::Path;
 use std::process::Command;
 
 mod bad_input;
+mod denoise;
 mod interrupts;
 mod outputs;

@@ -19,7 +19,7 @@ import operator
 
 from . import _native
 from ._native import FenestraError, Scene
-from .image import Comparison, Image
+from .image import Comparison, Image, denoise
 from .progress import reporter
 from . import lpca, portals, relight
 from .scene_dict import load_dict
@@ -31,6 +31,7 @@ __all__ = [
     "Image",
     "Scene",
     "compare",
+    "denoise",
     "integrators",
     "load",
     "load_dict",
@@ -99,6 +100,8 @@ def render(
     backend=None,
     progress=True,
     options=None,
+    features=False,
+    denoise=False,
     **keywords,
 ):
     """Renders `scene` (a Scene, or what `load` takes) with `integrator` (default: the
@@ -112,6 +115,9 @@ def render(
     "embree" or "obvhs". progress: True for a tqdm bar (if tqdm is installed), False for
     none, or a callable progress(stage, done, total, notes). options: a dict of option keys
     ("sdrc.a") to values; every other keyword is an integrator option by its keyword.
+    features: take the denoising features (image.albedo, image.normal). denoise: True (or
+    "accurate", or "fast") to denoise with Intel Open Image Denoise as `--denoise` does
+    (features taken): image.denoised() is then the result, and image.write writes it too.
 
     The interpreter is released while the render runs. Ctrl-C (KeyboardInterrupt) stops it
     and returns what was rendered, with image.interrupted set.
@@ -139,6 +145,8 @@ def render(
             crop=None if crop is None else tuple(crop),
             backend=backend,
             progress=report,
+            features=bool(features),
+            denoise=_denoise_mode(denoise),
         )
     image = Image._of_render(native)
     if image.interrupted:
@@ -149,6 +157,16 @@ def render(
             stacklevel=2,
         )
     return image
+
+
+def _denoise_mode(denoise):
+    if denoise is False or denoise is None:
+        return None
+    if denoise is True:
+        return "accurate"
+    if denoise in ("accurate", "fast"):
+        return denoise
+    raise FenestraError(f"denoise must be True, False, 'accurate' or 'fast', got {denoise!r}")
 
 
 def merge(parts, total=None):

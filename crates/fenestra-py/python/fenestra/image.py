@@ -20,29 +20,69 @@ def _bytes(array):
     return a.tobytes(), (a.shape[1], a.shape[0])
 
 
+def denoise(array, albedo=None, normal=None, mode="accurate"):
+    """`array` (float32 (height, width, 3), linear HDR) denoised by Intel Open Image Denoise's
+    RT filter, guided by `albedo` and `normal` (both or neither, of the same shape): "accurate"
+    denoises the guides first (Cycles' default), "fast" uses them as they are. Returns a new
+    array. OIDN comes with scripts/setup (or FENESTRA_OIDN names its folder)."""
+    data, size = _bytes(array)
+    guides = [None, None]
+    if (albedo is None) != (normal is None):
+        raise ValueError("give both albedo and normal, or neither")
+    if albedo is not None:
+        for i, (name, a) in enumerate((("albedo", albedo), ("normal", normal))):
+            guide, guide_size = _bytes(a)
+            if guide_size != size:
+                raise ValueError(f"{name} is {guide_size[0]}x{guide_size[1]}, the image {size[0]}x{size[1]}")
+            guides[i] = guide
+    out = _native.denoise(data, size, guides[0], guides[1], mode)
+    return _array(out, size[0], size[1]).copy()
+
+
 class Image:
     """A rendered (or read) image.
 
     array: float32 (height, width, 3), linear RGB, the mean of each pixel's samples.
     variance: the per-pixel variance of that mean (None for an image read from a file).
     stats: the render's statistics, as the JSON sidecar holds them.
+    albedo, normal: the denoising features, float32 (height, width, 3) (None unless the render
+    took them: features=True or denoise).
     """
 
-    def __init__(self, array, variance=None, stats=None, native=None):
+    def __init__(self, array, variance=None, stats=None, native=None, albedo=None, normal=None):
         self.array = array
         self.variance = variance
         self.stats = stats or {}
+        self.albedo = albedo
+        self.normal = normal
         self._native = native
 
     @classmethod
     def _of_render(cls, native):
         width, height = native.size
+        features = native.features()
+        albedo, normal = (None, None) if features is None else (
+            _array(features[0], width, height),
+            _array(features[1], width, height),
+        )
         return cls(
             _array(native.pixels(), width, height),
             _array(native.variance(), width, height),
             json.loads(native.stats_json()),
             native,
+            albedo,
+            normal,
         )
+
+    def denoised(self, mode=None):
+        """The image denoised by Intel Open Image Denoise, guided by its features if it has
+        them: the render's own result if it was rendered with `denoise` (and `mode` is None or
+        its mode), otherwise denoised now ("accurate" unless `mode` says "fast")."""
+        done = (self.stats.get("denoiser") or {}).get("mode")
+        if self._native is not None and done is not None and mode in (None, done):
+            width, height = self._native.size
+            return _array(self._native.denoised(), width, height)
+        return denoise(self.array, self.albedo, self.normal, mode or "accurate")
 
     @classmethod
     def _of_file(cls, path):
@@ -61,7 +101,9 @@ class Image:
 
     def write(self, path, exposure=None, variance=False):
         """Writes PATH.exr with its PNG and JSON sidecar beside it (and PATH.var.exr with
-        `variance`; a piece of a split render also PATH.film), as `fenestra render` does: an
+        `variance`; a piece of a split render also PATH.film; the features as the EXR's
+        albedo and normal layers; a render made with `denoise` PATH.denoised.exr and
+        PATH.denoised.png), as `fenestra render` does: an
         interrupted render never replaces a complete one (it goes to PATH.interrupted.exr,
         with a warning), and one stopped before any sample is not written. Returns the path
         written."""
