@@ -494,7 +494,14 @@ impl Snapshots {
             return;
         }
         let (png, json) = output::companion_paths(&at);
-        for f in [at.clone(), png, json, output::variance_path(&at)] {
+        let denoised = output::denoised_path(&at);
+        let beside = [
+            png,
+            json,
+            output::variance_path(&at),
+            denoised.with_extension("png"),
+        ];
+        for f in [at.clone(), denoised].into_iter().chain(beside) {
             let _ = std::fs::remove_file(f);
         }
     }

@@ -208,3 +208,32 @@ fn the_denoised_image_never_replaces_an_input() {
     );
     assert_eq!(std::fs::read(&input).expect("input"), before);
 }
+
+#[test]
+fn snapshots_are_denoised_too_and_those_beside_a_complete_render_go_when_it_is_done() {
+    let (plain, watched) = (tmp("dns-plain.exr"), tmp("dns-watched.exr"));
+    let args = ["--seed", "5", "--denoise", "--json"];
+    ok(&render(&plain, &args));
+    let o = render(
+        &watched,
+        &[&args[..], &["--snapshot-every", "1e-9"]].concat(),
+    );
+    ok(&o);
+    let s: serde_json::Value = serde_json::from_slice(&o.stdout).expect("json");
+    assert_eq!(s["extra"]["snapshots"].as_f64(), Some(3.0), "{s}");
+    let denoised = |p: &Path| Image::read(&p.with_extension("denoised.exr")).expect("denoised");
+    assert_eq!(denoised(&plain), denoised(&watched));
+    // Over a complete render the snapshots (denoised ones too) go beside it, then away.
+    ok(&render(
+        &watched,
+        &["--seed", "6", "--denoise", "--snapshot-every", "1e-9", "-q"],
+    ));
+    for beside in [
+        "interrupted.exr",
+        "interrupted.denoised.exr",
+        "interrupted.denoised.png",
+    ] {
+        assert!(!watched.with_extension(beside).exists(), "{beside} left");
+    }
+    assert_eq!(sidecar(&watched)["seed"], 6);
+}
