@@ -25,8 +25,8 @@ class FenestraRenderEngine(bpy.types.RenderEngine):
 
     def update_render_passes(self, scene=None, renderlayer=None):
         self.register_pass(scene, renderlayer, "Combined", 4, "RGBA", "COLOR")
-        if scene and scene.fenestra.variance_pass:
-            self.register_pass(scene, renderlayer, "Variance", 3, "RGB", "COLOR")
+        for name, channels, kind in extra_passes(scene.fenestra if scene else None):
+            self.register_pass(scene, renderlayer, name, 3, channels, kind)
 
     def render(self, depsgraph):
         scene = depsgraph.scene
@@ -66,13 +66,11 @@ class FenestraRenderEngine(bpy.types.RenderEngine):
         with open(os.path.join(folder, "command.txt"), "w") as f:
             f.write(shlex.join(command) + "\n")
         fenestra = run.Fenestra(command, os.path.join(folder, "fenestra.log"))
-        if settings.variance_pass:
-            self.add_pass("Variance", 3, "RGB")
+        for name, channels, _ in extra_passes(settings):
+            self.add_pass(name, 3, channels)
         result = self.begin_result(0, 0, exported.width, exported.height)
         try:
-            stopped, reported = self._watch(
-                fenestra, result, output, settings.integrator, settings.time_limit
-            )
+            stopped, reported = self._watch(fenestra, result, output, settings)
         except BaseException:
             fenestra.kill()
             raise
@@ -84,7 +82,7 @@ class FenestraRenderEngine(bpy.types.RenderEngine):
             self.end_result(result)
             detail = "\n".join(log[-5:]) or f"exit code {code}"
             raise RuntimeError(f"fenestra failed: {detail}")
-        loaded = self._load_final(result, final, settings.variance_pass)
+        loaded = self._load_final(result, final, settings)
         self.end_result(result)
         if not loaded:
             return
@@ -116,9 +114,12 @@ class FenestraRenderEngine(bpy.types.RenderEngine):
             return folder
         return tempfile.mkdtemp(prefix="fenestra-report-")
 
-    def _watch(self, fenestra, result, output, integrator, time_limit):
-        """Follows fenestra until it exits: progress and ETA, warnings, snapshots into the
-        render result; Esc stops it. Returns whether it was stopped and the warnings shown."""
+    def _watch(self, fenestra, result, output, settings):
+        """Follows fenestra until it exits: progress and ETA, warnings, snapshots (denoised
+        ones with Denoise) into the render result; Esc stops it. Returns whether it was
+        stopped and the warnings shown."""
+        integrator, time_limit = settings.integrator, settings.time_limit
+        shown_path = denoised_path(output) if settings.denoise else output
         shown, reported, stopped = 0.0, 0, False
         while fenestra.running():
             time.sleep(POLL_S)
@@ -132,7 +133,7 @@ class FenestraRenderEngine(bpy.types.RenderEngine):
                 self.update_progress(f)
                 eta = f", {left:.0f} s left" if left is not None else ""
                 self.update_stats("", f"fenestra {integrator}: {100 * f:.0f}%{eta}")
-                shown = self._show_snapshot(result, output, shown)
+                shown = self._show_snapshot(result, shown_path, shown)
         return stopped, reported
 
     def _report_warnings(self, fenestra, reported):
@@ -142,18 +143,22 @@ class FenestraRenderEngine(bpy.types.RenderEngine):
             self.report({"WARNING"}, f"fenestra: {w}")
         return len(warnings)
 
-    def _load_final(self, result, final, variance_pass):
-        """fenestra's final image (and variance) into the render result; False if Blender
-        is quitting: it stops the render and then waits for it on the main thread, which
-        then loads no image (after a few seconds the image is left on disk)."""
+    def _load_final(self, result, final, settings):
+        """fenestra's final image (denoised with Denoise, the raw one then the Noisy Image
+        pass), its variance and features into the render result; False if Blender is
+        quitting: it stops the render and then waits for it on the main thread, which then
+        loads no image (after a few seconds the image is left on disk)."""
         give_up = mainthread.deadline(5.0)
+        stem = final[: -len(".exr")]
+        combined = denoised_path(final) if settings.denoise else final
+        passes = result.layers[0].passes
         try:
-            pixels = mainthread.call(read_pixels, final, give_up=give_up)
-            result.layers[0].passes.find_by_name("Combined", "").rect = pixels
-            if variance_pass:
-                var_path = final[: -len(".exr")] + ".var.exr"
-                variance = mainthread.call(read_pixels, var_path, give_up=give_up)
-                result.layers[0].passes.find_by_name("Variance", "").rect = variance[:, :3]
+            pixels = mainthread.call(read_pixels, combined, give_up=give_up)
+            passes.find_by_name("Combined", "").rect = pixels
+            for name, _, _ in extra_passes(settings):
+                path = stem + PASS_FILES[name]
+                image = mainthread.call(read_pixels, path, give_up=give_up)
+                passes.find_by_name(name, "").rect = image[:, :3]
         except mainthread.Abandoned:
             return False
         return True
@@ -190,6 +195,34 @@ class FenestraRenderEngine(bpy.types.RenderEngine):
             if os.path.exists(path):
                 return path
         return None
+
+
+# Each extra pass's file beside fenestra's OUT.exr (its suffix in place of ".exr").
+PASS_FILES = {
+    "Noisy Image": ".exr",
+    "Denoising Albedo": ".albedo.exr",
+    "Denoising Normal": ".normal.exr",
+    "Variance": ".var.exr",
+}
+
+
+def extra_passes(settings):
+    """The passes besides Combined that `settings` ask for: (name, channels, kind)."""
+    if settings is None:
+        return []
+    passes = []
+    if settings.denoise:
+        passes.append(("Noisy Image", "RGB", "COLOR"))
+    if settings.denoise or settings.denoising_data:
+        passes += [("Denoising Albedo", "RGB", "COLOR"), ("Denoising Normal", "XYZ", "VECTOR")]
+    if settings.variance_pass:
+        passes.append(("Variance", "RGB", "COLOR"))
+    return passes
+
+
+def denoised_path(output):
+    """fenestra's denoised image beside OUT.exr: OUT.denoised.exr."""
+    return output[: -len(".exr")] + ".denoised.exr"
 
 
 def kept_folder(scene):

@@ -67,6 +67,27 @@ class FenestraRenderSettings(bpy.types.PropertyGroup):
         min=0.1,
         unit="TIME_ABSOLUTE",
     )
+    denoise: bpy.props.BoolProperty(
+        name="Denoise",
+        description="Show Intel Open Image Denoise's result (guided by fenestra's albedo and "
+        "normal) as the Combined pass, snapshots too; the raw estimate goes to the Noisy "
+        "Image pass",
+        default=False,
+    )
+    denoise_mode: bpy.props.EnumProperty(
+        name="Prefilter",
+        items=(
+            ("accurate", "Accurate", "Denoise the albedo and normal first (Cycles' default)"),
+            ("fast", "Fast", "Use the albedo and normal as they are"),
+        ),
+        default="accurate",
+    )
+    denoising_data: bpy.props.BoolProperty(
+        name="Denoising Data",
+        description="Fill the Denoising Albedo and Denoising Normal passes (for the "
+        "compositor's Denoise node)",
+        default=False,
+    )
     variance_pass: bpy.props.BoolProperty(
         name="Variance Pass",
         description="Add a Variance pass: the per-pixel variance of the mean",
@@ -108,6 +129,11 @@ def render_flags(settings):
         flags += ["--light-paths-per-sample", f"{settings.light_paths_per_sample:g}"]
     if settings.variance_pass:
         flags.append("--variance")
+    if settings.denoise:
+        flags += ["--denoise", settings.denoise_mode]
+    if settings.denoise or settings.denoising_data:
+        # Files of their own: Blender's image loader reads no layers.
+        flags += ["--features", "files"]
     return flags
 
 

@@ -51,6 +51,11 @@ class RENDER_PT_fenestra_output(FenestraPanel, bpy.types.Panel):
         layout.use_property_split = True
         s = context.scene.fenestra
         layout.prop(s, "snapshot_every")
+        layout.prop(s, "denoise")
+        row = layout.row()
+        row.enabled = s.denoise
+        row.prop(s, "denoise_mode")
+        layout.prop(s, "denoising_data")
         layout.prop(s, "variance_pass")
         layout.prop(s, "reference")
         row = layout.row()

@@ -247,6 +247,59 @@ def test_a_variance_pass_and_a_report_against_a_reference(workdir, fenestra_bin)
     assert "rel_mse" in page and "<svg" in page and "render.error.png" in page
 
 
+def layer_channels(scene, workdir, name):
+    """F12 written as a multilayer EXR: its channels by name, every part's."""
+    scene.render.filepath = str(workdir / name)
+    settings = scene.render.image_settings
+    if hasattr(settings, "media_type"):  # Blender 5
+        settings.media_type = "MULTI_LAYER_IMAGE"
+    settings.file_format = "OPEN_EXR_MULTILAYER"
+    settings.color_depth = "32"
+    bpy.ops.render.render(write_still=True)
+    return {
+        name: c
+        for part in OpenEXR.File(str(workdir / name)).parts
+        for name, c in part.channels.items()
+    }
+
+
+def test_denoise_shows_oidns_image_and_fills_the_denoising_passes(workdir, fenestra_bin):
+    scene = room.build(samples=4, size=(48, 36))
+    scene.fenestra.integrator = "af_hf"
+    scene.fenestra.denoise = True
+    scene.fenestra.keep_files = str(workdir / "kept")
+    channels = layer_channels(scene, workdir, "denoised.exr")
+    folder = kept(scene)
+    command = kept_command(folder)
+    assert command[command.index("--denoise") + 1] == "accurate"
+    assert command[command.index("--features") + 1] == "files"
+
+    def shown(prefix):
+        # OpenEXR groups R, G, B (and A) into one channel; X, Y, Z stay apart.
+        name = f"ViewLayer.{prefix}"
+        if name in channels:
+            return np.asarray(channels[name].pixels, dtype=np.float32)[..., :3]
+        axes = [np.asarray(channels[f"{name}.{a}"].pixels) for a in "XYZ"]
+        return np.stack(axes, -1).astype(np.float32)
+
+    combined = shown("Combined")
+    assert np.array_equal(combined, exr(folder / "render.denoised.exr"))
+    assert not np.array_equal(combined, exr(folder / "render.exr"))
+    assert np.array_equal(shown("Noisy Image"), exr(folder / "render.exr"))
+    assert np.array_equal(shown("Denoising Albedo"), exr(folder / "render.albedo.exr"))
+    assert np.array_equal(shown("Denoising Normal"), exr(folder / "render.normal.exr"))
+    albedo = exr(folder / "render.albedo.exr")
+    assert 0 < albedo.mean() <= 1
+    # Denoising Data alone: the passes, and the raw image as Combined.
+    scene.fenestra.denoise = False
+    scene.fenestra.denoising_data = True
+    channels = layer_channels(scene, workdir, "data.exr")
+    assert "--denoise" not in kept_command(folder)
+    assert np.array_equal(shown("Combined"), exr(folder / "render.exr"))
+    assert not any(n.startswith("ViewLayer.Noisy Image.") for n in channels)
+    assert np.array_equal(shown("Denoising Albedo"), exr(folder / "render.albedo.exr"))
+
+
 def test_world_flags_for_each_kind_of_world(workdir):
     from fenestra import world
 

@@ -104,6 +104,7 @@ impl Render {
             variance,
             state: piece,
             denoised: self.denoised.is_some(),
+            feature_files: false,
         };
         render_outputs(&mut files, &path, beside);
         render_outputs(&mut files, &interrupted_path(&path), beside)
@@ -115,6 +116,7 @@ impl Render {
             variance,
             state: self.piece.as_ref(),
             denoised: self.denoised.as_ref(),
+            ..Extras::default()
         };
         output::write_render(&to, &self.film, &self.stats, &extras).map_err(|e| error(e.into()))?;
         Ok((to, note))

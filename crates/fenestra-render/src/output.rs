@@ -69,9 +69,45 @@ pub fn variance_path(exr_path: &Path) -> PathBuf {
     exr_path.with_extension("var.exr")
 }
 
+/// Where a render's denoising features go.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum FeatureLayout {
+    /// Into OUT.exr, as its layers `albedo` (R, G, B) and `normal` (X, Y, Z).
+    #[default]
+    Layers,
+    /// Beside it, as plain RGB images OUT.albedo.exr and OUT.normal.exr (normal's X, Y, Z
+    /// as R, G, B), for tools that read one image a file (OIDN's oidnDenoise, Blender's image
+    /// loader); OUT.exr then holds the picture alone.
+    Files,
+}
+
+impl std::str::FromStr for FeatureLayout {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s {
+            "layers" => Ok(FeatureLayout::Layers),
+            "files" => Ok(FeatureLayout::Files),
+            _ => Err(format!(
+                "'{s}': layers (the EXR's own layers) or files (OUT.albedo.exr, OUT.normal.exr)"
+            )),
+        }
+    }
+}
+
+/// The feature images written beside OUT.exr with [`FeatureLayout::Files`]: (albedo, normal).
+pub fn feature_paths(exr_path: &Path) -> (PathBuf, PathBuf) {
+    (
+        exr_path.with_extension("albedo.exr"),
+        exr_path.with_extension("normal.exr"),
+    )
+}
+
 /// What a render writes beside OUT.exr, OUT.png and OUT.json.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Extras<'a> {
+    /// Where the film's denoising features go, if it takes them.
+    pub features: FeatureLayout,
     /// The PNG's exposure in stops (`None`: automatic).
     pub exposure: Option<f32>,
     /// OUT.var.exr, the per-pixel variance of the mean.
@@ -87,8 +123,8 @@ pub fn denoised_path(exr_path: &Path) -> PathBuf {
     exr_path.with_extension("denoised.exr")
 }
 
-/// Writes OUT.exr (with the film's denoising features as its layers `albedo` and `normal`, if
-/// it takes them), OUT.png, the JSON sidecar OUT.json (the statistics) and the `extras`: as
+/// Writes OUT.exr (with the film's denoising features where `extras` says, if it takes
+/// them), OUT.png, the JSON sidecar OUT.json (the statistics) and the `extras`: as
 /// one set, so that a failure or an interruption leaves the previous files of the set as
 /// they were.
 pub fn write_render(
@@ -101,13 +137,18 @@ pub fn write_render(
     let metadata = exr_metadata(stats);
     let mut set = FileSet::new();
     let features = film.feature_images();
-    let layers = match &features {
-        Some((albedo, normal)) => feature_layers(albedo, normal).to_vec(),
-        None => Vec::new(),
+    let layers = match (&features, extras.features) {
+        (Some((albedo, normal)), FeatureLayout::Layers) => feature_layers(albedo, normal).to_vec(),
+        _ => Vec::new(),
     };
     set.stage(exr_path, |tmp| {
         image.write_exr_layers_to(tmp, &layers, &metadata)
     })?;
+    if let (Some((albedo, normal)), FeatureLayout::Files) = (&features, extras.features) {
+        let (a, n) = feature_paths(exr_path);
+        set.stage(&a, |tmp| albedo.write_exr_to(tmp, &metadata))?;
+        set.stage(&n, |tmp| normal.write_exr_to(tmp, &metadata))?;
+    }
     if extras.variance {
         let var = film.variance_image();
         set.stage(&variance_path(exr_path), |tmp| {

@@ -138,6 +138,8 @@ pub struct Beside {
     pub state: bool,
     /// OUT.denoised.exr and OUT.denoised.png.
     pub denoised: bool,
+    /// OUT.albedo.exr and OUT.normal.exr (the features as files of their own).
+    pub feature_files: bool,
 }
 
 /// Adds the files a render writes for OUT.exr: OUT.png, OUT.json and those `beside` says.
@@ -146,6 +148,7 @@ pub fn render_outputs<'a>(files: &'a mut Files, exr: &Path, beside: Beside) -> &
         variance,
         state,
         denoised,
+        feature_files,
     } = beside;
     let (png, json) = output::companion_paths(exr);
     files
@@ -157,6 +160,12 @@ pub fn render_outputs<'a>(files: &'a mut Files, exr: &Path, beside: Beside) -> &
     }
     if state {
         files.output(&output::film_state_path(exr), "film state");
+    }
+    if feature_files {
+        let (albedo, normal) = output::feature_paths(exr);
+        files
+            .output(&albedo, "albedo image")
+            .output(&normal, "normal image");
     }
     if denoised {
         let exr = output::denoised_path(exr);

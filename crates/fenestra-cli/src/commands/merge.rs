@@ -54,6 +54,7 @@ pub fn run(args: MergeArgs) -> Result<()> {
         variance: args.variance,
         state: true,
         denoised: args.denoise.denoise.is_some(),
+        feature_files: false,
     };
     render_outputs(&mut files, &args.output, beside).check()?;
     args.denoise.check()?;
@@ -85,6 +86,7 @@ pub fn run(args: MergeArgs) -> Result<()> {
         variance: args.variance,
         state: Some(&header),
         denoised: denoised.as_ref(),
+        ..Extras::default()
     };
     output::write_render(&args.output, &film, &stats, &extras)?;
     if args.json {

@@ -13,7 +13,7 @@ use fenestra_eval::metrics;
 use fenestra_render::control::{PassHook, Progress, ProgressHook};
 use fenestra_render::film_file::FilmHeader;
 use fenestra_render::integrator::{Split, WorkMap};
-use fenestra_render::output::{self, Extras};
+use fenestra_render::output::{self, Extras, FeatureLayout};
 use fenestra_render::{Film, RenderStats};
 use fenestra_scene::Backend;
 use fenestra_session::files::{self, check_exr, render_outputs, Beside};
@@ -103,10 +103,12 @@ pub struct RenderArgs {
     #[arg(long, value_name = "X0,Y0,X1,Y1")]
     crop: Option<String>,
     /// Take denoising features beside the samples: each pixel's albedo and shading normal
-    /// at the first surface that is not a mirror or smooth glass, written as the EXR's
-    /// layers `albedo` (R, G, B) and `normal` (X, Y, Z). --denoise takes them too.
-    #[arg(long)]
-    features: bool,
+    /// at the first surface that is not a mirror or smooth glass. WHERE: layers (default:
+    /// the EXR's layers `albedo` (R, G, B) and `normal` (X, Y, Z)) or files (OUT.albedo.exr
+    /// and OUT.normal.exr beside a plain OUT.exr, for tools that read one image a file).
+    /// --denoise takes them too (as layers unless told).
+    #[arg(long, value_name = "WHERE", num_args = 0..=1, default_missing_value = "layers")]
+    features: Option<FeatureLayout>,
     #[command(flatten)]
     denoise: DenoiseArgs,
     /// Output EXR; the PNG and JSON sidecar are written beside it.
@@ -273,7 +275,7 @@ pub fn run(args: RenderArgs) -> Result<bool> {
         }
     }
     args.denoise.check()?;
-    let features = args.features || args.denoise.denoise.is_some();
+    let features = args.features.is_some() || args.denoise.denoise.is_some();
     let mut job = args.opts.job(args.time, features)?;
     let samples = args.samples.as_deref().map(pieces::parse_samples);
     let crop = args.crop.as_deref().map(pieces::parse_crop);
@@ -303,6 +305,7 @@ pub fn run(args: RenderArgs) -> Result<bool> {
         variance: args.variance,
         state: piece.is_some(),
         denoised: args.denoise.denoise.is_some(),
+        feature_files: args.features == Some(FeatureLayout::Files),
     };
     render_outputs(&mut files, &args.output, beside);
     render_outputs(&mut files, &files::interrupted_path(&args.output), beside).check()?;
@@ -384,6 +387,7 @@ pub fn run(args: RenderArgs) -> Result<bool> {
         ..header
     });
     let extras = Extras {
+        features: args.features.unwrap_or_default(),
         exposure: args.opts.exposure,
         variance: args.variance,
         state: state.as_ref(),
@@ -462,6 +466,7 @@ impl Snapshots {
             }
         };
         let extras = Extras {
+            features: args.features.unwrap_or_default(),
             exposure: args.opts.exposure,
             variance: args.variance,
             state: None,

@@ -90,6 +90,27 @@ fn features_alone_add_layers_and_change_no_pixel() {
     );
     assert!(!featured.with_extension("denoised.exr").exists());
     assert!(sidecar(&featured).get("denoiser").is_none());
+    // As files of their own beside a plain EXR: the same features.
+    let files = tmp("ft-files.exr");
+    ok(&render(&files, &["--features", "files"]));
+    assert_eq!(read_exr_channel_names(&files).expect("channels").len(), 3);
+    for (layer, channels, file) in [
+        ("albedo", ["R", "G", "B"], "albedo.exr"),
+        ("normal", ["X", "Y", "Z"], "normal.exr"),
+    ] {
+        let beside = Image::read(&files.with_extension(file)).expect("feature file");
+        assert_eq!(
+            beside,
+            read_exr_layer(&featured, layer, channels).expect("layer"),
+            "{layer}"
+        );
+    }
+    let o = render(&tmp("ft-bad.exr"), &["--features", "pfm"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        !o.status.success() && err.contains("layers") && err.contains("files"),
+        "{err}"
+    );
 }
 
 #[test]
