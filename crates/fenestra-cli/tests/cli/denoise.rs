@@ -258,3 +258,57 @@ fn snapshots_are_denoised_too_and_those_beside_a_complete_render_go_when_it_is_d
     }
     assert_eq!(sidecar(&watched)["seed"], 6);
 }
+
+#[test]
+fn every_integrator_takes_the_same_features() {
+    let features = |scene: &str, integrator: &str, extra: &[&str]| {
+        let out = tmp(&format!("fi-{integrator}.exr"));
+        let mut args = vec!["render", scene, "--resolution", "24x16", "-q"];
+        args.extend(["--integrator", integrator, "--features", "-o"]);
+        args.push(out.to_str().expect("utf-8"));
+        // ias decides its own samples.
+        if integrator != "ias" {
+            args.extend(["--spp", "4"]);
+        }
+        args.extend_from_slice(extra);
+        ok(&fenestra(&args));
+        let albedo = read_exr_layer(&out, "albedo", ["R", "G", "B"]).expect("albedo");
+        let normal = read_exr_layer(&out, "normal", ["X", "Y", "Z"]).expect("normal");
+        (albedo.mean(), normal.mean())
+    };
+    let off = |x: fenestra_core::Rgb, y: fenestra_core::Rgb| {
+        (0..3)
+            .map(|c| (x.to_array()[c] - y.to_array()[c]).abs())
+            .fold(0.0, f32::max)
+    };
+    // hf, lp_hf and sdrc read them off their paths, ias and lt (light paths alone) take
+    // feature samples of their own: the same as af_hf's up to anti-aliasing at the edges
+    // (other positions in the pixels).
+    let portals: &[&str] = &["--portals", "auto", "--no-portal-cache"];
+    for (scene, integrators) in [
+        (
+            "builtin:box-hole",
+            &[
+                ("hf", &[][..]),
+                ("lp_hf", &[][..]),
+                ("sdrc", &[][..]),
+                ("ias", &[][..]),
+            ][..],
+        ),
+        ("builtin:glossy-room", &[("lt", portals)][..]),
+    ] {
+        let (albedo, normal) = features(scene, "af_hf", &[]);
+        assert!(albedo.g > 0.1, "{scene}: {albedo:?}");
+        for &(integrator, extra) in integrators {
+            let (a, n) = features(scene, integrator, extra);
+            assert!(
+                off(a, albedo) < 0.01,
+                "{integrator}: albedo {a:?}, af_hf's {albedo:?}"
+            );
+            assert!(
+                off(n, normal) < 0.01,
+                "{integrator}: normal {n:?}, af_hf's {normal:?}"
+            );
+        }
+    }
+}

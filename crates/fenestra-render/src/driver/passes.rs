@@ -10,8 +10,7 @@
 
 use super::{Blocks, BLOCK_SIZE};
 use crate::control::RenderControl;
-use crate::features::FeaturePixel;
-use crate::features::{feature_sample, takes_feature, Feature};
+use crate::features::{feature_sample, takes_feature, Feature, FeaturePixel};
 use crate::film::{Film, Pixel, Window};
 use crate::render_scene::RenderScene;
 use crate::sample_context::SampleContext;
