@@ -3,7 +3,7 @@
 
 use crate::error;
 use crate::pixels::{bytes, image};
-use fenestra_core::image::{Estimate, Image};
+use fenestra_core::image::{read_exr_channel_names, read_exr_layer, Estimate, Image, ImageError};
 use fenestra_eval::{metrics, ztest};
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
@@ -62,6 +62,31 @@ pub fn read_image<'py>(
 ) -> PyResult<(Bound<'py, PyBytes>, usize, usize)> {
     let img = Image::read(&path).map_err(|e| error(anyhow::anyhow!("{}: {e}", path.display())))?;
     Ok((bytes(py, &img)?, img.width, img.height))
+}
+
+/// The denoising features an EXR holds as its layers `albedo` and `normal` (what
+/// `fenestra render --features` writes), as (albedo, normal) float32 RGB bytes; `None` if it
+/// holds none (or is not an EXR).
+#[pyfunction]
+pub fn read_features<'py>(
+    py: Python<'py>,
+    path: std::path::PathBuf,
+) -> PyResult<Option<(Bound<'py, PyBytes>, Bound<'py, PyBytes>)>> {
+    let is_exr = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("exr"));
+    let failed = |e: ImageError| error(anyhow::anyhow!("{}: {e}", path.display()));
+    if !is_exr
+        || !read_exr_channel_names(&path)
+            .map_err(failed)?
+            .iter()
+            .any(|c| c == "albedo.R")
+    {
+        return Ok(None);
+    }
+    let albedo = read_exr_layer(&path, "albedo", ["R", "G", "B"]).map_err(failed)?;
+    let normal = read_exr_layer(&path, "normal", ["X", "Y", "Z"]).map_err(failed)?;
+    Ok(Some((bytes(py, &albedo)?, bytes(py, &normal)?)))
 }
 
 /// The PNG the command line writes for an image: sRGB, tone-mapped at `exposure` stops

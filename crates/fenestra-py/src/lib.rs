@@ -66,6 +66,7 @@ fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(relight::open, m)?)?;
     m.add_function(wrap_pyfunction!(compare::compare, m)?)?;
     m.add_function(wrap_pyfunction!(compare::read_image, m)?)?;
+    m.add_function(wrap_pyfunction!(compare::read_features, m)?)?;
     m.add_function(wrap_pyfunction!(compare::png, m)?)?;
     Ok(())
 }

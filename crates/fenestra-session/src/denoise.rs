@@ -242,80 +242,40 @@ impl<'a> Device<'a> {
         format!("{}.{}.{}", v / 10000, v / 100 % 100, v % 100)
     }
 
-    /// Runs the RT filter on `color` (and the guides `aux`, albedo then normal, noise-free if
-    /// `clean`) in place.
-    fn filter(
+    /// Runs one RT filter over `size` images: `images` (parameter name, pixels: a live
+    /// width x height RGB f32 buffer, "output" among them, written in place), with the
+    /// boolean parameters `flags`.
+    fn run(
         &self,
-        color: &mut [[f32; 3]],
         (width, height): (usize, usize),
-        aux: Option<(&mut [[f32; 3]], &mut [[f32; 3]])>,
-        clean: bool,
+        images: &[(&CStr, *mut [f32; 3])],
+        flags: &[(&CStr, bool)],
     ) -> Result<(), DenoiseError> {
         let api = self.api;
-        // SAFETY: the filter is made and released here; the images it is given are live
-        // slices of width x height RGB f32 pixels that outlast its execution.
+        // SAFETY: the filter is made and released here; the buffers it is given outlast its
+        // execution (the callers' slices).
         unsafe {
             let filter = (api.new_filter)(self.handle, c"RT".as_ptr());
             if filter.is_null() {
                 self.check()?;
                 return Err(DenoiseError::Failed("no RT filter".into()));
             }
-            let set = |name: &CStr, pixels: *mut [f32; 3]| {
+            for &(name, pixels) in images {
+                let format = FORMAT_FLOAT3;
                 (api.set_image)(
                     filter,
                     name.as_ptr(),
                     pixels.cast(),
-                    FORMAT_FLOAT3,
-                    width,
-                    height,
-                    0,
-                    0,
-                    0,
-                )
-            };
-            set(c"color", color.as_mut_ptr());
-            set(c"output", color.as_mut_ptr());
-            if let Some((albedo, normal)) = aux {
-                set(c"albedo", albedo.as_mut_ptr());
-                set(c"normal", normal.as_mut_ptr());
-                (api.set_bool)(filter, c"cleanAux".as_ptr(), clean);
-            }
-            (api.set_bool)(filter, c"hdr".as_ptr(), true);
-            (api.commit_filter)(filter);
-            (api.execute_filter)(filter);
-            let done = self.check();
-            (api.release_filter)(filter);
-            done
-        }
-    }
-
-    /// Runs the RT filter on a feature image alone (a prefilter), in place.
-    fn prefilter(
-        &self,
-        feature: &mut [[f32; 3]],
-        name: &CStr,
-        (width, height): (usize, usize),
-    ) -> Result<(), DenoiseError> {
-        let api = self.api;
-        // SAFETY: as in `filter`.
-        unsafe {
-            let filter = (api.new_filter)(self.handle, c"RT".as_ptr());
-            if filter.is_null() {
-                self.check()?;
-                return Err(DenoiseError::Failed("no RT filter".into()));
-            }
-            for image in [name, c"output"] {
-                (api.set_image)(
-                    filter,
-                    image.as_ptr(),
-                    feature.as_mut_ptr().cast(),
-                    FORMAT_FLOAT3,
+                    format,
                     width,
                     height,
                     0,
                     0,
                     0,
                 );
+            }
+            for &(name, value) in flags {
+                (api.set_bool)(filter, name.as_ptr(), value);
             }
             (api.commit_filter)(filter);
             (api.execute_filter)(filter);
@@ -358,18 +318,29 @@ pub fn denoise(
     let started = std::time::Instant::now();
     let device = Device::new(api)?;
     let mut out = pixels(color, 0.0);
-    match features {
-        Some((albedo, normal)) => {
-            let (mut albedo, mut normal) = (pixels(albedo, 0.0), pixels(normal, -1.0));
-            let clean = mode == DenoiseMode::Accurate;
-            if clean {
-                device.prefilter(&mut albedo, c"albedo", size)?;
-                device.prefilter(&mut normal, c"normal", size)?;
+    let color = out.as_mut_ptr();
+    let mut images = vec![(c"color", color), (c"output", color)];
+    let mut flags = vec![(c"hdr", true)];
+    // Kept alive until the filter has run.
+    let mut guides = features.map(|(a, n)| (pixels(a, 0.0), pixels(n, -1.0)));
+    if let Some((albedo, normal)) = guides.as_mut() {
+        let clean = mode == DenoiseMode::Accurate;
+        if clean {
+            // Prefiltered: each guide denoised on its own, in place.
+            for (name, guide) in [
+                (c"albedo", albedo.as_mut_ptr()),
+                (c"normal", normal.as_mut_ptr()),
+            ] {
+                device.run(size, &[(name, guide), (c"output", guide)], &[])?;
             }
-            device.filter(&mut out, size, Some((&mut albedo, &mut normal)), clean)?;
         }
-        None => device.filter(&mut out, size, None, false)?,
+        images.extend([
+            (c"albedo", albedo.as_mut_ptr()),
+            (c"normal", normal.as_mut_ptr()),
+        ]);
+        flags.push((c"cleanAux", clean));
     }
+    device.run(size, &images, &flags)?;
     let info = DenoiserInfo {
         denoiser: "Intel Open Image Denoise".into(),
         version: device.version(),

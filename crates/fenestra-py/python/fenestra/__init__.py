@@ -176,7 +176,8 @@ def merge(parts, total=None):
 
 
 def read(path):
-    """An image file (EXR, HDR, PFM, PNG) as an Image, for comparisons."""
+    """An image file (EXR, HDR, PFM, PNG) as an Image, for comparisons (with its albedo and
+    normal if it is an EXR that holds them as layers, as `--features` writes)."""
     return Image._of_file(str(path))
 
 

@@ -87,7 +87,12 @@ class Image:
     @classmethod
     def _of_file(cls, path):
         data, width, height = _native.read_image(path)
-        return cls(_array(data, width, height))
+        features = _native.read_features(path)
+        albedo, normal = (None, None) if features is None else (
+            _array(features[0], width, height),
+            _array(features[1], width, height),
+        )
+        return cls(_array(data, width, height), albedo=albedo, normal=normal)
 
     @property
     def interrupted(self):

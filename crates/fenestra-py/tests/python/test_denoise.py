@@ -45,6 +45,11 @@ def test_features_alone_leave_the_pixels_and_denoise_on_demand(tmp_path):
     assert not np.array_equal(fast, featured.denoised("accurate"))
     featured.write(tmp_path / "f.exr")
     assert not (tmp_path / "f.denoised.exr").exists()
+    # The written EXR's layers come back with it.
+    back = fe.read(tmp_path / "f.exr")
+    assert np.array_equal(back.albedo, featured.albedo)
+    assert np.array_equal(back.normal, featured.normal)
+    assert fe.read(tmp_path / "f.png").albedo is None
 
 
 def test_denoise_takes_arrays_and_refuses_what_does_not_fit():
