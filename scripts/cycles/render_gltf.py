@@ -11,6 +11,8 @@ to single-scattering GGX (fenestra's metal is single-scattering). For equal-time
 (scripts/interiors-vs-cycles): TIME_LIMIT=S renders for S seconds instead of SPP samples;
 PORTALS=portals.json adds fenestra's estimated portals as Cycles portal lights (rectangles);
 GUIDING=1 turns on Cycles' path guiding (OpenPGL, surfaces); SEED=N seeds its samples.
+DENOISE=1 denoises with Open Image Denoise (Cycles' defaults: albedo and normal guides,
+accurate prefilter), after the time limit.
 SUN=sun.json adds the sun `fenestra scene export --sky` describes as a Sun lamp (its direction,
 irradiance and angular diameter); ENV.exr is then that export's sky turned into Blender's
 equirectangular convention (scripts/interiors-vs-cycles does it).
@@ -78,6 +80,10 @@ if portals:
     print('portals from', portals)
 sc.render.engine = 'CYCLES'; c = sc.cycles
 c.device = 'CPU'; c.samples = int(spp); c.use_adaptive_sampling = False; c.use_denoising = False
+if os.environ.get('DENOISE'):
+    c.use_denoising = True; c.denoiser = 'OPENIMAGEDENOISE'
+    c.denoising_input_passes = 'RGB_ALBEDO_NORMAL'; c.denoising_prefilter = 'ACCURATE'
+    c.denoising_use_gpu = False
 c.seed = int(os.environ.get('SEED', '0'))
 if os.environ.get('TIME_LIMIT'):
     c.time_limit = float(os.environ['TIME_LIMIT']); c.samples = 1 << 24
