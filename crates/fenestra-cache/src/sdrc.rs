@@ -461,26 +461,14 @@ impl PassEstimator for Passes<'_> {
         // A wave of one: the passes trace a block's samples together (below).
         let mut out = [Rgb::ZERO];
         let (ctxs, samplers) = (std::slice::from_ref(ctx), std::slice::from_mut(sampler));
-        self.sample_many(scene, ctxs, samplers, work, rays, &mut out);
+        self.sample_many(scene, ctxs, samplers, work, rays, &mut out, &mut []);
         out[0]
-    }
-
-    fn sample_many(
-        &self,
-        scene: &RenderScene,
-        ctxs: &[SampleContext],
-        samplers: &mut [Sampler],
-        work: &mut Work,
-        rays: &mut RayCounters,
-        out: &mut [Rgb],
-    ) {
-        self.sample_many_with_features(scene, ctxs, samplers, work, rays, out, &mut []);
     }
 
     /// A block's samples traced together in waves, as af_hf's are (the pixels of one path
     /// at a time: the caches are asked at the camera's hits in the same order), their
     /// denoising features read off their paths.
-    fn sample_many_with_features(
+    fn sample_many(
         &self,
         scene: &RenderScene,
         ctxs: &[SampleContext],

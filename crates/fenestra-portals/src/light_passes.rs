@@ -240,21 +240,9 @@ impl PassEstimator for LightPasses<'_> {
         l
     }
 
-    fn sample_many(
-        &self,
-        scene: &RenderScene,
-        ctxs: &[SampleContext],
-        samplers: &mut [Sampler],
-        block: &mut LightBlock,
-        rays: &mut RayCounters,
-        out: &mut [Rgb],
-    ) {
-        self.sample_many_with_features(scene, ctxs, samplers, block, rays, out, &mut []);
-    }
-
     /// The camera paths traced together ([`PathTracer::trace_wave`], which reads their
     /// denoising features), then each sample's light paths.
-    fn sample_many_with_features(
+    fn sample_many(
         &self,
         scene: &RenderScene,
         ctxs: &[SampleContext],

@@ -104,28 +104,13 @@ pub trait PassEstimator: Sync {
         rays: &mut RayCounters,
     ) -> Rgb;
 
-    /// The samples `ctxs` (each with its stream in `samplers`) into `out`; by default one
-    /// after another with [`PassEstimator::sample`].
-    fn sample_many(
-        &self,
-        scene: &RenderScene,
-        ctxs: &[SampleContext],
-        samplers: &mut [Sampler],
-        stats: &mut Self::BlockStats,
-        rays: &mut RayCounters,
-        out: &mut [Rgb],
-    ) {
-        for (i, ctx) in ctxs.iter().enumerate() {
-            out[i] = self.sample(scene, ctx, &mut samplers[i], stats, rays);
-        }
-    }
-
-    /// [`PassEstimator::sample_many`], with the denoising features of the samples read off
-    /// their own paths into `features` (as long as `ctxs`) by estimators that can; a sample
-    /// whose feature is left `None` takes a feature sample of its own ([`feature_sample`]).
-    /// By default none are read off.
+    /// The samples `ctxs` (each with its stream in `samplers`) into `out`, by default one
+    /// after another with [`PassEstimator::sample`]; an estimator whose samples are paths
+    /// from the camera also reads their denoising features off them into `features` (as long
+    /// as `ctxs`, or empty when none is asked for). A sample whose feature is left `None`
+    /// takes a feature sample of its own ([`feature_sample`]).
     #[allow(clippy::too_many_arguments)]
-    fn sample_many_with_features(
+    fn sample_many(
         &self,
         scene: &RenderScene,
         ctxs: &[SampleContext],
@@ -135,7 +120,9 @@ pub trait PassEstimator: Sync {
         out: &mut [Rgb],
         _features: &mut [Option<Feature>],
     ) {
-        self.sample_many(scene, ctxs, samplers, stats, rays, out);
+        for (i, ctx) in ctxs.iter().enumerate() {
+            out[i] = self.sample(scene, ctx, &mut samplers[i], stats, rays);
+        }
     }
 
     /// The splats of light paths that a block's statistics gathered during the pass (light
@@ -343,7 +330,7 @@ impl Pass<'_> {
         if control.cancelled() {
             return (stats, counters);
         }
-        // Whether each sample takes a denoising feature.
+        // Whether each sample takes a denoising feature (empty if the pass takes none).
         let mut wanted: Vec<bool> = Vec::new();
         // Every sample of the block's pass, pixel by pixel, each pixel's in index order.
         let mut ctxs = Vec::new();
@@ -380,8 +367,9 @@ impl Pass<'_> {
                 let film_pixel = (view.y0 + dy as u32) * film_width + view.x0 + dx as u32;
                 let start = self.stream_start[film_pixel as usize];
                 starts.extend(std::iter::repeat_n(start, n as usize));
-                let wants = self.features && self.keeps;
-                wanted.extend((first..first + n).map(|i| wants && takes_feature(i)));
+                if self.features && self.keeps {
+                    wanted.extend((first..first + n).map(takes_feature));
+                }
             }
         }
         let mut samplers: Vec<Sampler> = ctxs
@@ -393,28 +381,23 @@ impl Pass<'_> {
             .collect();
         let mut out = vec![Rgb::ZERO; ctxs.len()];
         // The features read off the samples' paths (empty if none is wanted).
-        let mut read = Vec::new();
-        if wanted.contains(&true) {
-            read = vec![None; ctxs.len()];
-            estimator.sample_many_with_features(
-                scene,
-                &ctxs,
-                &mut samplers,
-                &mut stats,
-                &mut counters,
-                &mut out,
-                &mut read,
-            );
-        } else {
-            estimator.sample_many(
-                scene,
-                &ctxs,
-                &mut samplers,
-                &mut stats,
-                &mut counters,
-                &mut out,
-            );
-        }
+        let mut read = vec![
+            None;
+            if wanted.contains(&true) {
+                ctxs.len()
+            } else {
+                0
+            }
+        ];
+        estimator.sample_many(
+            scene,
+            &ctxs,
+            &mut samplers,
+            &mut stats,
+            &mut counters,
+            &mut out,
+            &mut read,
+        );
         let mut values = out.into_iter();
         let mut counts = counts.into_iter();
         let mut next = 0;
@@ -425,7 +408,7 @@ impl Pass<'_> {
             {
                 let n = counts.next().unwrap_or(0);
                 // The pixel's features: read off its paths, or feature samples of their own.
-                for i in (next..next + n as usize).filter(|&i| wanted[i]) {
+                for i in (next..next + n as usize).filter(|&i| wanted.get(i) == Some(&true)) {
                     let f = read[i].unwrap_or_else(|| feature_sample(scene, &ctxs[i], self.seed));
                     row.features[dx].add(&f);
                 }

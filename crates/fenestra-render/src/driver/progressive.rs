@@ -207,18 +207,6 @@ impl<E: PathEstimator> PassEstimator for Schedule<'_, E> {
         records: &mut LightRecords,
         rays: &mut RayCounters,
         out: &mut [Rgb],
-    ) {
-        self.sample_many_with_features(scene, ctxs, samplers, records, rays, out, &mut []);
-    }
-
-    fn sample_many_with_features(
-        &self,
-        scene: &RenderScene,
-        ctxs: &[SampleContext],
-        samplers: &mut [Sampler],
-        records: &mut LightRecords,
-        rays: &mut RayCounters,
-        out: &mut [Rgb],
         features: &mut [Option<Feature>],
     ) {
         Wave::of_cameras(scene, ctxs, samplers, records, rays, features, |wave| {

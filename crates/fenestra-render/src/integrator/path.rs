@@ -289,8 +289,9 @@ pub(crate) struct PathState<V> {
     gathered: bool,
     /// The densities of light paths' making the path, when they share its light.
     densities: CameraSide,
-    /// Whether the path has met only delta vertices since the camera: its denoising feature
-    /// is still to be read, at the next non-delta vertex or where it escapes.
+    /// Whether the path's denoising feature is asked for and still to be read (it has met
+    /// only delta vertices since the camera): at the next non-delta vertex or where it
+    /// escapes.
     feature_pending: bool,
     /// The path's denoising feature, once read.
     feature: Option<Feature>,
@@ -312,7 +313,7 @@ impl<V> PathState<V> {
             emitted: start.emitted,
             gathered: false,
             densities: CameraSide::default(),
-            feature_pending: start.segments == 0,
+            feature_pending: false,
             feature: None,
         }
     }
@@ -378,10 +379,14 @@ impl<N: NextEvent> PathTracer<N> {
         gather: &mut (impl Gather + ?Sized),
         out: &mut [Rgb],
     ) {
+        let features = !wave.features.is_empty();
         let mut paths: Vec<PathState<N::Vertex>> = wave
             .cameras
             .iter()
-            .map(|&ray| PathState::new(ray, &Start::CAMERA))
+            .map(|&ray| PathState {
+                feature_pending: features,
+                ..PathState::new(ray, &Start::CAMERA)
+            })
             .collect();
         let mut live: Vec<usize> = (0..paths.len()).collect();
         let mut queued = LightRays::default();
