@@ -444,6 +444,14 @@ pub fn read_exr_layer(path: &Path, name: &str, channels: [&str; 3]) -> Result<Im
         reason,
     };
     exr_fits(path).map_err(err)?;
+    // Every channel of every part is decoded, 4 bytes each a pixel: more than exr_fits asks
+    // of an RGB image.
+    let meta = exr::meta::MetaData::read_from_file(path, false).map_err(|e| err(e.to_string()))?;
+    let needed: u64 = (meta.headers.iter())
+        .map(|p| p.layer_size.area() as u64 * 4 * p.channels.list.len() as u64)
+        .sum();
+    crate::memory::ensure(needed, || "decoding its channels".into())
+        .map_err(|e| err(e.to_string()))?;
     let file =
         exr::prelude::read_all_flat_layers_from_file(path).map_err(|e| err(e.to_string()))?;
     let Some(part) = file.layer_data.first() else {
