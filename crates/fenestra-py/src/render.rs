@@ -130,7 +130,7 @@ impl Render {
 #[pyfunction]
 #[pyo3(signature = (scene, integrator=None, options="{}", *, spp=None, time=None, seed=0, threads=None,
     resolution=None, samples=None, crop=None, backend=None, progress=None, features=false,
-    denoise=None))]
+    denoise=false, denoise_mode=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn render(
     py: Python<'_>,
@@ -147,13 +147,13 @@ pub fn render(
     backend: Option<String>,
     progress: Option<Py<PyAny>>,
     features: bool,
-    denoise: Option<String>,
+    denoise: bool,
+    denoise_mode: Option<String>,
 ) -> PyResult<Render> {
     let backend = backend_named(backend.as_deref())?;
-    let denoise = denoise
-        .map(|m| m.parse::<DenoiseMode>())
-        .transpose()
+    let mode = DenoiseMode::named(denoise_mode.as_deref())
         .map_err(|e| error(anyhow::anyhow!("denoise: {e}")))?;
+    let denoise = denoise.then_some(mode);
     if denoise.is_some() {
         denoising::check().map_err(|e| error(e.into()))?;
     }
@@ -202,20 +202,18 @@ pub fn render(
 }
 
 /// `color` (float32 RGB bytes of a `size` image) denoised by OIDN's RT filter as `mode`
-/// says, guided by `albedo` and `normal` (both, or neither) of the same size.
+/// says (default: the command line's), guided by `albedo` and `normal` (both, or neither) of the same size.
 #[pyfunction]
-#[pyo3(signature = (color, size, albedo=None, normal=None, mode="accurate"))]
+#[pyo3(signature = (color, size, albedo=None, normal=None, mode=None))]
 pub fn denoise<'py>(
     py: Python<'py>,
     color: &[u8],
     size: (usize, usize),
     albedo: Option<&[u8]>,
     normal: Option<&[u8]>,
-    mode: &str,
+    mode: Option<&str>,
 ) -> PyResult<Bound<'py, PyBytes>> {
-    let mode = mode
-        .parse::<DenoiseMode>()
-        .map_err(|e| error(anyhow::anyhow!("mode: {e}")))?;
+    let mode = DenoiseMode::named(mode).map_err(|e| error(anyhow::anyhow!("mode: {e}")))?;
     let color = pixels::image(color, size).map_err(error)?;
     let guides = match (albedo, normal) {
         (Some(a), Some(n)) => Some((

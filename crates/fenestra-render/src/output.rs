@@ -81,14 +81,26 @@ pub enum FeatureLayout {
     Files,
 }
 
+impl FeatureLayout {
+    /// Its name: `layers` or `files`.
+    pub fn name(self) -> &'static str {
+        match self {
+            FeatureLayout::Layers => "layers",
+            FeatureLayout::Files => "files",
+        }
+    }
+}
+
 impl std::str::FromStr for FeatureLayout {
     type Err = String;
 
     fn from_str(s: &str) -> Result<Self, Self::Err> {
-        match s {
-            "layers" => Ok(FeatureLayout::Layers),
-            "files" => Ok(FeatureLayout::Files),
-            _ => Err(format!(
+        match [FeatureLayout::Layers, FeatureLayout::Files]
+            .into_iter()
+            .find(|l| l.name() == s)
+        {
+            Some(layout) => Ok(layout),
+            None => Err(format!(
                 "'{s}': layers (the EXR's own layers) or files (OUT.albedo.exr, OUT.normal.exr)"
             )),
         }

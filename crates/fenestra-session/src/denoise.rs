@@ -40,6 +40,13 @@ impl DenoiseMode {
     }
 }
 
+impl DenoiseMode {
+    /// The mode `name` names, or the default (`None`).
+    pub fn named(name: Option<&str>) -> Result<Self, String> {
+        name.map_or(Ok(DenoiseMode::default()), str::parse)
+    }
+}
+
 impl std::str::FromStr for DenoiseMode {
     type Err = String;
 

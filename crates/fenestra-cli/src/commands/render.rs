@@ -107,7 +107,7 @@ pub struct RenderArgs {
     /// the EXR's layers `albedo` (R, G, B) and `normal` (X, Y, Z)) or files (OUT.albedo.exr
     /// and OUT.normal.exr beside a plain OUT.exr, for tools that read one image a file).
     /// --denoise takes them too (as layers unless told).
-    #[arg(long, value_name = "WHERE", num_args = 0..=1, default_missing_value = "layers")]
+    #[arg(long, value_name = "WHERE", num_args = 0..=1, default_missing_value = FeatureLayout::default().name())]
     features: Option<FeatureLayout>,
     #[command(flatten)]
     denoise: DenoiseArgs,

@@ -14,7 +14,7 @@ pub struct DenoiseArgs {
     /// render takes beside its samples (and writes as the EXR's layers `albedo` and
     /// `normal`). MODE: accurate (default; the features prefiltered first, as Cycles does)
     /// or fast. The sidecar's "denoiser" says what ran. OIDN is installed by scripts/setup.
-    #[arg(long, value_name = "MODE", num_args = 0..=1, default_missing_value = "accurate")]
+    #[arg(long, value_name = "MODE", num_args = 0..=1, default_missing_value = DenoiseMode::default().name())]
     pub denoise: Option<DenoiseMode>,
 }
 

@@ -115,8 +115,8 @@ def render(
     "embree" or "obvhs". progress: True for a tqdm bar (if tqdm is installed), False for
     none, or a callable progress(stage, done, total, notes). options: a dict of option keys
     ("sdrc.a") to values; every other keyword is an integrator option by its keyword.
-    features: take the denoising features (image.albedo, image.normal). denoise: True (or
-    "accurate", or "fast") to denoise with Intel Open Image Denoise as `--denoise` does
+    features: take the denoising features (image.albedo, image.normal). denoise: True (the
+    command line's mode, accurate), or a mode ("accurate", "fast") to denoise with Intel Open Image Denoise as `--denoise` does
     (features taken): image.denoised() is then the result, and image.write writes it too.
 
     The interpreter is released while the render runs. Ctrl-C (KeyboardInterrupt) stops it
@@ -146,7 +146,8 @@ def render(
             backend=backend,
             progress=report,
             features=bool(features),
-            denoise=_denoise_mode(denoise),
+            denoise=bool(denoise),
+            denoise_mode=_denoise_mode(denoise),
         )
     image = Image._of_render(native)
     if image.interrupted:
@@ -160,13 +161,12 @@ def render(
 
 
 def _denoise_mode(denoise):
-    if denoise is False or denoise is None:
-        return None
-    if denoise is True:
-        return "accurate"
-    if denoise in ("accurate", "fast"):
+    """The mode `render`'s denoise names (None: the default's, or no denoise)."""
+    if isinstance(denoise, str):
         return denoise
-    raise FenestraError(f"denoise must be True, False, 'accurate' or 'fast', got {denoise!r}")
+    if denoise in (True, False, None):
+        return None
+    raise FenestraError(f"denoise must be True, False or a mode's name, got {denoise!r}")
 
 
 def merge(parts, total=None):

@@ -20,10 +20,11 @@ def _bytes(array):
     return a.tobytes(), (a.shape[1], a.shape[0])
 
 
-def denoise(array, albedo=None, normal=None, mode="accurate"):
+def denoise(array, albedo=None, normal=None, mode=None):
     """`array` (float32 (height, width, 3), linear HDR) denoised by Intel Open Image Denoise's
     RT filter, guided by `albedo` and `normal` (both or neither, of the same shape): "accurate"
-    denoises the guides first (Cycles' default), "fast" uses them as they are. Returns a new
+    (the default, as the command line's) denoises the guides first (Cycles' default), "fast"
+    uses them as they are. Returns a new
     array. OIDN comes with scripts/setup (or FENESTRA_OIDN names its folder)."""
     data, size = _bytes(array)
     guides = [None, None]
@@ -77,12 +78,12 @@ class Image:
     def denoised(self, mode=None):
         """The image denoised by Intel Open Image Denoise, guided by its features if it has
         them: the render's own result if it was rendered with `denoise` (and `mode` is None or
-        its mode), otherwise denoised now ("accurate" unless `mode` says "fast")."""
+        its mode), otherwise denoised now (in `mode`, by default the command line's)."""
         done = (self.stats.get("denoiser") or {}).get("mode")
         if self._native is not None and done is not None and mode in (None, done):
             width, height = self._native.size
             return _array(self._native.denoised(), width, height)
-        return denoise(self.array, self.albedo, self.normal, mode or "accurate")
+        return denoise(self.array, self.albedo, self.normal, mode)
 
     @classmethod
     def _of_file(cls, path):

@@ -65,5 +65,7 @@ def test_denoise_takes_arrays_and_refuses_what_does_not_fit():
         fe.denoise(noisy, albedo=np.ones((4, 4, 3), np.float32), normal=np.ones((4, 4, 3), np.float32))
     with pytest.raises(fe.FenestraError, match="unknown denoise mode"):
         fe.denoise(noisy, mode="best")
-    with pytest.raises(fe.FenestraError, match="denoise must be"):
+    with pytest.raises(fe.FenestraError, match="unknown denoise mode"):
         fe.render("builtin:box-hole", spp=1, resolution=(8, 8), denoise="best", progress=False)
+    with pytest.raises(fe.FenestraError, match="denoise must be"):
+        fe.render("builtin:box-hole", spp=1, resolution=(8, 8), denoise=2, progress=False)
