@@ -31,6 +31,7 @@ pub mod ransac;
 pub mod rectangle;
 pub mod snap;
 pub mod source;
+pub mod trial;
 pub mod window;
 
 pub use error::PortalError;

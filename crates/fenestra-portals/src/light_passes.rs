@@ -7,6 +7,7 @@
 use crate::emission::Tally;
 use crate::light_paths::{Joined, LightTracer, SunPaths};
 use crate::lp_hf::PortalNextEvent;
+use fenestra_core::rng::Rng;
 use fenestra_core::stats::{RayCounters, RenderStats};
 use fenestra_core::{Rgb, Sampler};
 use fenestra_render::driver::{
@@ -34,6 +35,9 @@ const PILOT_CHUNK: u32 = 512;
 pub(crate) struct LightBlock {
     records: LightRecords,
     splats: Splats,
+    /// The light paths' [`Splats::handed_moment`] of the splats taken, and their rays.
+    handed_moment: f64,
+    light_rays: RayCounters,
 }
 
 /// Passes of camera samples that trace light paths.
@@ -47,6 +51,9 @@ pub(crate) struct LightPasses<'a> {
     budget: Budget,
     size: u32,
     current: u32,
+    /// Over the passes rendered: the light paths' [`Splats::handed_moment`] and their rays.
+    pub handed_moment: f64,
+    pub light_rays: RayCounters,
 }
 
 impl<'a> LightPasses<'a> {
@@ -66,20 +73,22 @@ impl<'a> LightPasses<'a> {
             budget: Budget::new(0, None),
             size: 1,
             current: 0,
+            handed_moment: 0.0,
+            light_rays: RayCounters::default(),
         }
     }
 
     /// Renders the passes into `film` within `settings`' samples or time; the statistics
     /// count the light paths.
     pub fn render(
-        mut self,
+        &mut self,
         scene: &RenderScene,
         film: &mut Film,
         settings: &RenderSettings,
         control: &RenderControl,
     ) -> RenderStats {
         self.budget = Budget::new(settings.spp, settings.time_limit);
-        let mut stats = render_passes(&mut self, scene, film, settings, control);
+        let mut stats = render_passes(self, scene, film, settings, control);
         stats.max_depth = Some(self.options.max_depth);
         if let Some(pt) = self.camera {
             pt.next_event().report(&mut stats);
@@ -88,6 +97,11 @@ impl<'a> LightPasses<'a> {
         stats.extra.insert("light_paths".into(), light_paths);
         if let Some(share) = film.light_path_share() {
             stats.extra.insert("light_path_share".into(), share);
+        }
+        if let Some(share) = film.light_path_variance_share() {
+            stats
+                .extra
+                .insert("light_path_variance_share".into(), share);
         }
         stats
     }
@@ -169,24 +183,30 @@ impl<'a> LightPasses<'a> {
     }
 
     /// The light paths of camera sample `ctx`, from `sampler`'s stream: the sample's share,
-    /// floor((i + 1) k) - floor(i k) for its index i and k per sample, so that every pixel's
-    /// first n samples trace floor(n k).
+    /// floor((i + 1) k + u) - floor(i k + u) for its index i, k per sample and an offset u
+    /// in [0, 1) of its pixel's own, so that a pixel's first n samples trace floor(n k + u)
+    /// - floor(u), k per sample on average however few they are (without u, a render of
+    /// fewer than 1 / k samples per pixel would trace none, and lose the light MIS hands to
+    /// them). Their rays count in `rays` and the block's.
     fn trace_light_paths(
         &self,
         scene: &RenderScene,
         ctx: &SampleContext,
         sampler: &mut Sampler,
-        splats: &mut Splats,
+        block: &mut LightBlock,
         rays: &mut RayCounters,
     ) {
-        let k = f64::from(self.per_sample);
-        let i = f64::from(ctx.index);
-        let count = ((i + 1.0) * k).floor() - (i * k).floor();
+        let (k, i) = (f64::from(self.per_sample), f64::from(ctx.index));
+        let u = Rng::new(ctx.pixel()).next_f64();
+        let count = ((i + 1.0) * k + u).floor() - (i * k + u).floor();
+        let mut light_rays = RayCounters::default();
         self.with_tracer(scene, ctx, |tracer| {
             for _ in 0..count as u32 {
-                tracer.trace(ctx, sampler, splats, rays);
+                tracer.trace(ctx, sampler, &mut block.splats, &mut light_rays);
             }
         });
+        *rays += light_rays;
+        block.light_rays += light_rays;
     }
 }
 
@@ -206,6 +226,8 @@ impl PassEstimator for LightPasses<'_> {
         LightBlock {
             records: LightRecords::off(),
             splats: Splats::default(),
+            handed_moment: 0.0,
+            light_rays: RayCounters::default(),
         }
     }
 
@@ -236,7 +258,7 @@ impl PassEstimator for LightPasses<'_> {
             }
             None => Rgb::ZERO,
         };
-        self.trace_light_paths(scene, ctx, sampler, &mut block.splats, rays);
+        self.trace_light_paths(scene, ctx, sampler, block, rays);
         l
     }
 
@@ -261,15 +283,21 @@ impl PassEstimator for LightPasses<'_> {
             out.fill(Rgb::ZERO);
         }
         for (ctx, sampler) in ctxs.iter().zip(samplers.iter_mut()) {
-            self.trace_light_paths(scene, ctx, sampler, &mut block.splats, rays);
+            self.trace_light_paths(scene, ctx, sampler, block, rays);
         }
     }
 
     fn take_splats(&self, block: &mut LightBlock) -> Option<Splats> {
-        Some(std::mem::take(&mut block.splats))
+        let splats = std::mem::take(&mut block.splats);
+        block.handed_moment += splats.handed_moment;
+        Some(splats)
     }
 
-    fn end_pass(&mut self, _: &RenderScene, _: &Film, _: Vec<LightBlock>) -> bool {
+    fn end_pass(&mut self, _: &RenderScene, _: &Film, blocks: Vec<LightBlock>) -> bool {
+        for block in blocks {
+            self.handed_moment += block.handed_moment;
+            self.light_rays += block.light_rays;
+        }
         self.budget.done += self.current;
         self.size = next_pass_size(self.size);
         true

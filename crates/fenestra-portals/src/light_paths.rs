@@ -555,10 +555,20 @@ impl LightTracer<'_> {
             Some((mis, Some(r))) => mis.weight(r / (q * g), 1.0),
             _ => 1.0,
         };
+        // What the splat of weight `w` and density ratio `r` adds to the second moment of
+        // the camera paths' share handed to light paths (see [`Splats::handed_moment`]).
+        let per_pass = f64::from(self.suns.per_sample) * f64::from(self.width * self.height);
+        let handed = |s: Rgb, r: f32| {
+            let squares = f64::from(s.r * s.r + s.g * s.g + s.b * s.b) / 3.0;
+            squares * f64::from(r) / per_pass
+        };
         let filter = &self.camera.filter;
         if filter.is_pixel_box() {
             let (x, y) = (seen.film.x as u32, seen.film.y as u32);
             let value = value * weight(1.0);
+            if let Some((_, Some(r))) = ratio {
+                splats.handed_moment += handed(value, r / g);
+            }
             splats.add(x.min(self.width - 1), y.min(self.height - 1), value);
             return;
         }
@@ -570,7 +580,11 @@ impl LightTracer<'_> {
                 let at = seen.film - Vec2::new(x as f32, y as f32);
                 let q = filter.density(at);
                 if q > 0.0 {
-                    splats.add(x, y, value * (q * weight(q)));
+                    let value = value * (q * weight(q));
+                    if let Some((_, Some(r))) = ratio {
+                        splats.handed_moment += handed(value, r / (q * g));
+                    }
+                    splats.add(x, y, value);
                 }
             }
         }

@@ -12,6 +12,7 @@
 use crate::light_passes::LightPasses;
 use crate::light_paths::{suns_through, SunPaths};
 use crate::lp_hf::PortalNextEvent;
+use crate::trial::{self, Trial};
 use fenestra_core::stats::RenderStats;
 use fenestra_render::film::Film;
 use fenestra_render::integrator::{PathTracer, Split};
@@ -29,10 +30,14 @@ fenestra_render::options! {
         /// dining room and the glossy room, docs/interiors.md).
         pub per_sample: f32 = 0.25,
         /// Light paths of a pilot before rendering that learns where on the portals light
-        /// paths should start (0: uniformly over them; 32768 learned in 0.05-0.1 s, and the
+        /// paths should start (0: uniformly over them; 32768 learned in 0.04-0.08 s, and the
         /// learned emission measured 0.85-0.99x uniform's efficiency on the sunlit rooms of
         /// docs/interiors.md, whose glossy surfaces fill the sunlit patches).
         pub pilot: u32 = 0,
+        /// Camera samples of a trial before rendering, rendered without light paths and with
+        /// them, whose variance times rays decides whether light paths are traced (0: always;
+        /// 32768 took 0.06-0.21 s on the sunlit rooms of docs/interiors.md).
+        pub trial: u32 = 32768,
     }
 }
 
@@ -50,11 +55,18 @@ impl Validate for LightPathOptions {
                 format!("must lie in [0, {MAX_PILOT}], got {}", self.pilot),
             ));
         }
+        if self.trial > MAX_PILOT {
+            return Err(OptionError::new(
+                "trial",
+                format!("must lie in [0, {MAX_PILOT}], got {}", self.trial),
+            ));
+        }
         Ok(())
     }
 }
 
-/// The most light paths a pilot traces (a few seconds; it holds a record of each).
+/// The most light paths a pilot traces (a few seconds; it holds a record of each), and the
+/// most camera samples of a trial.
 const MAX_PILOT: u32 = 1 << 22;
 
 /// The lp_lt integrator: `camera`'s paths joined to the suns' light paths.
@@ -65,6 +77,8 @@ pub struct LpLt {
     suns: Option<Arc<SunPaths>>,
     /// [`SunPaths::sunlight_through_portals`], once measured.
     sunlight_through_portals: Option<f64>,
+    /// The trial that decided whether light paths pay, once run.
+    trial: Option<Trial>,
 }
 
 impl LpLt {
@@ -109,6 +123,25 @@ impl LpLt {
 const MIN_SUNLIGHT_THROUGH_PORTALS: f64 = 0.25;
 
 impl LpLt {
+    /// How many times as efficient the trial measured the render with light paths as
+    /// without them, once it ran.
+    pub fn trial_gain(&self) -> Option<f64> {
+        self.trial.map(|t| t.gain())
+    }
+
+    /// Runs the trial of light paths (`camera` joined to `suns`), or `None` when cancelled.
+    fn try_light_paths(
+        &self,
+        scene: &RenderScene,
+        suns: &SunPaths,
+        control: &RenderControl,
+    ) -> Option<Trial> {
+        let size = trial::size(control.image_size, self.options.trial);
+        let (camera, options) = (Some(&self.camera), self.camera.options());
+        let passes = LightPasses::new(camera, suns, options, self.options.per_sample);
+        trial::measure(passes, scene, size, control)
+    }
+
     /// lp_hf's path tracer `camera` joined to light paths as `options` says.
     pub fn new(
         camera: PathTracer<PortalNextEvent>,
@@ -120,6 +153,7 @@ impl LpLt {
             options,
             suns: None,
             sunlight_through_portals: None,
+            trial: None,
         })
     }
 }
@@ -138,6 +172,7 @@ impl Integrator for LpLt {
                 serde_json::json!({
                     "per_sample": self.options.per_sample,
                     "pilot": self.options.pilot,
+                    "trial": self.options.trial,
                     "suns": traced,
                 }),
             );
@@ -179,7 +214,31 @@ impl Integrator for LpLt {
             }
         }
         let suns = Arc::new(suns);
-        self.camera.join_light_paths(suns.clone());
+        self.camera.join_light_paths(Some(suns.clone()));
+        if self.options.trial > 0 {
+            let Some(trial) = self.try_light_paths(scene, &suns, control) else {
+                self.camera.join_light_paths(None); // cancelled: the render stops at once
+                return Ok(());
+            };
+            self.trial = Some(trial);
+            let (gain, rays) = (
+                trial.gain(),
+                trial.with.rays as f64 / trial.without.rays as f64,
+            );
+            let measured = format!(
+                "light paths: a trial of {} camera samples measured {gain:.2}x the efficiency \
+                 without them ({rays:.2}x the rays)",
+                self.options.trial
+            );
+            if !(gain > 1.0) {
+                self.camera.join_light_paths(None);
+                control.progress.note(&format!(
+                    "{measured}; lp_lt renders as lp_hf (--light-paths-trial 0 traces them)"
+                ));
+                return Ok(());
+            }
+            control.progress.note(&measured);
+        }
         self.suns = Some(suns);
         Ok(())
     }
@@ -203,23 +262,34 @@ impl Integrator for LpLt {
             Some(suns) => {
                 let (options, per_sample) = (self.camera.options(), self.options.per_sample);
                 let camera = Some(&self.camera);
-                let uniform = LightPasses::new(camera, suns, options, per_sample);
-                let Some((learned, mut pilot)) = self.learn(scene, film, settings, &uniform) else {
-                    return uniform.render(scene, film, settings, control);
-                };
-                control.progress.note(&format!(
-                    "light paths: where they start learned from {} pilot paths ({} brought light)",
-                    self.options.pilot, pilot.extra["emission_contributing"]
-                ));
-                let passes = LightPasses::new(camera, &learned, options, per_sample);
-                let mut stats = passes.render(scene, film, settings, control);
-                stats.rays += pilot.rays;
-                stats.extra.append(&mut pilot.extra);
-                stats
+                let mut uniform = LightPasses::new(camera, suns, options, per_sample);
+                match self.learn(scene, film, settings, &uniform) {
+                    None => uniform.render(scene, film, settings, control),
+                    Some((learned, mut pilot)) => {
+                        control.progress.note(&format!(
+                            "light paths: where they start learned from {} pilot paths ({} \
+                             brought light)",
+                            self.options.pilot, pilot.extra["emission_contributing"]
+                        ));
+                        let mut passes = LightPasses::new(camera, &learned, options, per_sample);
+                        let mut stats = passes.render(scene, film, settings, control);
+                        stats.rays += pilot.rays;
+                        stats.extra.append(&mut pilot.extra);
+                        stats
+                    }
+                }
             }
         };
         if let Some(share) = self.sunlight_through_portals {
             stats.extra.insert("sunlight_through_portals".into(), share);
+        }
+        if let Some(trial) = self.trial {
+            stats
+                .extra
+                .insert("light_paths_trial_gain".into(), trial.gain());
+            stats
+                .extra
+                .insert("light_paths_trial_s".into(), trial.seconds);
         }
         stats
     }

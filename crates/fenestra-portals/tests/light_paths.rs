@@ -154,7 +154,13 @@ fn lp_lt_piloted(depth: u32, per_sample: f32, pilot: u32) -> LpLt {
     };
     let lights = LightNextEvent::new(LightSelection::Power);
     let camera = lp_hf(path(depth), portals, window(), lights).expect("lp_hf");
-    LpLt::new(camera, LightPathOptions { per_sample, pilot }).expect("lp_lt")
+    let trial = 0; // light paths always: what they render is under test
+    let options = LightPathOptions {
+        per_sample,
+        pilot,
+        trial,
+    };
+    LpLt::new(camera, options).expect("lp_lt")
 }
 
 /// At path length 5 the ceiling's light comes by glints that af_hf finds rarely (its
@@ -257,4 +263,57 @@ fn light_paths_need_portals_and_a_sun() {
     // The box's hole is, but a panel lights it, not a sun.
     let box_hole = builtin::load("box-hole").expect("builtin");
     assert!(error(box_hole).contains("no sun"), "a sun is asked for");
+}
+
+/// lp_lt with its trial (the default options) through the window, without the sky.
+fn lp_lt_tried(depth: u32) -> LpLt {
+    let portals = PortalOptions {
+        keep: true,
+        ..PortalOptions::default()
+    };
+    let lights = LightNextEvent::new(LightSelection::Power);
+    let camera = lp_hf(path(depth), portals, window(), lights).expect("lp_lt");
+    LpLt::new(camera, LightPathOptions::default()).expect("lp_lt")
+}
+
+/// The trial traces light paths where the sun's glints off the Ward floor and the metals
+/// light the room, and none where every surface is diffuse: there next-event estimation
+/// samples the sunlit patches' bounce well already, and light paths only cost rays.
+#[test]
+fn the_trial_traces_light_paths_only_where_they_pay() {
+    let diffuse = || {
+        let mut desc = sunlit_room();
+        for m in &mut desc.materials {
+            *m = fenestra_scene::Material::diffuse(0.6);
+        }
+        desc
+    };
+    let gain = |desc: SceneDesc| {
+        let mut lp = lp_lt_tried(8);
+        let film = render_in(desc, 48, &mut lp, 1, 2);
+        let gain = lp.trial_gain().expect("a trial ran");
+        (gain, film.light_paths)
+    };
+    let (glossy, traced) = gain(sunlit_room());
+    assert!(glossy > 1.1 && traced > 0, "glossy: {glossy:.3}x, {traced}");
+    let (diffuse, traced) = gain(diffuse());
+    assert!(
+        diffuse < 1.0 && traced == 0,
+        "diffuse: {diffuse:.3}x, {traced}"
+    );
+}
+
+/// Fewer samples per pixel than 1 / k still trace k light paths per sample on average (a
+/// pixel's own offset spreads them), so a 1-spp preview keeps the light MIS hands to them.
+#[test]
+fn renders_of_few_samples_trace_their_share_of_light_paths() {
+    for (spp, per_sample) in [(1, 0.25), (3, 0.25), (1, 0.1)] {
+        let film = render(&mut lp_lt(4, per_sample), spp, 2);
+        let expected = f64::from(SIZE * SIZE * spp) * f64::from(per_sample);
+        let traced = film.light_paths as f64;
+        assert!(
+            (traced - expected).abs() < 4.0 * expected.sqrt(),
+            "{spp} spp, {per_sample} per sample: {traced} light paths, {expected} expected"
+        );
+    }
 }

@@ -45,6 +45,9 @@ pub struct RenderControl<'a> {
     /// The render's time budget in seconds on this control's clock, preparation included
     /// (set from the render's settings when it starts): a preparation keeps to a share of it.
     pub time_limit: Option<f64>,
+    /// The whole image's width and height in pixels (set from the film when the render
+    /// starts): a preparation that looks through the camera takes the image's aspect.
+    pub image_size: Option<(u32, u32)>,
     pub(crate) started: Instant,
 }
 
@@ -68,6 +71,7 @@ impl<'a> RenderControl<'a> {
             on_pass: None,
             on_progress: None,
             time_limit: None,
+            image_size: None,
             started: Instant::now(),
         }
     }

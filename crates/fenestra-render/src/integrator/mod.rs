@@ -136,6 +136,7 @@ pub fn render(
 ) -> Result<RenderStats, IntegratorError> {
     let control = &RenderControl {
         time_limit: settings.time_limit,
+        image_size: Some((film.window.full_width, film.window.full_height)),
         ..*control
     };
     let before = control.elapsed();

@@ -102,9 +102,10 @@ impl<N: NextEvent> PathTracer<N> {
     }
 
     /// Weighs the next-event samples of the lights `light_paths` start at by MIS against
-    /// them (the path tracer's part of a combination with light tracing).
-    pub fn join_light_paths(&mut self, light_paths: Arc<dyn LightPaths>) {
-        self.light_paths = Some(light_paths);
+    /// them (the path tracer's part of a combination with light tracing); `None` parts the
+    /// path tracer from them again.
+    pub fn join_light_paths(&mut self, light_paths: Option<Arc<dyn LightPaths>>) {
+        self.light_paths = light_paths;
     }
 
     /// The path options.
