@@ -49,6 +49,13 @@ pub struct ConvergencePoint {
     pub mse: f64,
     /// Relative mean squared error against the reference.
     pub rel_mse: f64,
+    /// The share of the image's light that light paths brought, for renders that trace
+    /// them.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub light_path_share: Option<f64>,
+    /// The share of the image's variance that the light paths' estimates hold.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub light_path_variance_share: Option<f64>,
 }
 
 /// Everything a render reports: what was rendered, how long it took, what it traced.

@@ -65,6 +65,12 @@ impl Render {
         Ok(Some((bytes(py, &albedo)?, bytes(py, &normal)?)))
     }
 
+    /// What light paths brought each pixel, if the render traced any.
+    fn light_paths<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyBytes>>> {
+        let light = self.film.light_path_images().map(|(light, _)| light);
+        light.map(|l| bytes(py, &l)).transpose()
+    }
+
     /// The image denoised, if the render was asked to be.
     fn denoised<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyBytes>>> {
         self.denoised.as_ref().map(|d| bytes(py, d)).transpose()

@@ -304,7 +304,7 @@ impl Film {
     /// the mean over every light path of what it brought to the pixel (most bring nothing).
     /// A path that splats into one pixel twice counts as two paths' worth in the variance,
     /// which a path's few vertices seldom do.
-    fn splat_estimate(&self, i: usize) -> ([f64; 3], [f64; 3]) {
+    pub fn splat_estimate(&self, i: usize) -> ([f64; 3], [f64; 3]) {
         let (Some(p), n) = (self.splats.get(i), self.light_paths as f64) else {
             return ([0.0; 3], [0.0; 3]);
         };
@@ -326,17 +326,47 @@ impl Film {
     /// The share of the image's light (its luminance summed over the pixels) that light
     /// paths brought, or `None` when none were traced or the image is black.
     pub fn light_path_share(&self) -> Option<f64> {
+        self.light_path_part(Pixel::mean, 0)
+    }
+
+    /// The share of the image's variance (the luminance of each pixel's variance of the
+    /// mean, summed over the pixels) that the light paths' estimates hold, or `None` when
+    /// none were traced or nothing varies.
+    pub fn light_path_variance_share(&self) -> Option<f64> {
+        self.light_path_part(Pixel::variance_of_mean, 1)
+    }
+
+    /// The light paths' part of the camera samples' figure `camera` plus light tracing's
+    /// (`splat` picks the estimate or its variance), by luminance summed over the pixels.
+    fn light_path_part(&self, camera: impl Fn(&Pixel) -> [f64; 3], splat: usize) -> Option<f64> {
         if self.light_paths == 0 {
             return None;
         }
-        let luminance = |v: [f64; 3]| Rgb::new(v[0] as f32, v[1] as f32, v[2] as f32).luminance();
+        let luminance = |v: [f64; 3]| f64::from(rgb(v).luminance());
         let (mut splatted, mut all) = (0.0f64, 0.0f64);
         for (i, p) in self.pixels.iter().enumerate() {
-            let s = f64::from(luminance(self.splat_estimate(i).0));
+            let e = self.splat_estimate(i);
+            let s = luminance([e.0, e.1][splat]);
             splatted += s;
-            all += s + f64::from(luminance(p.mean()));
+            all += s + luminance(camera(p));
         }
         (all > 0.0).then(|| splatted / all)
+    }
+
+    /// What the light paths brought each pixel and the variance of that estimate, as
+    /// images, or `None` when none were traced.
+    pub fn light_path_images(&self) -> Option<(Image, Image)> {
+        if self.light_paths == 0 {
+            return None;
+        }
+        let (w, h) = (self.width as usize, self.height as usize);
+        let (mut light, mut variance) = (Image::new(w, h), Image::new(w, h));
+        for i in 0..self.pixels.len() {
+            let (m, v) = self.splat_estimate(i);
+            light.pixels[i] = rgb(m);
+            variance.pixels[i] = rgb(v);
+        }
+        Some((light, variance))
     }
 
     /// Per pixel, the camera samples' figure `f` plus light tracing's (`splat` picks the
@@ -350,7 +380,7 @@ impl Film {
                 let s = [s.0, s.1][splat];
                 v = std::array::from_fn(|c| v[c] + s[c]);
             }
-            *dst = Rgb::new(v[0] as f32, v[1] as f32, v[2] as f32);
+            *dst = rgb(v);
         }
         img
     }
@@ -380,6 +410,11 @@ impl Film {
         let max = self.pixels.iter().map(|p| p.count).max().unwrap_or(0);
         (min, max)
     }
+}
+
+/// A colour of f64 channels as f32.
+fn rgb(v: [f64; 3]) -> Rgb {
+    Rgb::new(v[0] as f32, v[1] as f32, v[2] as f32)
 }
 
 #[cfg(test)]
@@ -490,6 +525,14 @@ mod tests {
             "{share}"
         );
         assert_eq!(Film::new(2, 2).light_path_share(), None);
+        // Their own image and its variance: the splats' part alone.
+        let (light, variance) = film.light_path_images().expect("light paths");
+        assert_eq!(light.pixels[0], Rgb::new(2.0, 0.0, 1.0));
+        assert!(light.pixels[1..].iter().all(|p| *p == Rgb::ZERO));
+        assert_eq!(variance.pixels[0].r as f64, v as f64);
+        // The camera's single sample has no variance: all of it is the light paths'.
+        assert_eq!(film.light_path_variance_share(), Some(1.0));
+        assert!(Film::new(2, 2).light_path_images().is_none());
     }
 
     #[test]

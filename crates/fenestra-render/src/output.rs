@@ -69,6 +69,13 @@ pub fn variance_path(exr_path: &Path) -> PathBuf {
     exr_path.with_extension("var.exr")
 }
 
+/// What light paths brought, written beside OUT.exr with the variance image by renders that
+/// trace them: OUT.light-paths.exr (its variance of the mean as the layer `variance`) and
+/// its picture OUT.light-paths.png.
+pub fn light_paths_path(exr_path: &Path) -> PathBuf {
+    exr_path.with_extension("light-paths.exr")
+}
+
 /// Where a render's denoising features go.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum FeatureLayout {
@@ -122,7 +129,8 @@ pub struct Extras<'a> {
     pub features: FeatureLayout,
     /// The PNG's exposure in stops (`None`: automatic).
     pub exposure: Option<f32>,
-    /// OUT.var.exr, the per-pixel variance of the mean.
+    /// OUT.var.exr, the per-pixel variance of the mean (and, where light paths were
+    /// traced, OUT.light-paths.exr and .png).
     pub variance: bool,
     /// OUT.film, the film's exact accumulators, with this header.
     pub state: Option<&'a FilmHeader>,
@@ -161,11 +169,26 @@ pub fn write_render(
         set.stage(&a, |tmp| albedo.write_exr_to(tmp, &metadata))?;
         set.stage(&n, |tmp| normal.write_exr_to(tmp, &metadata))?;
     }
+    // At the image's exposure, so that the pictures beside it compare.
+    let exposure = (extras.exposure).unwrap_or(image.auto_exposure_scale().log2());
     if extras.variance {
         let var = film.variance_image();
         set.stage(&variance_path(exr_path), |tmp| {
             var.write_exr_to(tmp, &metadata)
         })?;
+        if let Some((light, variance)) = film.light_path_images() {
+            let exr = light_paths_path(exr_path);
+            let layer = ExrLayer {
+                name: "variance",
+                channels: ["R", "G", "B"],
+                image: &variance,
+            };
+            set.stage(&exr, |tmp| {
+                light.write_exr_layers_to(tmp, &[layer], &metadata)
+            })?;
+            let png = exr.with_extension("png");
+            set.stage(&png, |tmp| light.write_png_to(tmp, Some(exposure)))?;
+        }
     }
     if let Some(header) = extras.state {
         set.stage(&film_state_path(exr_path), |tmp| {
@@ -177,14 +200,17 @@ pub fn write_render(
     if let Some(denoised) = extras.denoised {
         let exr = denoised_path(exr_path);
         set.stage(&exr, |tmp| denoised.write_exr_to(tmp, &metadata))?;
-        // At the raw picture's exposure, so that the two compare.
-        let exposure = extras
-            .exposure
-            .unwrap_or(image.auto_exposure_scale().log2());
         let png = exr.with_extension("png");
         set.stage(&png, |tmp| denoised.write_png_to(tmp, Some(exposure)))?;
     }
     let text = serde_json::to_string_pretty(stats).map_err(|e| WriteError::new(&json, e))?;
     set.stage(&json, |tmp| std::fs::write(tmp, text + "\n"))?;
-    Ok(set.commit()?)
+    set.commit()?;
+    if extras.variance && film.light_paths == 0 {
+        // An earlier render's light paths do not belong beside this one.
+        let exr = light_paths_path(exr_path);
+        let _ = std::fs::remove_file(exr.with_extension("png"));
+        let _ = std::fs::remove_file(exr);
+    }
+    Ok(())
 }

@@ -132,7 +132,7 @@ impl Files {
 /// Which of its optional files a render writes beside OUT.exr, OUT.png and OUT.json.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Beside {
-    /// OUT.var.exr.
+    /// OUT.var.exr (and OUT.light-paths.exr and .png, where light paths are traced).
     pub variance: bool,
     /// OUT.film.
     pub state: bool,
@@ -156,7 +156,11 @@ pub fn render_outputs<'a>(files: &'a mut Files, exr: &Path, beside: Beside) -> &
         .output(&png, "picture")
         .output(&json, "sidecar");
     if variance {
-        files.output(&output::variance_path(exr), "variance image");
+        let light_paths = output::light_paths_path(exr);
+        files
+            .output(&output::variance_path(exr), "variance image")
+            .output(&light_paths, "light paths' image")
+            .output(&light_paths.with_extension("png"), "light paths' picture");
     }
     if state {
         files.output(&output::film_state_path(exr), "film state");

@@ -78,7 +78,9 @@ pub struct RenderArgs {
     /// Stop once the relative MSE against --reference falls to this value.
     #[arg(long, requires = "reference")]
     target_rel_mse: Option<f64>,
-    /// Also write OUT.var.exr, the per-pixel variance of the mean.
+    /// Also write OUT.var.exr, the per-pixel variance of the mean; renders with light paths
+    /// (lp_lt, lt) also write OUT.light-paths.exr and .png, the light those brought (their
+    /// variance as the EXR's layer `variance`).
     #[arg(long)]
     variance: bool,
     /// Write the image so far (EXR, PNG, JSON with "snapshot" in its extra figures, and the
@@ -359,6 +361,8 @@ pub fn run(args: RenderArgs) -> Result<bool> {
                 time_s,
                 mse: m.mse,
                 rel_mse: m.rel_mse,
+                light_path_share: film.light_path_share(),
+                light_path_variance_share: film.light_path_variance_share(),
             });
         }
         args.target_rel_mse.is_none_or(|t| m.rel_mse > t)
@@ -500,11 +504,14 @@ impl Snapshots {
         }
         let (png, json) = output::companion_paths(&at);
         let denoised = output::denoised_path(&at);
+        let light_paths = output::light_paths_path(&at);
         let beside = [
             png,
             json,
             output::variance_path(&at),
             denoised.with_extension("png"),
+            light_paths.with_extension("png"),
+            light_paths,
         ];
         for f in [at.clone(), denoised].into_iter().chain(beside) {
             let _ = std::fs::remove_file(f);

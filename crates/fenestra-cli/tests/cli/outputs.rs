@@ -427,3 +427,82 @@ fn outputs_never_replace_inputs_or_each_other() {
         .count();
     assert_eq!(leftovers, 0, "no temporary files left");
 }
+
+/// A render with light paths says what they carried: their own image beside the variance
+/// image (its variance a layer), their shares of the light and the variance in the sidecar
+/// and along the convergence curve; a later render without light paths leaves no stale
+/// image of theirs beside its own.
+#[test]
+fn light_paths_show_what_they_carried() {
+    let window = tmp("lp-window.json");
+    let o = fenestra(
+        &[
+            "portals",
+            "builtin:glossy-room",
+            "--time",
+            "0",
+            "--quiet",
+            "-o",
+        ]
+        .iter()
+        .copied()
+        .chain([window.to_str().expect("utf-8")])
+        .collect::<Vec<_>>(),
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let (reference, out) = (tmp("lp-ref.exr"), tmp("lp.exr"));
+    let run = |out: &Path, extra: &[&str]| {
+        let mut args = vec![
+            "render",
+            "builtin:glossy-room",
+            "--resolution",
+            "32x18",
+            "--quiet",
+        ];
+        args.extend_from_slice(extra);
+        args.extend(["-o", out.to_str().expect("utf-8")]);
+        let o = fenestra(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    };
+    run(&reference, &["--spp", "16", "--seed", "3"]);
+    let lp_lt = [
+        "--integrator",
+        "lp_lt",
+        "--portals",
+        window.to_str().expect("utf-8"),
+        "--light-paths-trial",
+        "0",
+        "--spp",
+        "8",
+        "--variance",
+        "--reference",
+        reference.to_str().expect("utf-8"),
+    ];
+    run(&out, &lp_lt);
+    let light = out.with_extension("light-paths.exr");
+    let brought = Image::read(&light).expect("the light paths' image");
+    assert!(brought.mean().luminance() > 0.0);
+    let variance = fenestra_core::image::read_exr_layer(&light, "variance", ["R", "G", "B"])
+        .expect("their variance");
+    assert_eq!((variance.width, variance.height), (32, 18));
+    assert!(light.with_extension("png").exists());
+    let sidecar: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.with_extension("json")).expect("json"))
+            .expect("valid");
+    for share in ["light_path_share", "light_path_variance_share"] {
+        let v = sidecar["extra"][share].as_f64().expect(share);
+        assert!(v > 0.0 && v < 1.0, "{share}: {v}");
+        let last = &sidecar["convergence"]
+            .as_array()
+            .expect("a curve")
+            .last()
+            .cloned();
+        let along = last.as_ref().and_then(|p| p[share].as_f64()).expect(share);
+        assert!(
+            (along - v).abs() < 1e-9,
+            "{share}: {along} along the curve, {v} at the end"
+        );
+    }
+    run(&out, &["--spp", "2", "--variance"]);
+    assert!(!light.exists() && !light.with_extension("png").exists());
+}

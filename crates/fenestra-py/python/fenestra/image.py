@@ -96,6 +96,17 @@ class Image:
         return cls(_array(data, width, height), albedo=albedo, normal=normal)
 
     @property
+    def light_paths(self):
+        """What light paths brought each pixel (float32 (height, width, 3), the part of `array`
+        they carried), or None where the render traced none (and for an image read from a
+        file)."""
+        data = None if self._native is None else self._native.light_paths()
+        if data is None:
+            return None
+        width, height = self._native.size
+        return _array(data, width, height)
+
+    @property
     def interrupted(self):
         """Whether the render was stopped before it finished."""
         return bool(self.stats.get("interrupted", False))

@@ -51,3 +51,16 @@ def test_an_estimate_is_never_written_over_its_scene(tmp_path):
     assert scene.read_bytes() == before
     est.write(tmp_path / "new" / "portals.json")
     assert json.loads((tmp_path / "new" / "portals.json").read_text())["portals"] == est.portals
+
+
+def test_light_paths_show_what_they_brought(tmp_path):
+    est = fe.portals.estimate("builtin:glossy-room", progress=False)
+    est.write(tmp_path / "window.json")
+    args = dict(spp=8, resolution=(32, 18), progress=False, portals=str(tmp_path / "window.json"))
+    img = fe.render("builtin:glossy-room", "lp_lt", light_paths_trial=0, **args)
+    assert img.light_paths.shape == img.array.shape
+    assert 0 < img.light_paths.mean() < img.array.mean()
+    lum = np.array([0.2126, 0.7152, 0.0722])
+    share = (img.light_paths.astype(np.float64) @ lum).sum() / (img.array.astype(np.float64) @ lum).sum()
+    assert abs(img.stats["extra"]["light_path_share"] - share) < 1e-4 * share
+    assert fe.render("builtin:glossy-room", "lp_hf", **args).light_paths is None
