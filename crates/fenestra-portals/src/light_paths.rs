@@ -555,21 +555,23 @@ impl LightTracer<'_> {
             Some((mis, Some(r))) => mis.weight(r / (q * g), 1.0),
             _ => 1.0,
         };
-        // What the splat of weight `w` and density ratio `r` adds to the second moment of
-        // the camera paths' share handed to light paths (see [`Splats::handed_moment`]).
+        // What a splat s of weight w and density ratio r adds to the second moment of the
+        // camera paths' light that MIS shares with light paths (Splats::handed_moment).
         let per_pass = f64::from(self.suns.per_sample) * f64::from(self.width * self.height);
-        let handed = |s: Rgb, r: f32| {
-            let squares = f64::from(s.r * s.r + s.g * s.g + s.b * s.b) / 3.0;
-            squares * f64::from(r) / per_pass
+        let mut splat = |x: u32, y: u32, q: f32| {
+            let w = weight(q);
+            let s = value * (q * w);
+            if let (Some((_, Some(r))), true) = (ratio, w > 0.0) {
+                let squares = f64::from(s.r * s.r + s.g * s.g + s.b * s.b) / 3.0;
+                let ratio = f64::from(r / (q * g));
+                splats.handed_moment += squares * f64::from((2.0 - w) / w) * ratio / per_pass;
+            }
+            splats.add(x, y, s);
         };
         let filter = &self.camera.filter;
         if filter.is_pixel_box() {
             let (x, y) = (seen.film.x as u32, seen.film.y as u32);
-            let value = value * weight(1.0);
-            if let Some((_, Some(r))) = ratio {
-                splats.handed_moment += handed(value, r / g);
-            }
-            splats.add(x.min(self.width - 1), y.min(self.height - 1), value);
+            splat(x.min(self.width - 1), y.min(self.height - 1), 1.0);
             return;
         }
         let r = filter.radius();
@@ -577,14 +579,9 @@ impl LightTracer<'_> {
         let (y0, y1) = pixel_span(seen.film.y, r.y, self.height);
         for y in y0..y1 {
             for x in x0..x1 {
-                let at = seen.film - Vec2::new(x as f32, y as f32);
-                let q = filter.density(at);
+                let q = filter.density(seen.film - Vec2::new(x as f32, y as f32));
                 if q > 0.0 {
-                    let value = value * (q * weight(q));
-                    if let Some((_, Some(r))) = ratio {
-                        splats.handed_moment += handed(value, r / (q * g));
-                    }
-                    splats.add(x, y, value);
+                    splat(x, y, q);
                 }
             }
         }

@@ -6,8 +6,9 @@
 //! Veach 1997 §10.2), so the sun's glints thrown by glossy surfaces onto what the camera sees
 //! go to the light paths and its direct light stays with next-event estimation, by weight.
 //! Everything else (the sky through the portals, other lights, paths through mirrors and
-//! glass seen by the camera) is lp_hf's alone. Where on the portals the light paths start can
-//! be learned by a pilot before rendering ([`crate::emission`]).
+//! glass seen by the camera) is lp_hf's alone. Whether light paths pay is measured before
+//! rendering by a trial ([`crate::trial`]), and where on the portals they start can be
+//! learned by a pilot ([`crate::emission`]).
 
 use crate::light_passes::LightPasses;
 use crate::light_paths::{suns_through, SunPaths};
@@ -20,6 +21,7 @@ use fenestra_render::options::{OptionError, Options, Validate};
 use fenestra_render::settings::RenderSettings;
 use fenestra_render::{Integrator, IntegratorError, RenderControl, RenderScene};
 use std::sync::Arc;
+use std::time::Instant;
 
 fenestra_render::options! {
     /// Light paths from the suns through the portals, joined to the camera paths.
@@ -34,9 +36,10 @@ fenestra_render::options! {
         /// learned emission measured 0.85-0.99x uniform's efficiency on the sunlit rooms of
         /// docs/interiors.md, whose glossy surfaces fill the sunlit patches).
         pub pilot: u32 = 0,
-        /// Camera samples of a trial before rendering, rendered without light paths and with
-        /// them, whose variance times rays decides whether light paths are traced (0: always;
-        /// 32768 took 0.06-0.21 s on the sunlit rooms of docs/interiors.md).
+        /// Camera samples of a trial before rendering (a small image rendered with light
+        /// paths and without), whose variance times rays decides whether light paths are
+        /// traced (0: always; 32768 took 0.05-0.38 s on the sunlit rooms of
+        /// docs/interiors.md, and decided as rendering measured on all seven).
         pub trial: u32 = 32768,
     }
 }
@@ -129,17 +132,26 @@ impl LpLt {
         self.trial.map(|t| t.gain())
     }
 
-    /// Runs the trial of light paths (`camera` joined to `suns`), or `None` when cancelled.
+    /// Runs the trial of light paths (`camera` joined to `suns`, and again alone), or `None`
+    /// when cancelled; leaves the camera joined.
     fn try_light_paths(
-        &self,
+        &mut self,
         scene: &RenderScene,
-        suns: &SunPaths,
+        suns: &Arc<SunPaths>,
         control: &RenderControl,
     ) -> Option<Trial> {
-        let size = trial::size(control.image_size, self.options.trial);
-        let (camera, options) = (Some(&self.camera), self.camera.options());
-        let passes = LightPasses::new(camera, suns, options, self.options.per_sample);
-        trial::measure(passes, scene, size, control)
+        let (started, size) = (
+            Instant::now(),
+            trial::size(control.image_size, self.options.trial),
+        );
+        let per_sample = self.options.per_sample;
+        let passes = |camera| LightPasses::new(Some(camera), suns, camera.options(), per_sample);
+        let joined = trial::joined(passes(&self.camera), scene, size, control)?;
+        self.camera.join_light_paths(None);
+        let alone = LightPasses::new(Some(&self.camera), suns, self.camera.options(), 0.0);
+        let alone = trial::alone(alone, scene, size, control);
+        self.camera.join_light_paths(Some(suns.clone()));
+        Some(Trial::of(joined, alone?, started.elapsed().as_secs_f64()))
     }
 
     /// lp_hf's path tracer `camera` joined to light paths as `options` says.

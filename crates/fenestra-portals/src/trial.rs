@@ -1,27 +1,24 @@
 //! Whether light paths pay (issue 66 item 4), measured before rendering: a small image of
-//! the render's aspect is rendered through lp_lt's passes (camera paths joined to light
-//! paths, from a stream of its own), and scored by its variance summed over the pixels
-//! times the rays it traced, against the same figure for the camera paths alone, estimated
-//! from the same render. Rays, not seconds: the score is the same on every machine, thread
+//! the render's aspect is rendered through lp_lt's passes twice, from the same samples (a
+//! stream of their own), the camera paths joined to light paths and alone, and each scored
+//! by its variance summed over the pixels times the rays it traced. Rays, not seconds: the score is the same on every machine, thread
 //! count and part of a split render, so all of them decide alike.
 //!
-//! The camera paths alone are not rendered to measure them: where light paths pay, the
-//! camera paths' estimate of that light is heavy-tailed (a glint found once in 10^5
-//! samples), and its sample variance over a trial's samples is mostly far below its
-//! variance (the dining room's measured 0.92x, 21.9x and 1.07x the joined render's
-//! efficiency at 32768, 131072 and 524288 samples, where rendering measured 1.7x). Instead,
-//! per pixel, the variance of the camera paths alone is the joined camera paths' variance
-//! plus that of H, the light that MIS handed from them to the light paths, whose second
-//! moment the light paths estimate where they sample it well (`Splats::handed_moment`):
-//! E[H^2] = Integral f^2 w^2 / p_camera, taken over the light paths' samples as
-//! s^2 r / M per splat (s the weighted splat, r the ratio of the densities, M the light
-//! paths per pass). The covariance of H with the rest of the camera path's light is left
-//! out.
+//! The camera paths' variance alone has two estimates, and the trial takes the larger.
+//! Their own render's sample variance is mostly far below their variance where light paths
+//! pay most: their estimate of the glints is heavy-tailed (one found in 10^5 samples), and
+//! on the dining room it measured light paths at 0.92x, 21.9x and 1.07x at 32768, 131072
+//! and 524288 samples, where rendering measured 1.9x. The other is taken from the joined
+//! render: a vertex's contribution c that the camera paths keep at weight 1 - w adds
+//! c^2 w (2 - w) to their second moment when they carry all of it, and the light paths
+//! estimate its mean where they sample it well (`Splats::handed_moment`); it leaves out the
+//! covariances between the shared light and the camera path's light elsewhere, which on a
+//! diffuse room lit through its window (the sun's bounce off the sunlit floor) put it 15%
+//! low, where the render's own estimate is close.
 
 use crate::light_passes::LightPasses;
 use fenestra_render::film::Film;
 use fenestra_render::{NoProgress, RenderControl, RenderScene, RenderSettings};
-use std::time::Instant;
 
 /// Samples per pixel of the trial's image (its variance is measured per pixel).
 const SPP: u32 = 4;
@@ -86,19 +83,15 @@ pub(crate) fn size(image: Option<(u32, u32)>, samples: u32) -> ((u32, u32), u32)
     ((side(w), side(h)), SPP)
 }
 
-/// Renders `passes` (camera paths joined to light paths) at `size` and `spp` (cancelled
-/// with `control`, reporting nothing) and scores them with and without their light paths;
-/// `None` when cancelled.
-pub(crate) fn measure(
-    mut passes: LightPasses,
+/// Renders `passes` at `size` and `spp` from the trial's samples (cancelled with
+/// `control`, reporting nothing): the film and the rays traced, or `None` when cancelled.
+fn render(
+    passes: &mut LightPasses,
     scene: &RenderScene,
     ((width, height), spp): ((u32, u32), u32),
     control: &RenderControl,
-) -> Option<Trial> {
-    let (started, quiet) = (
-        Instant::now(),
-        RenderControl::new(control.cancel, &NoProgress),
-    );
+) -> Option<(Film, u64)> {
+    let quiet = RenderControl::new(control.cancel, &NoProgress);
     let settings = RenderSettings {
         spp,
         first_sample: 0,
@@ -107,30 +100,82 @@ pub(crate) fn measure(
     };
     let mut film = Film::new(width, height);
     let stats = passes.render(scene, &mut film, &settings, &quiet);
-    if control.cancelled() {
-        return None;
-    }
-    let channels = |v: [f64; 3]| (v[0] + v[1] + v[2]) / 3.0;
-    let (mut camera, mut splats, mut handed_mean) = (0.0, 0.0, 0.0);
+    (!control.cancelled()).then(|| (film, stats.rays.total_rays()))
+}
+
+/// A film's channels averaged.
+fn channels(v: [f64; 3]) -> f64 {
+    (v[0] + v[1] + v[2]) / 3.0
+}
+
+/// The score of a trial render of camera paths joined to light paths, and the variance of
+/// the camera paths alone estimated from it.
+pub(crate) struct Joined {
+    with: Score,
+    estimated: f64,
+}
+
+/// Renders `passes` (camera paths joined to light paths) at `size` (cancelled with
+/// `control`) and scores them; `None` when cancelled.
+pub(crate) fn joined(
+    mut passes: LightPasses,
+    scene: &RenderScene,
+    size: ((u32, u32), u32),
+    control: &RenderControl,
+) -> Option<Joined> {
+    let (film, rays) = render(&mut passes, scene, size, control)?;
+    // Per pixel and channel, variances of the mean: the joined camera paths' (V), the
+    // light paths' (S), and for the camera paths alone V + (E[c^2 w (2 - w)] - h^2) / n,
+    // h the light paths' mean and n the samples (the shared light's covariance with the
+    // rest of its camera path left out).
+    let (mut camera, mut splats, mut squared) = (0.0, 0.0, 0.0);
     for (i, p) in film.pixels.iter().enumerate() {
-        let (mean, variance) = film.splat_estimate(i);
+        let (h, variance) = film.splat_estimate(i);
         camera += channels(p.variance_of_mean());
         splats += channels(variance);
-        handed_mean += channels(mean.map(|m| m * m)) / f64::from(p.count.max(1));
+        squared += channels(h.map(|h| h * h)) / f64::from(p.count.max(1));
     }
-    let handed_square = passes.handed_moment / (film.light_paths.max(1) as f64) / f64::from(spp);
-    let rays = stats.rays.total_rays();
-    Some(Trial {
-        without: Score {
-            variance: camera + (handed_square - handed_mean).max(0.0),
-            rays: rays - passes.light_rays.total_rays(),
-        },
+    let spp = f64::from(size.1);
+    let added = passes.handed_moment / (film.light_paths.max(1) as f64) / spp;
+    Some(Joined {
         with: Score {
             variance: camera + splats,
             rays,
         },
-        seconds: started.elapsed().as_secs_f64(),
+        estimated: camera + (added - squared).max(0.0),
     })
+}
+
+/// Renders `passes` (camera paths alone) at `size` (cancelled with `control`) and scores
+/// them; `None` when cancelled.
+pub(crate) fn alone(
+    mut passes: LightPasses,
+    scene: &RenderScene,
+    size: ((u32, u32), u32),
+    control: &RenderControl,
+) -> Option<Score> {
+    let (film, rays) = render(&mut passes, scene, size, control)?;
+    let variance = film.variance_image();
+    let variance = (variance.pixels.iter())
+        .map(|p| channels([p.r, p.g, p.b].map(f64::from)))
+        .sum();
+    Some(Score { variance, rays })
+}
+
+impl Trial {
+    /// The trial of `joined` and `alone` that took `seconds`: the variance alone is the
+    /// larger of its two estimates, its own render's (low where its light is heavy-tailed)
+    /// and the one taken from the joined render (low by the covariances it leaves out).
+    pub(crate) fn of(joined: Joined, alone: Score, seconds: f64) -> Trial {
+        Trial {
+            without: Score {
+                variance: f64::max(joined.estimated, alone.variance),
+                rays: alone.rays,
+            },
+            with: joined.with,
+            seconds,
+        }
+    }
 }
 
 #[cfg(test)]

@@ -27,14 +27,14 @@ pub struct Splats {
     /// Light paths traced (those that brought nothing too: each pixel's estimate is the sum
     /// of its splats over the number of paths).
     pub paths: u64,
-    /// The second moment of the part of the camera paths' light that MIS hands to these
-    /// light paths, estimated from them: over their splats, s^2 r / M (s the splat's value
-    /// averaged over its channels' squares, r the ratio of light tracing's density to the
-    /// path tracer's, M the light paths per camera sample of every pixel). Summed over all
-    /// light paths and divided by their number, it is E[H^2] for H that part of one camera
-    /// sample, over the image's pixels: what the camera paths alone would carry of the
-    /// light paths' share, measured where light paths sample it well
-    /// (lp_lt's trial of light paths).
+    /// The camera paths' second moment that their light shared with these light paths adds
+    /// when they carry it alone, estimated from the light paths: over their splats,
+    /// s^2 (2 - w) / w r / M (s the splat's value, its channels' squares averaged; w its MIS
+    /// weight; r the ratio of light tracing's density to the path tracer's; M the light paths
+    /// per camera sample of every pixel). For c a camera path vertex's contribution and w its
+    /// share, c^2 - (c (1 - w))^2 = c^2 w (2 - w): summed over all light paths and divided
+    /// by their number, it is E[c^2 w (2 - w)] per camera sample over the image's pixels,
+    /// taken where light paths sample it well (lp_lt's trial of light paths).
     pub handed_moment: f64,
 }
 
