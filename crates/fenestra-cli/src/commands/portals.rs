@@ -141,12 +141,18 @@ pub fn run(args: PortalsArgs) -> Result<bool> {
         bar.finish();
         Ok((e, scene))
     })?;
-    if cancel.load(std::sync::atomic::Ordering::SeqCst) {
-        // Portals of part of the photons would replace a complete estimate: keep the files.
-        eprintln!(
-            "interrupted: nothing written ({} kept as it was)",
-            args.output.display()
-        );
+    // Portals of part of the photons would replace a complete estimate: keep the files. The
+    // handler has said nothing is written, so a Ctrl-C while the pictures are drawn counts
+    // too: the set is committed only if none came before.
+    let interrupted = || {
+        let stopped = cancel.load(std::sync::atomic::Ordering::SeqCst);
+        if stopped {
+            let kept = args.output.display();
+            eprintln!("interrupted: nothing written ({kept} kept as it was)");
+        }
+        stopped
+    };
+    if interrupted() {
         return Ok(true);
     }
     if e.portals.is_empty() {
@@ -166,6 +172,9 @@ pub fn run(args: PortalsArgs) -> Result<bool> {
     let bounds = scene.scene.bounds();
     set.stage(&plot_path, |tmp| plot::write_projections(&e, bounds, tmp))?;
     pool.install(|| set.stage(&view_path, |tmp| plot::write_view(&scene.scene, &e, tmp)))?;
+    if interrupted() {
+        return Ok(true); // the staged files go with the set
+    }
     set.commit()?;
     if args.json {
         println!("{}", serde_json::to_string(&file)?);

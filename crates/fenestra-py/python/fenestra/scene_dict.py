@@ -34,6 +34,7 @@ and "point3" for positions (from, to), a text "spectrum" for eta and k (named sp
 import hashlib
 import json
 import os
+import re
 from pathlib import Path
 
 import numpy as np
@@ -47,6 +48,30 @@ _SPECTRA = {"eta", "k"}
 # Keys of a shape that are not pbrt parameters.
 _SHAPE_KEYS = {"type", "material", "emission", "positions", "indices", "normals", "uv",
                "center", "reverse_orientation", "two_sided"}
+# Keys of the camera.
+_CAMERA_KEYS = ("eye", "target", "up", "fov")
+# What a type or a parameter's name may be: pbrt-v4's are words (a parameter's may name its
+# type first). Anything else would be pasted into the scene text as a directive of its own.
+_WORD = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
+_TYPED = re.compile(r"[A-Za-z0-9_]+ [A-Za-z_][A-Za-z0-9_]*\Z")
+
+
+def _word(text, where):
+    """`text` if it is a word that may stand in the scene text, else a ValueError naming
+    `where`."""
+    if not isinstance(text, str) or not _WORD.match(text):
+        raise ValueError(f"{where}: expected a name of letters, digits and _, got {text!r}")
+    return text
+
+
+def _table(value, where):
+    """`value` if it is a dict with a type (a word), else a ValueError naming `where`."""
+    if not isinstance(value, dict):
+        raise ValueError(f"{where}: expected a dict, got {type(value).__name__}")
+    if "type" not in value:
+        raise ValueError(f"{where}: no 'type'")
+    _word(value["type"], f"{where}: type")
+    return value
 
 
 def _numbers(values):
@@ -79,16 +104,29 @@ def _param(name, value):
     return f'"float {name}" [ {_numbers(value)} ]'
 
 
-def _params(table, skip=()):
-    return " ".join(_param(k, v) for k, v in table.items() if k not in skip and k != "type")
+def _params(table, where, skip=()):
+    named = [(k, v) for k, v in table.items() if k not in skip and k != "type"]
+    for k, _ in named:
+        if not isinstance(k, str) or not (_WORD.match(k) or _TYPED.match(k)):
+            raise ValueError(f"{where}: parameter {k!r}: expected a name (or 'type name')")
+    return " ".join(_param(k, v) for k, v in named)
+
+
+def _indices(indices, vertices):
+    """A mesh's triangle indices as int32, refused unless they are integers in range."""
+    f = np.asarray(indices)
+    if f.size and not np.issubdtype(f.dtype, np.integer):
+        raise ValueError(f"mesh indices must be integers, got {f.dtype}")
+    f = f.astype(np.int64).reshape(-1, 3)
+    if f.size and (f.min() < 0 or f.max() >= vertices):
+        raise ValueError(f"mesh indices must lie in 0..{vertices - 1}, got {f.min()}..{f.max()}")
+    return f.astype("<i4")
 
 
 def _ply(path, positions, indices, normals=None, uv=None):
     """A binary little-endian PLY of a triangle mesh."""
     p = np.asarray(positions, dtype="<f4").reshape(-1, 3)
-    f = np.asarray(indices, dtype="<i4").reshape(-1, 3)
-    if f.size and (f.min() < 0 or f.max() >= len(p)):
-        raise ValueError(f"mesh indices must lie in 0..{len(p) - 1}, got {f.min()}..{f.max()}")
+    f = _indices(indices, len(p))
     columns = [("x", p[:, 0]), ("y", p[:, 1]), ("z", p[:, 2])]
     if normals is not None:
         n = np.asarray(normals, dtype="<f4").reshape(-1, 3)
@@ -117,6 +155,11 @@ def _ply(path, positions, indices, normals=None, uv=None):
 def pbrt_text(scene, folder):
     """The pbrt-v4 text of the dict `scene`; its meshes are written as PLY into `folder`."""
     cam = scene.get("camera", {})
+    if not isinstance(cam, dict):
+        raise ValueError(f"camera: expected a dict, got {type(cam).__name__}")
+    unknown = set(cam) - set(_CAMERA_KEYS)
+    if unknown:
+        raise ValueError(f"camera: unknown keys {sorted(map(str, unknown))} (known: {', '.join(_CAMERA_KEYS)})")
     eye, target, up = cam.get("eye", [0, 0, 5]), cam.get("target", [0, 0, 0]), cam.get("up", [0, 1, 0])
     width, height = scene.get("resolution", (512, 512))
     lines = [
@@ -131,13 +174,24 @@ def pbrt_text(scene, folder):
     lines += [
         "WorldBegin",
     ]
-    for light in scene.get("lights", []):
-        lines.append(f'LightSource "{light["type"]}" {_params(light)}')
+    for k, light in enumerate(scene.get("lights", [])):
+        where = f"lights[{k}]"
+        light = _table(light, where)
+        lines.append(f'LightSource "{light["type"]}" {_params(light, where)}')
     materials = scene.get("materials", {})
+    if not isinstance(materials, dict):
+        raise ValueError(f"materials: expected a dict of name: material, got {type(materials).__name__}")
     for name, material in materials.items():
-        lines.append(f'MakeNamedMaterial {json.dumps(name)} "string type" [ {json.dumps(material["type"])} ] {_params(material)}')
+        where = f"materials[{name!r}]"
+        if not isinstance(name, str):
+            raise ValueError(f"{where}: a material's name must be a string")
+        material = _table(material, where)
+        lines.append(f'MakeNamedMaterial {json.dumps(name)} "string type" [ {json.dumps(material["type"])} ] {_params(material, where)}')
     for k, shape in enumerate(scene.get("shapes", [])):
-        kind = shape.get("type", "mesh")
+        where = f"shapes[{k}]"
+        if not isinstance(shape, dict):
+            raise ValueError(f"{where}: expected a dict, got {type(shape).__name__}")
+        kind = _word(shape.get("type", "mesh"), f"{where}: type")
         lines.append("AttributeBegin")
         if "material" in shape:
             if shape["material"] not in materials:
@@ -150,13 +204,18 @@ def pbrt_text(scene, folder):
             lines.append("ReverseOrientation")
         if kind == "mesh":
             ply = f"mesh{k}.ply"
-            _ply(folder / ply, shape["positions"], shape["indices"], shape.get("normals"), shape.get("uv"))
-            lines.append(f'Shape "plymesh" "string filename" [ "{ply}" ] {_params(shape, _SHAPE_KEYS)}')
+            try:
+                _ply(folder / ply, shape["positions"], shape["indices"], shape.get("normals"), shape.get("uv"))
+            except KeyError as missing:
+                raise ValueError(f"{where}: a mesh needs {missing}") from None
+            except ValueError as e:
+                raise ValueError(f"{where}: {e}") from None
+            lines.append(f'Shape "plymesh" "string filename" [ "{ply}" ] {_params(shape, where, _SHAPE_KEYS)}')
         elif kind == "sphere":
             lines.append(f"Translate {_numbers(shape.get('center', [0, 0, 0]))}")
-            lines.append(f'Shape "sphere" {_params(shape, _SHAPE_KEYS)}')
+            lines.append(f'Shape "sphere" {_params(shape, where, _SHAPE_KEYS)}')
         else:
-            lines.append(f'Shape "{kind}" {_params(shape, _SHAPE_KEYS)}')
+            lines.append(f'Shape "{kind}" {_params(shape, where, _SHAPE_KEYS)}')
         lines.append("AttributeEnd")
     return "\n".join(lines) + "\n"
 

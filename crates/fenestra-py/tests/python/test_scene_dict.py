@@ -103,3 +103,58 @@ def test_bad_dicts_are_named():
     assert any("chalky" in w for w in fe.load_dict(d).warnings)
     with pytest.raises(fe.FenestraError, match="chalky"):
         fe.load_dict(d, strict=True)
+
+
+def test_a_dict_cannot_write_directives_of_its_own(tmp_path):
+    """Types and parameter names stand in the scene text unquoted or between quotes: one that
+    is not a word could add any directive (an Include of any file), so it is refused."""
+    secret = tmp_path / "other.pbrt"
+    secret.write_text('Shape "sphere" "float radius" [ 9 ]\n')
+    injected = f'infinite" "rgb L" [ 1 1 1 ]\nInclude "{secret}"\nLightSource "infinite'
+    d = box_scene()
+    d["lights"][0]["type"] = injected
+    with pytest.raises(ValueError, match=r"lights\[0\]: type: expected a name"):
+        fe.load_dict(d)
+    d = box_scene()
+    d["shapes"][2]["type"] = 'sphere" "float radius" [ 1 ]\nInclude "x'
+    with pytest.raises(ValueError, match=r"shapes\[2\]: type"):
+        fe.load_dict(d)
+    d = box_scene()
+    d["materials"]["white"]['roughness" [ 0 ] "float x'] = 1.0
+    with pytest.raises(ValueError, match=r"materials\['white'\]: parameter"):
+        fe.load_dict(d)
+
+
+def test_mesh_indices_are_integers_in_range_before_any_cast():
+    for bad, message in (
+        (np.array([[0, 1, 2**32 + 1]]), r"shapes\[0\]: mesh indices must lie in 0..3, got 0..4294967297"),
+        (np.array([[0.0, 1.0, 2.5]]), r"shapes\[0\]: mesh indices must be integers, got float64"),
+    ):
+        d = box_scene()
+        d["shapes"][0]["indices"] = bad
+        with pytest.raises(ValueError, match=message):
+            fe.load_dict(d)
+
+
+def test_unknown_camera_keys_and_malformed_entries_are_named():
+    d = box_scene()
+    d["camera"]["eyes"] = [0, 1, 3.5]
+    with pytest.raises(ValueError, match=r"camera: unknown keys \['eyes'\]"):
+        fe.load_dict(d)
+    for key, entry, message in (
+        ("lights", [{"L": [1, 1, 1]}], r"lights\[0\]: no 'type'"),
+        ("lights", ["infinite"], r"lights\[0\]: expected a dict, got str"),
+        ("materials", {"white": "diffuse"}, r"materials\['white'\]: expected a dict, got str"),
+        ("materials", ["white"], r"materials: expected a dict"),
+    ):
+        d = box_scene()
+        d[key] = entry
+        if key == "materials":
+            for shape in d["shapes"]:
+                shape.pop("material", None)
+        with pytest.raises(ValueError, match=message):
+            fe.load_dict(d)
+    d = box_scene()
+    del d["shapes"][0]["indices"]
+    with pytest.raises(ValueError, match=r"shapes\[0\]: a mesh needs 'indices'"):
+        fe.load_dict(d)
