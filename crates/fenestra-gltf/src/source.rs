@@ -82,7 +82,27 @@ impl Source {
                 .decode(data)
                 .map_err(|e| GltfError::at(&self.path, at, format!("bad base64 data: {e}")));
         }
+        if Path::new(&percent_decode(uri)).is_absolute() {
+            return Err(GltfError::at(
+                &self.path,
+                at,
+                format!(
+                    "names the absolute path {uri}: glTF files name theirs relative to themselves"
+                ),
+            ));
+        }
         let file = self.file_of(uri);
+        // A device or a pipe (/dev/zero) would be read without end.
+        match std::fs::metadata(&file) {
+            Ok(m) if !m.is_file() => {
+                return Err(GltfError::at(
+                    &self.path,
+                    at,
+                    format!("{} is not a regular file", file.display()),
+                ))
+            }
+            _ => {}
+        }
         let bytes = std::fs::read(&file).map_err(|e| {
             GltfError::at(
                 &self.path,

@@ -377,6 +377,32 @@ fn bad_files_give_errors_with_file_and_json_path() {
         |j, _| j["images"][0]["uri"] = json!("missing.png"),
         &["bad.gltf: /images/0: cannot read", "missing.png"],
     );
+    // A device is read without end (until memory runs out), a folder not at all; an absolute
+    // path is no glTF's own file.
+    #[cfg(unix)]
+    assert_refused(
+        "device",
+        |j, _| j["buffers"][0]["uri"] = json!("/dev/zero"),
+        &["bad.gltf: /buffers/0: names the absolute path /dev/zero"],
+    );
+    #[cfg(unix)]
+    assert_refused(
+        "device beside",
+        |j, d| {
+            let _ = std::fs::remove_file(d.join("zero.bin"));
+            std::os::unix::fs::symlink("/dev/zero", d.join("zero.bin")).expect("link");
+            j["buffers"][0]["uri"] = json!("zero.bin");
+        },
+        &["bad.gltf: /buffers/0:", "zero.bin is not a regular file"],
+    );
+    assert_refused(
+        "folder",
+        |j, d| {
+            std::fs::create_dir_all(d.join("textures")).expect("folder");
+            j["images"][0]["uri"] = json!("textures");
+        },
+        &["bad.gltf: /images/0:", "textures is not a regular file"],
+    );
     assert_refused(
         "uv count",
         |j, _| j["accessors"][1]["count"] = json!(3),
