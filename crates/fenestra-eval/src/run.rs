@@ -23,7 +23,8 @@ use std::sync::atomic::{AtomicBool, Ordering};
 pub struct RunRecord {
     /// What was asked.
     pub spec: RunSpec,
-    /// Path of the EXR relative to the report folder.
+    /// Path of the EXR relative to the report folder (the denoised one, for a run that
+    /// denoised).
     pub image: String,
     /// Path of its reference, relative to the report folder.
     pub reference: String,
@@ -207,7 +208,13 @@ impl Runner<'_> {
             &self.out.join(&reference.image).display().to_string(),
         ]);
         cmd.args(["-o", &self.out.join(&rel).display().to_string()]);
-        let stats = run_json(cmd)?;
+        let stats: RenderStats = run_json(cmd)?;
+        // A run asked to denoise (`--denoise` in its technique's arguments) is scored by the
+        // picture it is for: its denoised image (OUT.denoised.exr).
+        let rel = match stats.denoiser {
+            Some(_) => format!("runs/{}.denoised.exr", spec.id),
+            None => rel,
+        };
         let img = Image::read(&self.out.join(&rel))?;
         let reference_img = Image::read(&self.out.join(&reference.image))?;
         let metrics = metrics::compare(&img, &reference_img)?;

@@ -546,3 +546,63 @@ fn sdrc_maps_its_cache_and_compare_measures_under_its_mask() {
         "{err}"
     );
 }
+
+/// A technique that denoises (`--denoise` among its arguments) is scored by its denoised
+/// image: from the same samples as the raw technique's, it is the closer to the reference by
+/// relative MSE.
+#[test]
+fn bench_scores_a_denoised_run_by_its_denoised_image() {
+    let (dir, _, args) = bench_suite(
+        "bench-denoised",
+        r#"name = "denoised"
+resolution = [32, 32]
+repetitions = 1
+[reference]
+integrator = "af_hf"
+spp = 512
+[[scene]]
+scene = "builtin:cornell-box"
+max_depth = [4]
+[[technique]]
+label = "RAW"
+integrator = "af_hf"
+[[technique]]
+label = "DENOISED"
+integrator = "af_hf"
+args = ["--denoise"]
+[[budget]]
+spp = 4
+"#,
+    );
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let o = fenestra(&args);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let results = std::fs::read_to_string(dir.join("results.jsonl")).expect("results");
+    let records: Vec<serde_json::Value> = results
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("JSON"))
+        .collect();
+    let by = |label: &str| {
+        records
+            .iter()
+            .find(|r| r["spec"]["id"].as_str().expect("id").contains(label))
+            .unwrap_or_else(|| panic!("{label}: {records:?}"))
+    };
+    let (raw, denoised) = (by("-raw-"), by("-denoised-"));
+    let image = |r: &serde_json::Value| r["image"].as_str().expect("image").to_string();
+    assert!(
+        image(denoised).ends_with(".denoised.exr"),
+        "{}",
+        image(denoised)
+    );
+    assert!(image(raw).ends_with(".exr") && !image(raw).contains("denoised"));
+    // By relative MSE (the lamp's few bright pixels, blurred at their edges, weigh most in
+    // the absolute one at 32x32).
+    let rel_mse = |r: &serde_json::Value| r["metrics"]["rel_mse"].as_f64().expect("rel_mse");
+    assert!(
+        rel_mse(denoised) < 0.5 * rel_mse(raw),
+        "denoised {} against raw {}",
+        rel_mse(denoised),
+        rel_mse(raw)
+    );
+}
