@@ -1,14 +1,15 @@
 //! Whether light paths pay (issue 66 item 4), measured before rendering: a small image of
 //! the render's aspect is rendered through lp_lt's passes twice, from the same samples (a
 //! stream of their own), the camera paths joined to light paths and alone, and each scored
-//! by its variance summed over the pixels times the rays it traced. Rays, not seconds: the score is the same on every machine, thread
-//! count and part of a split render, so all of them decide alike.
+//! by its variance summed over the pixels times the rays it traced. Rays, not seconds: the
+//! score is the same on every machine, thread count and part of a split render, so all of
+//! them decide alike.
 //!
 //! The camera paths' variance alone has two estimates, and the trial takes the larger.
 //! Their own render's sample variance is mostly far below their variance where light paths
 //! pay most: their estimate of the glints is heavy-tailed (one found in 10^5 samples), and
 //! on the dining room it measured light paths at 0.92x, 21.9x and 1.07x at 32768, 131072
-//! and 524288 samples, where rendering measured 1.9x. The other is taken from the joined
+//! and 524288 samples, where rendering measured 1.7x. The other is taken from the joined
 //! render: a vertex's contribution c that the camera paths keep at weight 1 - w adds
 //! c^2 w (2 - w) to their second moment when they carry all of it, and the light paths
 //! estimate its mean where they sample it well (`Splats::handed_moment`); it leaves out the
