@@ -61,6 +61,20 @@ def notes(scene):
     return out
 
 
+def _missing_images(nodes):
+    """The images of `nodes`' image textures whose file is not there (nor packed)."""
+    import os
+
+    import bpy
+
+    for node in nodes:
+        image = getattr(node, "image", None) if node.type == "TEX_IMAGE" else None
+        if image is None or image.source not in ("FILE", "SEQUENCE") or image.packed_file:
+            continue
+        if not os.path.isfile(bpy.path.abspath(image.filepath, library=image.library)):
+            yield image
+
+
 def _material(m):
     output = next(
         (n for n in m.node_tree.nodes if n.type == "OUTPUT_MATERIAL" and n.is_active_output),
@@ -84,6 +98,11 @@ def _material(m):
         socket = src.inputs.get(name)
         if socket is None or not socket.is_linked:
             continue
+        for missing in _missing_images(_feeding(socket)):
+            yield (
+                f"its {name} image {missing.name} ({missing.filepath}) is missing: the glTF "
+                "exporter leaves it out, and its plain value is used (Cycles shows it magenta)"
+            )
         dropped = sorted({n.bl_label for n in _feeding(socket) if n.type not in CARRIED})
         if dropped:
             yield (

@@ -486,7 +486,7 @@ def conftest_repo():
     return conftest.REPO
 
 
-def test_what_gltf_cannot_carry_of_a_material_is_said():
+def test_what_gltf_cannot_carry_of_a_material_is_said(workdir):
     from fenestra import materials
 
     scene = room.build()
@@ -508,7 +508,18 @@ def test_what_gltf_cannot_carry_of_a_material_is_said():
     diffuse = metal.node_tree.nodes.new("ShaderNodeBsdfDiffuse")
     metal_out = next(n for n in metal.node_tree.nodes if n.type == "OUTPUT_MATERIAL")
     metal.node_tree.links.new(diffuse.outputs[0], metal_out.inputs["Surface"])
+    # An image whose file went away: the exporter leaves it out without a word.
+    gone = workdir / "gone.png"
+    made = bpy.data.images.new("made", 4, 4)
+    made.filepath_raw, made.file_format = str(gone), "PNG"
+    made.save()
+    texture = nodes.new("ShaderNodeTexImage")
+    texture.image = bpy.data.images.load(str(gone))
+    links.new(texture.outputs["Color"], principled.inputs["Roughness"])
+    gone.unlink()
     said = materials.notes(scene)
+    missing = "white wall: its Roughness image gone.png"
+    assert any(missing in n and "is missing" in n for n in said), said
     assert any("white wall: its Base Color comes through Noise Texture" in n for n in said), said
     assert any("white wall: its displacement is not carried" in n for n in said), said
     assert any("glossy metal: its surface is a Diffuse BSDF node" in n for n in said), said
