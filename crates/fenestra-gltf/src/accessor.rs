@@ -141,6 +141,16 @@ fn read<T: Copy>(
         Some(view) => {
             let bytes = view_bytes(src, &view)?;
             let stride = view.stride().unwrap_or(size);
+            if stride < size {
+                // Elements would overlap: each read partly from the next (wrong geometry).
+                return Err(GltfError::at(
+                    &src.path,
+                    format!("/bufferViews/{}", view.index()),
+                    format!(
+                        "byteStride {stride} is smaller than its accessor's {size}-byte elements"
+                    ),
+                ));
+            }
             elements(bytes, (a.offset(), stride, size, a.count()))
                 .ok_or_else(out_of_range)?
                 .map(&decode)

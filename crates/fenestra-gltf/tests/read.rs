@@ -403,6 +403,12 @@ fn bad_files_give_errors_with_file_and_json_path() {
         },
         &["bad.gltf: /images/0:", "textures is not a regular file"],
     );
+    // Elements 8 bytes apart whose size is 12 would each read a third of the next.
+    assert_refused(
+        "stride",
+        |j, _| j["bufferViews"][0]["byteStride"] = json!(8),
+        &["bad.gltf: /bufferViews/0: byteStride 8 is smaller than its accessor's 12-byte elements"],
+    );
     assert_refused(
         "uv count",
         |j, _| j["accessors"][1]["count"] = json!(3),
