@@ -121,6 +121,18 @@ pub fn load(path: &Path, camera: Option<&str>) -> Result<Loaded, GltfError> {
     let (camera, aspect) = match camera::pick(&src, &cameras, camera)? {
         Some(c) => (c.camera(&src)?, c.aspect),
         None => {
+            let orthographic = (src.document.cameras())
+                .filter(|c| matches!(c.projection(), gltf::camera::Projection::Orthographic(_)))
+                .count();
+            if orthographic > 0 {
+                report.say(
+                    "/cameras",
+                    format!(
+                        "{orthographic} orthographic camera(s), which fenestra does not render \
+                         (perspective only): a camera that frames the scene stands in"
+                    ),
+                );
+            }
             let meshes: Vec<&TriangleMesh> = shapes
                 .iter()
                 .filter_map(|s| match &s.kind {
@@ -133,6 +145,12 @@ pub fn load(path: &Path, camera: Option<&str>) -> Result<Loaded, GltfError> {
     };
     // An aspect ratio beyond 10:1 either way is not a picture anyone frames (and would ask
     // for an image of millions of rows): the default stands in.
+    if let Some(a) = aspect.filter(|a| !(0.1..=10.0).contains(a)) {
+        report.say(
+            "/cameras",
+            format!("the camera's aspectRatio {a} lies beyond 10:1; the image is 16:9"),
+        );
+    }
     let aspect = aspect
         .filter(|a| (0.1..=10.0).contains(a))
         .unwrap_or(16.0 / 9.0);

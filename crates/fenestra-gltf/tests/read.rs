@@ -244,10 +244,40 @@ fn cameras_are_picked_by_name_or_index() {
         (top.position.y - 3.0).abs() < 1e-6 && top.forward().y < -0.999,
         "{top:?}"
     );
-    // No aspect ratio in the file: 16:9.
+    // The front camera's aspect ratio, 1.
     assert_eq!(
         (front.desc.defaults.width, front.desc.defaults.height),
         (960, 960)
+    );
+    // What stands in is said: a framing camera for orthographic ones, 16:9 for an aspect
+    // ratio beyond 10:1.
+    let edited = |name: &str, edit: &dyn Fn(&mut Value)| {
+        let mut json = room_json("room.bin", "plaster.png");
+        edit(&mut json);
+        let p = d.join(name);
+        std::fs::write(&p, json.to_string()).expect("gltf");
+        load(&p, None).expect("glTF").warnings
+    };
+    let warnings = edited("ortho.gltf", &|j| {
+        for c in j["cameras"].as_array_mut().expect("cameras") {
+            *c = json!({"type": "orthographic",
+                        "orthographic": {"xmag": 1.0, "ymag": 1.0, "znear": 0.01, "zfar": 100.0}});
+        }
+    });
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.contains("2 orthographic camera(s)")),
+        "{warnings:?}"
+    );
+    let warnings = edited("wide.gltf", &|j| {
+        j["cameras"][0]["perspective"]["aspectRatio"] = json!(20.0)
+    });
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.contains("aspectRatio 20 lies beyond 10:1")),
+        "{warnings:?}"
     );
     let err = load(&path, Some("side"))
         .err()
