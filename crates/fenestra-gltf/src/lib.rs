@@ -67,6 +67,17 @@ pub fn load(path: &Path, camera: Option<&str>) -> Result<Loaded, GltfError> {
             report.say("/extensionsUsed", what);
         }
     }
+    // The spec asks a required extension to be listed as used too; one that is not would
+    // go unsaid above.
+    for ext in src.document.extensions_required() {
+        let used = src.document.extensions_used().any(|u| u == ext);
+        if !used && !SUPPORTED.contains(&ext) {
+            report.say(
+                "/extensionsRequired",
+                format!("extension {ext} is required but not supported (the scene may look wrong)"),
+            );
+        }
+    }
     if src.document.animations().next().is_some() {
         report.say(
             "/animations",

@@ -270,6 +270,16 @@ fn cameras_are_picked_by_name_or_index() {
             .any(|w| w.contains("2 orthographic camera(s)")),
         "{warnings:?}"
     );
+    // A required extension listed only as required (not as used, as the spec asks).
+    let warnings = edited("required.gltf", &|j| {
+        j["extensionsRequired"] = json!(["KHR_draco_mesh_compression"])
+    });
+    assert!(
+        warnings.iter().any(|w| w.contains(
+            "/extensionsRequired: extension KHR_draco_mesh_compression is required but not supported"
+        )),
+        "{warnings:?}"
+    );
     let warnings = edited("wide.gltf", &|j| {
         j["cameras"][0]["perspective"]["aspectRatio"] = json!(20.0)
     });
